@@ -1,0 +1,76 @@
+// Real-to-complex 2D FFTs on a Grid: plans made once, executed many times (FFTW).
+#pragma once
+
+#include <complex>
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include "gfmd/grid.hpp"
+
+namespace gfmd {
+
+using cplx = std::complex<double>;
+
+// Allocator returning FFTW-aligned memory so that every field can be passed to the
+// new-array execute functions of a plan.
+template <class T>
+struct FftwAllocator {
+  using value_type = T;
+  FftwAllocator() = default;
+  template <class U>
+  FftwAllocator(const FftwAllocator<U>&) {}  // NOLINT
+  T* allocate(std::size_t n);
+  void deallocate(T* p, std::size_t) noexcept;
+  template <class U>
+  bool operator==(const FftwAllocator<U>&) const { return true; }
+};
+
+using RealField = std::vector<double, FftwAllocator<double>>;
+using SpecField = std::vector<cplx, FftwAllocator<cplx>>;
+
+void* fftw_aligned_alloc(std::size_t bytes);
+void fftw_aligned_free(void* p) noexcept;
+
+template <class T>
+T* FftwAllocator<T>::allocate(std::size_t n) {
+  return static_cast<T*>(fftw_aligned_alloc(n * sizeof(T)));
+}
+template <class T>
+void FftwAllocator<T>::deallocate(T* p, std::size_t) noexcept {
+  fftw_aligned_free(p);
+}
+
+// Sets the number of threads used by FFTW plans created afterwards and by the
+// OpenMP loops of the library. 0 means "all cores".
+void set_threads(int threads);
+int threads();
+
+enum class Planner { Estimate, Measure };
+
+class FFT {
+ public:
+  FFT(const Grid& grid, Planner planner = Planner::Estimate);
+  ~FFT();
+  FFT(const FFT&) = delete;
+  FFT& operator=(const FFT&) = delete;
+
+  // Analysis: out[q] = sum_r in[r] exp(-i q.r) (no normalisation). in is not modified.
+  void forward(const double* in, cplx* out) const;
+  // Synthesis including the 1/(nx*ny): out[r] = (1/N) sum_q in[q] exp(+i q.r).
+  // in is not modified.
+  void backward(const cplx* in, double* out) const;
+
+  [[nodiscard]] const Grid& grid() const { return grid_; }
+  [[nodiscard]] RealField real_field(double value = 0.0) const { return RealField(grid_.size(), value); }
+  [[nodiscard]] SpecField spec_field() const { return SpecField(grid_.spectral_size()); }
+
+ private:
+  struct Plans;
+  Grid grid_;
+  std::unique_ptr<Plans> plans_;
+  mutable RealField rbuf_;
+  mutable SpecField cbuf_;
+};
+
+}  // namespace gfmd
