@@ -1,0 +1,77 @@
+// Elastic response of an isotropic body of thickness h (h = inf: half-space; finite h:
+// bonded to a rigid base) to surface tractions: the 3x3 Green's tensor of SPEC §2.
+//
+// Stiffness: t~_a(q) = q E* Phi_ab(q) u~_b(q) is the traction that must act on the
+// surface to hold displacement u. Compliance: u~ = C(q) t~ with C = (q E* Phi)^-1.
+// z points out of the body; a pressure p pushing on the body is t_z = -p.
+#pragma once
+
+#include <array>
+#include <limits>
+#include <vector>
+
+#include "gfmd/fft.hpp"
+#include "gfmd/grid.hpp"
+
+namespace gfmd {
+
+struct ElasticParams {
+  double contact_modulus = 1.0;                                 // E* = E/(1-nu^2)
+  double poisson = 0.25;                                        // nu in (-1, 0.5]
+  double thickness = std::numeric_limits<double>::infinity();  // h
+  // false: the uncoupled reference. The cross-compliance (normal displacement from
+  // tangential traction and in-plane displacement from pressure) is dropped; the direct
+  // compliances stay those of the real body, so frictionless results do not change.
+  bool coupling = true;
+
+  [[nodiscard]] bool half_space() const { return thickness == std::numeric_limits<double>::infinity(); }
+  [[nodiscard]] double shear_modulus() const { return contact_modulus * (1.0 - poisson) / 2.0; }
+  // Throws InputError naming elastic.poisson / elastic.thickness / elastic.contact_modulus.
+  void validate() const;
+};
+
+// Dimensionless Phi in the frame where q points along axis 1 (SPEC §2):
+// Phi'11 = p11, Phi'22 = p22, Phi'33 = p33, Phi'13 = i*p13, Phi'31 = -i*p13.
+struct PhiRotated {
+  double p11, p22, p33, p13;
+};
+
+// qh = |q| h; qh = inf gives the half-space values. Stable for qh in [1e-8, inf).
+PhiRotated phi_rotated(double qh, double nu);
+
+// Per-mode compliance of the body on the r2c half spectrum, in lab axes.
+// u~ = C t~ with C Hermitian: C_xx, C_yy, C_xy, C_zz real; C_xz = i*cxz, C_yz = i*cyz.
+struct ComplianceMode {
+  double cxx, cyy, cxy, czz, cxz, cyz;
+};
+
+class ElasticBody {
+ public:
+  ElasticBody(const Grid& grid, const ElasticParams& params);
+
+  [[nodiscard]] const Grid& grid() const { return grid_; }
+  [[nodiscard]] const ElasticParams& params() const { return params_; }
+  [[nodiscard]] const ComplianceMode& mode(std::size_t k) const { return modes_[k]; }
+  [[nodiscard]] const std::vector<ComplianceMode>& modes() const { return modes_; }
+
+  // Compliance of the q = 0 mode: zero for a half-space (the mean in-plane displacement
+  // is pinned; the mean normal displacement is set by the load or the approach),
+  // h(1-2nu)/((1-nu)^2 E*) normal and h/G in-plane for a layer.
+  [[nodiscard]] double mean_normal_compliance() const { return c0_zz_; }
+  [[nodiscard]] double mean_inplane_compliance() const { return c0_t_; }
+
+  // Full 3x3 lab-frame stiffness q E* Phi at a mode (row-major, complex) for tests.
+  [[nodiscard]] std::array<cplx, 9> stiffness(int ikx, int iky) const;
+  [[nodiscard]] std::array<cplx, 9> compliance(int ikx, int iky) const;
+
+  // Displacement spectra from traction spectra (any of tx, ty may be null = zero).
+  void displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz) const;
+
+ private:
+  Grid grid_;
+  ElasticParams params_;
+  std::vector<ComplianceMode> modes_;
+  double c0_zz_ = 0.0, c0_t_ = 0.0;
+};
+
+}  // namespace gfmd
