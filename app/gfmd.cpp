@@ -1,1 +1,106 @@
-int main() { return 0; }
+// gfmd command line: thin front end over the library.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "gfmd/error.hpp"
+#include "gfmd/run.hpp"
+#include "gfmd/version.hpp"
+
+namespace {
+
+struct ProgressPrinter {
+  bool tty = isatty(STDERR_FILENO) != 0;
+  bool quiet = false;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), last = start;
+  void operator()(const gfmd::Progress& p) {
+    if (quiet) return;
+    const auto now = std::chrono::steady_clock::now();
+    const double since = std::chrono::duration<double>(now - last).count();
+    if (since < (tty ? 0.2 : 5.0)) return;
+    last = now;
+    const double el = std::chrono::duration<double>(now - start).count();
+    if (tty)
+      std::fprintf(stderr, "\r  iteration %6d  friction step %3d  change %.2e  %.1f s   ", p.iteration, p.outer,
+                   p.error, el);
+    else
+      std::fprintf(stderr, "  iteration %d friction step %d change %.3e elapsed %.1f s\n", p.iteration, p.outer,
+                   p.error, el);
+  }
+  void done() const {
+    if (tty && !quiet) std::fprintf(stderr, "\r%80s\r", "");
+  }
+};
+
+int cmd_run(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets, bool quiet) {
+  const gfmd::Config cfg = gfmd::load_config(case_path, sets);
+  if (out_dir.empty()) out_dir = (std::filesystem::path("out") / std::filesystem::path(case_path).stem()).string();
+  ProgressPrinter pp;
+  pp.quiet = quiet;
+  gfmd::RunOptions opts;
+  opts.progress = [&pp](const gfmd::Progress& p) { pp(p); };
+  const gfmd::CaseResult r = gfmd::run_case(cfg, opts);
+  pp.done();
+  if (!r.info.converged) {
+    std::fprintf(stderr,
+                 "gfmd: error: %s: %s after %d iterations (pressure change %.3e, friction change %.3e, "
+                 "tolerance %.1e); no results written\n",
+                 case_path.c_str(), r.info.status.c_str(), r.info.iterations, r.info.pk_error, r.info.friction_error,
+                 cfg.solver.tolerance);
+    return 3;
+  }
+  gfmd::write_outputs(r, out_dir);
+  const auto& o = r.observables;
+  std::printf("%s: %s in %d iterations (%.2f s, residual %.2e)\n", case_path.c_str(), r.info.status.c_str(),
+              r.info.iterations, r.info.wall_time_s, r.info.residual);
+  std::printf("  relative contact area  %.6g\n", o.relative_contact_area);
+  std::printf("  normal force           %.6g\n", o.normal_force);
+  std::printf("  mean / max pressure    %.6g / %.6g\n", o.mean_pressure, o.max_pressure);
+  std::printf("  mean gap               %.6g\n", o.mean_gap);
+  if (cfg.friction.coefficient > 0) {
+    std::printf("  friction coefficient   %.6g (dissipation)  %.6g (downhill)\n", o.friction_coefficient,
+                o.friction_coefficient_downhill);
+  }
+  std::printf("  outputs in %s/\n", out_dir.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"gfmd: steady sliding contacts with full elastic coupling"};
+  app.set_version_flag("--version", std::string(gfmd::kVersion) + " (" + gfmd::kGitCommit + ")");
+  app.require_subcommand(1);
+
+  std::string case_path, out_dir;
+  std::vector<std::string> sets;
+  bool quiet = false;
+  auto* run = app.add_subcommand("run", "solve one case and write summary.json, fields.nc and PNG maps");
+  run->add_option("case", case_path, "case file (TOML)")->required();
+  run->add_option("-o,--output", out_dir, "output directory (default: out/<case name>)");
+  run->add_option("--set", sets, "override a key: section.key=value (repeatable)");
+  run->add_flag("-q,--quiet", quiet, "no progress display");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet);
+  } catch (const gfmd::InputError& e) {
+    std::fprintf(stderr, "gfmd: error: %s\n", e.what());
+    return 2;
+  } catch (const gfmd::SolveError& e) {
+    std::fprintf(stderr, "gfmd: error: %s: %s; no results written\n", case_path.c_str(), e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "gfmd: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,59 @@
+// Case files (TOML): one file per case, every key checked, defaults filled in.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "gfmd/elastic.hpp"
+#include "gfmd/grid.hpp"
+#include "gfmd/solver.hpp"
+#include "gfmd/topography.hpp"
+
+namespace gfmd {
+
+struct IndenterConfig {
+  std::string type = "hertz";  // hertz | eggcrate | selfaffine | file
+  double radius = 0.0, radius_x = 0.0, radius_y = 0.0;
+  double wavelength = 0.0, amplitude = 0.0;
+  SelfAffineParams selfaffine;
+  std::string path;  // file: resolved against the case file's folder
+};
+
+struct OutputConfig {
+  bool fields = true;  // fields.nc
+  bool png = true;     // PNG maps
+};
+
+struct Config {
+  Grid grid;
+  ElasticParams elastic;
+  IndenterConfig indenter;
+  LoadParams load;
+  FrictionParams friction;
+  InteractionParams interaction;
+  SolverParams solver;
+  int threads = 0;
+  OutputConfig output;
+  std::string source;  // the case file's path ("" for a string)
+
+  // The full input with defaults filled in (recorded in summary.json).
+  [[nodiscard]] nlohmann::json to_json() const;
+  // TOML text that reproduces this configuration.
+  [[nodiscard]] std::string to_toml() const;
+};
+
+// Parses a case file and applies "section.key=value" overrides (values in TOML syntax;
+// a bare word is taken as a string). Throws InputError listing every problem found,
+// each with the key and, where known, file:line.
+Config load_config(const std::string& path, const std::vector<std::string>& overrides = {});
+Config parse_config(const std::string& toml_text, const std::string& name,
+                    const std::vector<std::string>& overrides = {}, const std::string& base_dir = ".");
+
+// Builds the indenter's topography of a configuration.
+Topography make_topography(const Config& cfg);
+
+// Estimated peak memory of a solve in bytes.
+double estimated_memory_bytes(const Grid& grid);
+
+}  // namespace gfmd

@@ -1,0 +1,41 @@
+// Scalar observables of a solved contact (SPEC §5).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "gfmd/elastic.hpp"
+#include "gfmd/fft.hpp"
+#include "gfmd/solver.hpp"
+#include "gfmd/topography.hpp"
+
+namespace gfmd {
+
+struct Observables {
+  double relative_contact_area = 0;  // fraction of cells with p > 0
+  double normal_force = 0;           // sum p dA
+  double mean_pressure = 0;          // normal_force / (lx ly)
+  double max_pressure = 0;
+  double mean_gap = 0;               // mean of max(gap, 0) over the cell
+  double approach = 0;
+  // Friction (zero without friction). Dissipation: F = P_diss / v0 =
+  // mu_c sum p |e_s + (e_s.grad) u| dA. Downhill: F = mu_c F_z + dF, dF = -sum p (e_s.grad h) dA.
+  double friction_force = 0;
+  double friction_force_downhill = 0;
+  double downhill_force = 0;
+  double friction_coefficient = 0;
+  double friction_coefficient_downhill = 0;
+  double energy_balance_error = 0;  // |F_diss - F_downhill| / F_diss
+  double mean_tangential_traction_x = 0, mean_tangential_traction_y = 0;
+};
+
+// Slip field of the body relative to the indenter in units of v0: v = e_s + (e_s.grad)u
+// (its sign is that of the indenter's motion seen from the body; |v| is the slip speed).
+void slip_velocity(const FFT& fft, const FrictionParams& fric, const RealField& ux, const RealField& uy,
+                   RealField& vx, RealField& vy);
+
+Observables compute_observables(const FFT& fft, const Topography& topo, const FrictionParams& fric,
+                                const ContactFields& f, const SolveInfo& info);
+
+nlohmann::json to_json(const Observables& o);
+
+}  // namespace gfmd

@@ -1,0 +1,123 @@
+// Steady-state contact solve between a rigid indenter and the elastic body.
+//
+// Unknowns: the pressure p(r) >= 0 the indenter exerts on the body and, when sliding
+// with friction, the tangential traction tau(r) = mu_c p(r) s(r) on the body, where
+// s is the unit slip direction of the body under the indenter (see friction below).
+// Displacements follow from the compliance: u = C * (tau_x, tau_y, -p).
+//
+// Interaction (SPEC §4): harmonic overlap repulsion p = k max(0, -g), with gap
+// g = g0 - delta - u_z, g0 = max(h) - h the separation at first touch and delta the
+// approach of the indenter. Written as a complementarity problem with the augmented
+// compliance C_zz + 1/k, it is solved by the Polonsky-Keer constrained conjugate
+// gradient method (load or approach control); k = inf is the hard wall.
+//
+// Friction (SPEC §4-5): the slip velocity of the body relative to the indenter is
+// -v0 (e_s + (e_s.grad) u) (the indenter moves along +e_s over the body); the Coulomb
+// traction on the body opposes it: tau = mu_c p s, s = (e_s + (e_s.grad)u)/|...|.
+// The non-conservative traction enters as a fixed point: for a given tau the normal
+// problem is the same convex problem with g0 replaced by g0 - w, w = C_z. tau (the
+// normal displacement friction causes); then tau is rebuilt from the new p and u.
+// Every outer step solves the normal problem to a tolerance tied to the outer residual.
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <string>
+
+#include "gfmd/elastic.hpp"
+#include "gfmd/fft.hpp"
+#include "gfmd/topography.hpp"
+
+namespace gfmd {
+
+struct InteractionParams {
+  bool hard_wall = false;
+  double stiffness = 0.0;  // k_if; 0 means the default 2 E* / dx
+};
+
+struct FrictionParams {
+  double coefficient = 0.0;      // mu_c
+  double direction_deg = 0.0;    // sliding direction of the indenter, degrees from +x
+};
+
+enum class LoadMode { Force, Pressure, Approach };
+struct LoadParams {
+  LoadMode mode = LoadMode::Force;
+  double value = 0.0;  // force, mean pressure, or approach
+};
+
+struct SolverParams {
+  double tolerance = 1e-8;      // relative change of pressure (L1) and of tau per step
+  int max_iterations = 20000;   // total inner (conjugate-gradient) iterations
+  int max_outer = 200;          // friction fixed-point steps
+};
+
+struct ContactFields {
+  RealField pressure, tx, ty, ux, uy, uz, gap;
+};
+
+struct SolveInfo {
+  bool converged = false;
+  std::string status;         // "converged", "not converged: ...", ...
+  int iterations = 0;         // inner conjugate-gradient iterations in all
+  int outer_iterations = 0;   // friction fixed-point steps
+  double residual = 0.0;      // independent force-balance residual of the final state
+  double pk_error = 0.0;      // last relative pressure change
+  double friction_error = 0.0;
+  double approach = 0.0;      // delta
+  double stiffness = 0.0;     // k_if used (inf for hard wall)
+  double wall_time_s = 0.0;
+};
+
+struct Progress {
+  int iteration;
+  int outer;
+  double error;
+};
+
+class ContactSolver {
+ public:
+  ContactSolver(const ElasticBody& body, const Topography& topo, const InteractionParams& inter,
+                const FrictionParams& fric, const SolverParams& solver);
+
+  // Solves for the given load. `fields` may hold a previous solution of the same grid
+  // (warm start); it is overwritten with the new one.
+  SolveInfo solve(const LoadParams& load, ContactFields& fields);
+
+  void set_progress(std::function<void(const Progress&)> cb) { progress_ = std::move(cb); }
+
+  [[nodiscard]] const FFT& fft() const { return fft_; }
+  [[nodiscard]] const RealField& initial_gap() const { return g0_; }
+  [[nodiscard]] double stiffness() const { return k_; }
+  [[nodiscard]] double sliding_angle() const { return fric_.direction_deg; }
+
+ private:
+  struct PKResult {
+    int iterations;
+    double error;
+    double delta;
+    bool converged;
+  };
+  PKResult solve_normal(const LoadParams& load, const RealField& w, RealField& p, double tol, int max_it);
+  void apply_normal(const RealField& in, RealField& out);  // (C_zz + 1/k) in
+  void update_displacements(ContactFields& f);           // u from (tau, -p)
+  void slip_tractions(const ContactFields& f, RealField& tx, RealField& ty);
+  void friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w);
+  double residual(const ContactFields& f, double delta);
+
+  const ElasticBody& body_;
+  Grid grid_;
+  FFT fft_;
+  InteractionParams inter_;
+  FrictionParams fric_;
+  SolverParams sp_;
+  double k_;      // interaction stiffness (inf: hard wall)
+  double inv_k_;  // 1/k
+  RealField g0_;
+  SpecField s1_, s2_, s3_, s4_, s5_, s6_;
+  RealField r1_, r2_;
+  std::function<void(const Progress&)> progress_;
+  int total_it_ = 0;
+};
+
+}  // namespace gfmd

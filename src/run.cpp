@@ -1,0 +1,105 @@
+#include "gfmd/run.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include "gfmd/error.hpp"
+#include "gfmd/io.hpp"
+#include "gfmd/version.hpp"
+
+namespace gfmd {
+
+namespace fs = std::filesystem;
+
+CaseResult run_case(const Config& cfg, const RunOptions& opts) {
+  set_threads(cfg.threads);
+  CaseResult r{cfg, make_topography(cfg), {}, {}, {}, {}};
+  r.topography_stats = statistics(r.topography);
+  ElasticBody body(cfg.grid, cfg.elastic);
+  ContactSolver solver(body, r.topography, cfg.interaction, cfg.friction, cfg.solver);
+  if (opts.progress) solver.set_progress(opts.progress);
+  r.info = solver.solve(cfg.load, r.fields);
+  r.observables = compute_observables(solver.fft(), r.topography, cfg.friction, r.fields, r.info);
+  return r;
+}
+
+nlohmann::json summary_json(const CaseResult& r) {
+  nlohmann::json j = to_json(r.observables);
+  j["iterations"] = r.info.iterations;
+  j["outer_iterations"] = r.info.outer_iterations;
+  j["converged"] = r.info.converged;
+  j["status"] = r.info.status;
+  j["residual"] = r.info.residual;
+  j["pressure_change"] = r.info.pk_error;
+  if (r.config.friction.coefficient > 0) j["friction_change"] = r.info.friction_error;
+  j["wall_time_s"] = r.info.wall_time_s;
+  j["time_per_iteration_s"] = r.info.iterations > 0 ? r.info.wall_time_s / r.info.iterations : 0.0;
+  j["interaction_stiffness"] = std::isinf(r.info.stiffness) ? nlohmann::json("inf") : nlohmann::json(r.info.stiffness);
+  j["threads"] = threads();
+  const auto& s = r.topography_stats;
+  j["topography"] = {{"kind", r.topography.kind},   {"mean", s.mean},
+                     {"rms_height", s.rms_height},   {"rms_gradient", s.rms_gradient},
+                     {"rms_curvature", s.rms_curvature}, {"min", s.min},
+                     {"max", s.max}};
+  j["input"] = r.config.to_json();
+  j["units"] =
+      "lengths in the unit of grid.lx; pressures, stresses and E* in the unit of elastic.contact_modulus; "
+      "forces = pressure x length^2";
+  j["conventions"] = {
+      {"topography", "indenter height towards the body (peaks are maxima); initial gap g0 = max(h) - h"},
+      {"z", "out of the body towards the indenter; uz < 0 is a depression"},
+      {"approach", "indenter displacement towards the body from first touch; for h = inf relative to the mean "
+                   "surface (mean uz pinned to 0)"}};
+  j["version"] = kVersion;
+  j["git_commit"] = kGitCommit;
+  return j;
+}
+
+void write_outputs(const CaseResult& r, const std::string& dir) {
+  fs::create_directories(dir);
+  const Grid& g = r.config.grid;
+  const std::size_t n = g.size();
+  if (r.config.output.fields) {
+    std::vector<unsigned char> mask(n);
+    RealField cm(n);
+    for (std::size_t i = 0; i < n; ++i) cm[i] = r.fields.pressure[i] > 0 ? 1.0 : 0.0;
+    std::vector<NamedField> fields = {
+        {"topography", r.topography.h.data(), "indenter height towards the body", "length"},
+        {"pressure", r.fields.pressure.data(), "contact pressure on the body (compressive positive)", "E*"},
+        {"gap", r.fields.gap.data(), "gap between indenter and deformed surface", "length"},
+        {"ux", r.fields.ux.data(), "surface displacement along x", "length"},
+        {"uy", r.fields.uy.data(), "surface displacement along y", "length"},
+        {"uz", r.fields.uz.data(), "surface displacement along z (out of the body)", "length"},
+        {"contact", cm.data(), "contact mask (1 = in contact)", "1"}};
+    if (r.config.friction.coefficient > 0) {
+      fields.push_back({"traction_x", r.fields.tx.data(), "friction traction on the body along x", "E*"});
+      fields.push_back({"traction_y", r.fields.ty.data(), "friction traction on the body along y", "E*"});
+    }
+    write_fields_netcdf((fs::path(dir) / "fields.nc").string(), g, fields,
+                        {{"gfmd_version", kVersion},
+                         {"git_commit", kGitCommit},
+                         {"input_toml", r.config.to_toml()},
+                         {"normalisation", "lengths in units of grid.lx, pressures in units of E* (contact_modulus)"}},
+                        "length");
+  }
+  if (r.config.output.png) {
+    std::vector<unsigned char> mask(n);
+    for (std::size_t i = 0; i < n; ++i) mask[i] = r.fields.pressure[i] > 0;
+    PngOptions po;
+    po.colormap = "inferno";
+    po.title = "pressure";
+    write_png_map((fs::path(dir) / "pressure.png").string(), g, r.fields.pressure.data(), po);
+    PngOptions pg;
+    pg.colormap = "viridis";
+    pg.title = "gap";
+    pg.mask = mask.data();
+    write_png_map((fs::path(dir) / "gap.png").string(), g, r.fields.gap.data(), pg);
+  }
+  // summary.json last: its presence marks a complete run directory.
+  write_text_atomic((fs::path(dir) / "summary.json").string(), summary_json(r).dump(2) + "\n");
+}
+
+}  // namespace gfmd

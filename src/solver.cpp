@@ -1,0 +1,316 @@
+#include "gfmd/solver.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "gfmd/error.hpp"
+#include "gfmd/reduce.hpp"
+
+namespace gfmd {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+
+void require_finite(double v, const char* what, int it) {
+  if (!std::isfinite(v)) {
+    std::ostringstream os;
+    os << "solve diverged: " << what << " is not finite at iteration " << it;
+    throw SolveError(os.str());
+  }
+}
+}  // namespace
+
+ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, const InteractionParams& inter,
+                             const FrictionParams& fric, const SolverParams& solver)
+    : body_(body),
+      grid_(body.grid()),
+      fft_(body.grid()),
+      inter_(inter),
+      fric_(fric),
+      sp_(solver),
+      g0_(body.grid().size()) {
+  if (topo.grid.nx != grid_.nx || topo.grid.ny != grid_.ny)
+    throw InputError("indenter", "topography grid does not match the elastic grid");
+  if (inter_.hard_wall) {
+    k_ = std::numeric_limits<double>::infinity();
+    inv_k_ = 0.0;
+  } else {
+    k_ = inter_.stiffness > 0 ? inter_.stiffness : 2.0 * body.params().contact_modulus / grid_.dx();
+    inv_k_ = 1.0 / k_;
+  }
+  double hmax = -std::numeric_limits<double>::infinity();
+  for (double v : topo.h) hmax = std::max(hmax, v);
+  for (std::size_t i = 0; i < g0_.size(); ++i) g0_[i] = hmax - topo.h[i];
+  for (auto* s : {&s1_, &s2_, &s3_, &s4_, &s5_, &s6_}) s->resize(grid_.spectral_size());
+  r1_.resize(grid_.size());
+  r2_.resize(grid_.size());
+}
+
+void ContactSolver::apply_normal(const RealField& in, RealField& out) {
+  fft_.forward(in.data(), s1_.data());
+  const auto& modes = body_.modes();
+  const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(modes.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < ns; ++k) s1_[k] *= modes[k].czz;
+  fft_.backward(s1_.data(), out.data());
+  if (inv_k_ != 0.0) {
+    const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(in.size());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) out[i] += inv_k_ * in[i];
+  }
+}
+
+ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, const RealField& w, RealField& p,
+                                                    double tol, int max_it) {
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.size());
+  const bool load_ctrl = load.mode != LoadMode::Approach;
+  const double pbar = load.mode == LoadMode::Force ? load.value / grid_.area() : load.value;
+  const double delta_imp = load_ctrl ? 0.0 : load.value;
+
+  double psum = grid_sum(grid_, [&](std::size_t i) { return p[i]; });
+  if (load_ctrl) {
+    if (!(psum > 0)) {
+      std::fill(p.begin(), p.end(), pbar);
+    } else {
+      const double f = pbar * static_cast<double>(n) / psum;
+      for (auto& v : p) v *= f;
+    }
+  } else if (!(psum > 0)) {
+    const double kk = inter_.hard_wall ? body_.params().contact_modulus / grid_.dx() : k_;
+    for (std::ptrdiff_t i = 0; i < n; ++i) p[i] = kk * std::max(0.0, delta_imp + w[i] - g0_[i]);
+  }
+
+  RealField g(n), t(n, 0.0), r(n), pold(n);
+  bool conjugate = false;
+  double gold = 1.0;
+  PKResult res{0, 1.0, 0.0, false};
+  for (int it = 0; it < max_it; ++it) {
+    ++res.iterations;
+    ++total_it_;
+    apply_normal(p, g);
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) g[i] += g0_[i] - w[i] - delta_imp;
+    const double ns = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? 1.0 : 0.0; });
+    if (ns == 0.0) {
+      // Approach control with no contact at all: p = 0 is the solution if nothing overlaps.
+      const double minimum = -grid_max(grid_, [&](std::size_t i) { return -g[i]; }, -1e300);
+      if (minimum >= 0.0) {
+        res.converged = true;
+        res.error = 0.0;
+        res.delta = delta_imp;
+        return res;
+      }
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < n; ++i) p[i] = std::max(0.0, -g[i]) * (inv_k_ > 0 ? k_ : 1.0);
+      conjugate = false;
+      continue;
+    }
+    double gbar = 0.0;
+    if (load_ctrl) {
+      gbar = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? g[i] : 0.0; }) / ns;
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < n; ++i) g[i] -= gbar;
+    }
+    const double G = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? g[i] * g[i] : 0.0; });
+    const double beta = conjugate ? G / gold : 0.0;
+    gold = G;
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) t[i] = p[i] > 0 ? g[i] + beta * t[i] : 0.0;
+    apply_normal(t, r);
+    if (load_ctrl) {
+      const double rbar = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? r[i] : 0.0; }) / ns;
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < n; ++i) r[i] -= rbar;
+    }
+    const double num = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? g[i] * t[i] : 0.0; });
+    const double den = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? r[i] * t[i] : 0.0; });
+    require_finite(num, "the pressure residual", total_it_);
+    if (den == 0.0 || G == 0.0) {
+      res.converged = true;
+      res.error = 0.0;
+      res.delta = load_ctrl ? gbar : delta_imp;
+      return res;
+    }
+    const double tau = num / den;
+    const double nol = grid_sum(grid_, [&](std::size_t i) {
+      pold[i] = p[i];
+      double v = p[i] > 0 ? std::max(0.0, p[i] - tau * t[i]) : 0.0;
+      double overlap = 0.0;
+      if (v == 0.0 && g[i] < 0.0) {
+        v = -tau * g[i];
+        overlap = 1.0;
+      }
+      p[i] = v;
+      return overlap;
+    });
+    conjugate = (nol == 0.0);
+    double pnew = grid_sum(grid_, [&](std::size_t i) { return p[i]; });
+    if (load_ctrl && pnew > 0) {
+      const double f = pbar * static_cast<double>(n) / pnew;
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < n; ++i) p[i] *= f;
+      pnew = pbar * static_cast<double>(n);
+    }
+    const double change = grid_sum(grid_, [&](std::size_t i) { return std::abs(p[i] - pold[i]); });
+    res.error = pnew > 0 ? change / pnew : (change > 0 ? 1.0 : 0.0);
+    res.delta = load_ctrl ? gbar : delta_imp;
+    require_finite(res.error, "the pressure", total_it_);
+    if (progress_ && (total_it_ % 50 == 0)) progress_(Progress{total_it_, 0, res.error});
+    if (res.error < tol) {
+      res.converged = true;
+      return res;
+    }
+  }
+  return res;
+}
+
+void ContactSolver::update_displacements(ContactFields& f) {
+  // Tractions on the body: (tau_x, tau_y, -p).
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) r1_[i] = -f.pressure[i];
+  fft_.forward(r1_.data(), s1_.data());
+  fft_.forward(f.tx.data(), s2_.data());
+  fft_.forward(f.ty.data(), s3_.data());
+  body_.displacement(s2_.data(), s3_.data(), s1_.data(), s4_.data(), s5_.data(), s6_.data());
+  fft_.backward(s4_.data(), f.ux.data());
+  fft_.backward(s5_.data(), f.uy.data());
+  fft_.backward(s6_.data(), f.uz.data());
+}
+
+void ContactSolver::slip_tractions(const ContactFields& f, RealField& tx, RealField& ty) {
+  // Requires s4_/s5_ to hold the spectra of ux/uy (update_displacements).
+  const double th = fric_.direction_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(th), ey = std::sin(th);
+  const int nxh = grid_.nxh();
+#pragma omp parallel for schedule(static)
+  for (int iky = 0; iky < grid_.ny; ++iky) {
+    const double qy = grid_.qy_deriv(iky);
+    for (int ikx = 0; ikx < nxh; ++ikx) {
+      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
+      const cplx d(0.0, ex * grid_.qx_deriv(ikx) + ey * qy);
+      s1_[k] = d * s4_[k];
+      s2_[k] = d * s5_[k];
+    }
+  }
+  fft_.backward(s1_.data(), r1_.data());
+  fft_.backward(s2_.data(), r2_.data());
+  const double mu = fric_.coefficient;
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const double vx = ex + r1_[i], vy = ey + r2_[i];
+    const double norm = std::hypot(vx, vy);
+    const double p = f.pressure[i];
+    tx[i] = (p > 0 && norm > 0) ? mu * p * vx / norm : 0.0;
+    ty[i] = (p > 0 && norm > 0) ? mu * p * vy / norm : 0.0;
+  }
+}
+
+void ContactSolver::friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w) {
+  fft_.forward(tx.data(), s2_.data());
+  fft_.forward(ty.data(), s3_.data());
+  body_.displacement(s2_.data(), s3_.data(), nullptr, nullptr, nullptr, s6_.data());
+  fft_.backward(s6_.data(), w.data());
+}
+
+double ContactSolver::residual(const ContactFields& f, double delta) {
+  // Independent check of the final state: gap from the full 3D displacement.
+  const auto gap = [&](std::size_t i) { return g0_[i] - delta - f.uz[i]; };
+  if (!inter_.hard_wall) {
+    const double num = grid_sum(grid_, [&](std::size_t i) {
+      const double d = f.pressure[i] - k_ * std::max(0.0, -gap(i));
+      return d * d;
+    });
+    const double den = grid_sum(grid_, [&](std::size_t i) { return f.pressure[i] * f.pressure[i]; });
+    return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
+  }
+  const double num = grid_sum(grid_, [&](std::size_t i) {
+    const double g = gap(i);
+    if (f.pressure[i] > 0) return g * g;
+    return g < 0 ? g * g : 0.0;
+  });
+  const double mean = grid_sum(grid_, [&](std::size_t i) { return g0_[i]; }) / static_cast<double>(grid_.size());
+  const double den = grid_sum(grid_, [&](std::size_t i) { return (g0_[i] - mean) * (g0_[i] - mean); });
+  return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
+}
+
+SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
+  const auto t0 = Clock::now();
+  const std::size_t n = grid_.size();
+  for (auto* fld : {&f.pressure, &f.tx, &f.ty, &f.ux, &f.uy, &f.uz, &f.gap})
+    if (fld->size() != n) fld->assign(n, 0.0);
+  total_it_ = 0;
+  SolveInfo info;
+  info.stiffness = k_;
+  const double tol = sp_.tolerance;
+  const double mu = fric_.coefficient;
+  RealField w(n, 0.0);
+  PKResult pk{};
+  if (mu == 0.0) {
+    std::fill(f.tx.begin(), f.tx.end(), 0.0);
+    std::fill(f.ty.begin(), f.ty.end(), 0.0);
+    pk = solve_normal(load, w, f.pressure, tol, sp_.max_iterations);
+    info.converged = pk.converged;
+    info.status = pk.converged ? "converged" : "not converged: iteration limit reached";
+  } else {
+    RealField tx(n), ty(n);
+    friction_normal_displacement(f.tx, f.ty, w);
+    double err = 1.0, best = std::numeric_limits<double>::infinity();
+    int since_best = 0;
+    info.status = "not converged: friction fixed point did not settle";
+    for (int outer = 0; outer < sp_.max_outer; ++outer) {
+      info.outer_iterations = outer + 1;
+      const double inner_tol = std::max(tol, std::min(1e-3, 0.1 * err));
+      const int budget = sp_.max_iterations - total_it_;
+      if (budget <= 0) {
+        info.status = "not converged: iteration limit reached";
+        break;
+      }
+      pk = solve_normal(load, w, f.pressure, inner_tol, budget);
+      update_displacements(f);
+      slip_tractions(f, tx, ty);
+      const double diff = grid_sum(grid_, [&](std::size_t i) {
+        return std::abs(tx[i] - f.tx[i]) + std::abs(ty[i] - f.ty[i]);
+      });
+      const double norm = grid_sum(grid_, [&](std::size_t i) { return std::abs(tx[i]) + std::abs(ty[i]); });
+      err = norm > 0 ? diff / norm : 0.0;
+      require_finite(err, "the friction traction", total_it_);
+      f.tx.swap(tx);
+      f.ty.swap(ty);
+      friction_normal_displacement(f.tx, f.ty, w);
+      info.friction_error = err;
+      if (progress_) progress_(Progress{total_it_, outer + 1, err});
+      if (err < tol && pk.converged && inner_tol <= tol) {
+        info.converged = true;
+        info.status = "converged";
+        break;
+      }
+      if (err < 0.5 * best) {
+        best = err;
+        since_best = 0;
+      } else if (++since_best >= 30) {
+        info.status = "not converged: oscillating (friction fixed point stalled)";
+        break;
+      }
+    }
+    if (!pk.converged && info.converged) {
+      info.converged = false;
+      info.status = "not converged: iteration limit reached";
+    }
+  }
+  info.iterations = total_it_;
+  info.pk_error = pk.error;
+  info.approach = pk.delta;
+  update_displacements(f);
+  for (std::size_t i = 0; i < n; ++i) f.gap[i] = std::max(0.0, g0_[i] - pk.delta - f.uz[i]);
+  info.residual = residual(f, pk.delta);
+  require_finite(info.residual, "the final residual", total_it_);
+  info.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  return info;
+}
+
+}  // namespace gfmd
