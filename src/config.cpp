@@ -178,7 +178,14 @@ void apply_override(toml::value& root, const std::string& spec) {
   auto& tbl = root.as_table();
   if (!tbl.count(sec)) tbl[sec] = toml::table{};
   if (!tbl[sec].is_table()) throw InputError("--set " + spec, "'" + sec + "' is not a table");
-  tbl[sec].as_table()[key] = val;
+  auto& st = tbl[sec].as_table();
+  // The load keys exclude each other: setting one replaces the others.
+  if (sec == "load" && (key == "force" || key == "pressure" || key == "approach")) {
+    st.erase("force");
+    st.erase("pressure");
+    st.erase("approach");
+  }
+  st[key] = val;
 }
 
 Config build(const toml::value& root, const std::string& name, const std::string& base_dir) {
