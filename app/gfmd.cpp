@@ -88,7 +88,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    const int rc = app.exit(e);  // prints help/version or the usage error
+    return rc == 0 ? 0 : 2;
   }
   try {
     if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet);

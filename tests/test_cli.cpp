@@ -1,0 +1,144 @@
+// The gfmd executable: bad input gives a clear message, a non-zero exit and no output.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Outcome {
+  int code;
+  std::string output;
+};
+
+Outcome run_gfmd(const std::string& args) {
+  const std::string cmd = std::string(GFMD_EXE) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf{};
+  while (pipe && fgets(buf.data(), buf.size(), pipe)) out += buf.data();
+  const int status = pipe ? pclose(pipe) : -1;
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("gfmd_cli_test_" + std::to_string(getpid())) / name;
+  fs::create_directories(d);
+  return d;
+}
+
+void write(const fs::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
+
+const std::string kGood = R"([grid]
+nx = 64
+lx = 4.0
+[elastic]
+poisson = 0.25
+[indenter]
+type = "hertz"
+radius = 1.0
+[load]
+force = 0.01
+)";
+
+struct BadCase {
+  const char* name;
+  std::string toml;     // case file text
+  std::string extra;    // extra command-line arguments
+  const char* fragment;  // expected in the message
+};
+
+}  // namespace
+
+TEST(Cli, RunWritesSummaryFieldsAndMaps) {
+  const fs::path d = scratch("good");
+  write(d / "case.toml", kGood);
+  const auto r = run_gfmd((d / "case.toml").string() + " -o " + (d / "out").string() + " -q");
+  ASSERT_EQ(r.code, 2) << "a bare case path is not a command: " << r.output;  // 'run' is required
+  const auto ok = run_gfmd("run " + (d / "case.toml").string() + " -o " + (d / "out").string() + " -q");
+  ASSERT_EQ(ok.code, 0) << ok.output;
+  for (const char* f : {"summary.json", "fields.nc", "pressure.png", "gap.png"}) EXPECT_TRUE(fs::exists(d / "out" / f)) << f;
+  std::ifstream in(d / "out" / "summary.json");
+  const auto j = nlohmann::json::parse(in);
+  for (const char* k : {"relative_contact_area", "normal_force", "mean_pressure", "max_pressure", "mean_gap",
+                        "iterations", "converged", "residual", "wall_time_s", "input", "topography"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  EXPECT_TRUE(j["converged"].get<bool>());
+  EXPECT_NEAR(j["normal_force"].get<double>(), 0.01, 1e-12);
+  EXPECT_EQ(j["input"]["elastic"]["thickness"], "inf");
+  EXPECT_EQ(j["input"]["solver"]["tolerance"].get<double>(), 1e-8);  // default filled in
+  // --set overrides reach the input record.
+  const auto s = run_gfmd("run " + (d / "case.toml").string() + " -o " + (d / "out2").string() +
+                          " -q --set elastic.poisson=0.3 --set load.pressure=0.0005");
+  ASSERT_EQ(s.code, 0) << s.output;
+  std::ifstream in2(d / "out2" / "summary.json");
+  const auto j2 = nlohmann::json::parse(in2);
+  EXPECT_EQ(j2["input"]["elastic"]["poisson"].get<double>(), 0.3);
+  EXPECT_NEAR(j2["mean_pressure"].get<double>(), 0.0005, 1e-14);
+}
+
+TEST(Cli, BadInputIsRefusedCleanly) {
+  const fs::path d = scratch("bad");
+  write(d / "nan.txt", "# lx = 4\n# ly = 4\n1 2\nnan 4\n");
+  const auto sub = [](std::string s, const std::string& from, const std::string& to) {
+    const auto pos = s.find(from);
+    EXPECT_NE(pos, std::string::npos) << from;
+    return s.replace(pos, from.size(), to);
+  };
+  const std::vector<BadCase> cases = {
+      {"unknown_key", sub(kGood, "poisson = 0.25", "poison = 0.25"), "", "elastic.poison: unknown key (did you mean 'poisson'?)"},
+      {"unknown_section", kGood + "[elastc]\nx = 1\n", "", "elastc: unknown section"},
+      {"wrong_type", sub(kGood, "nx = 64", "nx = \"big\""), "", "grid.nx: must be an integer"},
+      {"nu_high", sub(kGood, "poisson = 0.25", "poisson = 0.7"), "", "elastic.poisson"},
+      {"nu_low", sub(kGood, "poisson = 0.25", "poisson = -1.0"), "", "outside (-1, 0.5]"},
+      {"h_negative", sub(kGood, "poisson = 0.25", "poisson = 0.25\nthickness = -0.1"), "", "elastic.thickness"},
+      {"h_zero", sub(kGood, "poisson = 0.25", "poisson = 0.25\nthickness = 0"), "", "elastic.thickness"},
+      {"nu_half_layer", sub(kGood, "poisson = 0.25", "poisson = 0.5\nthickness = 0.2"), "", "singular"},
+      {"grid_too_small", sub(kGood, "nx = 64", "nx = 1"), "", "grid.nx: must be an integer in [2, 65536]"},
+      {"grid_too_big", sub(kGood, "nx = 64", "nx = 65536"), "", "more than 80% of this machine"},
+      {"lx_negative", sub(kGood, "lx = 4.0", "lx = -4.0"), "", "grid.lx"},
+      {"cell_too_small", sub(kGood, "lx = 4.0", "lx = 0.5"), "", "periodic images"},
+      {"no_load", sub(kGood, "force = 0.01", ""), "", "give exactly one of force, pressure, approach"},
+      {"two_loads", sub(kGood, "force = 0.01", "force = 0.01\npressure = 0.1"), "", "exactly one of force"},
+      {"negative_force", sub(kGood, "force = 0.01", "force = -0.01"), "", "load.force: must be positive"},
+      {"bad_type", sub(kGood, "type = \"hertz\"", "type = \"herz\""), "", "did you mean 'hertz'"},
+      {"missing_file", sub(sub(kGood, "type = \"hertz\"", "type = \"file\""), "radius = 1.0", "path = \"nope.txt\""), "",
+       "nope.txt"},
+      {"nan_file", sub(sub(kGood, "type = \"hertz\"", "type = \"file\""), "radius = 1.0", "path = \"nan.txt\""), "",
+       "nan.txt"},
+      {"syntax", "[grid\nnx = 3", "", "not valid TOML"},
+      {"bad_set", kGood, "--set nonsense", "expected section.key=value"},
+      {"set_unknown", kGood, "--set solver.tolerence=1e-6", "did you mean 'tolerance'"},
+      {"tolerance", sub(kGood, "force = 0.01", "force = 0.01\n[solver]\ntolerance = 2"), "", "solver.tolerance"},
+  };
+  for (const auto& c : cases) {
+    const fs::path tomlp = d / (std::string(c.name) + ".toml");
+    const fs::path out = d / (std::string(c.name) + "_out");
+    write(tomlp, c.toml);
+    const auto r = run_gfmd("run " + tomlp.string() + " -o " + out.string() + " -q " + c.extra);
+    EXPECT_NE(r.code, 0) << c.name;
+    EXPECT_NE(r.output.find(c.fragment), std::string::npos) << c.name << ": " << r.output;
+    EXPECT_FALSE(fs::exists(out)) << c.name << " left an output directory";
+  }
+  const auto missing = run_gfmd("run " + (d / "does_not_exist.toml").string() + " -q");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.output.find("cannot open the case file"), std::string::npos);
+}
+
+TEST(Cli, UnconvergedSolveWritesNothing) {
+  const fs::path d = scratch("unconverged");
+  write(d / "case.toml", kGood + "[solver]\nmax_iterations = 3\n");
+  const auto r = run_gfmd("run " + (d / "case.toml").string() + " -o " + (d / "out").string() + " -q");
+  EXPECT_EQ(r.code, 3);
+  EXPECT_NE(r.output.find("not converged"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(d / "out" / "summary.json"));
+}
