@@ -156,7 +156,7 @@ class Section {
 };
 
 const std::vector<std::string> kSections = {"grid",   "elastic", "indenter", "load",
-                                            "friction", "interaction", "solver", "output"};
+                                            "friction", "interaction", "solver", "output", "sweep"};
 
 void apply_override(toml::value& root, const std::string& spec) {
   const auto eq = spec.find('=');
@@ -302,6 +302,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
   if (!(c.friction.coefficient >= 0) || !std::isfinite(c.friction.coefficient))
     fr.error("coefficient", "must be a non-negative number" + fr.at("coefficient"));
   if (!std::isfinite(c.friction.direction_deg)) fr.error("direction", "must be finite (degrees from +x)");
+  c.friction_reference = fr.boolean("reference", true);
   fr.finish();
 
   Section ia(root, "interaction", errors);
@@ -327,6 +328,42 @@ Config build(const toml::value& root, const std::string& name, const std::string
   if (c.solver.max_outer < 1) so.error("max_outer", "must be at least 1");
   if (c.threads < 0) so.error("threads", "must be >= 0 (0 = all cores)");
   so.finish();
+
+  Section sw(root, "sweep", errors);
+  if (sw.present()) {
+    c.sweep.parameter = sw.string("parameter", "");
+    c.sweep.plot = sw.string("plot", c.sweep.plot);
+    if (const toml::value* v = sw.raw("values")) {
+      if (!v->is_array()) {
+        sw.error("values", "must be an array of numbers" + where(*v));
+      } else {
+        for (const auto& e : v->as_array()) {
+          if (e.is_floating())
+            c.sweep.values.push_back(e.as_floating());
+          else if (e.is_integer())
+            c.sweep.values.push_back(static_cast<double>(e.as_integer()));
+          else
+            sw.error("values", "must be an array of numbers" + where(e));
+        }
+      }
+    }
+    const double from = sw.number("from", 0.0), to = sw.number("to", 0.0);
+    const long long points = sw.integer("points", 0);
+    const std::string spacing = sw.string("spacing", "log");
+    if (points > 0) {
+      if (!c.sweep.values.empty()) sw.error("points", "give either values or from/to/points, not both");
+      if (spacing != "log" && spacing != "linear") sw.error("spacing", "must be \"log\" or \"linear\"");
+      if (spacing == "log" && !(from > 0 && to > 0)) sw.error("from", "log spacing needs positive from and to");
+      for (long long i = 0; i < points; ++i) {
+        const double t = points == 1 ? 0.0 : static_cast<double>(i) / static_cast<double>(points - 1);
+        c.sweep.values.push_back(spacing == "log" ? from * std::pow(to / from, t) : from + (to - from) * t);
+      }
+    }
+    if (c.sweep.parameter.empty() || c.sweep.parameter.find('.') == std::string::npos)
+      sw.error("parameter", "name the swept key as \"section.key\", e.g. \"load.force\"");
+    if (c.sweep.values.empty()) sw.error("values", "give the values (or from, to, points)");
+  }
+  sw.finish();
 
   Section out(root, "output", errors);
   c.output.fields = out.boolean("fields", true);
@@ -435,7 +472,9 @@ nlohmann::json Config::to_json() const {
   j["indenter"] = ind;
   const char* lk = load.mode == LoadMode::Force ? "force" : load.mode == LoadMode::Pressure ? "pressure" : "approach";
   j["load"] = {{lk, load.value}};
-  j["friction"] = {{"coefficient", friction.coefficient}, {"direction", friction.direction_deg}};
+  j["friction"] = {{"coefficient", friction.coefficient},
+                   {"direction", friction.direction_deg},
+                   {"reference", friction_reference}};
   j["interaction"] = {{"model", interaction.hard_wall ? "hardwall" : "harmonic"},
                       {"stiffness", interaction.stiffness}};
   j["solver"] = {{"tolerance", solver.tolerance},
@@ -443,6 +482,7 @@ nlohmann::json Config::to_json() const {
                  {"max_outer", solver.max_outer},
                  {"threads", threads}};
   j["output"] = {{"fields", output.fields}, {"png", output.png}};
+  if (sweep.active()) j["sweep"] = {{"parameter", sweep.parameter}, {"values", sweep.values}, {"plot", sweep.plot}};
   return j;
 }
 
@@ -459,7 +499,7 @@ std::string Config::to_toml() const {
         os << '"' << v.get<std::string>() << '"';
       else if (v.is_boolean())
         os << (v.get<bool>() ? "true" : "false");
-      else if (v.is_number_integer() || v.is_number_unsigned())
+      else if (v.is_number_integer() || v.is_number_unsigned() || v.is_array())
         os << v.dump();
       else
         os << v.get<double>();

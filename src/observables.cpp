@@ -1,6 +1,8 @@
 #include "gfmd/observables.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "gfmd/reduce.hpp"
@@ -61,8 +63,77 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     o.energy_balance_error = std::abs(o.friction_force - o.friction_force_downhill) / o.friction_force;
     o.mean_tangential_traction_x = grid_sum(g, [&](std::size_t i) { return f.tx[i]; }) / n;
     o.mean_tangential_traction_y = grid_sum(g, [&](std::size_t i) { return f.ty[i]; }) / n;
+    double vmax = 0, vmin = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < g.size(); ++i)
+      if (f.pressure[i] > 0) {
+        const double v = std::hypot(vx[i], vy[i]);
+        vmax = std::max(vmax, v);
+        vmin = std::min(vmin, v);
+      }
+    o.max_slip_velocity = vmax;
+    o.min_slip_velocity = std::isfinite(vmin) ? vmin : 0.0;
+  }
+  // Geometry relative to the highest point of the indenter.
+  std::size_t apex = 0;
+  for (std::size_t i = 1; i < g.size(); ++i)
+    if (topo.h[i] > topo.h[apex]) apex = i;
+  const int ax = static_cast<int>(apex % g.nx), ay = static_cast<int>(apex / g.nx);
+  const double th = fric.direction_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(th), ey = std::sin(th);
+  const auto rel = [&](int ix, int iy, double& l, double& t) {
+    int dx = ix - ax, dy = iy - ay;
+    if (dx > g.nx / 2) dx -= g.nx;
+    if (dx < -g.nx / 2) dx += g.nx;
+    if (dy > g.ny / 2) dy -= g.ny;
+    if (dy < -g.ny / 2) dy += g.ny;
+    const double x = dx * g.dx(), y = dy * g.dy();
+    l = x * ex + y * ey;
+    t = -x * ey + y * ex;
+  };
+  double m0 = 0, ml = 0, mt = 0, lmin = 1e300, lmax = -1e300, tmin = 1e300, tmax = -1e300, pmax = -1;
+  for (int iy = 0; iy < g.ny; ++iy)
+    for (int ix = 0; ix < g.nx; ++ix) {
+      const double p = f.pressure[static_cast<std::size_t>(iy) * g.nx + ix];
+      if (!(p > 0)) continue;
+      double l, t;
+      rel(ix, iy, l, t);
+      m0 += p;
+      ml += p * l;
+      mt += p * t;
+      lmin = std::min(lmin, l);
+      lmax = std::max(lmax, l);
+      tmin = std::min(tmin, t);
+      tmax = std::max(tmax, t);
+      if (p > pmax) {
+        pmax = p;
+        o.pressure_max_shift = l;
+      }
+    }
+  if (m0 > 0) {
+    o.centroid_shift = ml / m0;
+    o.centroid_shift_transverse = mt / m0;
+    o.contact_extent_longitudinal = lmax - lmin + g.dx();
+    o.contact_extent_transverse = tmax - tmin + g.dy();
   }
   return o;
+}
+
+DerivedFields derived_fields(const FFT& fft, const FrictionParams& fric, const ContactFields& f) {
+  DerivedFields d;
+  RealField vx, vy;
+  slip_velocity(fft, fric, f.ux, f.uy, vx, vy);
+  const double th = fric.direction_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(th), ey = std::sin(th);
+  const std::size_t n = fft.grid().size();
+  d.slip_longitudinal.resize(n);
+  d.slip_transverse.resize(n);
+  d.dissipation.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    d.slip_longitudinal[i] = vx[i] * ex + vy[i] * ey - 1.0;
+    d.slip_transverse[i] = -vx[i] * ey + vy[i] * ex;
+    d.dissipation[i] = fric.coefficient * f.pressure[i] * std::hypot(vx[i], vy[i]);
+  }
+  return d;
 }
 
 nlohmann::json to_json(const Observables& o) {
@@ -79,7 +150,14 @@ nlohmann::json to_json(const Observables& o) {
     j["friction_coefficient"] = o.friction_coefficient;
     j["friction_coefficient_downhill"] = o.friction_coefficient_downhill;
     j["energy_balance_error"] = o.energy_balance_error;
+    j["max_slip_velocity"] = o.max_slip_velocity;
+    j["min_slip_velocity"] = o.min_slip_velocity;
   }
+  j["centroid_shift"] = o.centroid_shift;
+  j["centroid_shift_transverse"] = o.centroid_shift_transverse;
+  j["pressure_max_shift"] = o.pressure_max_shift;
+  j["contact_extent_longitudinal"] = o.contact_extent_longitudinal;
+  j["contact_extent_transverse"] = o.contact_extent_transverse;
   return j;
 }
 

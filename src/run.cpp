@@ -16,12 +16,33 @@ namespace fs = std::filesystem;
 
 CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   set_threads(cfg.threads);
-  CaseResult r{cfg, make_topography(cfg), {}, {}, {}, {}};
+  CaseResult r;
+  r.config = cfg;
+  r.topography = make_topography(cfg);
   r.topography_stats = statistics(r.topography);
   ElasticBody body(cfg.grid, cfg.elastic);
+  if (opts.warm_start && opts.warm_start->pressure.size() == cfg.grid.size()) r.fields = *opts.warm_start;
+  if (cfg.friction.coefficient > 0 && cfg.friction_reference) {
+    // Frictionless reference at the same load; it also warm-starts the sliding solve.
+    FrictionParams none = cfg.friction;
+    none.coefficient = 0.0;
+    ContactSolver ref(body, r.topography, cfg.interaction, none, cfg.solver);
+    if (opts.progress) ref.set_progress(opts.progress);
+    ContactFields rf = r.fields;
+    r.reference_info = ref.solve(cfg.load, rf);
+    if (!r.reference_info.converged) {
+      r.info = r.reference_info;
+      r.info.status += " (frictionless reference)";
+      return r;
+    }
+    r.reference = compute_observables(ref.fft(), r.topography, none, rf, r.reference_info);
+    r.has_reference = true;
+    if (!opts.warm_start) r.fields.pressure = rf.pressure;
+  }
   ContactSolver solver(body, r.topography, cfg.interaction, cfg.friction, cfg.solver);
   if (opts.progress) solver.set_progress(opts.progress);
   r.info = solver.solve(cfg.load, r.fields);
+  if (r.has_reference) r.info.wall_time_s += r.reference_info.wall_time_s;
   r.observables = compute_observables(solver.fft(), r.topography, cfg.friction, r.fields, r.info);
   return r;
 }
@@ -36,6 +57,17 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["pressure_change"] = r.info.pk_error;
   if (r.config.friction.coefficient > 0) j["friction_change"] = r.info.friction_error;
   j["wall_time_s"] = r.info.wall_time_s;
+  if (r.config.friction.coefficient > 0) {
+    const double mu = r.config.friction.coefficient;
+    j["delta_mu_over_mu_c"] = (r.observables.friction_coefficient - mu) / mu;
+    j["delta_mu_over_mu_c_downhill"] = (r.observables.friction_coefficient_downhill - mu) / mu;
+  }
+  if (r.has_reference) {
+    j["frictionless"] = to_json(r.reference);
+    j["frictionless"]["iterations"] = r.reference_info.iterations;
+    j["delta_area_over_area"] =
+        r.observables.relative_contact_area / r.reference.relative_contact_area - 1.0;
+  }
   j["time_per_iteration_s"] = r.info.iterations > 0 ? r.info.wall_time_s / r.info.iterations : 0.0;
   j["interaction_stiffness"] = std::isinf(r.info.stiffness) ? nlohmann::json("inf") : nlohmann::json(r.info.stiffness);
   j["threads"] = threads();
@@ -74,9 +106,18 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
         {"uy", r.fields.uy.data(), "surface displacement along y", "length"},
         {"uz", r.fields.uz.data(), "surface displacement along z (out of the body)", "length"},
         {"contact", cm.data(), "contact mask (1 = in contact)", "1"}};
+    DerivedFields d;
     if (r.config.friction.coefficient > 0) {
+      FFT fft(g);
+      d = derived_fields(fft, r.config.friction, r.fields);
       fields.push_back({"traction_x", r.fields.tx.data(), "friction traction on the body along x", "E*"});
       fields.push_back({"traction_y", r.fields.ty.data(), "friction traction on the body along y", "E*"});
+      fields.push_back({"slip_longitudinal", d.slip_longitudinal.data(),
+                        "relative longitudinal slip velocity v_l^rel/v0 - 1 = (e_s.grad) u_s", "1"});
+      fields.push_back({"slip_transverse", d.slip_transverse.data(),
+                        "transverse slip velocity / v0 = (e_s.grad) u_perp", "1"});
+      fields.push_back({"dissipation", d.dissipation.data(), "dissipated power density / v0 = mu_c p |v|/v0",
+                        "E*"});
     }
     write_fields_netcdf((fs::path(dir) / "fields.nc").string(), g, fields,
                         {{"gfmd_version", kVersion},
@@ -97,6 +138,28 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
     pg.title = "gap";
     pg.mask = mask.data();
     write_png_map((fs::path(dir) / "gap.png").string(), g, r.fields.gap.data(), pg);
+    if (r.config.friction.coefficient > 0) {
+      FFT fft(g);
+      const DerivedFields d = derived_fields(fft, r.config.friction, r.fields);
+      std::vector<double> vl(n), vt(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        // Slip fields are shown inside the contact only.
+        vl[i] = mask[i] ? d.slip_longitudinal[i] : 0.0;
+        vt[i] = mask[i] ? d.slip_transverse[i] : 0.0;
+      }
+      PngOptions ps;
+      ps.colormap = "coolwarm";
+      ps.symmetric = true;
+      ps.mask = mask.data();
+      ps.title = "longitudinal slip excess";
+      write_png_map((fs::path(dir) / "slip_longitudinal.png").string(), g, vl.data(), ps);
+      ps.title = "transverse slip";
+      write_png_map((fs::path(dir) / "slip_transverse.png").string(), g, vt.data(), ps);
+      PngOptions pd;
+      pd.colormap = "inferno";
+      pd.title = "dissipation";
+      write_png_map((fs::path(dir) / "dissipation.png").string(), g, d.dissipation.data(), pd);
+    }
   }
   // summary.json last: its presence marks a complete run directory.
   write_text_atomic((fs::path(dir) / "summary.json").string(), summary_json(r).dump(2) + "\n");

@@ -25,6 +25,13 @@ struct OutputConfig {
   bool png = true;     // PNG maps
 };
 
+struct SweepConfig {
+  std::string parameter;        // "section.key", e.g. "load.force"
+  std::vector<double> values;   // the values, in order
+  std::string plot = "friction_coefficient";  // summary key drawn against the parameter
+  [[nodiscard]] bool active() const { return !parameter.empty(); }
+};
+
 struct Config {
   Grid grid;
   ElasticParams elastic;
@@ -35,6 +42,8 @@ struct Config {
   SolverParams solver;
   int threads = 0;
   OutputConfig output;
+  bool friction_reference = true;  // with friction: also solve frictionless at the same load
+  SweepConfig sweep;
   std::string source;  // the case file's path ("" for a string)
 
   // The full input with defaults filled in (recorded in summary.json).

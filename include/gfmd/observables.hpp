@@ -26,7 +26,23 @@ struct Observables {
   double friction_coefficient_downhill = 0;
   double energy_balance_error = 0;  // |F_diss - F_downhill| / F_diss
   double mean_tangential_traction_x = 0, mean_tangential_traction_y = 0;
+  // Geometry relative to the indenter's highest point (the Hertz apex), along the
+  // sliding direction e_s ("longitudinal") and across it ("transverse"), minimum image.
+  double centroid_shift = 0;          // pressure-weighted mean position . e_s
+  double centroid_shift_transverse = 0;
+  double pressure_max_shift = 0;      // position of max p . e_s
+  double contact_extent_longitudinal = 0;  // (max - min) of contact cells . e_s, + dx
+  double contact_extent_transverse = 0;
+  double max_slip_velocity = 0, min_slip_velocity = 0;  // |v_slip|/v0 over the contact
 };
+
+// Fields derived from a solved state (all on the grid).
+struct DerivedFields {
+  RealField slip_longitudinal;  // v_l^rel / v0 - 1: relative longitudinal slip excess ((e_s.grad) u_s)
+  RealField slip_transverse;    // transverse slip / v0 ((e_s.grad) u_perp)
+  RealField dissipation;        // mu_c p |v_slip| / v0 (power density per unit v0)
+};
+DerivedFields derived_fields(const FFT& fft, const FrictionParams& fric, const ContactFields& f);
 
 // Slip field of the body relative to the indenter in units of v0: v = e_s + (e_s.grad)u
 // (its sign is that of the indenter's motion seen from the body; |v| is the slip speed).

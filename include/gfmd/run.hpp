@@ -19,10 +19,15 @@ struct CaseResult {
   ContactFields fields;
   SolveInfo info;
   Observables observables;
+  // Frictionless solve at the same load (with friction and friction_reference).
+  bool has_reference = false;
+  Observables reference;
+  SolveInfo reference_info;
 };
 
 struct RunOptions {
   std::function<void(const Progress&)> progress;  // called every few iterations
+  const ContactFields* warm_start = nullptr;       // a previous solution on the same grid
 };
 
 // Solves a case. Throws InputError for bad input and SolveError for a failed solve.
@@ -34,5 +39,21 @@ nlohmann::json summary_json(const CaseResult& r);
 // Writes summary.json (+ fields.nc and PNG maps as configured) into dir. Every file is
 // staged and renamed into place, so a crash leaves complete files only.
 void write_outputs(const CaseResult& r, const std::string& dir);
+
+// Load sweeps: solves cfg.sweep.values of cfg.sweep.parameter in order, each warm-started
+// from the previous point, into dir/point_NNN/, and after every point rewrites
+// dir/sweep.csv and dir/sweep.json (one row of every scalar summary key per point).
+// Points whose summary.json already holds the same input are read back, not recomputed.
+struct SweepOptions {
+  std::function<void(const Progress&)> progress;
+  std::function<void(int done, int total, const std::string& message)> on_point;
+  std::vector<std::string> overrides;  // --set values applied to every point
+};
+nlohmann::json run_sweep(const std::string& case_path, const Config& cfg, const std::string& dir,
+                         const SweepOptions& opts);
+
+// Flattens the scalar entries of a summary (numbers, booleans, strings; nested objects
+// other than "input" as "object.key").
+std::vector<std::pair<std::string, nlohmann::json>> summary_row(const nlohmann::json& summary);
 
 }  // namespace gfmd
