@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 
 #include "gfmd/error.hpp"
 #include "gfmd/run.hpp"
@@ -69,6 +70,73 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   return 0;
 }
 
+int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets_in,
+              std::string plot, bool quiet) {
+  std::vector<std::string> sets;
+  std::string param;
+  std::vector<double> values;
+  for (const auto& s : sets_in) {
+    const auto eq = s.find('=');
+    if (eq != std::string::npos && s.find(',', eq) != std::string::npos) {
+      if (!param.empty())
+        throw gfmd::InputError("--set " + s, "only one swept key per sweep (already sweeping " + param + ")");
+      param = s.substr(0, eq);
+      std::stringstream ss(s.substr(eq + 1));
+      std::string tok;
+      while (std::getline(ss, tok, ',')) {
+        try {
+          std::size_t used = 0;
+          values.push_back(std::stod(tok, &used));
+          if (used != tok.size()) throw std::invalid_argument(tok);
+        } catch (const std::exception&) {
+          throw gfmd::InputError("--set " + s, "'" + tok + "' is not a number");
+        }
+      }
+    } else {
+      sets.push_back(s);
+    }
+  }
+  gfmd::Config cfg = gfmd::load_config(case_path, param.empty() ? sets : [&] {
+    auto v = sets;
+    v.push_back(param + "=" + std::to_string(values.front()));
+    return v;
+  }());
+  if (!param.empty()) {
+    cfg.sweep.parameter = param;
+    cfg.sweep.values = values;
+  }
+  if (!cfg.sweep.active())
+    throw gfmd::InputError(case_path, "nothing to sweep: add --set section.key=v1,v2,... or a [sweep] table");
+  if (plot.empty()) plot = cfg.sweep.plot;
+  if (out_dir.empty())
+    out_dir = (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_sweep")).string();
+  ProgressPrinter pp;
+  pp.quiet = quiet;
+  gfmd::SweepOptions so;
+  so.overrides = sets;
+  so.progress = [&pp](const gfmd::Progress& p) { pp(p); };
+  const auto t0 = std::chrono::steady_clock::now();
+  so.on_point = [&](int done, int total, const std::string& msg) {
+    pp.done();
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!quiet)
+      std::fprintf(stderr, "[%d/%d] %s (elapsed %.1f s, about %.0f s left)\n", done, total, msg.c_str(), el,
+                   el / done * (total - done));
+  };
+  // The sweep re-reads the case for every point; [sweep] given on the command line is
+  // passed on through the overrides-free config copy.
+  gfmd::run_sweep(case_path, cfg, out_dir, so);
+  std::printf("sweep of %s over %zu values: tables in %s/sweep.csv and sweep.json\n", cfg.sweep.parameter.c_str(),
+              cfg.sweep.values.size(), out_dir.c_str());
+  const std::string cmd = std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR + "/plot_sweep.py\" \"" +
+                          out_dir + "/sweep.csv\" --y \"" + plot + "\" > /dev/null";
+  if (std::system(cmd.c_str()) != 0)
+    std::fprintf(stderr, "gfmd: warning: could not draw %s with matplotlib (%s)\n", plot.c_str(), GFMD_PYTHON);
+  else
+    std::printf("  plot: %s/sweep_%s.png\n", out_dir.c_str(), plot.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -85,6 +153,14 @@ int main(int argc, char** argv) {
   run->add_option("--set", sets, "override a key: section.key=value (repeatable)");
   run->add_flag("-q,--quiet", quiet, "no progress display");
 
+  std::string plot;
+  auto* sweep = app.add_subcommand("sweep", "solve a case for a list of values of one key, warm-starting each point");
+  sweep->add_option("case", case_path, "case file (TOML)")->required();
+  sweep->add_option("-o,--output", out_dir, "output directory (default: out/<case name>_sweep)");
+  sweep->add_option("--set", sets, "override a key; one key may take a comma-separated list: the sweep");
+  sweep->add_option("--plot", plot, "summary key to plot against the swept value (default friction_coefficient)");
+  sweep->add_flag("-q,--quiet", quiet, "no progress display");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -93,6 +169,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet);
+    if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet);
   } catch (const gfmd::InputError& e) {
     std::fprintf(stderr, "gfmd: error: %s\n", e.what());
     return 2;

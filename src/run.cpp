@@ -3,7 +3,11 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <limits>
 
 #include "gfmd/error.hpp"
@@ -163,6 +167,146 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
   }
   // summary.json last: its presence marks a complete run directory.
   write_text_atomic((fs::path(dir) / "summary.json").string(), summary_json(r).dump(2) + "\n");
+}
+
+}  // namespace gfmd
+
+namespace gfmd {
+
+std::vector<std::pair<std::string, nlohmann::json>> summary_row(const nlohmann::json& summary) {
+  std::vector<std::pair<std::string, nlohmann::json>> row;
+  for (const auto& [k, v] : summary.items()) {
+    if (k == "input" || k == "units" || k == "conventions") continue;
+    if (v.is_object()) {
+      for (const auto& [k2, v2] : v.items())
+        if (v2.is_primitive()) row.emplace_back(k + "." + k2, v2);
+    } else if (v.is_primitive()) {
+      row.emplace_back(k, v);
+    }
+  }
+  return row;
+}
+
+namespace {
+
+std::string csv_cell(const nlohmann::json& v) {
+  if (v.is_string()) {
+    std::string s = v.get<std::string>();
+    if (s.find_first_of(",\"\n") != std::string::npos) {
+      std::string q = "\"";
+      for (char c : s) q += (c == '"') ? std::string("\"\"") : std::string(1, c);
+      return q + "\"";
+    }
+    return s;
+  }
+  if (v.is_null()) return "";
+  return v.dump();
+}
+
+void write_sweep_tables(const std::string& dir, const std::string& param, const std::vector<double>& values,
+                        const std::vector<nlohmann::json>& summaries) {
+  std::vector<std::string> cols;
+  std::vector<std::vector<std::pair<std::string, nlohmann::json>>> rows;
+  for (const auto& s : summaries) {
+    rows.push_back(summary_row(s));
+    for (const auto& [k, v] : rows.back())
+      if (std::find(cols.begin(), cols.end(), k) == cols.end()) cols.push_back(k);
+  }
+  std::ostringstream csv;
+  csv.precision(17);
+  csv << param;
+  for (const auto& c : cols) csv << "," << c;
+  csv << "\n";
+  nlohmann::json j;
+  j["parameter"] = param;
+  j["values"] = values;
+  j["points"] = nlohmann::json::array();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    csv << values[i];
+    nlohmann::json pj;
+    pj[param] = values[i];
+    for (const auto& c : cols) {
+      csv << ",";
+      for (const auto& [k, v] : rows[i])
+        if (k == c) {
+          csv << csv_cell(v);
+          pj[c] = v;
+        }
+    }
+    csv << "\n";
+    j["points"].push_back(pj);
+  }
+  j["completed"] = rows.size();
+  j["total"] = values.size();
+  write_text_atomic((fs::path(dir) / "sweep.csv").string(), csv.str());
+  write_text_atomic((fs::path(dir) / "sweep.json").string(), j.dump(2) + "\n");
+}
+
+std::string format_value(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+}  // namespace
+
+nlohmann::json run_sweep(const std::string& case_path, const Config& base, const std::string& dir,
+                         const SweepOptions& opts) {
+  const SweepConfig& sw = base.sweep;
+  if (!sw.active()) throw InputError(case_path, "no sweep: give [sweep] parameter and values, or --set key=v1,v2,...");
+  fs::create_directories(dir);
+  std::vector<nlohmann::json> summaries;
+  ContactFields warm;
+  bool have_warm = false;
+  const int total = static_cast<int>(sw.values.size());
+  for (int i = 0; i < total; ++i) {
+    std::vector<std::string> sets = opts.overrides;
+    sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
+    Config cfg = load_config(case_path, sets);
+    char name[32];
+    std::snprintf(name, sizeof name, "point_%03d", i);
+    const std::string pdir = (fs::path(dir) / name).string();
+    const fs::path sp = fs::path(pdir) / "summary.json";
+    if (fs::exists(sp)) {
+      std::ifstream in(sp);
+      nlohmann::json old;
+      try {
+        old = nlohmann::json::parse(in);
+      } catch (const std::exception&) {
+        old = nlohmann::json();
+      }
+      if (old.is_object() && old.contains("input") && old["input"] == cfg.to_json() && old.value("converged", false)) {
+        summaries.push_back(old);
+        have_warm = false;
+        if (opts.on_point) opts.on_point(i + 1, total, std::string(name) + " reused (finished earlier)");
+        continue;
+      }
+    }
+    RunOptions ro;
+    ro.progress = opts.progress;
+    if (have_warm) ro.warm_start = &warm;
+    CaseResult r = run_case(cfg, ro);
+    if (!r.info.converged) {
+      write_sweep_tables(dir, sw.parameter, sw.values, summaries);
+      throw SolveError(std::string(name) + " (" + sw.parameter + " = " + format_value(sw.values[i]) +
+                       "): " + r.info.status + "; the " + std::to_string(i) + " finished points are kept");
+    }
+    write_outputs(r, pdir);
+    summaries.push_back(summary_json(r));
+    write_sweep_tables(dir, sw.parameter, sw.values, summaries);
+    warm = std::move(r.fields);
+    have_warm = cfg.grid.size() == base.grid.size();
+    if (opts.on_point) {
+      char msg[160];
+      std::snprintf(msg, sizeof msg, "%s: %s = %.6g, %d iterations, %.2f s", name, sw.parameter.c_str(),
+                    sw.values[i], r.info.iterations, r.info.wall_time_s);
+      opts.on_point(i + 1, total, msg);
+    }
+  }
+  write_sweep_tables(dir, sw.parameter, sw.values, summaries);
+  nlohmann::json j;
+  j["points"] = summaries.size();
+  return j;
 }
 
 }  // namespace gfmd
