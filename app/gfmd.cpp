@@ -17,11 +17,16 @@ namespace {
 struct ProgressPrinter {
   bool tty = isatty(STDERR_FILENO) != 0;
   bool quiet = false;
+  bool verbose = false;
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), last = start;
   void operator()(const gfmd::Progress& p) {
     if (quiet) return;
     const auto now = std::chrono::steady_clock::now();
     const double since = std::chrono::duration<double>(now - last).count();
+    if (verbose && p.outer > 0) {
+      std::fprintf(stderr, "  friction step %3d: %6d iterations, traction change %.3e\n", p.outer, p.iteration, p.error);
+      return;
+    }
     if (since < (tty ? 0.2 : 5.0)) return;
     last = now;
     const double el = std::chrono::duration<double>(now - start).count();
@@ -37,11 +42,13 @@ struct ProgressPrinter {
   }
 };
 
-int cmd_run(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets, bool quiet) {
+int cmd_run(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets, bool quiet,
+            bool verbose) {
   const gfmd::Config cfg = gfmd::load_config(case_path, sets);
   if (out_dir.empty()) out_dir = (std::filesystem::path("out") / std::filesystem::path(case_path).stem()).string();
   ProgressPrinter pp;
   pp.quiet = quiet;
+  pp.verbose = verbose;
   gfmd::RunOptions opts;
   opts.progress = [&pp](const gfmd::Progress& p) { pp(p); };
   const gfmd::CaseResult r = gfmd::run_case(cfg, opts);
@@ -152,6 +159,8 @@ int main(int argc, char** argv) {
   run->add_option("-o,--output", out_dir, "output directory (default: out/<case name>)");
   run->add_option("--set", sets, "override a key: section.key=value (repeatable)");
   run->add_flag("-q,--quiet", quiet, "no progress display");
+  bool verbose = false;
+  run->add_flag("-v,--verbose", verbose, "print every friction fixed-point step");
 
   std::string plot;
   auto* sweep = app.add_subcommand("sweep", "solve a case for a list of values of one key, warm-starting each point");
@@ -168,7 +177,7 @@ int main(int argc, char** argv) {
     return rc == 0 ? 0 : 2;
   }
   try {
-    if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet);
+    if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet, verbose);
     if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet);
   } catch (const gfmd::InputError& e) {
     std::fprintf(stderr, "gfmd: error: %s\n", e.what());

@@ -321,7 +321,11 @@ Config build(const toml::value& root, const std::string& name, const std::string
   Section so(root, "solver", errors);
   c.solver.tolerance = so.number("tolerance", 1e-8);
   c.solver.max_iterations = static_cast<int>(so.integer("max_iterations", 20000));
-  c.solver.max_outer = static_cast<int>(so.integer("max_outer", 200));
+  c.solver.max_outer = static_cast<int>(so.integer("max_outer", 500));
+  c.solver.anderson = static_cast<int>(so.integer("anderson", 10));
+  c.solver.mixing = so.number("mixing", 0.5);
+  if (!(c.solver.mixing > 0 && c.solver.mixing <= 1)) so.error("mixing", "must be in (0, 1]");
+  if (c.solver.anderson < 0 || c.solver.anderson > 50) so.error("anderson", "must be in [0, 50]");
   c.threads = static_cast<int>(so.integer("threads", 0));
   if (!(c.solver.tolerance > 0 && c.solver.tolerance < 1)) so.error("tolerance", "must be in (0, 1)");
   if (c.solver.max_iterations < 1) so.error("max_iterations", "must be at least 1");
@@ -480,6 +484,8 @@ nlohmann::json Config::to_json() const {
   j["solver"] = {{"tolerance", solver.tolerance},
                  {"max_iterations", solver.max_iterations},
                  {"max_outer", solver.max_outer},
+                 {"anderson", solver.anderson},
+                 {"mixing", solver.mixing},
                  {"threads", threads}};
   j["output"] = {{"fields", output.fields}, {"png", output.png}};
   if (sweep.active()) j["sweep"] = {{"parameter", sweep.parameter}, {"values", sweep.values}, {"plot", sweep.plot}};

@@ -58,9 +58,16 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     o.friction_force = mu * da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * std::hypot(vx[i], vy[i]); });
     o.downhill_force = -da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * dh[i]; });
     o.friction_force_downhill = mu * o.normal_force + o.downhill_force;
+    // The exact work of the driving force: mu_c sum p (s . e_s) + dF (s the unit slip direction).
+    o.friction_force_drive =
+        mu * da * grid_sum(g, [&](std::size_t i) {
+          const double v = std::hypot(vx[i], vy[i]);
+          return v > 0 ? f.pressure[i] * (vx[i] * std::cos(th) + vy[i] * std::sin(th)) / v : 0.0;
+        }) + o.downhill_force;
     o.friction_coefficient = o.friction_force / o.normal_force;
     o.friction_coefficient_downhill = o.friction_force_downhill / o.normal_force;
     o.energy_balance_error = std::abs(o.friction_force - o.friction_force_downhill) / o.friction_force;
+    o.energy_balance_error_exact = std::abs(o.friction_force - o.friction_force_drive) / o.friction_force;
     o.mean_tangential_traction_x = grid_sum(g, [&](std::size_t i) { return f.tx[i]; }) / n;
     o.mean_tangential_traction_y = grid_sum(g, [&](std::size_t i) { return f.ty[i]; }) / n;
     double vmax = 0, vmin = std::numeric_limits<double>::infinity();
@@ -150,6 +157,8 @@ nlohmann::json to_json(const Observables& o) {
     j["friction_coefficient"] = o.friction_coefficient;
     j["friction_coefficient_downhill"] = o.friction_coefficient_downhill;
     j["energy_balance_error"] = o.energy_balance_error;
+    j["friction_force_drive"] = o.friction_force_drive;
+    j["energy_balance_error_exact"] = o.energy_balance_error_exact;
     j["max_slip_velocity"] = o.max_slip_velocity;
     j["min_slip_velocity"] = o.min_slip_velocity;
   }

@@ -21,6 +21,34 @@ void require_finite(double v, const char* what, int it) {
     throw SolveError(os.str());
   }
 }
+// Solves the small (regularised) normal equations of the Anderson least-squares problem.
+std::vector<double> solve_small_spd(std::vector<double> M, std::vector<double> rhs) {
+  const std::size_t h = rhs.size();
+  double trace = 0;
+  for (std::size_t a = 0; a < h; ++a) trace += M[a * h + a];
+  for (std::size_t a = 0; a < h; ++a) M[a * h + a] += 1e-10 * trace + 1e-300;
+  for (std::size_t c = 0; c < h; ++c) {
+    std::size_t piv = c;
+    for (std::size_t r = c + 1; r < h; ++r)
+      if (std::abs(M[r * h + c]) > std::abs(M[piv * h + c])) piv = r;
+    if (piv != c) {
+      for (std::size_t k = 0; k < h; ++k) std::swap(M[c * h + k], M[piv * h + k]);
+      std::swap(rhs[c], rhs[piv]);
+    }
+    for (std::size_t r = c + 1; r < h; ++r) {
+      const double fct = M[r * h + c] / M[c * h + c];
+      for (std::size_t k = c; k < h; ++k) M[r * h + k] -= fct * M[c * h + k];
+      rhs[r] -= fct * rhs[c];
+    }
+  }
+  std::vector<double> x(h);
+  for (std::size_t c = h; c-- > 0;) {
+    double v = rhs[c];
+    for (std::size_t k = c + 1; k < h; ++k) v -= M[c * h + k] * x[k];
+    x[c] = v / M[c * h + c];
+  }
+  return x;
+}
 }  // namespace
 
 ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, const InteractionParams& inter,
@@ -44,6 +72,13 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   double hmax = -std::numeric_limits<double>::infinity();
   for (double v : topo.h) hmax = std::max(hmax, v);
   for (std::size_t i = 0; i < g0_.size(); ++i) g0_[i] = hmax - topo.h[i];
+  double m = 0, m2 = 0;
+  for (double v : g0_) {
+    m += v;
+    m2 += v * v;
+  }
+  m /= static_cast<double>(g0_.size());
+  g0_rms_ = std::sqrt(std::max(0.0, m2 / static_cast<double>(g0_.size()) - m * m));
   for (auto* s : {&s1_, &s2_, &s3_, &s4_, &s5_, &s6_}) s->resize(grid_.spectral_size());
   r1_.resize(grid_.size());
   r2_.resize(grid_.size());
@@ -115,6 +150,16 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
       for (std::ptrdiff_t i = 0; i < n; ++i) g[i] -= gbar;
     }
     const double G = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? g[i] * g[i] : 0.0; });
+    // Residual of the contact conditions: gap on the contact set and overlap outside,
+    // relative to the spread of the separation over the contact set.
+    const double viol = grid_sum(grid_, [&](std::size_t i) { return (p[i] == 0.0 && g[i] < 0) ? g[i] * g[i] : 0.0; });
+    const double s1 = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? g0_[i] - w[i] : 0.0; }) / ns;
+    const double s2 = grid_sum(grid_, [&](std::size_t i) {
+      const double d = g0_[i] - w[i] - s1;
+      return p[i] > 0 ? d * d : 0.0;
+    }) / ns;
+    const double scale = std::max(std::sqrt(s2), 1e-3 * g0_rms_) + 1e-300;
+    const double gap_residual = std::sqrt((G + viol) / ns) / scale;
     const double beta = conjugate ? G / gold : 0.0;
     gold = G;
 #pragma omp parallel for schedule(static)
@@ -155,7 +200,7 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
       pnew = pbar * static_cast<double>(n);
     }
     const double change = grid_sum(grid_, [&](std::size_t i) { return std::abs(p[i] - pold[i]); });
-    res.error = pnew > 0 ? change / pnew : (change > 0 ? 1.0 : 0.0);
+    res.error = std::max(gap_residual, pnew > 0 ? change / pnew : (change > 0 ? 1.0 : 0.0));
     res.delta = load_ctrl ? gbar : delta_imp;
     require_finite(res.error, "the pressure", total_it_);
     if (progress_ && (total_it_ % 50 == 0)) progress_(Progress{total_it_, 0, res.error});
@@ -257,13 +302,24 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     info.converged = pk.converged;
     info.status = pk.converged ? "converged" : "not converged: iteration limit reached";
   } else {
+    // Friction fixed point on the traction tau = (tau_x, tau_y): G(tau) = mu_c p s(u), with
+    // p the normal solution for w = C_z.tau and u the displacement of (tau, -p). The plain
+    // map contracts slowly where mu_c p/E* is large (the transverse slip feeds back on
+    // itself through the in-plane compliance) and on thin, nearly incompressible layers,
+    // so it is accelerated by Anderson mixing over the last `anderson` steps.
     RealField tx(n), ty(n);
-    friction_normal_displacement(f.tx, f.ty, w);
+    const std::size_t n2 = 2 * n;
+    RealField gk(n2), fk(n2), gprev(n2), fprev(n2);
+    const int m = std::max(0, sp_.anderson);
+    std::vector<RealField> dF, dG;
     double err = 1.0, best = std::numeric_limits<double>::infinity();
     int since_best = 0;
+    double omega = sp_.mixing;
     info.status = "not converged: friction fixed point did not settle";
+    const Grid g2{grid_.nx, 2 * grid_.ny, grid_.lx, grid_.ly};  // sums over both components
     for (int outer = 0; outer < sp_.max_outer; ++outer) {
       info.outer_iterations = outer + 1;
+      friction_normal_displacement(f.tx, f.ty, w);
       const double inner_tol = std::max(tol, std::min(1e-3, 0.1 * err));
       const int budget = sp_.max_iterations - total_it_;
       if (budget <= 0) {
@@ -279,12 +335,11 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       const double norm = grid_sum(grid_, [&](std::size_t i) { return std::abs(tx[i]) + std::abs(ty[i]); });
       err = norm > 0 ? diff / norm : 0.0;
       require_finite(err, "the friction traction", total_it_);
-      f.tx.swap(tx);
-      f.ty.swap(ty);
-      friction_normal_displacement(f.tx, f.ty, w);
       info.friction_error = err;
       if (progress_) progress_(Progress{total_it_, outer + 1, err});
       if (err < tol && pk.converged && inner_tol <= tol) {
+        f.tx.swap(tx);
+        f.ty.swap(ty);
         info.converged = true;
         info.status = "converged";
         break;
@@ -292,9 +347,75 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       if (err < 0.5 * best) {
         best = err;
         since_best = 0;
-      } else if (++since_best >= 30) {
-        info.status = "not converged: oscillating (friction fixed point stalled)";
-        break;
+      } else if (++since_best >= 15) {
+        // Stalled: damp harder and restart the mixing history; give up once damping
+        // no longer helps (a limit cycle of the slip field).
+        omega *= 0.5;
+        dF.clear();
+        dG.clear();
+        since_best = 0;
+        best = err;
+        if (omega < 0.04) {
+          f.tx.swap(tx);
+          f.ty.swap(ty);
+          info.status = "not converged: oscillating (friction fixed point does not settle even with damping)";
+          break;
+        }
+      }
+      if (m == 0) {
+        for (std::size_t i = 0; i < n; ++i) {
+          f.tx[i] += omega * (tx[i] - f.tx[i]);
+          f.ty[i] += omega * (ty[i] - f.ty[i]);
+        }
+        continue;
+      }
+      // Anderson mixing with relaxation (Walker & Ni 2011): with x the traction, f = G(x) - x,
+      // gamma = argmin |f - dF gamma|, x <- x - dX gamma + omega (f - dF gamma).
+      // omega < 1 damps the rotating (imaginary-eigenvalue) modes of the slip feedback.
+      for (std::size_t i = 0; i < n; ++i) {
+        gk[i] = f.tx[i];
+        gk[n + i] = f.ty[i];
+        fk[i] = tx[i] - f.tx[i];
+        fk[n + i] = ty[i] - f.ty[i];
+      }
+      if (outer > 0) {
+        RealField da(n2), db(n2);
+        for (std::size_t i = 0; i < n2; ++i) {
+          da[i] = fk[i] - fprev[i];
+          db[i] = gk[i] - gprev[i];
+        }
+        if (static_cast<int>(dF.size()) == m) {
+          dF.erase(dF.begin());
+          dG.erase(dG.begin());
+        }
+        dF.push_back(std::move(da));
+        dG.push_back(std::move(db));
+      }
+      gprev.swap(gk);
+      fprev.swap(fk);
+      const std::size_t h = dF.size();
+      std::vector<double> gamma(h, 0.0);
+      if (h > 0) {
+        std::vector<double> M(h * h), rhs(h);
+        for (std::size_t r = 0; r < h; ++r) {
+          rhs[r] = grid_sum(g2, [&](std::size_t i) { return dF[r][i] * fprev[i]; });
+          for (std::size_t c = 0; c <= r; ++c)
+            M[r * h + c] = M[c * h + r] = grid_sum(g2, [&](std::size_t i) { return dF[r][i] * dF[c][i]; });
+        }
+        gamma = solve_small_spd(M, rhs);
+      }
+      const std::ptrdiff_t nn = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < nn; ++i) {
+        double xx = gprev[i], xy = gprev[n + i], fx = fprev[i], fy = fprev[n + i];
+        for (std::size_t r = 0; r < h; ++r) {
+          xx -= gamma[r] * dG[r][i];  // dG holds dX here
+          xy -= gamma[r] * dG[r][n + i];
+          fx -= gamma[r] * dF[r][i];
+          fy -= gamma[r] * dF[r][n + i];
+        }
+        f.tx[i] = xx + omega * fx;
+        f.ty[i] = xy + omega * fy;
       }
     }
     if (!pk.converged && info.converged) {

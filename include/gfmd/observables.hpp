@@ -25,6 +25,10 @@ struct Observables {
   double friction_coefficient = 0;
   double friction_coefficient_downhill = 0;
   double energy_balance_error = 0;  // |F_diss - F_downhill| / F_diss
+  // Work of the driving force, mu_c sum p (s.e_s) dA + dF: equal to F_diss exactly in steady
+  // state (F_downhill replaces s.e_s by 1, a second-order difference in the strains).
+  double friction_force_drive = 0;
+  double energy_balance_error_exact = 0;  // |F_diss - F_drive| / F_diss
   double mean_tangential_traction_x = 0, mean_tangential_traction_y = 0;
   // Geometry relative to the indenter's highest point (the Hertz apex), along the
   // sliding direction e_s ("longitudinal") and across it ("transverse"), minimum image.

@@ -47,9 +47,11 @@ struct LoadParams {
 };
 
 struct SolverParams {
-  double tolerance = 1e-8;      // relative change of pressure (L1) and of tau per step
+  double tolerance = 1e-8;      // gap residual, relative pressure change, relative tau change
   int max_iterations = 20000;   // total inner (conjugate-gradient) iterations
-  int max_outer = 200;          // friction fixed-point steps
+  int max_outer = 500;          // friction fixed-point steps
+  int anderson = 10;            // Anderson mixing depth of the friction fixed point (0: none)
+  double mixing = 0.5;          // relaxation of the friction fixed point, in (0, 1]
 };
 
 struct ContactFields {
@@ -114,6 +116,7 @@ class ContactSolver {
   double k_;      // interaction stiffness (inf: hard wall)
   double inv_k_;  // 1/k
   RealField g0_;
+  double g0_rms_ = 0.0;
   SpecField s1_, s2_, s3_, s4_, s5_, s6_;
   RealField r1_, r2_;
   std::function<void(const Progress&)> progress_;
