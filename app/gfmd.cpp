@@ -3,6 +3,8 @@
 
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <csignal>
+#include <fstream>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -13,6 +15,14 @@
 #include "gfmd/version.hpp"
 
 namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+extern "C" void on_signal(int) { g_stop = 1; }
+void install_signal_handlers() {
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+}
+bool stop_requested() { return g_stop != 0; }
 
 struct ProgressPrinter {
   bool tty = isatty(STDERR_FILENO) != 0;
@@ -43,25 +53,76 @@ struct ProgressPrinter {
 };
 
 int cmd_run(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets, bool quiet,
-            bool verbose) {
+            bool verbose, bool resume, double checkpoint_s) {
   const gfmd::Config cfg = gfmd::load_config(case_path, sets);
   if (out_dir.empty()) out_dir = (std::filesystem::path("out") / std::filesystem::path(case_path).stem()).string();
+  namespace fs = std::filesystem;
+  const std::string ckpt = (fs::path(out_dir) / "checkpoint.bin").string();
+  gfmd::ContactFields warm;
+  bool have_warm = false;
+  if (resume) {
+    const fs::path sp = fs::path(out_dir) / "summary.json";
+    if (fs::exists(sp)) {
+      std::ifstream in(sp);
+      nlohmann::json old;
+      try {
+        old = nlohmann::json::parse(in);
+      } catch (const std::exception&) {
+      }
+      if (old.is_object() && old.value("converged", false) && old["input"] == cfg.to_json()) {
+        std::printf("%s: already solved in %s/ (summary.json); nothing to do\n", case_path.c_str(), out_dir.c_str());
+        return 0;
+      }
+    }
+    have_warm = gfmd::read_checkpoint(ckpt, cfg, warm);
+    if (!quiet)
+      std::fprintf(stderr, "%s\n", have_warm ? "resuming from the checkpoint" : "no usable checkpoint: starting afresh");
+  }
+  // Validates the topography before anything is written.
+  (void)gfmd::make_topography(cfg);
+  fs::create_directories(out_dir);
+  gfmd::write_status(out_dir, "running");
   ProgressPrinter pp;
   pp.quiet = quiet;
   pp.verbose = verbose;
   gfmd::RunOptions opts;
   opts.progress = [&pp](const gfmd::Progress& p) { pp(p); };
-  const gfmd::CaseResult r = gfmd::run_case(cfg, opts);
+  opts.stop_request = stop_requested;
+  opts.checkpoint_path = ckpt;
+  opts.checkpoint_interval_s = checkpoint_s;
+  if (have_warm) opts.warm_start = &warm;
+  gfmd::CaseResult r;
+  try {
+    r = gfmd::run_case(cfg, opts);
+  } catch (const gfmd::Interrupted& e) {
+    pp.done();
+    gfmd::write_status(out_dir, "interrupted", e.what());
+    std::fprintf(stderr, "gfmd: %s: %s; state saved in %s, continue with --resume\n", case_path.c_str(), e.what(),
+                 ckpt.c_str());
+    return 4;
+  } catch (const std::exception& e) {
+    gfmd::write_status(out_dir, "failed", e.what());
+    std::error_code ec;
+    fs::remove(ckpt, ec);
+    throw;
+  }
   pp.done();
   if (!r.info.converged) {
-    std::fprintf(stderr,
-                 "gfmd: error: %s: %s after %d iterations (pressure change %.3e, friction change %.3e, "
-                 "tolerance %.1e); no results written\n",
-                 case_path.c_str(), r.info.status.c_str(), r.info.iterations, r.info.pk_error, r.info.friction_error,
-                 cfg.solver.tolerance);
+    char why[512];
+    std::snprintf(why, sizeof why,
+                  "%s after %d iterations (pressure change %.3e, friction change %.3e, tolerance %.1e)",
+                  r.info.status.c_str(), r.info.iterations, r.info.pk_error, r.info.friction_error,
+                  cfg.solver.tolerance);
+    gfmd::write_status(out_dir, "failed", why);
+    std::error_code ec;
+    fs::remove(ckpt, ec);
+    std::fprintf(stderr, "gfmd: error: %s: %s; no results written\n", case_path.c_str(), why);
     return 3;
   }
   gfmd::write_outputs(r, out_dir);
+  gfmd::write_status(out_dir, "converged");
+  std::error_code ec;
+  fs::remove(ckpt, ec);
   const auto& o = r.observables;
   std::printf("%s: %s in %d iterations (%.2f s, residual %.2e)\n", case_path.c_str(), r.info.status.c_str(),
               r.info.iterations, r.info.wall_time_s, r.info.residual);
@@ -122,6 +183,7 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   gfmd::SweepOptions so;
   so.overrides = sets;
   so.progress = [&pp](const gfmd::Progress& p) { pp(p); };
+  so.stop_request = stop_requested;
   const auto t0 = std::chrono::steady_clock::now();
   so.on_point = [&](int done, int total, const std::string& msg) {
     pp.done();
@@ -132,7 +194,14 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   };
   // The sweep re-reads the case for every point; [sweep] given on the command line is
   // passed on through the overrides-free config copy.
-  gfmd::run_sweep(case_path, cfg, out_dir, so);
+  try {
+    gfmd::run_sweep(case_path, cfg, out_dir, so);
+  } catch (const gfmd::Interrupted& e) {
+    pp.done();
+    std::fprintf(stderr, "gfmd: sweep interrupted (%s); finished points and a checkpoint are kept in %s/, run the "
+                 "same command again to continue\n", e.what(), out_dir.c_str());
+    return 4;
+  }
   std::printf("sweep of %s over %zu values: tables in %s/sweep.csv and sweep.json\n", cfg.sweep.parameter.c_str(),
               cfg.sweep.values.size(), out_dir.c_str());
   const std::string cmd = std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR + "/plot_sweep.py\" \"" +
@@ -159,8 +228,11 @@ int main(int argc, char** argv) {
   run->add_option("-o,--output", out_dir, "output directory (default: out/<case name>)");
   run->add_option("--set", sets, "override a key: section.key=value (repeatable)");
   run->add_flag("-q,--quiet", quiet, "no progress display");
-  bool verbose = false;
+  bool verbose = false, resume = false;
+  double checkpoint_s = 60.0;
   run->add_flag("-v,--verbose", verbose, "print every friction fixed-point step");
+  run->add_flag("--resume", resume, "continue from DIR/checkpoint.bin (or do nothing if DIR holds the result)");
+  run->add_option("--checkpoint-interval", checkpoint_s, "seconds between checkpoints (default 60)");
 
   std::string plot;
   auto* sweep = app.add_subcommand("sweep", "solve a case for a list of values of one key, warm-starting each point");
@@ -170,6 +242,7 @@ int main(int argc, char** argv) {
   sweep->add_option("--plot", plot, "summary key to plot against the swept value (default friction_coefficient)");
   sweep->add_flag("-q,--quiet", quiet, "no progress display");
 
+  install_signal_handlers();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -177,7 +250,7 @@ int main(int argc, char** argv) {
     return rc == 0 ? 0 : 2;
   }
   try {
-    if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet, verbose);
+    if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet, verbose, resume, checkpoint_s);
     if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet);
   } catch (const gfmd::InputError& e) {
     std::fprintf(stderr, "gfmd: error: %s\n", e.what());

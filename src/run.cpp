@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
+#include <iterator>
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -26,12 +28,19 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   r.topography_stats = statistics(r.topography);
   ElasticBody body(cfg.grid, cfg.elastic);
   if (opts.warm_start && opts.warm_start->pressure.size() == cfg.grid.size()) r.fields = *opts.warm_start;
+  const auto hook = [&](ContactSolver& s) {
+    if (opts.progress) s.set_progress(opts.progress);
+    if (opts.stop_request) s.set_stop_request(opts.stop_request);
+    if (!opts.checkpoint_path.empty())
+      s.set_checkpoint([&](const ContactFields& f) { write_checkpoint(opts.checkpoint_path, cfg, f); },
+                       opts.checkpoint_interval_s);
+  };
   if (cfg.friction.coefficient > 0 && cfg.friction_reference) {
     // Frictionless reference at the same load; it also warm-starts the sliding solve.
     FrictionParams none = cfg.friction;
     none.coefficient = 0.0;
     ContactSolver ref(body, r.topography, cfg.interaction, none, cfg.solver);
-    if (opts.progress) ref.set_progress(opts.progress);
+    hook(ref);
     ContactFields rf = r.fields;
     r.reference_info = ref.solve(cfg.load, rf);
     if (!r.reference_info.converged) {
@@ -44,11 +53,77 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     if (!opts.warm_start) r.fields.pressure = rf.pressure;
   }
   ContactSolver solver(body, r.topography, cfg.interaction, cfg.friction, cfg.solver);
-  if (opts.progress) solver.set_progress(opts.progress);
-  r.info = solver.solve(cfg.load, r.fields);
+  hook(solver);
+  try {
+    r.info = solver.solve(cfg.load, r.fields);
+  } catch (const Interrupted&) {
+    if (!opts.checkpoint_path.empty()) write_checkpoint(opts.checkpoint_path, cfg, r.fields);
+    throw;
+  }
   if (r.has_reference) r.info.wall_time_s += r.reference_info.wall_time_s;
   r.observables = compute_observables(solver.fft(), r.topography, cfg.friction, r.fields, r.info);
   return r;
+}
+
+namespace {
+constexpr char kCheckpointMagic[8] = {'G', 'F', 'M', 'D', 'C', 'K', 'P', '1'};
+}
+
+void write_checkpoint(const std::string& path, const Config& cfg, const ContactFields& f) {
+  const std::string input = cfg.to_json().dump();
+  std::string buf(kCheckpointMagic, 8);
+  const auto put = [&buf](const void* p, std::size_t n) { buf.append(static_cast<const char*>(p), n); };
+  const std::uint64_t len = input.size();
+  const std::int32_t nx = cfg.grid.nx, ny = cfg.grid.ny;
+  put(&nx, 4);
+  put(&ny, 4);
+  put(&len, 8);
+  buf += input;
+  const std::size_t n = cfg.grid.size();
+  for (const RealField* fld : {&f.pressure, &f.tx, &f.ty}) {
+    if (fld->size() == n)
+      put(fld->data(), n * sizeof(double));
+    else
+      buf.append(n * sizeof(double), '\0');
+  }
+  write_text_atomic(path, buf);
+}
+
+bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& f) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::size_t pos = 0;
+  const auto get = [&](void* p, std::size_t n) {
+    if (pos + n > data.size()) return false;
+    std::memcpy(p, data.data() + pos, n);
+    pos += n;
+    return true;
+  };
+  char magic[8];
+  std::int32_t nx = 0, ny = 0;
+  std::uint64_t len = 0;
+  if (!get(magic, 8) || std::memcmp(magic, kCheckpointMagic, 8) != 0) return false;
+  if (!get(&nx, 4) || !get(&ny, 4) || !get(&len, 8)) return false;
+  if (nx != cfg.grid.nx || ny != cfg.grid.ny || len > data.size()) return false;
+  const std::string input = data.substr(pos, len);
+  pos += len;
+  if (input != cfg.to_json().dump()) return false;
+  const std::size_t n = cfg.grid.size();
+  if (data.size() != pos + 3 * n * sizeof(double)) return false;
+  for (RealField* fld : {&f.pressure, &f.tx, &f.ty}) {
+    fld->resize(n);
+    get(fld->data(), n * sizeof(double));
+    for (double v : *fld)
+      if (!std::isfinite(v)) return false;
+  }
+  return true;
+}
+
+void write_status(const std::string& dir, const std::string& status, const std::string& reason) {
+  nlohmann::json j = {{"status", status}, {"version", kVersion}, {"git_commit", kGitCommit}};
+  if (!reason.empty()) j["reason"] = reason;
+  write_text_atomic((fs::path(dir) / "status.json").string(), j.dump(2) + "\n");
 }
 
 nlohmann::json summary_json(const CaseResult& r) {
@@ -284,8 +359,19 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     }
     RunOptions ro;
     ro.progress = opts.progress;
-    if (have_warm) ro.warm_start = &warm;
+    ro.stop_request = opts.stop_request;
+    ro.checkpoint_interval_s = opts.checkpoint_interval_s;
+    fs::create_directories(pdir);
+    ro.checkpoint_path = (fs::path(pdir) / "checkpoint.bin").string();
+    ContactFields resumed;
+    if (read_checkpoint(ro.checkpoint_path, cfg, resumed)) {
+      ro.warm_start = &resumed;
+    } else if (have_warm) {
+      ro.warm_start = &warm;
+    }
     CaseResult r = run_case(cfg, ro);
+    std::error_code ec;
+    fs::remove(ro.checkpoint_path, ec);
     if (!r.info.converged) {
       write_sweep_tables(dir, sw.parameter, sw.values, summaries);
       throw SolveError(std::string(name) + " (" + sw.parameter + " = " + format_value(sw.values[i]) +

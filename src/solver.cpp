@@ -204,6 +204,7 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     res.delta = load_ctrl ? gbar : delta_imp;
     require_finite(res.error, "the pressure", total_it_);
     if (progress_ && (total_it_ % 50 == 0)) progress_(Progress{total_it_, 0, res.error});
+    poll(current_);
     if (res.error < tol) {
       res.converged = true;
       return res;
@@ -283,8 +284,21 @@ double ContactSolver::residual(const ContactFields& f, double delta) {
   return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
 }
 
+void ContactSolver::poll(const ContactFields* f) {
+  if (stop_ && stop_()) throw Interrupted("interrupted at iteration " + std::to_string(total_it_));
+  if (checkpoint_ && f) {
+    const double now = std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+    if (now - last_checkpoint_ >= checkpoint_interval_s_) {
+      last_checkpoint_ = now;
+      checkpoint_(*f);
+    }
+  }
+}
+
 SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
   const auto t0 = Clock::now();
+  current_ = &f;
+  last_checkpoint_ = std::chrono::duration<double>(t0.time_since_epoch()).count();
   const std::size_t n = grid_.size();
   for (auto* fld : {&f.pressure, &f.tx, &f.ty, &f.ux, &f.uy, &f.uz, &f.gap})
     if (fld->size() != n) fld->assign(n, 0.0);
@@ -337,6 +351,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       require_finite(err, "the friction traction", total_it_);
       info.friction_error = err;
       if (progress_) progress_(Progress{total_it_, outer + 1, err});
+      poll(&f);
       if (err < tol && pk.converged && inner_tol <= tol) {
         f.tx.swap(tx);
         f.ty.swap(ty);

@@ -24,4 +24,10 @@ class SolveError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A solve stopped on request (SIGINT/SIGTERM); the state reached is kept for a resume.
+class Interrupted : public SolveError {
+ public:
+  using SolveError::SolveError;
+};
+
 }  // namespace gfmd

@@ -28,7 +28,19 @@ struct CaseResult {
 struct RunOptions {
   std::function<void(const Progress&)> progress;  // called every few iterations
   const ContactFields* warm_start = nullptr;       // a previous solution on the same grid
+  std::function<bool()> stop_request;              // polled; true stops with gfmd::Interrupted
+  std::string checkpoint_path;                     // "" = no checkpoints
+  double checkpoint_interval_s = 60.0;
 };
+
+// Checkpoints: the solver state (pressure and friction traction) with the input it
+// belongs to, written atomically. read_checkpoint returns false if the file is missing,
+// unreadable or belongs to another input or grid.
+void write_checkpoint(const std::string& path, const Config& cfg, const ContactFields& f);
+bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& f);
+
+// DIR/status.json: {"status": running|converged|failed|interrupted, "reason": ...}.
+void write_status(const std::string& dir, const std::string& status, const std::string& reason = "");
 
 // Solves a case. Throws InputError for bad input and SolveError for a failed solve.
 CaseResult run_case(const Config& cfg, const RunOptions& opts = {});
@@ -48,6 +60,8 @@ struct SweepOptions {
   std::function<void(const Progress&)> progress;
   std::function<void(int done, int total, const std::string& message)> on_point;
   std::vector<std::string> overrides;  // --set values applied to every point
+  std::function<bool()> stop_request;  // as in RunOptions; the current point keeps a checkpoint
+  double checkpoint_interval_s = 60.0;
 };
 nlohmann::json run_sweep(const std::string& case_path, const Config& cfg, const std::string& dir,
                          const SweepOptions& opts);

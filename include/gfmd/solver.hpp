@@ -87,6 +87,14 @@ class ContactSolver {
   SolveInfo solve(const LoadParams& load, ContactFields& fields);
 
   void set_progress(std::function<void(const Progress&)> cb) { progress_ = std::move(cb); }
+  // Polled every iteration: returning true stops the solve with gfmd::Interrupted, the
+  // fields holding the last state (a valid warm start).
+  void set_stop_request(std::function<bool()> cb) { stop_ = std::move(cb); }
+  // Called with the current state every `interval_s` seconds (checkpoints).
+  void set_checkpoint(std::function<void(const ContactFields&)> cb, double interval_s) {
+    checkpoint_ = std::move(cb);
+    checkpoint_interval_s_ = interval_s;
+  }
 
   [[nodiscard]] const FFT& fft() const { return fft_; }
   [[nodiscard]] const RealField& initial_gap() const { return g0_; }
@@ -119,7 +127,13 @@ class ContactSolver {
   double g0_rms_ = 0.0;
   SpecField s1_, s2_, s3_, s4_, s5_, s6_;
   RealField r1_, r2_;
+  void poll(const ContactFields* f);  // stop requests and checkpoints
   std::function<void(const Progress&)> progress_;
+  std::function<bool()> stop_;
+  std::function<void(const ContactFields&)> checkpoint_;
+  double checkpoint_interval_s_ = 0.0;
+  double last_checkpoint_ = 0.0;
+  ContactFields* current_ = nullptr;
   int total_it_ = 0;
 };
 

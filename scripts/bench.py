@@ -1,0 +1,90 @@
+#!/usr/bin/python3
+"""End-to-end benchmark: iterations, time per iteration, total time and peak memory of
+gfmd solves, next to the bare-FFT time of one iteration (3 forward + 3 inverse real 2D
+transforms) measured in the same run by bench_kernels. Prints a Markdown table.
+
+    /usr/bin/python3 scripts/bench.py --sizes 256 512 [--cases hertz rough] [--threads 2]
+"""
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+GFMD = os.path.join(ROOT, "build", "gfmd")
+KERNELS = os.path.join(ROOT, "build", "bench_kernels")
+
+CASES = {
+    # Hertz sliding, paper Fig. 2: L = 4R, F = 0.01 E* R^2, nu = 0.25, mu_c = 1.
+    "hertz": ("examples/hertz_sliding.toml", lambda n: []),
+    # Self-affine sliding against a confined layer: dx = lambda_s/8 at every size.
+    "rough": ("examples/selfaffine.toml",
+              lambda n: [f"indenter.lambda_short={16.0 / n:.10g}",
+                         "friction.coefficient=1", "load.pressure=0.01"]),
+    "hertz_frictionless": ("examples/hertz_nu025.toml", lambda n: []),
+    "rough_frictionless": ("examples/selfaffine.toml",
+                           lambda n: [f"indenter.lambda_short={16.0 / n:.10g}", "load.pressure=0.01"]),
+}
+
+
+def fft_times(sizes, threads):
+    out = subprocess.run([KERNELS, "--benchmark_filter=FFTIteration", "--benchmark_format=json"],
+                         capture_output=True, text=True, check=True).stdout
+    res = {}
+    for b in json.loads(out)["benchmarks"]:
+        m = re.match(r"BM_FFTIteration/(\d+)/(\d+)", b["name"])
+        if m and int(m.group(2)) == threads:
+            res[int(m.group(1))] = b["real_time"] / 1e3  # ms -> s
+    return res
+
+
+def run_case(case, n, threads, tol):
+    path, extra = CASES[case]
+    with tempfile.TemporaryDirectory() as d:
+        cmd = ["/usr/bin/time", "-f", "%M", GFMD, "run", os.path.join(ROOT, path), "-o", d, "-q",
+               "--set", f"grid.nx={n}", "--set", f"solver.threads={threads}", "--set", f"solver.tolerance={tol}",
+               "--set", "output.fields=false", "--set", "output.png=false"]
+        for e in extra(n):
+            cmd += ["--set", e]
+        p = subprocess.run(cmd, capture_output=True, text=True)
+        if p.returncode != 0:
+            return {"error": p.stdout + p.stderr}
+        rss_kb = int(p.stderr.strip().splitlines()[-1])
+        s = json.load(open(os.path.join(d, "summary.json")))
+        s["peak_rss_bytes"] = rss_kb * 1024
+        return s
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--sizes", type=int, nargs="+", default=[256, 512])
+    ap.add_argument("--cases", nargs="+", default=["hertz", "rough"], choices=sorted(CASES))
+    ap.add_argument("--threads", type=int, default=os.cpu_count())
+    ap.add_argument("--tolerance", type=float, default=1e-6)
+    args = ap.parse_args()
+    ffts = fft_times(args.sizes, args.threads)
+    print(f"threads = {args.threads}, tolerance = {args.tolerance}\n")
+    print("| case | N | iterations | friction steps | total s | s / iteration | bare-FFT s / iteration (3+3) "
+          "| ratio | peak MiB | bytes / point |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for case in args.cases:
+        for n in args.sizes:
+            s = run_case(case, n, args.threads, args.tolerance)
+            if "error" in s:
+                print(f"| {case} | {n} | failed: {s['error'].strip().splitlines()[-1]} |")
+                continue
+            it = s["iterations"]
+            t = s["wall_time_s"]
+            per = t / max(it, 1)
+            f = ffts.get(n, float("nan"))
+            print(f"| {case} | {n} | {it} | {s.get('outer_iterations', 0)} | {t:.3f} | {per * 1e3:.2f} ms "
+                  f"| {f * 1e3:.2f} ms | {per / f:.2f} | {s['peak_rss_bytes'] / 2**20:.0f} "
+                  f"| {s['peak_rss_bytes'] / n / n:.0f} |")
+            sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()
