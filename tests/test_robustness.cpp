@@ -1,0 +1,145 @@
+// Interruption and resume, checkpoints, thread-count independence.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "gfmd/config.hpp"
+#include "gfmd/error.hpp"
+#include "gfmd/run.hpp"
+
+using namespace gfmd;
+namespace fs = std::filesystem;
+
+namespace {
+const char* kSliding = R"(
+[grid]
+nx = 256
+lx = 1.6
+[elastic]
+poisson = 0.25
+[indenter]
+type = "hertz"
+radius = 1.0
+[load]
+force = 0.01
+[friction]
+coefficient = 1.0
+[solver]
+tolerance = 1e-9
+)";
+
+double max_rel_diff(const RealField& a, const RealField& b) {
+  double m = 0, d = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    m = std::max(m, std::abs(a[i]));
+    d = std::max(d, std::abs(a[i] - b[i]));
+  }
+  return d / m;
+}
+}  // namespace
+
+TEST(Robustness, InterruptedSolveResumesToTheSameAnswer) {
+  const Config cfg = parse_config(kSliding, "t.toml");
+  const CaseResult ref = run_case(cfg);
+  ASSERT_TRUE(ref.info.converged);
+  const fs::path dir = fs::temp_directory_path() / ("gfmd_resume_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string ck = (dir / "checkpoint.bin").string();
+  RunOptions o;
+  int polls = 0;
+  o.stop_request = [&polls] { return ++polls > 40; };
+  o.checkpoint_path = ck;
+  EXPECT_THROW(run_case(cfg, o), Interrupted);
+  ContactFields state;
+  ASSERT_TRUE(read_checkpoint(ck, cfg, state));
+  // A checkpoint of another input is refused.
+  ContactFields other;
+  EXPECT_FALSE(read_checkpoint(ck, parse_config(kSliding, "t.toml", {"elastic.poisson=0.3"}), other));
+  RunOptions r;
+  r.warm_start = &state;
+  const CaseResult resumed = run_case(cfg, r);
+  ASSERT_TRUE(resumed.info.converged);
+  std::printf("resume: uninterrupted mu = %.10f (%d it), resumed mu = %.10f (%d it after %d polls)\n",
+              ref.observables.friction_coefficient, ref.info.iterations,
+              resumed.observables.friction_coefficient, resumed.info.iterations, polls);
+  EXPECT_NEAR(resumed.observables.friction_coefficient, ref.observables.friction_coefficient, 1e-7);
+  EXPECT_NEAR(resumed.observables.relative_contact_area, ref.observables.relative_contact_area, 1e-12);
+  EXPECT_LT(max_rel_diff(resumed.fields.pressure, ref.fields.pressure), 1e-6);
+  fs::remove_all(dir);
+}
+
+TEST(Robustness, SigtermThenResumeFromTheCommandLine) {
+  const fs::path dir = fs::temp_directory_path() / ("gfmd_sigterm_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.toml") << kSliding;
+  const std::string exe = GFMD_EXE;
+  const std::string out = (dir / "out").string(), out2 = (dir / "out2").string();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execl(exe.c_str(), exe.c_str(), "run", (dir / "case.toml").c_str(), "-o", out.c_str(), "-q", "--set",
+          "grid.nx=512", "--checkpoint-interval", "0.1", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait for the first checkpoint, then stop the run.
+  for (int i = 0; i < 600 && !fs::exists(fs::path(out) / "checkpoint.bin"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  if (WEXITSTATUS(status) == 0) GTEST_SKIP() << "the run finished before it could be interrupted";
+  EXPECT_EQ(WEXITSTATUS(status), 4);
+  EXPECT_FALSE(fs::exists(fs::path(out) / "summary.json"));
+  std::ifstream st(fs::path(out) / "status.json");
+  EXPECT_EQ(nlohmann::json::parse(st)["status"], "interrupted");
+  const std::string resume = exe + " run " + (dir / "case.toml").string() + " -o " + out +
+                             " -q --set grid.nx=512 --resume > /dev/null 2>&1";
+  ASSERT_EQ(std::system(resume.c_str()), 0);
+  const std::string fresh = exe + " run " + (dir / "case.toml").string() + " -o " + out2 +
+                            " -q --set grid.nx=512 > /dev/null 2>&1";
+  ASSERT_EQ(std::system(fresh.c_str()), 0);
+  std::ifstream a(fs::path(out) / "summary.json"), b(fs::path(out2) / "summary.json");
+  const auto ja = nlohmann::json::parse(a), jb = nlohmann::json::parse(b);
+  EXPECT_NEAR(ja["friction_coefficient"].get<double>(), jb["friction_coefficient"].get<double>(), 1e-7);
+  EXPECT_NEAR(ja["relative_contact_area"].get<double>(), jb["relative_contact_area"].get<double>(), 1e-12);
+  EXPECT_FALSE(fs::exists(fs::path(out) / "checkpoint.bin"));
+  fs::remove_all(dir);
+}
+
+TEST(Robustness, ResultsDoNotDependOnThreadCount) {
+  const char* rough = R"(
+[grid]
+nx = 128
+lx = 2.0
+[elastic]
+poisson = 0.49
+thickness = 0.1
+[indenter]
+type = "selfaffine"
+lambda_long = 1.0
+lambda_short = 0.0625
+rms_height = 0.01
+seed = 3
+[load]
+pressure = 0.03
+[friction]
+coefficient = 1.0
+)";
+  const CaseResult one = run_case(parse_config(rough, "t.toml", {"solver.threads=1"}));
+  const CaseResult two = run_case(parse_config(rough, "t.toml", {"solver.threads=2"}));
+  ASSERT_TRUE(one.info.converged);
+  ASSERT_TRUE(two.info.converged);
+  const double d = max_rel_diff(one.fields.pressure, two.fields.pressure);
+  std::printf("1 vs 2 threads: max relative pressure difference %.3e, iterations %d vs %d\n", d,
+              one.info.iterations, two.info.iterations);
+  EXPECT_LT(d, 1e-12);
+  EXPECT_EQ(one.info.iterations, two.info.iterations);
+  EXPECT_NEAR(one.observables.friction_coefficient, two.observables.friction_coefficient, 1e-12);
+}
