@@ -421,14 +421,48 @@ double estimated_memory_bytes(const Grid& grid) {
   return n * 8.0 * 18.0 + ns * (16.0 * 8.0 + 48.0);
 }
 
+namespace {
+// TOML is UTF-8 text. Checking it first also keeps malformed bytes away from toml11
+// (3.7 reads past the end of some invalid sequences; found by fuzz/fuzz_config).
+void require_utf8(const std::string& s, const std::string& name) {
+  std::size_t i = 0, line = 1;
+  while (i < s.size()) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    std::size_t len = 0;
+    if (c == '\n') ++line;
+    if (c < 0x80) {
+      len = 1;
+      if (c == 0 || (c < 0x20 && c != '\n' && c != '\r' && c != '\t') || c == 0x7f)
+        throw InputError(name + ":" + std::to_string(line), "control character in the case file");
+    } else if ((c & 0xe0) == 0xc0 && c >= 0xc2) {
+      len = 2;
+    } else if ((c & 0xf0) == 0xe0) {
+      len = 3;
+    } else if ((c & 0xf8) == 0xf0 && c <= 0xf4) {
+      len = 4;
+    } else {
+      throw InputError(name + ":" + std::to_string(line), "not valid UTF-8 text");
+    }
+    if (i + len > s.size()) throw InputError(name + ":" + std::to_string(line), "not valid UTF-8 text");
+    for (std::size_t k = 1; k < len; ++k)
+      if ((static_cast<unsigned char>(s[i + k]) & 0xc0) != 0x80)
+        throw InputError(name + ":" + std::to_string(line), "not valid UTF-8 text");
+    i += len;
+  }
+}
+}  // namespace
+
 Config parse_config(const std::string& text, const std::string& name, const std::vector<std::string>& overrides,
                     const std::string& base_dir) {
+  require_utf8(text, name);
   toml::value root;
   try {
     std::istringstream is(text);
     root = toml::parse(is, name);
   } catch (const toml::syntax_error& e) {
     throw InputError(name, std::string("not valid TOML:\n") + e.what());
+  } catch (const std::exception& e) {
+    throw InputError(name, std::string("not valid TOML: ") + e.what());
   }
   for (const auto& o : overrides) apply_override(root, o);
   return build(root, name, base_dir);

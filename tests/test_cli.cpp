@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <iterator>
 #include <string>
 
 namespace fs = std::filesystem;
@@ -119,6 +120,25 @@ TEST(Cli, BadInputIsRefusedCleanly) {
       {"bad_set", kGood, "--set nonsense", "expected section.key=value"},
       {"set_unknown", kGood, "--set solver.tolerence=1e-6", "did you mean 'tolerance'"},
       {"tolerance", sub(kGood, "force = 0.01", "force = 0.01\n[solver]\ntolerance = 2"), "", "solver.tolerance"},
+      {"invalid_utf8", kGood + "# \xff\xfe\n", "", "not valid UTF-8"},
+      {"negative_mu", kGood + "[friction]\ncoefficient = -0.5\n", "", "friction.coefficient"},
+      {"bad_model", kGood + "[interaction]\nmodel = \"lennard-jones\"\n", "", "interaction.model"},
+      {"threads", kGood + "[solver]\nthreads = -2\n", "", "solver.threads"},
+      {"max_iterations", kGood + "[solver]\nmax_iterations = 0\n", "", "solver.max_iterations"},
+      {"sweep_no_values", kGood + "[sweep]\nparameter = \"load.force\"\n", "", "sweep.values"},
+      {"eggcrate_period", sub(sub(kGood, "type = \"hertz\"", "type = \"eggcrate\""), "radius = 1.0", "wavelength = 0.7"),
+       "", "whole number of wavelengths"},
+      {"selfaffine_coarse",
+       sub(sub(kGood, "type = \"hertz\"", "type = \"selfaffine\""), "radius = 1.0",
+           "lambda_long = 1.0\nlambda_short = 0.05\nrms_height = 0.01"),
+       "", "indenter.lambda_short"},
+      {"selfaffine_two_rms",
+       sub(sub(kGood, "type = \"hertz\"", "type = \"selfaffine\""), "radius = 1.0", "rms_height = 0.01\nrms_gradient = 0.1"),
+       "", "exactly one of rms_height and rms_gradient"},
+      {"hurst", sub(sub(kGood, "type = \"hertz\"", "type = \"selfaffine\""), "radius = 1.0", "hurst = 1.5\nrms_height = 0.01"),
+       "", "indenter.hurst"},
+      {"negative_radius", sub(kGood, "radius = 1.0", "radius = -1.0"), "", "indenter.radius"},
+      {"grid_not_table", "grid = 3\n" + kGood.substr(kGood.find("[elastic]")), "", "grid: must be a table"},
   };
   for (const auto& c : cases) {
     const fs::path tomlp = d / (std::string(c.name) + ".toml");
@@ -132,6 +152,64 @@ TEST(Cli, BadInputIsRefusedCleanly) {
   const auto missing = run_gfmd("run " + (d / "does_not_exist.toml").string() + " -q");
   EXPECT_EQ(missing.code, 2);
   EXPECT_NE(missing.output.find("cannot open the case file"), std::string::npos);
+}
+
+TEST(Cli, BadTopographyFilesAreRefusedCleanly) {
+  const fs::path d = scratch("badtopo");
+  const std::string head = "# lx = 4\n# ly = 4\n";
+  struct F {
+    const char* name;
+    std::string content;
+    const char* fragment;
+  };
+  std::string truncated_nc;
+  {
+    // A valid NetCDF written by gfmd, cut short.
+    write(d / "src.toml", kGood + "[output]\npng = false\n");
+    const auto r = run_gfmd("run " + (d / "src.toml").string() + " -o " + (d / "src").string() + " -q");
+    ASSERT_EQ(r.code, 0) << r.output;
+    std::ifstream in(d / "src" / "fields.nc", std::ios::binary);
+    truncated_nc.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    truncated_nc.resize(truncated_nc.size() / 2);
+  }
+  const std::vector<F> files = {
+      {"ragged.txt", head + "1 2 3\n4 5\n", "ragged rows"},
+      {"word.txt", head + "1 2\nx 4\n", "non-numeric value"},
+      {"nan.txt", head + "1 2\nnan 4\n", "non-finite"},
+      {"inf.txt", head + "1 inf\n3 4\n", "non-finite"},
+      {"empty.txt", "", "empty"},
+      {"comments_only.txt", head, "no data"},
+      {"binary.txt", head + std::string("\x01\x02\xff 7\n", 6), "non-numeric value"},
+      {"badheader.txt", "# lx = -3\n# ly = 4\n1 2\n3 4\n", "lx"},
+      {"garbage.nc", "this is not netcdf", ".nc"},
+      {"truncated.nc", truncated_nc, "truncated.nc"},
+      {"wrongsize.txt", head + "1 2\n3 4\n", "but [grid] asks for 64 x 64"},
+  };
+  for (const auto& f : files) {
+    {
+      std::ofstream o(d / f.name, std::ios::binary);
+      o << f.content;
+    }
+    std::string toml = kGood;
+    toml.replace(toml.find("type = \"hertz\""), 14, "type = \"file\"");
+    toml.replace(toml.find("radius = 1.0"), 12, std::string("path = \"") + f.name + "\"");
+    write(d / "case.toml", toml);
+    const fs::path out = d / (std::string(f.name) + "_out");
+    const auto r = run_gfmd("run " + (d / "case.toml").string() + " -o " + out.string() + " -q");
+    EXPECT_NE(r.code, 0) << f.name;
+    EXPECT_NE(r.output.find(f.name), std::string::npos) << f.name << ": " << r.output;
+    EXPECT_NE(r.output.find(f.fragment), std::string::npos) << f.name << ": " << r.output;
+    EXPECT_FALSE(fs::exists(out)) << f.name;
+  }
+  // A directory is not a height map.
+  fs::create_directories(d / "adir.txt");
+  std::string toml = kGood;
+  toml.replace(toml.find("type = \"hertz\""), 14, "type = \"file\"");
+  toml.replace(toml.find("radius = 1.0"), 12, "path = \"adir.txt\"");
+  write(d / "case.toml", toml);
+  const auto r = run_gfmd("run " + (d / "case.toml").string() + " -o " + (d / "dir_out").string() + " -q");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.output.find("adir.txt"), std::string::npos) << r.output;
 }
 
 TEST(Cli, UnconvergedSolveWritesNothing) {

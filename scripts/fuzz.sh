@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets with clang (ASan + UBSan) and runs each for N seconds
+# (default 30) on its seed corpus in fuzz/corpus/<target>. Exits non-zero on any finding.
+#   bash scripts/fuzz.sh [seconds]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+secs="${1:-30}"
+CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGFMD_FUZZ=ON \
+  -DGFMD_BUILD_TESTS=OFF > /dev/null
+cmake --build build-fuzz -j"$(nproc)" --target fuzz_config fuzz_topography_text
+# Inputs that once crashed must stay fixed.
+for f in fuzz/regressions/config_*; do ./build-fuzz/fuzz_config "$f" > /dev/null 2>&1 || { echo "regression $f fails"; exit 1; }; done
+for t in config topography_text; do
+  work=$(mktemp -d)
+  cp -r "fuzz/corpus/$t/." "$work/"
+  echo "fuzz_$t: ${secs} s"
+  ./build-fuzz/fuzz_$t "$work" -max_total_time="$secs" -max_len=4096 -timeout=10 -rss_limit_mb=4096 \
+    -print_final_stats=1 2>&1 | grep -E "stat::number_of_executed_units|stat::new_units_added|ERROR|SUMMARY|Done" || true
+  found=$(compgen -G "crash-*" ; compgen -G "leak-*" ; compgen -G "timeout-*" ; compgen -G "oom-*") || true
+  if [ -n "$found" ]; then
+    echo "fuzz_$t: findings saved in $(pwd): $found"
+    exit 1
+  fi
+  rm -rf "$work"
+done
+echo "fuzzing: no findings"
