@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 secs="${1:-30}"
-CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGFMD_FUZZ=ON \
+CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGFMD_FUZZ=ON \
   -DGFMD_BUILD_TESTS=OFF > /dev/null
 cmake --build build-fuzz -j"$(nproc)" --target fuzz_config fuzz_topography_text
 # Inputs that once crashed must stay fixed.

@@ -12,7 +12,8 @@ PKGS=(
   libtoml11-dev           # case files
   libgtest-dev libgmock-dev libbenchmark-dev
   libhypre-dev            # Reynolds flow linear solves
-  python3-numpy python3-matplotlib python3-pytest pybind11-dev python3-dev
+  python3-numpy python3-matplotlib python3-netcdf4 python3-pytest pybind11-dev python3-dev
+  clang-14 libclang-rt-14-dev libomp-14-dev   # fuzzing (libFuzzer) and sanitizers
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -1,0 +1,152 @@
+#!/usr/bin/python3
+"""Runs a study (studies/*.toml): the sweeps or single runs it names, reusing every result
+that is already there, then draws its figure (PNG + PDF) and writes the plotted data as
+CSV next to it.
+
+    /usr/bin/python3 scripts/study.py studies/fig2d.toml [--quick] [-o out/studies]
+    (or: ./build/gfmd study studies/fig2d.toml --quick)
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import time
+import tomllib
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+GFMD = os.environ.get("GFMD", os.path.join(ROOT, "build", "gfmd"))
+
+
+def log(msg):
+    print(msg, file=sys.stderr, flush=True)
+
+
+def run(cmd):
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f"study: command failed ({p.returncode}): {' '.join(cmd)}\n{p.stdout}{p.stderr}")
+    return p
+
+
+def series_dir(out, i):
+    return os.path.join(out, f"series_{i:02d}")
+
+
+def read_table(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def run_series(study, mode_sets, out, quick):
+    """Runs every series; returns a list of (series, result) with result the sweep rows or
+    the single run's summary."""
+    results = []
+    total = len(study["series"])
+    t0 = time.time()
+    for i, s in enumerate(study["series"]):
+        d = series_dir(out, i)
+        case = os.path.join(ROOT, s["case"])
+        sets = list(s.get("set", [])) + list(mode_sets) + list(s.get("quick_set" if quick else "full_set", []))
+        args = []
+        for kv in sets:
+            args += ["--set", kv]
+        t = time.time()
+        if study.get("kind", "sweep") == "sweep":
+            run([GFMD, "sweep", case, "-o", d, "-q", "--plot", study["y"]] + args)
+            res = read_table(os.path.join(d, "sweep.csv"))
+        else:
+            summary = os.path.join(d, "summary.json")
+            run([GFMD, "run", case, "-o", d, "-q", "--resume"] + args)
+            res = json.load(open(summary))
+        dt = time.time() - t
+        el = time.time() - t0
+        left = el / (i + 1) * (total - i - 1)
+        log(f"[{i + 1}/{total}] {s['label']}: {dt:.1f} s (elapsed {el:.0f} s, about {left:.0f} s left)")
+        results.append((s, res))
+    return results
+
+
+def col(rows, key):
+    return np.array([float(r[key]) if r.get(key, "") not in ("", "null") else np.nan for r in rows])
+
+
+def plot_sweeps(study, results, fig_base):
+    x, y = study["x"], study["y"]
+    xs = float(study.get("x_scale", 1.0))
+    ys = float(study.get("y_scale", 1.0))
+    fig, ax = plt.subplots(figsize=(4.6, 3.4), dpi=150)
+    data = {}
+    for s, rows in results:
+        xv = col(rows, x) * xs * float(s.get("x_scale", 1.0))
+        yv = col(rows, y) * ys
+        ax.plot(xv, yv, s.get("style", "o-"), label=s["label"])
+        data[s["label"]] = (xv, yv)
+    ax.set_xlabel(study.get("xlabel", x))
+    ax.set_ylabel(study.get("ylabel", y))
+    if study.get("xscale"):
+        ax.set_xscale(study["xscale"])
+    if study.get("yscale"):
+        ax.set_yscale(study["yscale"])
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    ax.set_title(study.get("title", ""), fontsize=8)
+    fig.tight_layout()
+    save(fig, fig_base)
+    with open(fig_base + ".csv.tmp", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["series", study.get("xlabel", x), study.get("ylabel", y)])
+        for label, (xv, yv) in data.items():
+            for a, b in zip(xv, yv):
+                w.writerow([label, repr(float(a)), repr(float(b))])
+    os.replace(fig_base + ".csv.tmp", fig_base + ".csv")
+
+
+def save(fig, base):
+    for ext in ("png", "pdf"):
+        tmp = f"{base}.tmp.{ext}"
+        fig.savefig(tmp)
+        os.replace(tmp, f"{base}.{ext}")
+    plt.close(fig)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("study")
+    ap.add_argument("--quick", action="store_true", help="reduced resolution that runs in minutes")
+    ap.add_argument("-o", "--output", default=os.path.join(ROOT, "out", "studies"))
+    args = ap.parse_args()
+    with open(args.study, "rb") as f:
+        study = tomllib.load(f)
+    name = os.path.splitext(os.path.basename(args.study))[0]
+    mode = "quick" if args.quick else "full"
+    out = os.path.join(args.output, name, mode)
+    os.makedirs(out, exist_ok=True)
+    t0 = time.time()
+    results = run_series(study, study.get(mode, {}).get("set", []), out, args.quick)
+    fig_base = os.path.join(out, name)
+    if study.get("kind", "sweep") == "sweep":
+        plot_sweeps(study, results, fig_base)
+    else:
+        import study_figures  # noqa: E402  (field maps and profiles)
+
+        study_figures.draw(study, results, out, fig_base)
+    report = {"study": name, "mode": mode, "wall_time_s": time.time() - t0,
+              "figure": fig_base + ".png", "series": [s["label"] for s, _ in results]}
+    with open(os.path.join(out, "study.json.tmp"), "w") as f:
+        json.dump(report, f, indent=2)
+    os.replace(os.path.join(out, "study.json.tmp"), os.path.join(out, "study.json"))
+    print(f"{name} ({mode}): {fig_base}.png, .pdf, .csv  [{report['wall_time_s']:.1f} s]")
+
+
+if __name__ == "__main__":
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    main()
