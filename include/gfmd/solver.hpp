@@ -111,6 +111,7 @@ class ContactSolver {
   PKResult solve_normal(const LoadParams& load, const RealField& w, RealField& p, double tol, int max_it);
   void apply_normal(const RealField& in, RealField& out);  // (C_zz + 1/k) in
   void update_displacements(ContactFields& f);           // u from (tau, -p)
+  void inplane_spectra(const ContactFields& f);          // spectra of ux, uy (tau spectra cached)
   void slip_tractions(const ContactFields& f, RealField& tx, RealField& ty);
   void friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w);
   double residual(const ContactFields& f, double delta);
