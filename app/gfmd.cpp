@@ -243,6 +243,13 @@ int main(int argc, char** argv) {
   sweep->add_flag("-q,--quiet", quiet, "no progress display");
 
   install_signal_handlers();
+  std::string study_path;
+  bool study_quick = false;
+  auto* study = app.add_subcommand("study", "run a study of studies/ and draw its figure (matplotlib)");
+  study->add_option("study", study_path, "study file (TOML)")->required();
+  study->add_flag("--quick", study_quick, "reduced resolution that runs in minutes");
+  study->add_option("-o,--output", out_dir, "output root (default out/studies)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -252,6 +259,13 @@ int main(int argc, char** argv) {
   try {
     if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet, verbose, resume, checkpoint_s);
     if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet);
+    if (study->parsed()) {
+      std::string cmd = std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR + "/study.py\" \"" + study_path + "\"";
+      if (study_quick) cmd += " --quick";
+      if (!out_dir.empty()) cmd += " -o \"" + out_dir + "\"";
+      const int rc = std::system(cmd.c_str());
+      return (rc == 0) ? 0 : 1;
+    }
   } catch (const gfmd::InputError& e) {
     std::fprintf(stderr, "gfmd: error: %s\n", e.what());
     return 2;
