@@ -156,7 +156,7 @@ class Section {
 };
 
 const std::vector<std::string> kSections = {"grid",   "elastic", "indenter", "load",
-                                            "friction", "interaction", "solver", "output", "sweep"};
+                                            "friction", "interaction", "solver", "output", "sweep", "stress"};
 
 void apply_override(toml::value& root, const std::string& spec) {
   const auto eq = spec.find('=');
@@ -369,6 +369,27 @@ Config build(const toml::value& root, const std::string& name, const std::string
   }
   sw.finish();
 
+  Section st(root, "stress", errors);
+  c.stress.post_analysis = st.boolean("post_analysis", false);
+  c.stress.high_tension_fraction = st.number("high_tension_fraction", 0.9);
+  c.stress.profiles = st.boolean("profiles", true);
+  if (!(c.stress.high_tension_fraction > 0 && c.stress.high_tension_fraction <= 1))
+    st.error("high_tension_fraction", "must be in (0, 1]");
+  if (const toml::value* v = st.raw("depths")) {
+    if (!v->is_array()) {
+      st.error("depths", "must be an array of depths below the surface" + where(*v));
+    } else {
+      for (const auto& e : v->as_array()) {
+        const double d = e.is_floating() ? e.as_floating() : e.is_integer() ? static_cast<double>(e.as_integer()) : -1.0;
+        if (!(d >= 0) || (!c.elastic.half_space() && d > c.elastic.thickness))
+          st.error("depths", "each depth must be a number in [0, thickness]" + where(e));
+        else
+          c.stress.depths.push_back(d);
+      }
+    }
+  }
+  st.finish();
+
   Section out(root, "output", errors);
   c.output.fields = out.boolean("fields", true);
   c.output.png = out.boolean("png", true);
@@ -522,6 +543,10 @@ nlohmann::json Config::to_json() const {
                  {"mixing", solver.mixing},
                  {"threads", threads}};
   j["output"] = {{"fields", output.fields}, {"png", output.png}};
+  j["stress"] = {{"post_analysis", stress.post_analysis},
+                 {"high_tension_fraction", stress.high_tension_fraction},
+                 {"depths", stress.depths},
+                 {"profiles", stress.profiles}};
   if (sweep.active()) j["sweep"] = {{"parameter", sweep.parameter}, {"values", sweep.values}, {"plot", sweep.plot}};
   return j;
 }

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <numbers>
 #include <cstring>
 #include <iterator>
 #include <algorithm>
@@ -19,6 +20,34 @@
 namespace gfmd {
 
 namespace fs = std::filesystem;
+
+void compute_stresses(CaseResult& r, const ElasticBody& body, const FFT& fft) {
+  const Config& cfg = r.config;
+  r.stress = surface_stress(fft, cfg.elastic, r.fields);
+  r.principal = principal(r.stress);
+  r.stress_summary = summarize(cfg.grid, r.principal, cfg.stress.high_tension_fraction);
+  if (cfg.stress.post_analysis) {
+    // Frictionless pressure: the reference solve, or the solution itself without friction.
+    RealField p = r.reference_pressure;
+    if (p.empty() && cfg.friction.coefficient == 0) p = r.fields.pressure;
+    if (p.empty()) {
+      FrictionParams none = cfg.friction;
+      none.coefficient = 0.0;
+      ContactSolver ref(body, r.topography, cfg.interaction, none, cfg.solver);
+      ContactFields rf;
+      const SolveInfo info = ref.solve(cfg.load, rf);
+      if (!info.converged) throw SolveError("post-analysis reference: " + info.status);
+      p = rf.pressure;
+    }
+    const StressField ps = post_analysis_stress(fft, body, p, cfg.friction.coefficient, cfg.friction.direction_deg);
+    r.post_analysis = summarize(cfg.grid, principal(ps), cfg.stress.high_tension_fraction);
+    r.has_post_analysis = true;
+  }
+  for (double d : cfg.stress.depths) {
+    const PrincipalField pf = principal(subsurface_stress(fft, cfg.elastic, r.fields, d));
+    r.subsurface.push_back({d, summarize(cfg.grid, pf, cfg.stress.high_tension_fraction), pf.von_mises, pf.s1});
+  }
+}
 
 CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   set_threads(cfg.threads);
@@ -50,6 +79,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     }
     r.reference = compute_observables(ref.fft(), r.topography, none, rf, r.reference_info);
     r.has_reference = true;
+    r.reference_pressure = rf.pressure;
     if (!opts.warm_start) r.fields.pressure = rf.pressure;
   }
   ContactSolver solver(body, r.topography, cfg.interaction, cfg.friction, cfg.solver);
@@ -62,6 +92,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   }
   if (r.has_reference) r.info.wall_time_s += r.reference_info.wall_time_s;
   r.observables = compute_observables(solver.fft(), r.topography, cfg.friction, r.fields, r.info);
+  if (r.info.converged) compute_stresses(r, body, solver.fft());
   return r;
 }
 
@@ -136,6 +167,28 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["pressure_change"] = r.info.pk_error;
   if (r.config.friction.coefficient > 0) j["friction_change"] = r.info.friction_error;
   j["wall_time_s"] = r.info.wall_time_s;
+  const Grid& g = r.config.grid;
+  const auto stress_json = [&g](const StressSummary& s) {
+    return nlohmann::json{
+        {"max_tensile_stress", s.max_tensile_stress},
+        {"max_tensile_stress_location", {g.x(s.max_tensile_ix), g.y(s.max_tensile_iy)}},
+        {"max_von_mises", s.max_von_mises},
+        {"max_von_mises_location", {g.x(s.max_von_mises_ix), g.y(s.max_von_mises_iy)}},
+        {"high_tension_area_fraction", s.high_tension_area_fraction},
+        {"high_tension_fraction_of", s.high_tension_fraction_of}};
+  };
+  if (!r.principal.s1.empty()) j.update(stress_json(r.stress_summary));
+  if (r.has_post_analysis) j["post_analysis"] = stress_json(r.post_analysis);
+  if (r.has_post_analysis && r.post_analysis.max_tensile_stress > 0)
+    j["tensile_stress_ratio_to_post_analysis"] = r.stress_summary.max_tensile_stress / r.post_analysis.max_tensile_stress;
+  if (!r.subsurface.empty()) {
+    j["subsurface"] = nlohmann::json::array();
+    for (const auto& ss : r.subsurface) {
+      nlohmann::json e = stress_json(ss.summary);
+      e["depth"] = ss.depth;
+      j["subsurface"].push_back(e);
+    }
+  }
   if (r.config.friction.coefficient > 0) {
     const double mu = r.config.friction.coefficient;
     j["delta_mu_over_mu_c"] = (r.observables.friction_coefficient - mu) / mu;
@@ -169,6 +222,62 @@ nlohmann::json summary_json(const CaseResult& r) {
   return j;
 }
 
+namespace {
+// Line profiles through the pressure maximum along and across the sliding direction
+// (nearest grid point on the line), as in the paper's SM Fig. 2.
+void write_profiles(const CaseResult& r, const std::string& dir) {
+  const Grid& g = r.config.grid;
+  const std::size_t n = g.size();
+  std::size_t imax = 0;
+  for (std::size_t i = 1; i < n; ++i)
+    if (r.fields.pressure[i] > r.fields.pressure[imax]) imax = i;
+  const int cx = static_cast<int>(imax % g.nx), cy = static_cast<int>(imax / g.nx);
+  const double th = r.config.friction.direction_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(th), ey = std::sin(th);
+  FFT fft(g);
+  DerivedFields d;
+  if (r.config.friction.coefficient > 0) d = derived_fields(fft, r.config.friction, r.fields);
+  std::vector<std::pair<std::string, const double*>> cols = {
+      {"ux", r.fields.ux.data()}, {"uy", r.fields.uy.data()}, {"uz", r.fields.uz.data()},
+      {"pressure", r.fields.pressure.data()}};
+  if (!d.dissipation.empty()) {
+    cols.push_back({"dissipation", d.dissipation.data()});
+    cols.push_back({"slip_longitudinal", d.slip_longitudinal.data()});
+    cols.push_back({"slip_transverse", d.slip_transverse.data()});
+  }
+  for (const auto& c : std::vector<std::pair<std::string, const RealField*>>{
+           {"sigma_xx", &r.stress.xx}, {"sigma_yy", &r.stress.yy}, {"sigma_zz", &r.stress.zz},
+           {"sigma_xy", &r.stress.xy}, {"sigma_xz", &r.stress.xz}, {"sigma_yz", &r.stress.yz},
+           {"sigma_1", &r.principal.s1}, {"von_mises", &r.principal.von_mises}, {"e1_x", &r.principal.e1x},
+           {"e1_y", &r.principal.e1y}, {"e1_z", &r.principal.e1z}})
+    cols.push_back({c.first, c.second->data()});
+  std::ostringstream os;
+  os.precision(10);
+  os << "# profiles through the pressure maximum at (" << g.x(cx) << ", " << g.y(cy)
+     << "); s = distance along the line; longitudinal = along the sliding direction, transverse = across\n";
+  os << "s";
+  for (const char* dir_name : {"longitudinal", "transverse"})
+    for (const auto& c : cols) os << "," << c.first << "_" << dir_name;
+  os << "\n";
+  const int half = std::min(g.nx, g.ny) / 2;
+  const double ds = std::min(g.dx(), g.dy());
+  const auto at = [&](double sx, double sy) {
+    const int ix = ((cx + static_cast<int>(std::lround(sx / g.dx()))) % g.nx + g.nx) % g.nx;
+    const int iy = ((cy + static_cast<int>(std::lround(sy / g.dy()))) % g.ny + g.ny) % g.ny;
+    return static_cast<std::size_t>(iy) * g.nx + ix;
+  };
+  for (int k = -half; k < half; ++k) {
+    const double sdist = k * ds;
+    os << sdist;
+    const std::size_t il = at(sdist * ex, sdist * ey), it = at(-sdist * ey, sdist * ex);
+    for (const auto& c : cols) os << "," << c.second[il];
+    for (const auto& c : cols) os << "," << c.second[it];
+    os << "\n";
+  }
+  write_text_atomic((fs::path(dir) / "profiles.csv").string(), os.str());
+}
+}  // namespace
+
 void write_outputs(const CaseResult& r, const std::string& dir) {
   fs::create_directories(dir);
   const Grid& g = r.config.grid;
@@ -197,6 +306,32 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
                         "transverse slip velocity / v0 = (e_s.grad) u_perp", "1"});
       fields.push_back({"dissipation", d.dissipation.data(), "dissipated power density / v0 = mu_c p |v|/v0",
                         "E*"});
+    }
+    if (!r.principal.s1.empty()) {
+      const StressField& st = r.stress;
+      const PrincipalField& pr = r.principal;
+      for (const NamedField& nf : std::vector<NamedField>{
+               {"sigma_xx", st.xx.data(), "surface stress xx (tensile positive)", "E*"},
+               {"sigma_yy", st.yy.data(), "surface stress yy", "E*"},
+               {"sigma_zz", st.zz.data(), "surface stress zz (= -p)", "E*"},
+               {"sigma_xy", st.xy.data(), "surface stress xy", "E*"},
+               {"sigma_xz", st.xz.data(), "surface stress xz (= friction traction x)", "E*"},
+               {"sigma_yz", st.yz.data(), "surface stress yz", "E*"},
+               {"sigma_1", pr.s1.data(), "maximum principal (most tensile) surface stress sigma_I", "E*"},
+               {"sigma_2", pr.s2.data(), "middle principal surface stress", "E*"},
+               {"sigma_3", pr.s3.data(), "minimum principal surface stress", "E*"},
+               {"e1_x", pr.e1x.data(), "eigenvector of sigma_I, x", "1"},
+               {"e1_y", pr.e1y.data(), "eigenvector of sigma_I, y", "1"},
+               {"e1_z", pr.e1z.data(), "eigenvector of sigma_I, z", "1"},
+               {"von_mises", pr.von_mises.data(), "von Mises surface stress", "E*"}})
+        fields.push_back(nf);
+      for (std::size_t k = 0; k < r.subsurface.size(); ++k) {
+        const std::string depth = std::to_string(r.subsurface[k].depth);
+        fields.push_back({"von_mises_depth_" + std::to_string(k), r.subsurface[k].von_mises.data(),
+                          "von Mises stress at depth " + depth, "E*"});
+        fields.push_back({"sigma_1_depth_" + std::to_string(k), r.subsurface[k].s1.data(),
+                          "maximum principal stress at depth " + depth, "E*"});
+      }
     }
     write_fields_netcdf((fs::path(dir) / "fields.nc").string(), g, fields,
                         {{"gfmd_version", kVersion},
@@ -240,6 +375,18 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
       write_png_map((fs::path(dir) / "dissipation.png").string(), g, d.dissipation.data(), pd);
     }
   }
+  if (r.config.output.png && !r.principal.s1.empty()) {
+    PngOptions ps;
+    ps.colormap = "coolwarm";
+    ps.symmetric = true;
+    ps.title = "max principal stress";
+    write_png_map((fs::path(dir) / "max_principal_stress.png").string(), g, r.principal.s1.data(), ps);
+    PngOptions pv;
+    pv.colormap = "inferno";
+    pv.title = "von mises";
+    write_png_map((fs::path(dir) / "von_mises.png").string(), g, r.principal.von_mises.data(), pv);
+  }
+  if (r.config.stress.profiles && !r.principal.s1.empty()) write_profiles(r, dir);
   // summary.json last: its presence marks a complete run directory.
   write_text_atomic((fs::path(dir) / "summary.json").string(), summary_json(r).dump(2) + "\n");
 }

@@ -32,6 +32,13 @@ struct SweepConfig {
   [[nodiscard]] bool active() const { return !parameter.empty(); }
 };
 
+struct StressConfig {
+  bool post_analysis = false;          // also the frictionless + mu p reference (paper Fig. 3a,c)
+  double high_tension_fraction = 0.9;  // "zone of high tension": s1 >= fraction * max s1
+  std::vector<double> depths;          // planes below the surface for subsurface stresses
+  bool profiles = true;                // profiles.csv (+ png) through the pressure maximum
+};
+
 struct Config {
   Grid grid;
   ElasticParams elastic;
@@ -43,6 +50,7 @@ struct Config {
   int threads = 0;
   OutputConfig output;
   bool friction_reference = true;  // with friction: also solve frictionless at the same load
+  StressConfig stress;
   SweepConfig sweep;
   std::string source;  // the case file's path ("" for a string)
 

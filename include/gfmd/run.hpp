@@ -9,6 +9,7 @@
 
 #include "gfmd/config.hpp"
 #include "gfmd/observables.hpp"
+#include "gfmd/stress.hpp"
 
 namespace gfmd {
 
@@ -23,6 +24,19 @@ struct CaseResult {
   bool has_reference = false;
   Observables reference;
   SolveInfo reference_info;
+  RealField reference_pressure;  // frictionless pressure (with friction_reference)
+  // Stresses (SPEC §5).
+  StressField stress;
+  PrincipalField principal;
+  StressSummary stress_summary;
+  bool has_post_analysis = false;
+  StressSummary post_analysis;
+  struct Subsurface {
+    double depth;
+    StressSummary summary;
+    RealField von_mises, s1;
+  };
+  std::vector<Subsurface> subsurface;
 };
 
 struct RunOptions {
