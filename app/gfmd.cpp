@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <fstream>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include <sstream>
 
 #include "gfmd/error.hpp"
+#include "gfmd/io.hpp"
 #include "gfmd/run.hpp"
 #include "gfmd/version.hpp"
 
@@ -213,6 +215,26 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   return 0;
 }
 
+// Tabulates the dimensionless Green's tensor of SPEC §2 (frame with q along axis 1).
+int cmd_green(const std::vector<double>& nus, double from, double to, int points, const std::string& out) {
+  if (!(from > 0 && to > from) || points < 2) throw gfmd::InputError("gfmd green", "need 0 < --from < --to and --points >= 2");
+  for (double nu : nus) gfmd::ElasticParams{1.0, nu, 1.0, true}.validate();
+  std::ostringstream os;
+  os.precision(12);
+  os << "poisson,qh,phi11,phi22,phi33,im_phi13\n";
+  for (double nu : nus)
+    for (int i = 0; i < points; ++i) {
+      const double qh = from * std::pow(to / from, static_cast<double>(i) / (points - 1));
+      const gfmd::PhiRotated p = gfmd::phi_rotated(qh, nu);
+      os << nu << "," << qh << "," << p.p11 << "," << p.p22 << "," << p.p33 << "," << p.p13 << "\n";
+    }
+  if (out.empty() || out == "-")
+    std::fputs(os.str().c_str(), stdout);
+  else
+    gfmd::write_text_atomic(out, os.str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -243,6 +265,16 @@ int main(int argc, char** argv) {
   sweep->add_flag("-q,--quiet", quiet, "no progress display");
 
   install_signal_handlers();
+  std::vector<double> green_nu{0.0, 0.25, 0.49};
+  double green_from = 1e-2, green_to = 1e2;
+  int green_points = 121;
+  auto* green = app.add_subcommand("green", "tabulate the Green's tensor Phi(qh) of a layer (CSV)");
+  green->add_option("--poisson", green_nu, "Poisson ratios")->delimiter(',');
+  green->add_option("--from", green_from, "smallest qh");
+  green->add_option("--to", green_to, "largest qh");
+  green->add_option("--points", green_points, "points per Poisson ratio (log spaced)");
+  green->add_option("-o,--output", out_dir, "CSV file (default: standard output)");
+
   std::string study_path;
   bool study_quick = false;
   auto* study = app.add_subcommand("study", "run a study of studies/ and draw its figure (matplotlib)");
@@ -259,6 +291,7 @@ int main(int argc, char** argv) {
   try {
     if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet, verbose, resume, checkpoint_s);
     if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet);
+    if (green->parsed()) return cmd_green(green_nu, green_from, green_to, green_points, out_dir);
     if (study->parsed()) {
       std::string cmd = std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR + "/study.py\" \"" + study_path + "\"";
       if (study_quick) cmd += " --quick";

@@ -59,7 +59,12 @@ def run_series(study, mode_sets, out, quick):
         for kv in sets:
             args += ["--set", kv]
         t = time.time()
-        if study.get("kind", "sweep") == "sweep":
+        if study.get("kind") == "green":
+            csvp = os.path.join(d, "green.csv")
+            os.makedirs(d, exist_ok=True)
+            run([GFMD, "green", "--poisson", ",".join(str(v) for v in s["poisson"]), "-o", csvp])
+            res = read_table(csvp)
+        elif study.get("kind", "sweep") == "sweep":
             run([GFMD, "sweep", case, "-o", d, "-q", "--plot", study["y"]] + args)
             res = read_table(os.path.join(d, "sweep.csv"))
         else:
@@ -110,6 +115,33 @@ def plot_sweeps(study, results, fig_base):
     os.replace(fig_base + ".csv.tmp", fig_base + ".csv")
 
 
+def plot_green(study, results, fig_base):
+    fig, ax = plt.subplots(figsize=(4.6, 3.4), dpi=150)
+    rows_out = []
+    for _, rows in results:
+        nus = sorted({r["poisson"] for r in rows}, key=float)
+        for nu in nus:
+            sel = [r for r in rows if r["poisson"] == nu]
+            qh = np.array([float(r["qh"]) for r in sel])
+            im = np.array([float(r["im_phi13"]) for r in sel])
+            ax.plot(qh, im, label=f"ν = {float(nu):g}")
+            rows_out += [[nu, a, b] for a, b in zip(qh, im)]
+    ax.set_xscale("log")
+    ax.set_xlabel("q h")
+    ax.set_ylabel("Im Φ_13")
+    ax.axhline(0, color="0.6", lw=0.6)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    ax.set_title(study.get("title", ""), fontsize=8)
+    fig.tight_layout()
+    save(fig, fig_base)
+    with open(fig_base + ".csv.tmp", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["poisson", "qh", "im_phi13"])
+        w.writerows(rows_out)
+    os.replace(fig_base + ".csv.tmp", fig_base + ".csv")
+
+
 def save(fig, base):
     for ext in ("png", "pdf"):
         tmp = f"{base}.tmp.{ext}"
@@ -133,10 +165,12 @@ def main():
     t0 = time.time()
     results = run_series(study, study.get(mode, {}).get("set", []), out, args.quick)
     fig_base = os.path.join(out, name)
-    if study.get("kind", "sweep") == "sweep":
+    if study.get("kind") == "green":
+        plot_green(study, results, fig_base)
+    elif study.get("kind", "sweep") == "sweep":
         plot_sweeps(study, results, fig_base)
     else:
-        import study_figures  # noqa: E402  (field maps and profiles)
+        import study_figures  # noqa: E402  (field maps and profiles; needs python3-netcdf4)
 
         study_figures.draw(study, results, out, fig_base)
     report = {"study": name, "mode": mode, "wall_time_s": time.time() - t0,

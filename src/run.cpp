@@ -40,7 +40,9 @@ void compute_stresses(CaseResult& r, const ElasticBody& body, const FFT& fft) {
       p = rf.pressure;
     }
     const StressField ps = post_analysis_stress(fft, body, p, cfg.friction.coefficient, cfg.friction.direction_deg);
-    r.post_analysis = summarize(cfg.grid, principal(ps), cfg.stress.high_tension_fraction);
+    PrincipalField pp = principal(ps);
+    r.post_analysis = summarize(cfg.grid, pp, cfg.stress.high_tension_fraction);
+    r.post_analysis_s1 = std::move(pp.s1);
     r.has_post_analysis = true;
   }
   for (double d : cfg.stress.depths) {
@@ -325,6 +327,9 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
                {"e1_z", pr.e1z.data(), "eigenvector of sigma_I, z", "1"},
                {"von_mises", pr.von_mises.data(), "von Mises surface stress", "E*"}})
         fields.push_back(nf);
+      if (r.has_post_analysis)
+        fields.push_back({"post_analysis_sigma_1", r.post_analysis_s1.data(),
+                          "sigma_I of the post-analysis reference (frictionless p + uniform mu p)", "E*"});
       for (std::size_t k = 0; k < r.subsurface.size(); ++k) {
         const std::string depth = std::to_string(r.subsurface[k].depth);
         fields.push_back({"von_mises_depth_" + std::to_string(k), r.subsurface[k].von_mises.data(),

@@ -31,6 +31,7 @@ struct CaseResult {
   StressSummary stress_summary;
   bool has_post_analysis = false;
   StressSummary post_analysis;
+  RealField post_analysis_s1;  // sigma_I of the post-analysis reference
   struct Subsurface {
     double depth;
     StressSummary summary;

@@ -1,0 +1,131 @@
+"""Figures drawn from the fields of single runs (studies with kind = "runs"): a grid of
+maps (rows = fields, columns = series) or of line profiles along and across the sliding
+direction through the pressure maximum."""
+import csv
+import os
+
+import matplotlib.pyplot as plt
+import netCDF4
+import numpy as np
+
+
+def load_fields(d):
+    with netCDF4.Dataset(os.path.join(d, "fields.nc")) as nc:
+        f = {k: np.array(v[:], dtype=float) for k, v in nc.variables.items() if v.ndim == 2}
+        f["_lx"] = float(nc.getncattr("lx"))
+        f["_ly"] = float(nc.getncattr("ly"))
+    return f
+
+
+def window(f, crop):
+    """Index window of half-width crop (length units) around the indenter's highest point."""
+    h = f["topography"]
+    ny, nx = h.shape
+    iy, ix = np.unravel_index(np.argmax(h), h.shape)
+    dx = f["_lx"] / nx
+    w = int(round(crop / dx)) if crop else nx // 2
+    ys = (np.arange(iy - w, iy + w + 1)) % ny
+    xs = (np.arange(ix - w, ix + w + 1)) % nx
+    ext = [-w * dx, w * dx, -w * dx, w * dx]
+    return np.ix_(ys, xs), ext
+
+
+def field(f, spec):
+    name = spec["var"]
+    if name not in f:  # e.g. slip fields of a static run
+        return np.full_like(f["pressure"], np.nan)
+    v = f[name].copy()
+    if spec.get("contact_only"):
+        v[f["pressure"] <= 0] = np.nan
+    return v * float(spec.get("scale", 1.0))
+
+
+def draw(study, results, out, fig_base):
+    series = [(s, os.path.join(out, f"series_{i:02d}")) for i, (s, _) in enumerate(results)]
+    if study.get("figure", "maps") == "maps":
+        draw_maps(study, series, fig_base)
+    else:
+        draw_profiles(study, series, fig_base)
+
+
+def draw_maps(study, series, fig_base):
+    rows = study["maps"]
+    fig, axes = plt.subplots(len(rows), len(series), figsize=(2.3 * len(series), 2.1 * len(rows)), dpi=150,
+                             squeeze=False)
+    table = []
+    for c, (s, d) in enumerate(series):
+        f = load_fields(d)
+        idx, ext = window(f, study.get("crop"))
+        for r, spec in enumerate(rows):
+            v = field(f, spec)[idx]
+            ax = axes[r][c]
+            lim = np.nanmax(np.abs(v)) if spec.get("symmetric") else None
+            im = ax.imshow(v, origin="lower", extent=ext, cmap=spec.get("cmap", "viridis"),
+                           vmin=-lim if lim else spec.get("vmin"), vmax=lim if lim else spec.get("vmax"))
+            fig.colorbar(im, ax=ax, shrink=0.8)
+            ax.set_xticks([])
+            ax.set_yticks([])
+            if r == 0:
+                ax.set_title(s["label"], fontsize=7)
+            if c == 0:
+                ax.set_ylabel(spec.get("label", spec["var"]), fontsize=7)
+            table.append([s["label"], spec["var"], float(np.nanmin(v)), float(np.nanmax(v))])
+    fig.suptitle(study.get("title", ""), fontsize=8)
+    fig.tight_layout()
+    save(fig, fig_base)
+    write_csv(fig_base + ".csv", ["series", "field", "min", "max"], table)
+
+
+def draw_profiles(study, series, fig_base):
+    rows = study["profiles"]
+    fig, axes = plt.subplots(len(rows), len(series), figsize=(2.3 * len(series), 1.8 * len(rows)), dpi=150,
+                             squeeze=False, sharex=True)
+    table = []
+    for c, (s, d) in enumerate(series):
+        f = load_fields(d)
+        p = f["pressure"]
+        ny, nx = p.shape
+        iy, ix = np.unravel_index(np.argmax(p), p.shape)
+        dx = f["_lx"] / nx
+        crop = study.get("crop", f["_lx"] / 2)
+        w = int(round(crop / dx))
+        off = np.arange(-w, w + 1)
+        xs = off * dx
+        for r, spec in enumerate(rows):
+            v = field(f, spec)
+            lon = v[iy, (ix + off) % nx]
+            tra = v[(iy + off) % ny, ix]
+            ax = axes[r][c]
+            ax.plot(xs, lon, "-", color="C0", lw=1, label="longitudinal")
+            ax.plot(xs, tra, "--", color="C1", lw=1, label="transverse")
+            ax.axhline(0, color="0.7", lw=0.5)
+            if r == 0:
+                ax.set_title(s["label"], fontsize=7)
+            if c == 0:
+                ax.set_ylabel(spec.get("label", spec["var"]), fontsize=7)
+            ax.tick_params(labelsize=6)
+            for k, x in enumerate(xs):
+                table.append([s["label"], spec["var"], float(x), float(lon[k]), float(tra[k])])
+    axes[0][0].legend(fontsize=6)
+    for ax in axes[-1]:
+        ax.set_xlabel(study.get("xlabel", "distance from the pressure maximum"), fontsize=7)
+    fig.suptitle(study.get("title", ""), fontsize=8)
+    fig.tight_layout()
+    save(fig, fig_base)
+    write_csv(fig_base + ".csv", ["series", "field", "s", "longitudinal", "transverse"], table)
+
+
+def save(fig, base):
+    for ext in ("png", "pdf"):
+        tmp = f"{base}.tmp.{ext}"
+        fig.savefig(tmp)
+        os.replace(tmp, f"{base}.{ext}")
+    plt.close(fig)
+
+
+def write_csv(path, head, rows):
+    with open(path + ".tmp", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(head)
+        w.writerows(rows)
+    os.replace(path + ".tmp", path)
