@@ -73,7 +73,12 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     ContactSolver ref(body, r.topography, cfg.interaction, none, cfg.solver);
     hook(ref);
     ContactFields rf = r.fields;
-    r.reference_info = ref.solve(cfg.load, rf);
+    try {
+      r.reference_info = ref.solve(cfg.load, rf);
+    } catch (const Interrupted&) {
+      if (!opts.checkpoint_path.empty()) write_checkpoint(opts.checkpoint_path, cfg, rf);
+      throw;
+    }
     if (!r.reference_info.converged) {
       r.info = r.reference_info;
       r.info.status += " (frictionless reference)";

@@ -143,3 +143,41 @@ coefficient = 1.0
   EXPECT_EQ(one.info.iterations, two.info.iterations);
   EXPECT_NEAR(one.observables.friction_coefficient, two.observables.friction_coefficient, 1e-12);
 }
+
+TEST(Robustness, InterruptedSweepKeepsFinishedPointsAndResumes) {
+  const fs::path dir = fs::temp_directory_path() / ("gfmd_sweep_resume_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string text = std::string(kSliding) + "[output]\nfields = false\npng = false\n[sweep]\n"
+                                                   "parameter = \"load.force\"\nvalues = [0.002, 0.005, 0.01]\n";
+  std::ofstream(dir / "case.toml") << text;
+  const std::string path = (dir / "case.toml").string();
+  const Config cfg = load_config(path);
+  SweepOptions o;
+  int points_done = 0;
+  o.on_point = [&](int done, int, const std::string&) { points_done = done; };
+  // Stop during the third point.
+  o.stop_request = [&] { return points_done >= 2; };
+  EXPECT_THROW(run_sweep(path, cfg, (dir / "out").string(), o), Interrupted);
+  std::ifstream t1(dir / "out" / "sweep.json");
+  const auto partial = nlohmann::json::parse(t1);
+  EXPECT_EQ(partial["completed"].get<int>(), 2);
+  EXPECT_TRUE(fs::exists(dir / "out" / "point_002" / "checkpoint.bin"));
+  // Resume: the finished points are reused, not recomputed.
+  SweepOptions again;
+  std::vector<std::string> messages;
+  again.on_point = [&](int, int, const std::string& m) { messages.push_back(m); };
+  run_sweep(path, cfg, (dir / "out").string(), again);
+  ASSERT_EQ(messages.size(), 3u);
+  EXPECT_NE(messages[0].find("reused"), std::string::npos);
+  EXPECT_NE(messages[1].find("reused"), std::string::npos);
+  EXPECT_EQ(messages[2].find("reused"), std::string::npos);
+  std::ifstream t2(dir / "out" / "sweep.json");
+  const auto full = nlohmann::json::parse(t2);
+  EXPECT_EQ(full["completed"].get<int>(), 3);
+  // Same answer as an uninterrupted solve of the last point.
+  const CaseResult last = run_case(parse_config(kSliding, "t.toml", {"load.force=0.01"}));
+  EXPECT_NEAR(full["points"][2]["friction_coefficient"].get<double>(), last.observables.friction_coefficient, 1e-7);
+  EXPECT_FALSE(fs::exists(dir / "out" / "point_002" / "checkpoint.bin"));
+  fs::remove_all(dir);
+}
