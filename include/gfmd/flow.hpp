@@ -1,0 +1,121 @@
+// Steady thin-film (Reynolds) flow through the gap between the indenter and the deformed
+// surface (SPEC §6).
+//
+// Physics. The local conductivity is k = g^3 (g = gap; g <= 0 counts as contact, k = 0).
+// The pressure solves div(k grad P) = 0 on the periodic nx x ny cell with an imposed mean
+// gradient of magnitude G along the unit direction d = (cos a, sin a):
+// P(r) = -G d.r + P~(r), P~ periodic. The current density is q = -k grad P (per unit
+// width), so a positive G drives a positive mean current along d. The fluid pressure
+// does not act back on the solid.
+//
+// Discretisation (finite volumes, cell-centred). Cell (ix, iy) is centred on the grid
+// node x = ix*dx, y = iy*dy and carries k_i = g_i^3 and P~_i. Neighbouring cells i, j
+// (4-neighbours, periodic) are joined by a face of conductance
+//     k_f = 2 k_i k_j / (k_i + k_j)            (harmonic mean; 0 if k_i or k_j is 0).
+// The current density through the face between i and its +x neighbour j is
+//     qx_f = -k_f (P~_j - P~_i - G d_x dx) / dx            (the face carries qx_f * dy),
+// and through the face between i and its +y neighbour j
+//     qy_f = -k_f (P~_j - P~_i - G d_y dy) / dy            (the face carries qy_f * dx),
+// i.e. -k_f times the difference quotient of the full pressure P. Mass conservation in
+// every cell (sum of outgoing face currents = 0) gives the periodic 5-point system
+//     sum_f w_f k_f (P~_i - P~_j(f)) = G sum_f w_f k_f s_f h_f d_f ,
+// with w = dy/dx (x faces), dx/dy (y faces), s_f = +1 for the -x/-y face and -1 for the
+// +x/+y face, h_f = dx or dy. For stripes this reproduces exactly the arithmetic mean of
+// g^3 for stripes along the flow and the harmonic mean of g^3 for stripes across it.
+//
+// Singularity. The matrix is singular: constants on each connected component of cells
+// joined by open faces (k_f > 0) are in its null space, and cells whose four faces are
+// closed are fully decoupled. Components are found by union-find; one cell per
+// component is pinned (identity row, P~ = 0, its couplings moved to the right-hand side,
+// where they vanish) and decoupled cells get identity rows. The pinned equation is
+// implied by the others (the sum of a component's equations is identically zero), so the
+// fluxes are unaffected: the pressure gauge is arbitrary per component. The reduced
+// system is symmetric positive definite.
+//
+// Linear solver: HYPRE, PCG to the relative residual ||b - A x||_2 / ||b||_2 <= tolerance.
+// * Struct interface (periodic grid, 5-point stencil) with a PFMG V-cycle (Galerkin
+//   coarse operators, symmetric red/black Gauss-Seidel) as preconditioner: used when
+//   nx and ny are powers of two >= 4 (HYPRE's structured multigrid needs power-of-two
+//   periods) AND every face is open. PFMG's operator-dependent interpolation breaks down
+//   on fields with closed faces (the preconditioner stops being positive definite and
+//   PCG stalls or meets NaNs), so those never go to it.
+// * IJ/ParCSR interface with a BoomerAMG V-cycle (HMIS, ext+i interpolation, hybrid
+//   symmetric Gauss-Seidel) as preconditioner: everything else, and the fallback when the
+//   structured solve fails. It is robust to closed faces and to conductance contrasts of
+//   many decades (about 10 PCG iterations for a rough gap at 20 % contact).
+// The conductances are normalised by max(k) before assembly (the solution does not
+// depend on that scale). HYPRE here is serial (no OpenMP build): the thread count only
+// affects the assembly and post-processing loops, and the result does not depend on it.
+// MPI is initialised lazily on first use (MPI_Init_thread as a singleton; no mpirun
+// needed) unless the program already did, and MPI_Finalize is then registered with
+// atexit; each solve runs on MPI_COMM_SELF, serialised by a mutex.
+#pragma once
+
+#include <vector>
+
+#include "gfmd/fft.hpp"
+#include "gfmd/grid.hpp"
+
+namespace gfmd {
+
+struct FlowOptions {
+  double tolerance = 1e-10;   // relative residual ||b - A x|| / ||b|| of the linear solve
+  int max_iterations = 1000;  // PCG iterations
+};
+
+struct FlowResult {
+  double angle_deg = 0.0;  // direction of the imposed gradient, degrees from +x
+  // K_eff = <q . d> / G: mean current density per unit imposed gradient (length^3).
+  double conductivity = 0.0;
+  double conductivity_transverse = 0.0;  // <q . d_perp> / G, d_perp = (-sin a, cos a)
+  double flow_factor = 0.0;              // K_eff / <g>^3; 0 if <g> == 0
+  double mean_gap = 0.0;                 // <max(g, 0)>
+  double mean_gap_cubed = 0.0;           // <max(g, 0)^3>
+  // Open cells (g > 0) form a cluster that wraps around the periodic cell along x if
+  // |cos a| >= |sin a|, else along y.
+  bool percolates = false;
+  // Discrete flux conservation check: the total current through every column of
+  // x-faces (cross-section perpendicular to x) and through every row of y-faces.
+  // Reported is max(max_col |F_col - <F_col>| / ly, max_row |F_row - <F_row>| / lx) / S,
+  // S = max(|<F_col>| / ly, |<F_row>| / lx) (the larger mean current density), so that a
+  // component with (nearly) zero mean flow is judged relative to the main flow;
+  // 0 if there is no flow at all.
+  double conservation_error = 0.0;
+  int iterations = 0;     // PCG iterations of the linear solve (0 if nothing to solve)
+  double residual = 0.0;  // final relative residual reported by HYPRE
+  // Current density at the cell centres (average of the two x faces / two y faces of
+  // the cell) for a unit gradient G = 1, per unit width; row-major, x fastest.
+  RealField qx, qy;
+};
+
+// Solves the flow problem for the gap field gap[grid.size()] (row-major, x fastest) and
+// a unit imposed gradient along angle_deg (degrees from +x).
+// Throws InputError("flow", ...) for an empty grid, a null gap, non-positive cell sizes,
+// non-finite gaps, a non-finite angle, tolerance outside (0, 1) or max_iterations < 1;
+// SolveError if HYPRE fails or the solve does not reach opt.tolerance within
+// opt.max_iterations. Safe to call from several threads (the HYPRE part is serialised).
+FlowResult solve_flow(const Grid& grid, const double* gap, double angle_deg, const FlowOptions& opt = {});
+
+// Bruggeman effective-medium combination of conductivities in 2D (equal area fractions):
+// the K >= 0 solving sum_i (K_i - K) / (K_i + K) = 0. K = 0 when at least half of the
+// K_i are zero (the 2D EMA percolation threshold). Two values give sqrt(K_1 K_2).
+// Throws InputError("bruggeman_2d", ...) for an empty list or negative / non-finite values.
+double bruggeman_2d(const std::vector<double>& k);
+
+// True if the open cells (gap > 0) contain a 4-connected cluster that wraps around the
+// periodic cell along axis 0 (x) or 1 (y). Throws InputError("percolates", ...) for a bad
+// axis or grid.
+bool percolates(const Grid& grid, const double* gap, int axis);
+
+namespace detail {
+// Linear-solver back end, for tests and benchmarks. Auto is what solve_flow uses
+// (Struct PFMG-PCG for power-of-two grids whose faces are all open, else BoomerAMG, and
+// BoomerAMG again if PFMG fails). StructPFMG forces PFMG: InputError("flow", ...) on a
+// grid that is not a power of two >= 4 each way, SolveError if it fails (it usually does
+// once faces are closed). BoomerAMG forces the IJ interface.
+enum class FlowSolver { Auto, StructPFMG, BoomerAMG };
+FlowResult solve_flow(const Grid& grid, const double* gap, double angle_deg, const FlowOptions& opt,
+                      FlowSolver solver);
+}  // namespace detail
+
+}  // namespace gfmd
