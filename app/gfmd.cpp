@@ -13,6 +13,7 @@
 
 #include "gfmd/error.hpp"
 #include "gfmd/io.hpp"
+#include "gfmd/leakage.hpp"
 #include "gfmd/run.hpp"
 #include "gfmd/version.hpp"
 
@@ -215,6 +216,131 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   return 0;
 }
 
+std::vector<double> direction_angles(const std::string& d) {
+  if (d == "x") return {0.0};
+  if (d == "y") return {90.0};
+  if (d == "both") return {0.0, 90.0};
+  throw gfmd::InputError("--direction", "must be x, y or both, got '" + d + "'");
+}
+
+int cmd_flow(const std::string& dir, const std::string& direction, double tol) {
+  namespace fs = std::filesystem;
+  const fs::path sp = fs::path(dir) / "summary.json";
+  std::ifstream in(sp);
+  if (!in) throw gfmd::InputError(sp.string(), "no solved case here (run gfmd run first)");
+  nlohmann::json s;
+  try {
+    s = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw gfmd::InputError(sp.string(), std::string("unreadable: ") + e.what());
+  }
+  const auto& gi = s.at("input").at("grid");
+  gfmd::Grid g{gi.at("nx").get<int>(), gi.at("ny").get<int>(), gi.at("lx").get<double>(), gi.at("ly").get<double>()};
+  int nx = 0, ny = 0;
+  const std::vector<double> gap = gfmd::read_netcdf_field((fs::path(dir) / "fields.nc").string(), "gap", nx, ny);
+  if (nx != g.nx || ny != g.ny) throw gfmd::InputError(dir, "fields.nc does not match summary.json");
+  const auto r = gfmd::compute_leakage(g, gap.data(), direction_angles(direction), tol);
+  gfmd::write_leakage(g, r, dir, {{"relative_contact_area", s.value("relative_contact_area", 0.0)}});
+  std::printf("%s/flow.json:\n%s\n", dir.c_str(), r.json.dump(2).c_str());
+  return 0;
+}
+
+int cmd_percolation(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
+                    const std::string& direction, double area_tol, bool quiet) {
+  const gfmd::Config cfg = gfmd::load_config(case_path, sets);
+  if (direction != "x" && direction != "y") throw gfmd::InputError("--direction", "must be x or y");
+  if (out_dir.empty()) out_dir = (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_percolation")).string();
+  gfmd::PercolationOptions po;
+  po.axis = direction == "x" ? 0 : 1;
+  po.area_tolerance = area_tol;
+  if (!quiet) po.log = [](const std::string& m) { std::fprintf(stderr, "  %s\n", m.c_str()); };
+  const nlohmann::json j = gfmd::find_percolation(cfg, po);
+  std::filesystem::create_directories(out_dir);
+  gfmd::write_text_atomic((std::filesystem::path(out_dir) / "percolation.json").string(), j.dump(2) + "\n");
+  std::printf("critical relative contact area along %s: %.4f (pressure %.6g) after %d solves -> %s/percolation.json\n",
+              direction.c_str(), j["critical_relative_contact_area"].get<double>(), j["critical_pressure"].get<double>(),
+              j["solves"].get<int>(), out_dir.c_str());
+  return 0;
+}
+
+int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
+                 const std::string& seeds, bool quiet) {
+  int s0 = 0, s1 = 7;
+  if (std::sscanf(seeds.c_str(), "%d..%d", &s0, &s1) != 2 || s0 < 0 || s1 < s0)
+    throw gfmd::InputError("--seeds", "expected FIRST..LAST, e.g. 0..7, got '" + seeds + "'");
+  const gfmd::Config probe = gfmd::load_config(case_path, sets);
+  if (probe.indenter.type != "selfaffine") throw gfmd::InputError(case_path, "an ensemble needs a selfaffine indenter");
+  if (out_dir.empty()) out_dir = (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_ensemble")).string();
+  const bool pairs = probe.friction.coefficient > 0;
+  nlohmann::json j;
+  j["seeds"] = nlohmann::json::array();
+  std::vector<double> kx, ky, kx0, ky0, ac, ac0;
+  for (int seed = s0; seed <= s1; ++seed) {
+    for (int variant = 0; variant < (pairs ? 2 : 1); ++variant) {
+      std::vector<std::string> ss = sets;
+      ss.push_back("indenter.seed=" + std::to_string(seed));
+      ss.push_back("flow.direction=\"both\"");
+      if (variant == 1) ss.push_back("friction.coefficient=0");
+      const gfmd::Config c = gfmd::load_config(case_path, ss);
+      const gfmd::CaseResult r = gfmd::run_case(c);
+      if (!r.info.converged) throw gfmd::SolveError("seed " + std::to_string(seed) + ": " + r.info.status);
+      const std::string d = (std::filesystem::path(out_dir) / ((variant ? "frictionless_seed_" : "seed_") + std::to_string(seed))).string();
+      gfmd::write_outputs(r, d);
+      const double x = r.leakage.json["conductivity_x"], y = r.leakage.json["conductivity_y"];
+      (variant ? kx0 : kx).push_back(x);
+      (variant ? ky0 : ky).push_back(y);
+      (variant ? ac0 : ac).push_back(r.observables.relative_contact_area);
+      j["seeds"].push_back({{"seed", seed}, {"friction_coefficient", c.friction.coefficient},
+                            {"relative_contact_area", r.observables.relative_contact_area},
+                            {"conductivity_x", x}, {"conductivity_y", y}});
+      if (!quiet)
+        std::fprintf(stderr, "  seed %d%s: a_c = %.4f, K_x = %.4e, K_y = %.4e\n", seed, variant ? " (frictionless)" : "",
+                     r.observables.relative_contact_area, x, y);
+    }
+  }
+  const auto stats = [](const std::vector<double>& v) {
+    double m = 0, m2 = 0;
+    for (double x : v) m += x;
+    m /= v.size();
+    for (double x : v) m2 += (x - m) * (x - m);
+    return nlohmann::json{{"bruggeman", gfmd::bruggeman_2d(v)}, {"mean", m},
+                          {"std", v.size() > 1 ? std::sqrt(m2 / (v.size() - 1)) : 0.0}};
+  };
+  j["conductivity_x"] = stats(kx);
+  j["conductivity_y"] = stats(ky);
+  j["relative_contact_area"] = stats(ac);
+  if (pairs) {
+    j["frictionless"] = {{"conductivity_x", stats(kx0)}, {"conductivity_y", stats(ky0)}, {"relative_contact_area", stats(ac0)}};
+    const double bx = j["conductivity_x"]["bruggeman"], by = j["conductivity_y"]["bruggeman"];
+    const double bx0 = j["frictionless"]["conductivity_x"]["bruggeman"], by0 = j["frictionless"]["conductivity_y"]["bruggeman"];
+    j["relative_change_x"] = bx0 > 0 ? bx / bx0 - 1 : 0.0;
+    j["relative_change_y"] = by0 > 0 ? by / by0 - 1 : 0.0;
+    std::vector<double> rx, ry;
+    for (std::size_t i = 0; i < kx.size(); ++i) {
+      if (kx0[i] > 0) rx.push_back(kx[i] / kx0[i] - 1);
+      if (ky0[i] > 0) ry.push_back(ky[i] / ky0[i] - 1);
+    }
+    const auto spread = [](const std::vector<double>& v) {
+      double m = 0, m2 = 0;
+      for (double x : v) m += x;
+      m /= std::max<std::size_t>(v.size(), 1);
+      for (double x : v) m2 += (x - m) * (x - m);
+      return nlohmann::json{{"mean", m}, {"std", v.size() > 1 ? std::sqrt(m2 / (v.size() - 1)) : 0.0}};
+    };
+    j["relative_change_x_per_seed"] = spread(rx);
+    j["relative_change_y_per_seed"] = spread(ry);
+  }
+  j["input"] = probe.to_json();
+  gfmd::write_text_atomic((std::filesystem::path(out_dir) / "ensemble.json").string(), j.dump(2) + "\n");
+  std::printf("%s/ensemble.json: K_x = %.4e, K_y = %.4e (Bruggeman over %d seeds)", out_dir.c_str(),
+              j["conductivity_x"]["bruggeman"].get<double>(), j["conductivity_y"]["bruggeman"].get<double>(), s1 - s0 + 1);
+  if (pairs)
+    std::printf("; change through friction and coupling: x %+.1f %%, y %+.1f %%", 100 * j["relative_change_x"].get<double>(),
+                100 * j["relative_change_y"].get<double>());
+  std::printf("\n");
+  return 0;
+}
+
 // Tabulates the dimensionless Green's tensor of SPEC §2 (frame with q along axis 1).
 int cmd_green(const std::vector<double>& nus, double from, double to, int points, const std::string& out) {
   if (!(from > 0 && to > from) || points < 2) throw gfmd::InputError("gfmd green", "need 0 < --from < --to and --points >= 2");
@@ -275,6 +401,26 @@ int main(int argc, char** argv) {
   green->add_option("--points", green_points, "points per Poisson ratio (log spaced)");
   green->add_option("-o,--output", out_dir, "CSV file (default: standard output)");
 
+  std::string flow_dir, direction = "both", seeds = "0..7";
+  double flow_tol = 1e-10, area_tol = 0.002;
+  auto* flow = app.add_subcommand("flow", "Reynolds flow through the gap of a solved case directory");
+  flow->add_option("dir", flow_dir, "a directory written by gfmd run")->required();
+  flow->add_option("--direction", direction, "x, y or both (default)");
+  flow->add_option("--tolerance", flow_tol, "relative residual of the linear solve (default 1e-10)");
+  auto* perc = app.add_subcommand("percolation", "critical contact area at which the flow along a direction stops");
+  perc->add_option("case", case_path, "case file (TOML)")->required();
+  perc->add_option("--direction", direction, "x or y")->required();
+  perc->add_option("-o,--output", out_dir, "output directory");
+  perc->add_option("--set", sets, "override a key (repeatable)");
+  perc->add_option("--area-tolerance", area_tol, "stop when the bracket's contact areas differ by less (default 0.002)");
+  perc->add_flag("-q,--quiet", quiet, "no log lines");
+  auto* ens = app.add_subcommand("ensemble", "flow over roughness seeds, Bruggeman average, friction on/off pairs");
+  ens->add_option("case", case_path, "case file (TOML) with a selfaffine indenter")->required();
+  ens->add_option("--seeds", seeds, "FIRST..LAST (default 0..7)");
+  ens->add_option("-o,--output", out_dir, "output directory");
+  ens->add_option("--set", sets, "override a key (repeatable)");
+  ens->add_flag("-q,--quiet", quiet, "no log lines");
+
   std::string study_path;
   bool study_quick = false;
   auto* study = app.add_subcommand("study", "run a study of studies/ and draw its figure (matplotlib)");
@@ -291,6 +437,9 @@ int main(int argc, char** argv) {
   try {
     if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet, verbose, resume, checkpoint_s);
     if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet);
+    if (flow->parsed()) return cmd_flow(flow_dir, direction, flow_tol);
+    if (perc->parsed()) return cmd_percolation(case_path, out_dir, sets, direction, area_tol, quiet);
+    if (ens->parsed()) return cmd_ensemble(case_path, out_dir, sets, seeds, quiet);
     if (green->parsed()) return cmd_green(green_nu, green_from, green_to, green_points, out_dir);
     if (study->parsed()) {
       std::string cmd = std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR + "/study.py\" \"" + study_path + "\"";

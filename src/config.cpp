@@ -156,7 +156,7 @@ class Section {
 };
 
 const std::vector<std::string> kSections = {"grid",   "elastic", "indenter", "load",
-                                            "friction", "interaction", "solver", "output", "sweep", "stress"};
+                                            "friction", "interaction", "solver", "output", "sweep", "stress", "flow"};
 
 void apply_override(toml::value& root, const std::string& spec) {
   const auto eq = spec.find('=');
@@ -390,6 +390,29 @@ Config build(const toml::value& root, const std::string& name, const std::string
   }
   st.finish();
 
+  Section fl(root, "flow", errors);
+  if (fl.present()) {
+    c.flow.enabled = fl.boolean("enabled", true);
+    c.flow.tolerance = fl.number("tolerance", 1e-10);
+    if (!(c.flow.tolerance > 0 && c.flow.tolerance < 1)) fl.error("tolerance", "must be in (0, 1)");
+    const std::string dir = fl.string("direction", "both");
+    if (dir == "x")
+      c.flow.angles = {0.0};
+    else if (dir == "y")
+      c.flow.angles = {90.0};
+    else if (dir == "both")
+      c.flow.angles = {0.0, 90.0};
+    else {
+      char* end = nullptr;
+      const double a = std::strtod(dir.c_str(), &end);
+      if (end == dir.c_str() || *end != '\0' || !std::isfinite(a))
+        fl.error("direction", "must be \"x\", \"y\", \"both\" or an angle in degrees, got \"" + dir + "\"");
+      else
+        c.flow.angles = {a};
+    }
+  }
+  fl.finish();
+
   Section out(root, "output", errors);
   c.output.fields = out.boolean("fields", true);
   c.output.png = out.boolean("png", true);
@@ -547,6 +570,7 @@ nlohmann::json Config::to_json() const {
                  {"high_tension_fraction", stress.high_tension_fraction},
                  {"depths", stress.depths},
                  {"profiles", stress.profiles}};
+  if (flow.enabled) j["flow"] = {{"angles", flow.angles}, {"tolerance", flow.tolerance}};
   if (sweep.active()) j["sweep"] = {{"parameter", sweep.parameter}, {"values", sweep.values}, {"plot", sweep.plot}};
   return j;
 }

@@ -100,6 +100,10 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   if (r.has_reference) r.info.wall_time_s += r.reference_info.wall_time_s;
   r.observables = compute_observables(solver.fft(), r.topography, cfg.friction, r.fields, r.info);
   if (r.info.converged) compute_stresses(r, body, solver.fft());
+  if (r.info.converged && cfg.flow.enabled) {
+    r.leakage = compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance);
+    r.has_leakage = true;
+  }
   return r;
 }
 
@@ -186,6 +190,7 @@ nlohmann::json summary_json(const CaseResult& r) {
   };
   if (!r.principal.s1.empty()) j.update(stress_json(r.stress_summary));
   if (r.has_post_analysis) j["post_analysis"] = stress_json(r.post_analysis);
+  if (r.has_leakage) j["flow"] = r.leakage.json;
   if (r.has_post_analysis && r.post_analysis.max_tensile_stress > 0)
     j["tensile_stress_ratio_to_post_analysis"] = r.stress_summary.max_tensile_stress / r.post_analysis.max_tensile_stress;
   if (!r.subsurface.empty()) {
@@ -397,6 +402,7 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
     write_png_map((fs::path(dir) / "von_mises.png").string(), g, r.principal.von_mises.data(), pv);
   }
   if (r.config.stress.profiles && !r.principal.s1.empty()) write_profiles(r, dir);
+  if (r.has_leakage) write_leakage(g, r.leakage, dir, {{"relative_contact_area", r.observables.relative_contact_area}});
   // summary.json last: its presence marks a complete run directory.
   write_text_atomic((fs::path(dir) / "summary.json").string(), summary_json(r).dump(2) + "\n");
 }

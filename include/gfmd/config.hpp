@@ -39,6 +39,12 @@ struct StressConfig {
   bool profiles = true;                // profiles.csv (+ png) through the pressure maximum
 };
 
+struct FlowConfig {
+  bool enabled = false;            // [flow] present: flow right after the contact solve
+  std::vector<double> angles{0.0, 90.0};  // directions of the mean pressure gradient (deg from +x)
+  double tolerance = 1e-10;        // relative residual of the linear solve
+};
+
 struct Config {
   Grid grid;
   ElasticParams elastic;
@@ -51,6 +57,7 @@ struct Config {
   OutputConfig output;
   bool friction_reference = true;  // with friction: also solve frictionless at the same load
   StressConfig stress;
+  FlowConfig flow;
   SweepConfig sweep;
   std::string source;  // the case file's path ("" for a string)
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "gfmd/config.hpp"
+#include "gfmd/leakage.hpp"
 #include "gfmd/observables.hpp"
 #include "gfmd/stress.hpp"
 
@@ -38,6 +39,8 @@ struct CaseResult {
     RealField von_mises, s1;
   };
   std::vector<Subsurface> subsurface;
+  bool has_leakage = false;
+  LeakageResult leakage;  // [flow]
 };
 
 struct RunOptions {

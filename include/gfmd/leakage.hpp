@@ -1,0 +1,41 @@
+// Leakage through the deformed gap of a solved case (SPEC §6): flow along requested
+// directions, percolation thresholds by nested intervals on the load, seed ensembles.
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "gfmd/config.hpp"
+#include "gfmd/flow.hpp"
+#include "gfmd/grid.hpp"
+
+namespace gfmd {
+
+// Flow through the gap along each angle. flow.json keys: flow_factor_x/_y (K_eff / <g>^3),
+// conductivity_x/_y (K_eff = <current . d>/G, length^3), percolates_x/_y,
+// conservation_error (max over directions), iterations, mean_gap, normalisation.
+struct LeakageResult {
+  std::vector<FlowResult> flows;
+  nlohmann::json json;
+};
+LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vector<double>& angles, double tol);
+
+// Writes flow.json, flow.nc (current density components and magnitude per direction) and
+// current_<x|y|angle>.png into dir.
+void write_leakage(const Grid& g, const LeakageResult& r, const std::string& dir, const nlohmann::json& extra);
+
+// Critical relative contact area a_c* along a direction (angle 0: x, 90: y): nested
+// intervals on the mean pressure until the open (gap > 0) region stops wrapping around the
+// cell along that direction, i.e. until the flow along it vanishes. Stops when the contact
+// areas of the bracket differ by less than area_tolerance.
+struct PercolationOptions {
+  int axis = 0;                  // 0: x, 1: y
+  double area_tolerance = 0.002;
+  int max_solves = 40;
+  std::function<void(const std::string&)> log;
+};
+nlohmann::json find_percolation(const Config& cfg, const PercolationOptions& opt);
+
+}  // namespace gfmd

@@ -1,0 +1,92 @@
+// Leakage of solved contacts: percolation threshold of the egg-crate, CLI flow outputs.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "gfmd/config.hpp"
+#include "gfmd/leakage.hpp"
+
+using namespace gfmd;
+namespace fs = std::filesystem;
+
+namespace {
+const char* kEggcrate = R"(
+[grid]
+nx = 128
+lx = 1.0
+[elastic]
+poisson = 0.25
+[indenter]
+type = "eggcrate"
+wavelength = 1.0
+amplitude = 0.025330295910584444
+[load]
+pressure = 0.01
+)";
+}  // namespace
+
+TEST(Leakage, EggcratePercolationThreshold) {
+  // Egg-crate h0 [cos(2 pi x/l) + cos(2 pi y/l)], h0 = l/(2 pi)^2, frictionless, half-space:
+  // a_c* = 0.405 (Dapp & Mueser, EPL 109, 44001 (2015), quoted in the paper), at 128^2.
+  PercolationOptions po;
+  po.axis = 0;
+  po.area_tolerance = 0.002;
+  const auto j = find_percolation(parse_config(kEggcrate, "egg.toml"), po);
+  const double ac = j["critical_relative_contact_area"];
+  std::printf("egg-crate a_c* along x at 128^2: %.4f after %d solves\n", ac, j["solves"].get<int>());
+  EXPECT_NEAR(ac, 0.405, 0.01);
+  EXPECT_TRUE(j["converged"].get<bool>());
+  // Square symmetry: the same along y.
+  po.axis = 1;
+  const auto jy = find_percolation(parse_config(kEggcrate, "egg.toml"), po);
+  EXPECT_NEAR(jy["critical_relative_contact_area"].get<double>(), ac, 1e-9);
+}
+
+TEST(Leakage, FrictionOpensSlidingDirectionAndClosesTransverse) {
+  // Paper Fig. 3(j-m): constrictions open along the sliding direction, close across it.
+  PercolationOptions po;
+  po.area_tolerance = 0.004;
+  const Config c = parse_config(kEggcrate, "egg.toml", {"friction.coefficient=1"});
+  po.axis = 0;
+  const double along = find_percolation(c, po)["critical_relative_contact_area"];
+  po.axis = 1;
+  const double across = find_percolation(c, po)["critical_relative_contact_area"];
+  std::printf("with friction: a_c* along sliding %.4f, across %.4f\n", along, across);
+  EXPECT_GT(along, 0.405 + 0.004);
+  EXPECT_LT(across, 0.405 - 0.004);
+}
+
+TEST(Leakage, FlowCommandWritesFlowJson) {
+  const fs::path d = fs::temp_directory_path() / ("gfmd_flow_cli_" + std::to_string(getpid()));
+  fs::create_directories(d);
+  std::ofstream(d / "case.toml") << kEggcrate << "[flow]\ndirection = \"both\"\n";
+  const std::string exe = GFMD_EXE;
+  ASSERT_EQ(std::system((exe + " run " + (d / "case.toml").string() + " -o " + (d / "out").string() + " -q > /dev/null").c_str()), 0);
+  std::ifstream in(d / "out" / "flow.json");
+  const auto j = nlohmann::json::parse(in);
+  for (const char* k : {"flow_factor_x", "flow_factor_y", "percolates_x", "percolates_y", "conservation_error"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  EXPECT_TRUE(j["percolates_x"].get<bool>());
+  EXPECT_NEAR(j["flow_factor_x"].get<double>(), j["flow_factor_y"].get<double>(), 1e-9);
+  EXPECT_LT(j["conservation_error"].get<double>(), 1e-8);
+  EXPECT_TRUE(fs::exists(d / "out" / "flow.nc"));
+  EXPECT_TRUE(fs::exists(d / "out" / "current_x.png"));
+  // gfmd flow on the solved directory gives the same numbers.
+  fs::remove(d / "out" / "flow.json");
+  ASSERT_EQ(std::system((exe + " flow " + (d / "out").string() + " --direction x > /dev/null").c_str()), 0);
+  std::ifstream in2(d / "out" / "flow.json");
+  const auto j2 = nlohmann::json::parse(in2);
+  EXPECT_NEAR(j2["flow_factor_x"].get<double>(), j["flow_factor_x"].get<double>(), 1e-9);
+  EXPECT_FALSE(j2.contains("flow_factor_y"));
+  // Sealed contact: no flow.
+  ASSERT_EQ(std::system((exe + " run " + (d / "case.toml").string() + " -o " + (d / "sealed").string() +
+                         " -q --set load.pressure=0.06 > /dev/null").c_str()), 0);
+  std::ifstream in3(d / "sealed" / "flow.json");
+  const auto j3 = nlohmann::json::parse(in3);
+  EXPECT_FALSE(j3["percolates_x"].get<bool>());
+  EXPECT_EQ(j3["flow_factor_x"].get<double>(), 0.0);
+  fs::remove_all(d);
+}
