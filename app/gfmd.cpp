@@ -124,6 +124,12 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   }
   gfmd::write_outputs(r, out_dir);
   gfmd::write_status(out_dir, "converged");
+  if (cfg.output.png && cfg.stress.profiles) {
+    const std::string cmd = std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR + "/plot_profiles.py\" \"" +
+                            out_dir + "/profiles.csv\" > /dev/null 2>&1";
+    if (std::system(cmd.c_str()) != 0 && !quiet)
+      std::fprintf(stderr, "gfmd: note: profiles.png not drawn (needs %s with matplotlib)\n", GFMD_PYTHON);
+  }
   std::error_code ec;
   fs::remove(ckpt, ec);
   const auto& o = r.observables;
@@ -331,6 +337,8 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
     j["relative_change_y_per_seed"] = spread(ry);
   }
   j["input"] = probe.to_json();
+  j["version"] = gfmd::kVersion;
+  j["git_commit"] = gfmd::kGitCommit;
   gfmd::write_text_atomic((std::filesystem::path(out_dir) / "ensemble.json").string(), j.dump(2) + "\n");
   std::printf("%s/ensemble.json: K_x = %.4e, K_y = %.4e (Bruggeman over %d seeds)", out_dir.c_str(),
               j["conductivity_x"]["bruggeman"].get<double>(), j["conductivity_y"]["bruggeman"].get<double>(), s1 - s0 + 1);
