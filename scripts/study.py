@@ -59,7 +59,9 @@ def run_series(study, mode_sets, out, quick):
         for kv in sets:
             args += ["--set", kv]
         t = time.time()
-        if study.get("kind") == "green":
+        if study.get("kind") == "percolation":
+            res = run_percolation_series(s, sets, d)
+        elif study.get("kind") == "green":
             csvp = os.path.join(d, "green.csv")
             os.makedirs(d, exist_ok=True)
             run([GFMD, "green", "--poisson", ",".join(str(v) for v in s["poisson"]), "-o", csvp])
@@ -77,6 +79,69 @@ def run_series(study, mode_sets, out, quick):
         log(f"[{i + 1}/{total}] {s['label']}: {dt:.1f} s (elapsed {el:.0f} s, about {left:.0f} s left)")
         results.append((s, res))
     return results
+
+
+def run_percolation_series(s, sets, d):
+    """Egg-crate constriction (paper Fig. 3 i-m): the frictionless threshold a_c* along x, the
+    contact with and without friction at that pressure, and the thresholds with friction
+    along and across sliding."""
+    case = os.path.join(ROOT, s["case"])
+    args = []
+    for kv in sets:
+        args += ["--set", kv]
+    out = {}
+    for tag, extra, direction in (("frictionless", ["--set", "friction.coefficient=0"], "x"),
+                                  ("friction_along", [], "x"), ("friction_across", [], "y")):
+        pj = os.path.join(d, tag, "percolation.json")
+        if not os.path.exists(pj):
+            run([GFMD, "percolation", case, "--direction", direction, "-o", os.path.join(d, tag), "-q"] + args + extra)
+        out[tag] = json.load(open(pj))
+    pstar = out["frictionless"]["critical_pressure"]
+    for tag, extra in (("static_at_pstar", ["--set", "friction.coefficient=0"]), ("sliding_at_pstar", [])):
+        run([GFMD, "run", case, "-o", os.path.join(d, tag), "-q", "--resume", "--set", f"load.pressure={pstar!r}"]
+            + args + extra)
+        out[tag] = json.load(open(os.path.join(d, tag, "summary.json")))
+    return out
+
+
+def plot_percolation(study, results, out, fig_base):
+    import netCDF4
+
+    n = len(results)
+    fig, axes = plt.subplots(1, n, figsize=(3.2 * n, 3.3), dpi=150, squeeze=False)
+    rows = []
+    for i, (s, res) in enumerate(results):
+        d = series_dir(out, i)
+        masks = []
+        for tag in ("static_at_pstar", "sliding_at_pstar"):
+            with netCDF4.Dataset(os.path.join(d, tag, "fields.nc")) as nc:
+                masks.append(np.array(nc.variables["contact"][:]) > 0.5)
+        img = np.ones(masks[0].shape + (3,))
+        img[masks[0] & ~masks[1]] = (0.2, 0.4, 0.9)   # frictionless only: blue
+        img[~masks[0] & masks[1]] = (1.0, 0.6, 0.1)   # with friction only: orange
+        img[masks[0] & masks[1]] = (0.55, 0.3, 0.65)  # both: purple
+        ax = axes[0][i]
+        ax.imshow(img, origin="lower", extent=[0, 1, 0, 1])
+        ax.set_title(s["label"], fontsize=7)
+        ax.set_xlabel("x / λ  (sliding →)", fontsize=7)
+        ax.tick_params(labelsize=6)
+        a0 = res["frictionless"]["critical_relative_contact_area"]
+        a1 = res["sliding_at_pstar"]["relative_contact_area"]
+        ax.text(0.02, 0.02, f"a_c* = {a0:.3f}\nwith friction at p*: {a1:.3f}", fontsize=6, transform=ax.transAxes,
+                va="bottom")
+        rows.append([s["label"], a0, res["frictionless"]["critical_pressure"],
+                     res["static_at_pstar"]["relative_contact_area"], a1,
+                     res["friction_along"]["critical_relative_contact_area"],
+                     res["friction_across"]["critical_relative_contact_area"]])
+    fig.suptitle(study.get("title", ""), fontsize=8)
+    fig.tight_layout()
+    save(fig, fig_base)
+    with open(fig_base + ".csv.tmp", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["series", "a_c*_frictionless", "p*", "a_c_static_at_p*", "a_c_sliding_at_p*",
+                    "a_c*_friction_along_sliding", "a_c*_friction_across_sliding"])
+        w.writerows(rows)
+    os.replace(fig_base + ".csv.tmp", fig_base + ".csv")
 
 
 def col(rows, key):
@@ -165,7 +230,9 @@ def main():
     t0 = time.time()
     results = run_series(study, study.get(mode, {}).get("set", []), out, args.quick)
     fig_base = os.path.join(out, name)
-    if study.get("kind") == "green":
+    if study.get("kind") == "percolation":
+        plot_percolation(study, results, out, fig_base)
+    elif study.get("kind") == "green":
         plot_green(study, results, fig_base)
     elif study.get("kind", "sweep") == "sweep":
         plot_sweeps(study, results, fig_base)

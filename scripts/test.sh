@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Runs the whole test suite (C++ GoogleTest cases under CTest). Builds first if needed.
+# Runs the whole test suite: C++ GoogleTest cases under CTest, then the Python end-to-end
+# study checks under pytest. Builds first if needed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ ! -x build/gfmd_tests ]; then
@@ -9,3 +10,5 @@ cmake --build build -j"$(nproc)"
 # Several test processes share the cores: let idle OpenMP threads sleep instead of spinning.
 export OMP_WAIT_POLICY=PASSIVE
 ctest --test-dir build --output-on-failure -j"$(nproc)"
+# End-to-end checks of the quick studies (Debian's Python with numpy and matplotlib).
+/usr/bin/python3 -m pytest -q tests/python
