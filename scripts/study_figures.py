@@ -44,6 +44,8 @@ def draw(study, results, out, fig_base):
     series = [(s, os.path.join(out, f"series_{i:02d}")) for i, (s, _) in enumerate(results)]
     if study.get("figure", "maps") == "maps":
         draw_maps(study, series, fig_base)
+    elif study["figure"] == "cross_section":
+        draw_cross_section(study, series, fig_base)
     else:
         draw_profiles(study, series, fig_base)
 
@@ -74,6 +76,33 @@ def draw_maps(study, series, fig_base):
     fig.tight_layout()
     save(fig, fig_base)
     write_csv(fig_base + ".csv", ["series", "field", "min", "max"], table)
+
+
+def draw_cross_section(study, series, fig_base):
+    """Indenter surface (uz + gap) and deformed elastic surface uz along the middle row."""
+    fig, axes = plt.subplots(len(series), 1, figsize=(6.0, 2.0 * len(series)), dpi=150, squeeze=False)
+    table = []
+    for k, (s, d) in enumerate(series):
+        f = load_fields(d)
+        ny, nx = f["uz"].shape
+        row = ny // 2
+        x = np.arange(nx) * f["_lx"] / nx
+        body = f["uz"][row]
+        indenter = body + f["gap"][row]
+        ax = axes[k][0]
+        ax.fill_between(x, indenter, indenter.max() + 0.2 * np.ptp(indenter), color="0.55", lw=0)
+        ax.fill_between(x, body, body.min() - 0.2 * np.ptp(indenter), color="C0", alpha=0.5, lw=0)
+        ax.plot(x, body, color="C0", lw=0.8)
+        ax.plot(x, indenter, color="0.2", lw=0.8)
+        ax.set_title(s["label"], fontsize=7)
+        ax.set_xlabel("x / λ_l", fontsize=7)
+        ax.set_ylabel("z / λ_l", fontsize=7)
+        ax.tick_params(labelsize=6)
+        table += [[s["label"], float(a), float(b), float(c)] for a, b, c in zip(x, indenter, body)]
+    fig.suptitle(study.get("title", ""), fontsize=8)
+    fig.tight_layout()
+    save(fig, fig_base)
+    write_csv(fig_base + ".csv", ["series", "x", "indenter_surface", "elastic_surface"], table)
 
 
 def draw_profiles(study, series, fig_base):
