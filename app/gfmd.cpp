@@ -64,18 +64,9 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   gfmd::ContactFields warm;
   bool have_warm = false;
   if (resume) {
-    const fs::path sp = fs::path(out_dir) / "summary.json";
-    if (fs::exists(sp)) {
-      std::ifstream in(sp);
-      nlohmann::json old;
-      try {
-        old = nlohmann::json::parse(in);
-      } catch (const std::exception&) {
-      }
-      if (old.is_object() && old.value("converged", false) && old["input"] == cfg.to_json()) {
-        std::printf("%s: already solved in %s/ (summary.json); nothing to do\n", case_path.c_str(), out_dir.c_str());
-        return 0;
-      }
+    if (gfmd::finished_summary(out_dir, cfg)) {
+      std::printf("%s: already solved in %s/ (summary.json); nothing to do\n", case_path.c_str(), out_dir.c_str());
+      return 0;
     }
     have_warm = gfmd::read_checkpoint(ckpt, cfg, warm);
     if (!quiet)

@@ -162,6 +162,20 @@ bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& 
   return true;
 }
 
+std::optional<nlohmann::json> finished_summary(const std::string& dir, const Config& cfg) {
+  std::ifstream in(fs::path(dir) / "summary.json");
+  if (!in) return std::nullopt;
+  nlohmann::json old;
+  try {
+    old = nlohmann::json::parse(in);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (old.is_object() && old.contains("input") && old["input"] == cfg.to_json() && old.value("converged", false))
+    return old;
+  return std::nullopt;
+}
+
 void write_status(const std::string& dir, const std::string& status, const std::string& reason) {
   nlohmann::json j = {{"status", status}, {"version", kVersion}, {"git_commit", kGitCommit}};
   if (!reason.empty()) j["reason"] = reason;
@@ -521,21 +535,11 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     char name[32];
     std::snprintf(name, sizeof name, "point_%03d", i);
     const std::string pdir = (fs::path(dir) / name).string();
-    const fs::path sp = fs::path(pdir) / "summary.json";
-    if (fs::exists(sp)) {
-      std::ifstream in(sp);
-      nlohmann::json old;
-      try {
-        old = nlohmann::json::parse(in);
-      } catch (const std::exception&) {
-        old = nlohmann::json();
-      }
-      if (old.is_object() && old.contains("input") && old["input"] == cfg.to_json() && old.value("converged", false)) {
-        summaries.push_back(old);
-        have_warm = false;
-        if (opts.on_point) opts.on_point(i + 1, total, std::string(name) + " reused (finished earlier)");
-        continue;
-      }
+    if (auto old = finished_summary(pdir, cfg)) {
+      summaries.push_back(std::move(*old));
+      have_warm = false;
+      if (opts.on_point) opts.on_point(i + 1, total, std::string(name) + " reused (finished earlier)");
+      continue;
     }
     RunOptions ro;
     ro.progress = opts.progress;

@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -56,6 +57,9 @@ struct RunOptions {
 // unreadable or belongs to another input or grid.
 void write_checkpoint(const std::string& path, const Config& cfg, const ContactFields& f);
 bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& f);
+
+// The summary.json in dir if it holds a converged solve of exactly this input.
+std::optional<nlohmann::json> finished_summary(const std::string& dir, const Config& cfg);
 
 // DIR/status.json: {"status": running|converged|failed|interrupted, "reason": ...}.
 void write_status(const std::string& dir, const std::string& status, const std::string& reason = "");
