@@ -213,13 +213,6 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   return 0;
 }
 
-std::vector<double> direction_angles(const std::string& d) {
-  if (d == "x") return {0.0};
-  if (d == "y") return {90.0};
-  if (d == "both") return {0.0, 90.0};
-  throw gfmd::InputError("--direction", "must be x, y or both, got '" + d + "'");
-}
-
 int cmd_flow(const std::string& dir, const std::string& direction, double tol) {
   namespace fs = std::filesystem;
   const fs::path sp = fs::path(dir) / "summary.json";
@@ -236,7 +229,10 @@ int cmd_flow(const std::string& dir, const std::string& direction, double tol) {
   int nx = 0, ny = 0;
   const std::vector<double> gap = gfmd::read_netcdf_field((fs::path(dir) / "fields.nc").string(), "gap", nx, ny);
   if (nx != g.nx || ny != g.ny) throw gfmd::InputError(dir, "fields.nc does not match summary.json");
-  const auto r = gfmd::compute_leakage(g, gap.data(), direction_angles(direction), tol);
+  const std::vector<double> angles = gfmd::parse_flow_directions(direction);
+  if (angles.empty())
+    throw gfmd::InputError("--direction", "must be x, y, both or an angle in degrees, got '" + direction + "'");
+  const auto r = gfmd::compute_leakage(g, gap.data(), angles, tol);
   gfmd::write_leakage(g, r, dir, {{"relative_contact_area", s.value("relative_contact_area", 0.0)}});
   std::printf("%s/flow.json:\n%s\n", dir.c_str(), r.json.dump(2).c_str());
   return 0;
@@ -295,13 +291,18 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
                      r.observables.relative_contact_area, x, y);
     }
   }
-  const auto stats = [](const std::vector<double>& v) {
+  // Mean and sample standard deviation; with the Bruggeman combination for conductivities.
+  const auto spread = [](const std::vector<double>& v) {
     double m = 0, m2 = 0;
     for (double x : v) m += x;
-    m /= v.size();
+    m /= std::max<std::size_t>(v.size(), 1);
     for (double x : v) m2 += (x - m) * (x - m);
-    return nlohmann::json{{"bruggeman", gfmd::bruggeman_2d(v)}, {"mean", m},
-                          {"std", v.size() > 1 ? std::sqrt(m2 / (v.size() - 1)) : 0.0}};
+    return nlohmann::json{{"mean", m}, {"std", v.size() > 1 ? std::sqrt(m2 / (v.size() - 1)) : 0.0}};
+  };
+  const auto stats = [&spread](const std::vector<double>& v) {
+    nlohmann::json j = spread(v);
+    j["bruggeman"] = gfmd::bruggeman_2d(v);
+    return j;
   };
   j["conductivity_x"] = stats(kx);
   j["conductivity_y"] = stats(ky);
@@ -317,13 +318,6 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
       if (kx0[i] > 0) rx.push_back(kx[i] / kx0[i] - 1);
       if (ky0[i] > 0) ry.push_back(ky[i] / ky0[i] - 1);
     }
-    const auto spread = [](const std::vector<double>& v) {
-      double m = 0, m2 = 0;
-      for (double x : v) m += x;
-      m /= std::max<std::size_t>(v.size(), 1);
-      for (double x : v) m2 += (x - m) * (x - m);
-      return nlohmann::json{{"mean", m}, {"std", v.size() > 1 ? std::sqrt(m2 / (v.size() - 1)) : 0.0}};
-    };
     j["relative_change_x_per_seed"] = spread(rx);
     j["relative_change_y_per_seed"] = spread(ry);
   }

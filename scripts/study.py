@@ -21,6 +21,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from figure_io import save, write_csv  # noqa: E402
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 GFMD = os.environ.get("GFMD", os.path.join(ROOT, "build", "gfmd"))
 
@@ -136,12 +139,8 @@ def plot_percolation(study, results, out, fig_base):
     fig.suptitle(study.get("title", ""), fontsize=8)
     fig.tight_layout()
     save(fig, fig_base)
-    with open(fig_base + ".csv.tmp", "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["series", "a_c*_frictionless", "p*", "a_c_static_at_p*", "a_c_sliding_at_p*",
-                    "a_c*_friction_along_sliding", "a_c*_friction_across_sliding"])
-        w.writerows(rows)
-    os.replace(fig_base + ".csv.tmp", fig_base + ".csv")
+    write_csv(fig_base + ".csv", ["series", "a_c*_frictionless", "p*", "a_c_static_at_p*", "a_c_sliding_at_p*",
+                                  "a_c*_friction_along_sliding", "a_c*_friction_across_sliding"], rows)
 
 
 def col(rows, key):
@@ -171,13 +170,8 @@ def plot_sweeps(study, results, fig_base):
     ax.set_title(study.get("title", ""), fontsize=8)
     fig.tight_layout()
     save(fig, fig_base)
-    with open(fig_base + ".csv.tmp", "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["series", study.get("xlabel", x), study.get("ylabel", y)])
-        for label, (xv, yv) in data.items():
-            for a, b in zip(xv, yv):
-                w.writerow([label, repr(float(a)), repr(float(b))])
-    os.replace(fig_base + ".csv.tmp", fig_base + ".csv")
+    write_csv(fig_base + ".csv", ["series", study.get("xlabel", x), study.get("ylabel", y)],
+              [[label, repr(float(a)), repr(float(b))] for label, (xv, yv) in data.items() for a, b in zip(xv, yv)])
 
 
 def plot_green(study, results, fig_base):
@@ -200,19 +194,8 @@ def plot_green(study, results, fig_base):
     ax.set_title(study.get("title", ""), fontsize=8)
     fig.tight_layout()
     save(fig, fig_base)
-    with open(fig_base + ".csv.tmp", "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["poisson", "qh", "im_phi13"])
-        w.writerows(rows_out)
-    os.replace(fig_base + ".csv.tmp", fig_base + ".csv")
+    write_csv(fig_base + ".csv", ["poisson", "qh", "im_phi13"], rows_out)
 
-
-def save(fig, base):
-    for ext in ("png", "pdf"):
-        tmp = f"{base}.tmp.{ext}"
-        fig.savefig(tmp)
-        os.replace(tmp, f"{base}.{ext}")
-    plt.close(fig)
 
 
 def main():

@@ -1,12 +1,12 @@
 """Figures drawn from the fields of single runs (studies with kind = "runs"): a grid of
 maps (rows = fields, columns = series) or of line profiles along and across the sliding
 direction through the pressure maximum."""
-import csv
 import os
 
 import matplotlib.pyplot as plt
 import netCDF4
 import numpy as np
+from figure_io import save, write_csv
 
 
 def load_fields(d):
@@ -143,18 +143,3 @@ def draw_profiles(study, series, fig_base):
     save(fig, fig_base)
     write_csv(fig_base + ".csv", ["series", "field", "s", "longitudinal", "transverse"], table)
 
-
-def save(fig, base):
-    for ext in ("png", "pdf"):
-        tmp = f"{base}.tmp.{ext}"
-        fig.savefig(tmp)
-        os.replace(tmp, f"{base}.{ext}")
-    plt.close(fig)
-
-
-def write_csv(path, head, rows):
-    with open(path + ".tmp", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(head)
-        w.writerows(rows)
-    os.replace(path + ".tmp", path)

@@ -396,20 +396,9 @@ Config build(const toml::value& root, const std::string& name, const std::string
     c.flow.tolerance = fl.number("tolerance", 1e-10);
     if (!(c.flow.tolerance > 0 && c.flow.tolerance < 1)) fl.error("tolerance", "must be in (0, 1)");
     const std::string dir = fl.string("direction", "both");
-    if (dir == "x")
-      c.flow.angles = {0.0};
-    else if (dir == "y")
-      c.flow.angles = {90.0};
-    else if (dir == "both")
-      c.flow.angles = {0.0, 90.0};
-    else {
-      char* end = nullptr;
-      const double a = std::strtod(dir.c_str(), &end);
-      if (end == dir.c_str() || *end != '\0' || !std::isfinite(a))
-        fl.error("direction", "must be \"x\", \"y\", \"both\" or an angle in degrees, got \"" + dir + "\"");
-      else
-        c.flow.angles = {a};
-    }
+    c.flow.angles = parse_flow_directions(dir);
+    if (c.flow.angles.empty())
+      fl.error("direction", "must be \"x\", \"y\", \"both\" or an angle in degrees, got \"" + dir + "\"");
   }
   fl.finish();
 
@@ -456,6 +445,16 @@ Config build(const toml::value& root, const std::string& name, const std::string
 }
 
 }  // namespace
+
+std::vector<double> parse_flow_directions(const std::string& text) {
+  if (text == "x") return {0.0};
+  if (text == "y") return {90.0};
+  if (text == "both") return {0.0, 90.0};
+  char* end = nullptr;
+  const double a = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || *end != '\0' || !std::isfinite(a)) return {};
+  return {a};
+}
 
 double estimated_memory_bytes(const Grid& grid) {
   // 7 output fields + g0 + w + 2 traction scratch + 4 CG fields + 2 real scratch

@@ -13,15 +13,24 @@ namespace gfmd {
 
 namespace fs = std::filesystem;
 
-namespace {
-std::string suffix(double angle) {
+std::string direction_tag(double angle) {
   if (angle == 0.0) return "x";
   if (angle == 90.0) return "y";
   char buf[32];
   std::snprintf(buf, sizeof buf, "%gdeg", angle);
   return buf;
 }
-}  // namespace
+
+void append_current_fields(const LeakageResult& r, std::vector<NamedField>& fields) {
+  for (std::size_t k = 0; k < r.flows.size(); ++k) {
+    const FlowResult& f = r.flows[k];
+    const std::string s = direction_tag(f.angle_deg);
+    fields.push_back({"current_x_" + s, f.qx.data(), "current density x for a unit gradient along " + s, "length^3"});
+    fields.push_back({"current_y_" + s, f.qy.data(), "current density y for a unit gradient along " + s, "length^3"});
+    fields.push_back({"current_" + s, r.magnitude[k].data(), "current density magnitude, gradient along " + s,
+                      "length^3"});
+  }
+}
 
 LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vector<double>& angles, double tol) {
   LeakageResult r;
@@ -38,7 +47,10 @@ LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vecto
       // solve leaves round-off of order 1e-14).
       f.conductivity = f.flow_factor = 0.0;
     }
-    const std::string s = suffix(a);
+    RealField m(g.size());
+    for (std::size_t i = 0; i < g.size(); ++i) m[i] = std::hypot(f.qx[i], f.qy[i]);
+    r.magnitude.push_back(std::move(m));
+    const std::string s = direction_tag(a);
     j["flow_factor_" + s] = f.flow_factor;
     j["conductivity_" + s] = f.conductivity;
     j["conductivity_transverse_" + s] = f.conductivity_transverse;
@@ -61,26 +73,16 @@ LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vecto
 
 void write_leakage(const Grid& g, const LeakageResult& r, const std::string& dir, const nlohmann::json& extra) {
   fs::create_directories(dir);
-  std::vector<RealField> mags;
-  mags.reserve(r.flows.size());
   std::vector<NamedField> fields;
-  for (const FlowResult& f : r.flows) {
-    const std::string s = suffix(f.angle_deg);
-    RealField m(g.size());
-    for (std::size_t i = 0; i < g.size(); ++i) m[i] = std::hypot(f.qx[i], f.qy[i]);
-    mags.push_back(std::move(m));
-    fields.push_back({"current_x_" + s, f.qx.data(), "current density x for a unit gradient along " + s, "length^3"});
-    fields.push_back({"current_y_" + s, f.qy.data(), "current density y for a unit gradient along " + s, "length^3"});
-    fields.push_back({"current_" + s, mags.back().data(), "current density magnitude, gradient along " + s, "length^3"});
-  }
+  append_current_fields(r, fields);
   write_fields_netcdf((fs::path(dir) / "flow.nc").string(), g, fields,
                       {{"gfmd_version", kVersion}, {"git_commit", kGitCommit}}, "length");
   for (std::size_t k = 0; k < r.flows.size(); ++k) {
     PngOptions po;
     po.colormap = "inferno";
-    po.title = "current density " + suffix(r.flows[k].angle_deg);
-    write_png_map((fs::path(dir) / ("current_" + suffix(r.flows[k].angle_deg) + ".png")).string(), g,
-                  mags[k].data(), po);
+    const std::string tag = direction_tag(r.flows[k].angle_deg);
+    po.title = "current density " + tag;
+    write_png_map((fs::path(dir) / ("current_" + tag + ".png")).string(), g, r.magnitude[k].data(), po);
   }
   nlohmann::json j = r.json;
   j.update(extra);

@@ -362,20 +362,7 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
                           "maximum principal stress at depth " + depth, "E*"});
       }
     }
-    std::vector<RealField> current_mag;
-    if (r.has_leakage) {
-      current_mag.reserve(r.leakage.flows.size());
-      for (const FlowResult& fr : r.leakage.flows) {
-        char tag[32];
-        std::snprintf(tag, sizeof tag, fr.angle_deg == 0.0 ? "x" : fr.angle_deg == 90.0 ? "y" : "%gdeg", fr.angle_deg);
-        RealField m(n);
-        for (std::size_t i = 0; i < n; ++i) m[i] = std::hypot(fr.qx[i], fr.qy[i]);
-        current_mag.push_back(std::move(m));
-        fields.push_back({std::string("current_x_") + tag, fr.qx.data(), "current density x, unit gradient along " + std::string(tag), "length^3"});
-        fields.push_back({std::string("current_y_") + tag, fr.qy.data(), "current density y, unit gradient along " + std::string(tag), "length^3"});
-        fields.push_back({std::string("current_") + tag, current_mag.back().data(), "current density magnitude", "length^3"});
-      }
-    }
+    if (r.has_leakage) append_current_fields(r.leakage, fields);
     write_fields_netcdf((fs::path(dir) / "fields.nc").string(), g, fields,
                         {{"gfmd_version", kVersion},
                          {"git_commit", kGitCommit},

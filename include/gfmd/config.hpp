@@ -45,6 +45,10 @@ struct FlowConfig {
   double tolerance = 1e-10;        // relative residual of the linear solve
 };
 
+// Flow directions from "x", "y", "both" or an angle in degrees; empty if the text is none
+// of these.
+std::vector<double> parse_flow_directions(const std::string& text);
+
 struct Config {
   Grid grid;
   ElasticParams elastic;

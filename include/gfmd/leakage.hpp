@@ -10,6 +10,7 @@
 #include "gfmd/config.hpp"
 #include "gfmd/flow.hpp"
 #include "gfmd/grid.hpp"
+#include "gfmd/io.hpp"
 
 namespace gfmd {
 
@@ -18,9 +19,16 @@ namespace gfmd {
 // conservation_error (max over directions), iterations, mean_gap, normalisation.
 struct LeakageResult {
   std::vector<FlowResult> flows;
+  std::vector<RealField> magnitude;  // |current density| of each flow
   nlohmann::json json;
 };
 LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vector<double>& angles, double tol);
+
+// "x" for 0 degrees, "y" for 90, "<angle>deg" otherwise: the suffix of keys, fields and files.
+std::string direction_tag(double angle_deg);
+
+// Appends the current-density components and magnitude of every flow (views into r).
+void append_current_fields(const LeakageResult& r, std::vector<NamedField>& fields);
 
 // Writes flow.json, flow.nc (current density components and magnitude per direction) and
 // current_<x|y|angle>.png into dir.
