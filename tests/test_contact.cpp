@@ -6,17 +6,13 @@
 
 #include "gfmd/config.hpp"
 #include "gfmd/run.hpp"
+#include "test_util.hpp"
 
 using namespace gfmd;
 
 namespace {
 
-CaseResult solve(const std::string& toml, const std::vector<std::string>& sets = {}) {
-  const Config c = parse_config(toml, "test.toml", sets);
-  CaseResult r = run_case(c);
-  EXPECT_TRUE(r.info.converged) << r.info.status;
-  return r;
-}
+using gfmd::testing::solve;
 
 const char* kHertz = R"(
 [grid]

@@ -5,17 +5,13 @@
 
 #include "gfmd/config.hpp"
 #include "gfmd/run.hpp"
+#include "test_util.hpp"
 
 using namespace gfmd;
 
 namespace {
 
-CaseResult solve(const std::string& toml, const std::vector<std::string>& sets = {}) {
-  const Config c = parse_config(toml, "test.toml", sets);
-  CaseResult r = run_case(c);
-  EXPECT_TRUE(r.info.converged) << r.info.status;
-  return r;
-}
+using gfmd::testing::solve;
 
 // Hertz R = 1, F = 0.01 E* R^2 (a = 0.196), cell 1.6 R, 256^2 (a/dx = 31).
 const char* kHertz = R"(
