@@ -82,28 +82,29 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   for (auto* s : {&s1_, &s2_, &s3_, &s4_, &s5_, &s6_}) s->resize(grid_.spectral_size());
   r1_.resize(grid_.size());
   r2_.resize(grid_.size());
+  for (auto* f : {&cg_g_, &cg_t_, &cg_r_}) f->assign(grid_.size(), 0.0);
 }
 
-void ContactSolver::apply_normal(const RealField& in, RealField& out) {
+void ContactSolver::apply_compliance(const RealField& in, RealField& out) {
+  // out = C_zz in (the 1/k term is added by the callers in their fused passes).
   fft_.forward(in.data(), s1_.data());
   const auto& modes = body_.modes();
   const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(modes.size());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t k = 0; k < ns; ++k) s1_[k] *= modes[k].czz;
   fft_.backward(s1_.data(), out.data());
-  if (inv_k_ != 0.0) {
-    const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(in.size());
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < n; ++i) out[i] += inv_k_ * in[i];
-  }
 }
 
 ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, const RealField& w, RealField& p,
                                                     double tol, int max_it) {
+  // Constrained conjugate gradients (Polonsky & Keer 1999) on (C_zz + 1/k) p = overlap.
+  // Per iteration: two compliance products (2 forward + 2 inverse FFTs) and six fused
+  // pointwise passes (A-F below); the work arrays are members (no allocation here).
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.size());
   const bool load_ctrl = load.mode != LoadMode::Approach;
   const double pbar = load.mode == LoadMode::Force ? load.value / grid_.area() : load.value;
   const double delta_imp = load_ctrl ? 0.0 : load.value;
+  const double ik = inv_k_;
 
   double psum = grid_sum(grid_, [&](std::size_t i) { return p[i]; });
   if (load_ctrl) {
@@ -118,17 +119,27 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     for (std::ptrdiff_t i = 0; i < n; ++i) p[i] = kk * std::max(0.0, delta_imp + w[i] - g0_[i]);
   }
 
-  RealField g(n), t(n, 0.0), r(n), pold(n);
+  RealField& g = cg_g_;
+  RealField& t = cg_t_;
+  RealField& r = cg_r_;  // C t, then the previous pressure
   bool conjugate = false;
   double gold = 1.0;
   PKResult res{0, 1.0, 0.0, false};
   for (int it = 0; it < max_it; ++it) {
     ++res.iterations;
     ++total_it_;
-    apply_normal(p, g);
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < n; ++i) g[i] += g0_[i] - w[i] - delta_imp;
-    const double ns = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? 1.0 : 0.0; });
+    apply_compliance(p, g);
+    // A: separation g = C p + p/k + g0 - w - delta; contact count, sums over the contact set.
+    const auto a = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
+      const double v = g[i] + ik * p[i] + g0_[i] - w[i] - delta_imp;
+      g[i] = v;
+      if (p[i] > 0) {
+        acc[0] += 1.0;
+        acc[1] += v;
+        acc[2] += g0_[i] - w[i];
+      }
+    });
+    const double ns = a[0];
     if (ns == 0.0) {
       // Approach control with no contact at all: p = 0 is the solution if nothing overlaps.
       const double minimum = -grid_max(grid_, [&](std::size_t i) { return -g[i]; }, -1e300);
@@ -139,39 +150,51 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
         return res;
       }
 #pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < n; ++i) p[i] = std::max(0.0, -g[i]) * (inv_k_ > 0 ? k_ : 1.0);
+      for (std::ptrdiff_t i = 0; i < n; ++i) p[i] = std::max(0.0, -g[i]) * (ik > 0 ? k_ : 1.0);
       conjugate = false;
       continue;
     }
-    double gbar = 0.0;
-    if (load_ctrl) {
-      gbar = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? g[i] : 0.0; }) / ns;
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < n; ++i) g[i] -= gbar;
-    }
-    const double G = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? g[i] * g[i] : 0.0; });
+    const double gbar = load_ctrl ? a[1] / ns : 0.0;
+    const double s1 = a[2] / ns;
+    // B: shift by the mean separation on the contact set (load control); squared residual
+    // on the contact set, overlap outside it, spread of g0 - w over the contact set.
+    const auto b = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
+      const double v = g[i] - gbar;
+      g[i] = v;
+      if (p[i] > 0) {
+        const double d = g0_[i] - w[i] - s1;
+        acc[0] += v * v;
+        acc[2] += d * d;
+      } else if (v < 0) {
+        acc[1] += v * v;
+      }
+    });
+    const double G = b[0], viol = b[1], s2 = b[2] / ns;
     // Residual of the contact conditions: gap on the contact set and overlap outside,
     // relative to the spread of the separation over the contact set.
-    const double viol = grid_sum(grid_, [&](std::size_t i) { return (p[i] == 0.0 && g[i] < 0) ? g[i] * g[i] : 0.0; });
-    const double s1 = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? g0_[i] - w[i] : 0.0; }) / ns;
-    const double s2 = grid_sum(grid_, [&](std::size_t i) {
-      const double d = g0_[i] - w[i] - s1;
-      return p[i] > 0 ? d * d : 0.0;
-    }) / ns;
     const double scale = std::max(std::sqrt(s2), 1e-3 * g0_rms_) + 1e-300;
     const double gap_residual = std::sqrt((G + viol) / ns) / scale;
     const double beta = conjugate ? G / gold : 0.0;
     gold = G;
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < n; ++i) t[i] = p[i] > 0 ? g[i] + beta * t[i] : 0.0;
-    apply_normal(t, r);
-    if (load_ctrl) {
-      const double rbar = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? r[i] : 0.0; }) / ns;
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < n; ++i) r[i] -= rbar;
-    }
-    const double num = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? g[i] * t[i] : 0.0; });
-    const double den = grid_sum(grid_, [&](std::size_t i) { return p[i] > 0 ? r[i] * t[i] : 0.0; });
+    // C: conjugate direction on the contact set.
+    const auto c = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
+      const double v = p[i] > 0 ? g[i] + beta * t[i] : 0.0;
+      t[i] = v;
+      acc[0] += g[i] * v;
+      acc[1] += v;
+    });
+    apply_compliance(t, r);
+    // D: r = (C + 1/k) t; with load control the mean of r over the contact set is removed,
+    // which changes sum_c r t by rbar sum_c t.
+    const auto d = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
+      if (p[i] > 0) {
+        const double v = r[i] + ik * t[i];
+        acc[0] += v;
+        acc[1] += v * t[i];
+      }
+    });
+    const double num = c[0];
+    const double den = load_ctrl ? d[1] - (d[0] / ns) * c[1] : d[1];
     require_finite(num, "the pressure residual", total_it_);
     if (den == 0.0 || G == 0.0) {
       res.converged = true;
@@ -180,26 +203,27 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
       return res;
     }
     const double tau = num / den;
-    const double nol = grid_sum(grid_, [&](std::size_t i) {
-      pold[i] = p[i];
+    // E: projected step; points that overlap outside the contact set enter it.
+    const auto e = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
+      r[i] = p[i];
       double v = p[i] > 0 ? std::max(0.0, p[i] - tau * t[i]) : 0.0;
-      double overlap = 0.0;
       if (v == 0.0 && g[i] < 0.0) {
         v = -tau * g[i];
-        overlap = 1.0;
+        acc[0] += 1.0;
       }
       p[i] = v;
-      return overlap;
+      acc[1] += v;
     });
-    conjugate = (nol == 0.0);
-    double pnew = grid_sum(grid_, [&](std::size_t i) { return p[i]; });
-    if (load_ctrl && pnew > 0) {
-      const double f = pbar * static_cast<double>(n) / pnew;
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < n; ++i) p[i] *= f;
-      pnew = pbar * static_cast<double>(n);
-    }
-    const double change = grid_sum(grid_, [&](std::size_t i) { return std::abs(p[i] - pold[i]); });
+    conjugate = (e[0] == 0.0);
+    double pnew = e[1];
+    const double fscale = (load_ctrl && pnew > 0) ? pbar * static_cast<double>(n) / pnew : 1.0;
+    if (load_ctrl && pnew > 0) pnew = pbar * static_cast<double>(n);
+    // F: load rescaling and the change of the pressure.
+    const double change = grid_sum(grid_, [&](std::size_t i) {
+      const double v = p[i] * fscale;
+      p[i] = v;
+      return std::abs(v - r[i]);
+    });
     res.error = std::max(gap_residual, pnew > 0 ? change / pnew : (change > 0 ? 1.0 : 0.0));
     res.delta = load_ctrl ? gbar : delta_imp;
     require_finite(res.error, "the pressure", total_it_);
@@ -333,14 +357,23 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     // so it is accelerated by Anderson mixing over the last `anderson` steps.
     RealField tx(n), ty(n);
     const std::size_t n2 = 2 * n;
-    RealField gk(n2), fk(n2), gprev(n2), fprev(n2);
+    // Anderson state: previous iterate and residual (double), ring buffers of their
+    // differences (float), the Gram matrix of the residual differences (slot-indexed).
+    RealField xprev(n2), fprev(n2);
     const int m = std::max(0, sp_.anderson);
-    std::vector<RealField> dF, dG;
+    and_df_.assign(static_cast<std::size_t>(m), {});
+    and_dx_.assign(static_cast<std::size_t>(m), {});
+    std::vector<double> gram(static_cast<std::size_t>(m) * m, 0.0);
+    std::vector<int> slots;  // ring slots in use, oldest first
+    bool have_prev = false;
     double err = 1.0, best = std::numeric_limits<double>::infinity();
     int since_best = 0;
     double omega = sp_.mixing;
     info.status = "not converged: friction fixed point did not settle";
     const Grid g2{grid_.nx, 2 * grid_.ny, grid_.lx, grid_.ly};  // sums over both components
+    // Component c of the iterate x (the traction in f), of G(x) (tx, ty) at flat index i < 2n.
+    const auto xval = [&](std::size_t i) { return i < n ? f.tx[i] : f.ty[i - n]; };
+    const auto gval = [&](std::size_t i) { return i < n ? tx[i] : ty[i - n]; };
     for (int outer = 0; outer < sp_.max_outer; ++outer) {
       info.outer_iterations = outer + 1;
       friction_normal_displacement(f.tx, f.ty, w);
@@ -355,11 +388,11 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       // w and the two slip derivatives back.
       inplane_spectra(f);
       slip_tractions(f, tx, ty);
-      const double diff = grid_sum(grid_, [&](std::size_t i) {
-        return std::abs(tx[i] - f.tx[i]) + std::abs(ty[i] - f.ty[i]);
+      const auto dn = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
+        acc[0] += std::abs(tx[i] - f.tx[i]) + std::abs(ty[i] - f.ty[i]);
+        acc[1] += std::abs(tx[i]) + std::abs(ty[i]);
       });
-      const double norm = grid_sum(grid_, [&](std::size_t i) { return std::abs(tx[i]) + std::abs(ty[i]); });
-      err = norm > 0 ? diff / norm : 0.0;
+      err = dn[1] > 0 ? dn[0] / dn[1] : 0.0;
       require_finite(err, "the friction traction", total_it_);
       info.friction_error = err;
       if (progress_) progress_(Progress{total_it_, outer + 1, err});
@@ -378,8 +411,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         // Stalled: damp harder and restart the mixing history; give up once damping
         // no longer helps (a limit cycle of the slip field).
         omega *= 0.5;
-        dF.clear();
-        dG.clear();
+        slots.clear();
         since_best = 0;
         best = err;
         if (omega < 0.04) {
@@ -399,52 +431,84 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       // Anderson mixing with relaxation (Walker & Ni 2011): with x the traction, f = G(x) - x,
       // gamma = argmin |f - dF gamma|, x <- x - dX gamma + omega (f - dF gamma).
       // omega < 1 damps the rotating (imaginary-eigenvalue) modes of the slip feedback.
-      for (std::size_t i = 0; i < n; ++i) {
-        gk[i] = f.tx[i];
-        gk[n + i] = f.ty[i];
-        fk[i] = tx[i] - f.tx[i];
-        fk[n + i] = ty[i] - f.ty[i];
-      }
-      if (outer > 0) {
-        RealField da(n2), db(n2);
+      // One pass stores the new differences and forms the new Gram row and dF^T f.
+      std::vector<double> rhs;
+      if (!have_prev) {
+#pragma omp parallel for schedule(static)
         for (std::size_t i = 0; i < n2; ++i) {
-          da[i] = fk[i] - fprev[i];
-          db[i] = gk[i] - gprev[i];
+          xprev[i] = xval(i);
+          fprev[i] = gval(i) - xval(i);
         }
-        if (static_cast<int>(dF.size()) == m) {
-          dF.erase(dF.begin());
-          dG.erase(dG.begin());
+        have_prev = true;
+      } else {
+        int slot = 0;
+        if (static_cast<int>(slots.size()) == m) {
+          slot = slots.front();
+          slots.erase(slots.begin());
+        } else {
+          std::vector<bool> used(static_cast<std::size_t>(m), false);
+          for (int sl : slots) used[static_cast<std::size_t>(sl)] = true;
+          while (used[static_cast<std::size_t>(slot)]) ++slot;
         }
-        dF.push_back(std::move(da));
-        dG.push_back(std::move(db));
-      }
-      gprev.swap(gk);
-      fprev.swap(fk);
-      const std::size_t h = dF.size();
-      std::vector<double> gamma(h, 0.0);
-      if (h > 0) {
-        std::vector<double> M(h * h), rhs(h);
+        slots.push_back(slot);
+        auto& dfs = and_df_[static_cast<std::size_t>(slot)];
+        auto& dxs = and_dx_[static_cast<std::size_t>(slot)];
+        dfs.resize(n2);
+        dxs.resize(n2);
+        const std::size_t h = slots.size();
+        std::vector<const float*> hist(h);
+        for (std::size_t r = 0; r < h; ++r) hist[r] = and_df_[static_cast<std::size_t>(slots[r])].data();
+        // acc[0..h-1]: <dF_r, dF_new>, acc[h..2h-1]: <dF_r, f>.
+        const auto sums = grid_sums(g2, 2 * h, [&](std::size_t i, double* acc) {
+          const double xi = xval(i), fi = gval(i) - xi;
+          const float dfi = static_cast<float>(fi - fprev[i]);
+          dfs[i] = dfi;
+          dxs[i] = static_cast<float>(xi - xprev[i]);
+          xprev[i] = xi;
+          fprev[i] = fi;
+          for (std::size_t r = 0; r < h; ++r) {
+            const double hr = hist[r][i];
+            acc[r] += hr * static_cast<double>(dfi);
+            acc[h + r] += hr * fi;
+          }
+        });
         for (std::size_t r = 0; r < h; ++r) {
-          rhs[r] = grid_sum(g2, [&](std::size_t i) { return dF[r][i] * fprev[i]; });
-          for (std::size_t c = 0; c <= r; ++c)
-            M[r * h + c] = M[c * h + r] = grid_sum(g2, [&](std::size_t i) { return dF[r][i] * dF[c][i]; });
+          const auto a = static_cast<std::size_t>(slots[r]), b = static_cast<std::size_t>(slot);
+          gram[a * m + b] = gram[b * m + a] = sums[r];
         }
+        rhs.assign(sums.begin() + static_cast<std::ptrdiff_t>(h), sums.end());
+      }
+      const std::size_t h = rhs.size();
+      std::vector<double> gamma;
+      if (h > 0) {
+        std::vector<double> M(h * h);
+        for (std::size_t r = 0; r < h; ++r)
+          for (std::size_t c = 0; c < h; ++c)
+            M[r * h + c] = gram[static_cast<std::size_t>(slots[r]) * m + static_cast<std::size_t>(slots[c])];
         gamma = solve_small_spd(M, rhs);
+      }
+      std::vector<const float*> hf(h), hx(h);
+      for (std::size_t r = 0; r < h; ++r) {
+        hf[r] = and_df_[static_cast<std::size_t>(slots[r])].data();
+        hx[r] = and_dx_[static_cast<std::size_t>(slots[r])].data();
       }
       const std::ptrdiff_t nn = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel for schedule(static)
       for (std::ptrdiff_t i = 0; i < nn; ++i) {
-        double xx = gprev[i], xy = gprev[n + i], fx = fprev[i], fy = fprev[n + i];
+        const std::size_t j = static_cast<std::size_t>(i) + n;
+        double xx = xprev[i], xy = xprev[j], fx = fprev[i], fy = fprev[j];
         for (std::size_t r = 0; r < h; ++r) {
-          xx -= gamma[r] * dG[r][i];  // dG holds dX here
-          xy -= gamma[r] * dG[r][n + i];
-          fx -= gamma[r] * dF[r][i];
-          fy -= gamma[r] * dF[r][n + i];
+          xx -= gamma[r] * hx[r][i];
+          xy -= gamma[r] * hx[r][j];
+          fx -= gamma[r] * hf[r][i];
+          fy -= gamma[r] * hf[r][j];
         }
         f.tx[i] = xx + omega * fx;
         f.ty[i] = xy + omega * fy;
       }
     }
+    and_df_.clear();
+    and_dx_.clear();
     if (!pk.converged && info.converged) {
       info.converged = false;
       info.status = "not converged: iteration limit reached";

@@ -2,6 +2,7 @@
 // added in row order, so the result does not depend on the number of threads.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -22,6 +23,40 @@ double grid_sum(const Grid& g, F&& f) {
   }
   double total = 0.0;
   for (double r : rows) total += r;
+  return total;
+}
+
+// K sums in one pass: f(i, acc) adds point i's contributions into acc[0..K-1]. Same
+// row-then-row-order summation as grid_sum, so the results do not depend on threads.
+template <std::size_t K, class F>
+std::array<double, K> grid_sums(const Grid& g, F&& f) {
+  std::vector<std::array<double, K>> rows(static_cast<std::size_t>(g.ny));
+#pragma omp parallel for schedule(static)
+  for (int iy = 0; iy < g.ny; ++iy) {
+    std::array<double, K> s{};
+    const std::size_t base = static_cast<std::size_t>(iy) * g.nx;
+    for (int ix = 0; ix < g.nx; ++ix) f(base + ix, s);
+    rows[iy] = s;
+  }
+  std::array<double, K> total{};
+  for (const auto& r : rows)
+    for (std::size_t k = 0; k < K; ++k) total[k] += r[k];
+  return total;
+}
+
+// As grid_sums with a run-time number k of sums: f(i, acc) adds into acc[0..k-1].
+template <class F>
+std::vector<double> grid_sums(const Grid& g, std::size_t k, F&& f) {
+  std::vector<double> rows(static_cast<std::size_t>(g.ny) * k, 0.0);
+#pragma omp parallel for schedule(static)
+  for (int iy = 0; iy < g.ny; ++iy) {
+    double* s = rows.data() + static_cast<std::size_t>(iy) * k;
+    const std::size_t base = static_cast<std::size_t>(iy) * g.nx;
+    for (int ix = 0; ix < g.nx; ++ix) f(base + ix, s);
+  }
+  std::vector<double> total(k, 0.0);
+  for (int iy = 0; iy < g.ny; ++iy)
+    for (std::size_t j = 0; j < k; ++j) total[j] += rows[static_cast<std::size_t>(iy) * k + j];
   return total;
 }
 

@@ -109,7 +109,7 @@ class ContactSolver {
     bool converged;
   };
   PKResult solve_normal(const LoadParams& load, const RealField& w, RealField& p, double tol, int max_it);
-  void apply_normal(const RealField& in, RealField& out);  // (C_zz + 1/k) in
+  void apply_compliance(const RealField& in, RealField& out);  // C_zz in
   void update_displacements(ContactFields& f);           // u from (tau, -p)
   void inplane_spectra(const ContactFields& f);          // spectra of ux, uy (tau spectra cached)
   void slip_tractions(const ContactFields& f, RealField& tx, RealField& ty);
@@ -128,6 +128,10 @@ class ContactSolver {
   double g0_rms_ = 0.0;
   SpecField s1_, s2_, s3_, s4_, s5_, s6_;
   RealField r1_, r2_;
+  RealField cg_g_, cg_t_, cg_r_;  // work arrays of solve_normal
+  // Anderson history of the friction fixed point (ring buffers, single precision: only
+  // the mixing uses them; convergence is always judged on the unaccelerated map).
+  std::vector<std::vector<float>> and_df_, and_dx_;
   void poll(const ContactFields* f);  // stop requests and checkpoints
   std::function<void(const Progress&)> progress_;
   std::function<bool()> stop_;
