@@ -142,7 +142,8 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     const double ns = a[0];
     if (ns == 0.0) {
       // Approach control with no contact at all: p = 0 is the solution if nothing overlaps.
-      const double minimum = -grid_max(grid_, [&](std::size_t i) { return -g[i]; }, -1e300);
+      const double minimum = -grid_max(
+          grid_, [&](std::size_t i) { return -g[i]; }, -1e300);
       if (minimum >= 0.0) {
         res.converged = true;
         res.error = 0.0;
@@ -313,7 +314,8 @@ double ContactSolver::residual(const ContactFields& f, double delta) {
     if (f.pressure[i] > 0) return g * g;
     return g < 0 ? g * g : 0.0;
   });
-  const double mean = grid_sum(grid_, [&](std::size_t i) { return g0_[i]; }) / static_cast<double>(grid_.size());
+  const double mean =
+      grid_sum(grid_, [&](std::size_t i) { return g0_[i]; }) / static_cast<double>(grid_.size());
   const double den = grid_sum(grid_, [&](std::size_t i) { return (g0_[i] - mean) * (g0_[i] - mean); });
   return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
 }

@@ -36,8 +36,8 @@ struct InteractionParams {
 };
 
 struct FrictionParams {
-  double coefficient = 0.0;      // mu_c
-  double direction_deg = 0.0;    // sliding direction of the indenter, degrees from +x
+  double coefficient = 0.0;    // mu_c
+  double direction_deg = 0.0;  // sliding direction of the indenter, degrees from +x
 };
 
 enum class LoadMode { Force, Pressure, Approach };
@@ -47,11 +47,11 @@ struct LoadParams {
 };
 
 struct SolverParams {
-  double tolerance = 1e-8;      // gap residual, relative pressure change, relative tau change
-  int max_iterations = 20000;   // total inner (conjugate-gradient) iterations
-  int max_outer = 500;          // friction fixed-point steps
-  int anderson = 10;            // Anderson mixing depth of the friction fixed point (0: none)
-  double mixing = 0.5;          // relaxation of the friction fixed point, in (0, 1]
+  double tolerance = 1e-8;     // gap residual, relative pressure change, relative tau change
+  int max_iterations = 20000;  // total inner (conjugate-gradient) iterations
+  int max_outer = 500;         // friction fixed-point steps
+  int anderson = 10;           // Anderson mixing depth of the friction fixed point (0: none)
+  double mixing = 0.5;         // relaxation of the friction fixed point, in (0, 1]
 };
 
 struct ContactFields {
@@ -60,14 +60,14 @@ struct ContactFields {
 
 struct SolveInfo {
   bool converged = false;
-  std::string status;         // "converged", "not converged: ...", ...
-  int iterations = 0;         // inner conjugate-gradient iterations in all
-  int outer_iterations = 0;   // friction fixed-point steps
-  double residual = 0.0;      // independent force-balance residual of the final state
-  double pk_error = 0.0;      // last relative pressure change
+  std::string status;        // "converged", "not converged: ...", ...
+  int iterations = 0;        // inner conjugate-gradient iterations in all
+  int outer_iterations = 0;  // friction fixed-point steps
+  double residual = 0.0;     // independent force-balance residual of the final state
+  double pk_error = 0.0;     // last relative pressure change
   double friction_error = 0.0;
-  double approach = 0.0;      // delta
-  double stiffness = 0.0;     // k_if used (inf for hard wall)
+  double approach = 0.0;   // delta
+  double stiffness = 0.0;  // k_if used (inf for hard wall)
   double wall_time_s = 0.0;
 };
 
@@ -110,8 +110,8 @@ class ContactSolver {
   };
   PKResult solve_normal(const LoadParams& load, const RealField& w, RealField& p, double tol, int max_it);
   void apply_compliance(const RealField& in, RealField& out);  // C_zz in
-  void update_displacements(ContactFields& f);           // u from (tau, -p)
-  void inplane_spectra(const ContactFields& f);          // spectra of ux, uy (tau spectra cached)
+  void update_displacements(ContactFields& f);                 // u from (tau, -p)
+  void inplane_spectra(const ContactFields& f);                // spectra of ux, uy (tau spectra cached)
   void slip_tractions(const ContactFields& f, RealField& tx, RealField& ty);
   void friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w);
   double residual(const ContactFields& f, double delta);
