@@ -38,7 +38,7 @@ std::vector<double> cosine_gap(const Grid& grid, double offset) {
     int mx, my;
     double amp, phase;
   };
-  const Mode modes[] = {{1, 0, 0.30, 0.3}, {0, 1, 0.25, 1.1}, {1, 1, 0.20, 2.0},
+  const Mode modes[] = {{1, 0, 0.30, 0.3},  {0, 1, 0.25, 1.1}, {1, 1, 0.20, 2.0},
                         {2, -1, 0.15, 0.7}, {3, 2, 0.10, 4.0}, {-1, 3, 0.08, 5.5}};
   std::vector<double> g(grid.size());
   for (int iy = 0; iy < grid.ny; ++iy)
@@ -244,14 +244,45 @@ TEST(Flow, TrappedPocketCarriesNoFlux) {
     EXPECT_GT(r.conductivity, 0.0);
     double qmax = 0.0;
     for (double v : r.qx) qmax = std::max(qmax, std::abs(v));
+    EXPECT_GT(qmax, 0.0);
+    // The pocket winds around nothing: it is not solved for and its currents are exactly 0.
     for (int iy = 20; iy <= 29; ++iy)
       for (int ix = 20; ix <= 29; ++ix) {
-        EXPECT_NEAR(r.qx[iy * grid.nx + ix], 0.0, 1e-9 * qmax);
-        EXPECT_NEAR(r.qy[iy * grid.nx + ix], 0.0, 1e-9 * qmax);
+        EXPECT_EQ(r.qx[iy * grid.nx + ix], 0.0);
+        EXPECT_EQ(r.qy[iy * grid.nx + ix], 0.0);
       }
     EXPECT_EQ(r.qx[50 * grid.nx + 50], 0.0);
     EXPECT_EQ(r.qy[50 * grid.nx + 50], 0.0);
   }
+}
+
+TEST(Flow, SeveralDirectionsShareOneSetUpAndMatchSingleSolves) {
+  // One operator and preconditioner for three right-hand sides must give what three
+  // separate solves give (same operator, same tolerance: agreement to ~1e-9 relative).
+  for (const Grid grid : {make_grid(128, 128, 1.0, 1.0), make_grid(96, 80, 1.0, 0.9)}) {
+    const std::vector<double> gap = rough_gap(grid, 0.3, 5);
+    const std::vector<double> angles = {0.0, 90.0, 30.0};
+    FlowOptions opt;
+    opt.tolerance = 1e-11;
+    const std::vector<FlowResult> all = gfmd::solve_flow(grid, gap.data(), angles, opt);
+    ASSERT_EQ(all.size(), angles.size());
+    EXPECT_GT(all[0].setup_s, 0.0);
+    for (std::size_t k = 0; k < angles.size(); ++k) {
+      const FlowResult one = gfmd::solve_flow(grid, gap.data(), angles[k], opt);
+      EXPECT_EQ(all[k].angle_deg, angles[k]);
+      if (k > 0) {
+        EXPECT_EQ(all[k].setup_s, 0.0);
+      }
+      EXPECT_EQ(all[k].percolates, one.percolates);
+      EXPECT_GT(one.conductivity, 0.0);
+      EXPECT_NEAR(all[k].conductivity, one.conductivity, 1e-9 * one.conductivity);
+      EXPECT_NEAR(all[k].conductivity_transverse, one.conductivity_transverse, 1e-9 * one.conductivity);
+      EXPECT_LT(all[k].conservation_error, 1e-8);
+    }
+  }
+  EXPECT_THROW(
+      gfmd::solve_flow(make_grid(8, 8, 1.0, 1.0), std::vector<double>(64, 1.0).data(), std::vector<double>{}),
+      gfmd::InputError);
 }
 
 TEST(Flow, FullyClosedAndInvalidInput) {
@@ -317,8 +348,8 @@ TEST(Flow, GridRefinementConverges) {
     EXPECT_NEAR(r.mean_gap_cubed, 1.0 + 3.0 / 16.0, 1e-12);
   }
   const double d1 = std::abs(k[1] - k[0]), d2 = std::abs(k[2] - k[1]), d3 = std::abs(k[3] - k[2]);
-  std::printf("[ refine   ] K_eff(64..512) = %.12f %.12f %.12f %.12f, ratios %.3f %.3f\n", k[0], k[1], k[2], k[3],
-              d1 / d2, d2 / d3);
+  std::printf("[ refine   ] K_eff(64..512) = %.12f %.12f %.12f %.12f, ratios %.3f %.3f\n", k[0], k[1], k[2],
+              k[3], d1 / d2, d2 / d3);
   EXPECT_GT(d1 / d2, 2.0);
   EXPECT_GT(d2 / d3, 2.0);
   EXPECT_LT(d3, 1e-4 * k[3]);
@@ -330,28 +361,12 @@ TEST(Flow, TimingOfA1024RandomGapSolve) {
   const auto t0 = std::chrono::steady_clock::now();
   const FlowResult r = gfmd::solve_flow(grid, gap.data(), 0.0);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("[ timing   ] 1024x1024 rough gap, %.1f%% closed: %d iterations, residual %.2e, %.2f s, "
-              "K/<g^3> = %.4f, conservation %.1e\n",
-              100.0 * closed_fraction(gap), r.iterations, r.residual, s, r.conductivity / r.mean_gap_cubed,
-              r.conservation_error);
+  std::printf(
+      "[ timing   ] 1024x1024 rough gap, %.1f%% closed: %d iterations, residual %.2e, %.2f s, "
+      "K/<g^3> = %.4f, conservation %.1e\n",
+      100.0 * closed_fraction(gap), r.iterations, r.residual, s, r.conductivity / r.mean_gap_cubed,
+      r.conservation_error);
   EXPECT_LT(r.conservation_error, 1e-7);
-}
-
-// Not run by default: gfmd_tests --gtest_also_run_disabled_tests --gtest_filter='*2048*'
-TEST(Flow, DISABLED_TimingOfA2048RandomGapSolve) {
-  const Grid grid = make_grid(2048, 2048, 1.0, 1.0);
-  const std::vector<double> gap = rough_gap(grid, 0.2, 11);
-  FlowOptions opt;
-  opt.tolerance = 1e-8;
-  for (double angle : {0.0, 90.0}) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const FlowResult r = gfmd::solve_flow(grid, gap.data(), angle, opt);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("[ timing   ] 2048x2048 rough gap, %.1f%% closed, angle %g: %d iterations, residual %.2e, "
-                "%.2f s, K/<g^3> = %.6f, conservation %.1e\n",
-                100.0 * closed_fraction(gap), angle, r.iterations, r.residual, s, r.conductivity / r.mean_gap_cubed,
-                r.conservation_error);
-  }
 }
 
 // ------------------------------------------------------------------------------------

@@ -83,6 +83,8 @@ struct FlowResult {
   double conservation_error = 0.0;
   int iterations = 0;     // PCG iterations of the linear solve (0 if nothing to solve)
   double residual = 0.0;  // final relative residual reported by HYPRE
+  double setup_s = 0.0;   // wall time of the preconditioner set-up (HYPRE)
+  double solve_s = 0.0;   // wall time of the PCG iterations (HYPRE)
   // Current density at the cell centres (average of the two x faces / two y faces of
   // the cell) for a unit gradient G = 1, per unit width; row-major, x fastest.
   RealField qx, qy;
@@ -95,6 +97,12 @@ struct FlowResult {
 // SolveError if HYPRE fails or the solve does not reach opt.tolerance within
 // opt.max_iterations. Safe to call from several threads (the HYPRE part is serialised).
 FlowResult solve_flow(const Grid& grid, const double* gap, double angle_deg, const FlowOptions& opt = {});
+
+// The same for several directions at once: the operator and its preconditioner are set
+// up once (FlowResult::setup_s is nonzero for the first direction only) and each
+// direction is one more PCG solve. Throws as above, and for an empty angle list.
+std::vector<FlowResult> solve_flow(const Grid& grid, const double* gap, const std::vector<double>& angles_deg,
+                                   const FlowOptions& opt = {});
 
 // Bruggeman effective-medium combination of conductivities in 2D (equal area fractions):
 // the K >= 0 solving sum_i (K_i - K) / (K_i + K) = 0. K = 0 when at least half of the
@@ -116,6 +124,8 @@ namespace detail {
 enum class FlowSolver { Auto, StructPFMG, BoomerAMG };
 FlowResult solve_flow(const Grid& grid, const double* gap, double angle_deg, const FlowOptions& opt,
                       FlowSolver solver);
+std::vector<FlowResult> solve_flow(const Grid& grid, const double* gap, const std::vector<double>& angles_deg,
+                                   const FlowOptions& opt, FlowSolver solver);
 }  // namespace detail
 
 }  // namespace gfmd
