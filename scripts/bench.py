@@ -3,7 +3,11 @@
 gfmd solves, next to the bare-FFT time of one iteration (3 forward + 3 inverse real 2D
 transforms) measured in the same run by bench_kernels. Prints a Markdown table.
 
-    /usr/bin/python3 scripts/bench.py --sizes 256 512 [--cases hertz rough] [--threads 2]
+    /usr/bin/python3 scripts/bench.py --sizes 256 512 [--cases hertz rough] [--threads 2] [--planner measure]
+
+With --planner measure the solver's FFTW plans are measured (solver.fft_planner) and kept
+as wisdom (see include/gfmd/fft.hpp); a first, untimed solve per size makes the wisdom so
+that the timed solve does not include planning.
 """
 import argparse
 import json
@@ -30,23 +34,24 @@ CASES = {
 }
 
 
-def fft_times(sizes, threads):
+def fft_times(sizes, threads, planner):
     out = subprocess.run([KERNELS, "--benchmark_filter=FFTIteration", "--benchmark_format=json"],
                          capture_output=True, text=True, check=True).stdout
     res = {}
     for b in json.loads(out)["benchmarks"]:
-        m = re.match(r"BM_FFTIteration/(\d+)/(\d+)", b["name"])
-        if m and int(m.group(2)) == threads:
+        m = re.match(r"BM_FFTIteration/(\d+)/(\d+)/(\d+)", b["name"])
+        if m and int(m.group(2)) == threads and int(m.group(3)) == (1 if planner == "measure" else 0):
             res[int(m.group(1))] = b["real_time"] / 1e3  # ms -> s
     return res
 
 
-def run_case(case, n, threads, tol):
+def run_case(case, n, threads, tol, planner="estimate"):
     path, extra = CASES[case]
     with tempfile.TemporaryDirectory() as d:
         cmd = ["/usr/bin/time", "-f", "%M", GFMD, "run", os.path.join(ROOT, path), "-o", d, "-q",
                "--set", f"grid.nx={n}", "--set", f"solver.threads={threads}", "--set", f"solver.tolerance={tol}",
-               "--set", "output.fields=false", "--set", "output.png=false"]
+               "--set", "output.fields=false", "--set", "output.png=false",
+               "--set", f"solver.fft_planner={planner}"]
         for e in extra(n):
             cmd += ["--set", e]
         p = subprocess.run(cmd, capture_output=True, text=True)
@@ -64,15 +69,18 @@ def main():
     ap.add_argument("--cases", nargs="+", default=["hertz", "rough"], choices=sorted(CASES))
     ap.add_argument("--threads", type=int, default=os.cpu_count())
     ap.add_argument("--tolerance", type=float, default=1e-6)
+    ap.add_argument("--planner", choices=["estimate", "measure"], default="estimate")
     args = ap.parse_args()
-    ffts = fft_times(args.sizes, args.threads)
-    print(f"threads = {args.threads}, tolerance = {args.tolerance}\n")
+    ffts = fft_times(args.sizes, args.threads, args.planner)
+    print(f"threads = {args.threads}, tolerance = {args.tolerance}, FFTW planner = {args.planner}\n")
     print("| case | N | iterations | friction steps | total s | s / iteration | bare-FFT s / iteration (3+3) "
           "| ratio | peak MiB | bytes / point |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     for case in args.cases:
         for n in args.sizes:
-            s = run_case(case, n, args.threads, args.tolerance)
+            if args.planner == "measure":
+                run_case(case, n, args.threads, 0.5, args.planner)  # makes the wisdom
+            s = run_case(case, n, args.threads, args.tolerance, args.planner)
             if "error" in s:
                 print(f"| {case} | {n} | failed: {s['error'].strip().splitlines()[-1]} |")
                 continue

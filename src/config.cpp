@@ -101,7 +101,8 @@ class Section {
     const toml::value* v = raw(key);
     if (!v) return def;
     if (v->is_integer()) return v->as_integer();
-    if (v->is_floating() && std::floor(v->as_floating()) == v->as_floating() && std::abs(v->as_floating()) < 1e15)
+    if (v->is_floating() && std::floor(v->as_floating()) == v->as_floating() &&
+        std::abs(v->as_floating()) < 1e15)
       return static_cast<long long>(v->as_floating());
     error(key, "must be an integer, got " + type_name(*v) + where(*v));
     return def;
@@ -128,7 +129,9 @@ class Section {
     if (!tbl_ || !tbl_->as_table().count(key)) return "";
     return where(tbl_->as_table().at(key));
   }
-  void error(const std::string& key, const std::string& why) { errors_.push_back(name_ + "." + key + ": " + why); }
+  void error(const std::string& key, const std::string& why) {
+    errors_.push_back(name_ + "." + key + ": " + why);
+  }
   // Keys in the file that no getter asked for.
   void finish(const std::vector<std::string>& also_allowed = {}) {
     if (!tbl_) return;
@@ -139,7 +142,8 @@ class Section {
     std::sort(keys.begin(), keys.end());
     for (const auto& k : keys)
       if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
-        errors_.push_back(name_ + "." + k + ": unknown key" + did_you_mean(k, allowed) + where(tbl_->as_table().at(k)));
+        errors_.push_back(name_ + "." + k + ": unknown key" + did_you_mean(k, allowed) +
+                          where(tbl_->as_table().at(k)));
   }
   [[nodiscard]] const std::string& name() const { return name_; }
 
@@ -155,13 +159,13 @@ class Section {
   std::vector<std::string> allowed_;
 };
 
-const std::vector<std::string> kSections = {"grid",   "elastic", "indenter", "load",
-                                            "friction", "interaction", "solver", "output", "sweep", "stress", "flow"};
+const std::vector<std::string> kSections = {"grid",     "elastic",     "indenter", "load",
+                                            "friction", "interaction", "solver",   "output",
+                                            "sweep",    "stress",      "flow"};
 
 void apply_override(toml::value& root, const std::string& spec) {
   const auto eq = spec.find('=');
-  if (eq == std::string::npos || eq == 0)
-    throw InputError("--set " + spec, "expected section.key=value");
+  if (eq == std::string::npos || eq == 0) throw InputError("--set " + spec, "expected section.key=value");
   const std::string path = spec.substr(0, eq), text = spec.substr(eq + 1);
   const auto dot = path.find('.');
   if (dot == std::string::npos || dot == 0 || dot + 1 == path.size())
@@ -207,8 +211,10 @@ Config build(const toml::value& root, const std::string& name, const std::string
   const long long ny = grid.integer("ny", nx);
   c.grid.lx = grid.number("lx", 0.0);
   c.grid.ly = grid.number("ly", c.grid.lx);
-  if (nx < 2 || nx > (1 << 16)) grid.error("nx", "must be an integer in [2, 65536], got " + std::to_string(nx));
-  if (ny < 2 || ny > (1 << 16)) grid.error("ny", "must be an integer in [2, 65536], got " + std::to_string(ny));
+  if (nx < 2 || nx > (1 << 16))
+    grid.error("nx", "must be an integer in [2, 65536], got " + std::to_string(nx));
+  if (ny < 2 || ny > (1 << 16))
+    grid.error("ny", "must be an integer in [2, 65536], got " + std::to_string(ny));
   c.grid.nx = static_cast<int>(std::clamp<long long>(nx, 0, 1 << 16));
   c.grid.ny = static_cast<int>(std::clamp<long long>(ny, 0, 1 << 16));
   if (!(c.grid.lx > 0) || !std::isfinite(c.grid.lx)) grid.error("lx", "must be a positive length");
@@ -237,8 +243,9 @@ Config build(const toml::value& root, const std::string& name, const std::string
   if (std::find(types.begin(), types.end(), in.type) == types.end()) {
     ind.error("type", "unknown indenter type \"" + in.type + "\"" + did_you_mean(in.type, types) +
                           "; one of hertz, eggcrate, selfaffine, file" + ind.at("type"));
-    extra = {"radius", "radius_x", "radius_y", "wavelength", "amplitude", "hurst", "lambda_long",
-             "lambda_short", "rms_height", "rms_gradient", "seed", "lambda_rolloff", "path", "lx", "ly"};
+    extra = {"radius", "radius_x",       "radius_y",     "wavelength", "amplitude",
+             "hurst",  "lambda_long",    "lambda_short", "rms_height", "rms_gradient",
+             "seed",   "lambda_rolloff", "path",         "lx",         "ly"};
   } else if (in.type == "hertz") {
     in.radius = ind.number("radius", 0.0);
     in.radius_x = ind.number("radius_x", in.radius);
@@ -327,6 +334,16 @@ Config build(const toml::value& root, const std::string& name, const std::string
   if (!(c.solver.mixing > 0 && c.solver.mixing <= 1)) so.error("mixing", "must be in (0, 1]");
   if (c.solver.anderson < 0 || c.solver.anderson > 50) so.error("anderson", "must be in [0, 50]");
   c.threads = static_cast<int>(so.integer("threads", 0));
+  {
+    const std::string planner = so.string("fft_planner", "estimate");
+    if (planner == "estimate") {
+      c.solver.fft_planner = Planner::Estimate;
+    } else if (planner == "measure") {
+      c.solver.fft_planner = Planner::Measure;
+    } else {
+      so.error("fft_planner", "must be \"estimate\" or \"measure\" (got \"" + planner + "\")");
+    }
+  }
   if (!(c.solver.tolerance > 0 && c.solver.tolerance < 1)) so.error("tolerance", "must be in (0, 1)");
   if (c.solver.max_iterations < 1) so.error("max_iterations", "must be at least 1");
   if (c.solver.max_outer < 1) so.error("max_outer", "must be at least 1");
@@ -357,7 +374,8 @@ Config build(const toml::value& root, const std::string& name, const std::string
     if (points > 0) {
       if (!c.sweep.values.empty()) sw.error("points", "give either values or from/to/points, not both");
       if (spacing != "log" && spacing != "linear") sw.error("spacing", "must be \"log\" or \"linear\"");
-      if (spacing == "log" && !(from > 0 && to > 0)) sw.error("from", "log spacing needs positive from and to");
+      if (spacing == "log" && !(from > 0 && to > 0))
+        sw.error("from", "log spacing needs positive from and to");
       for (long long i = 0; i < points; ++i) {
         const double t = points == 1 ? 0.0 : static_cast<double>(i) / static_cast<double>(points - 1);
         c.sweep.values.push_back(spacing == "log" ? from * std::pow(to / from, t) : from + (to - from) * t);
@@ -380,7 +398,9 @@ Config build(const toml::value& root, const std::string& name, const std::string
       st.error("depths", "must be an array of depths below the surface" + where(*v));
     } else {
       for (const auto& e : v->as_array()) {
-        const double d = e.is_floating() ? e.as_floating() : e.is_integer() ? static_cast<double>(e.as_integer()) : -1.0;
+        const double d = e.is_floating()  ? e.as_floating()
+                         : e.is_integer() ? static_cast<double>(e.as_integer())
+                                          : -1.0;
         if (!(d >= 0) || (!c.elastic.half_space() && d > c.elastic.thickness))
           st.error("depths", "each depth must be a number in [0, thickness]" + where(e));
         else
@@ -420,13 +440,14 @@ Config build(const toml::value& root, const std::string& name, const std::string
         errors.push_back("load.force: " + os.str() + load.at("force"));
       } else if (a < 2 * c.grid.dx()) {
         std::ostringstream os;
-        os << "the Hertz contact radius a = " << a << " spans fewer than 2 grid spacings (dx = " << c.grid.dx()
-           << "); refine the grid";
+        os << "the Hertz contact radius a = " << a
+           << " spans fewer than 2 grid spacings (dx = " << c.grid.dx() << "); refine the grid";
         errors.push_back("load.force: " + os.str() + load.at("force"));
       }
     }
     const double mem = estimated_memory_bytes(c.grid);
-    const double phys = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+    const double phys =
+        static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
     if (phys > 0 && mem > 0.8 * phys) {
       std::ostringstream os;
       os << "a " << c.grid.nx << " x " << c.grid.ny << " grid needs about " << mem / 1e9
@@ -495,8 +516,8 @@ void require_utf8(const std::string& s, const std::string& name) {
 }
 }  // namespace
 
-Config parse_config(const std::string& text, const std::string& name, const std::vector<std::string>& overrides,
-                    const std::string& base_dir) {
+Config parse_config(const std::string& text, const std::string& name,
+                    const std::vector<std::string>& overrides, const std::string& base_dir) {
   require_utf8(text, name);
   toml::value root;
   try {
@@ -551,7 +572,9 @@ nlohmann::json Config::to_json() const {
     ind["path"] = indenter.path;
   }
   j["indenter"] = ind;
-  const char* lk = load.mode == LoadMode::Force ? "force" : load.mode == LoadMode::Pressure ? "pressure" : "approach";
+  const char* lk = load.mode == LoadMode::Force      ? "force"
+                   : load.mode == LoadMode::Pressure ? "pressure"
+                                                     : "approach";
   j["load"] = {{lk, load.value}};
   j["friction"] = {{"coefficient", friction.coefficient},
                    {"direction", friction.direction_deg},
@@ -563,6 +586,7 @@ nlohmann::json Config::to_json() const {
                  {"max_outer", solver.max_outer},
                  {"anderson", solver.anderson},
                  {"mixing", solver.mixing},
+                 {"fft_planner", solver.fft_planner == Planner::Measure ? "measure" : "estimate"},
                  {"threads", threads}};
   j["output"] = {{"fields", output.fields}, {"png", output.png}};
   j["stress"] = {{"post_analysis", stress.post_analysis},
@@ -570,7 +594,8 @@ nlohmann::json Config::to_json() const {
                  {"depths", stress.depths},
                  {"profiles", stress.profiles}};
   if (flow.enabled) j["flow"] = {{"angles", flow.angles}, {"tolerance", flow.tolerance}};
-  if (sweep.active()) j["sweep"] = {{"parameter", sweep.parameter}, {"values", sweep.values}, {"plot", sweep.plot}};
+  if (sweep.active())
+    j["sweep"] = {{"parameter", sweep.parameter}, {"values", sweep.values}, {"plot", sweep.plot}};
   return j;
 }
 
@@ -606,8 +631,8 @@ Topography make_topography(const Config& c) {
   Topography t = read_topography(in.path, c.grid.lx, c.grid.ly);
   if (t.grid.nx != c.grid.nx || t.grid.ny != c.grid.ny) {
     std::ostringstream os;
-    os << "the height map is " << t.grid.nx << " x " << t.grid.ny << " but [grid] asks for " << c.grid.nx << " x "
-       << c.grid.ny;
+    os << "the height map is " << t.grid.nx << " x " << t.grid.ny << " but [grid] asks for " << c.grid.nx
+       << " x " << c.grid.ny;
     throw InputError(in.path, os.str());
   }
   return t;

@@ -2,10 +2,16 @@
 
 #include <fftw3.h>
 #include <omp.h>
+#include <unistd.h>
 
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <mutex>
 #include <new>
+#include <string>
+#include <system_error>
 
 namespace gfmd {
 
@@ -16,6 +22,33 @@ std::mutex& planner_mutex() {
 }
 int g_threads = 0;
 bool g_fftw_threads_ready = false;
+bool g_wisdom_loaded = false;
+
+// Wisdom file of the measuring planner: $GFMD_FFTW_WISDOM, else
+// $XDG_CACHE_HOME/gfmd/fftw-wisdom, else $HOME/.cache/gfmd/fftw-wisdom ("" = none).
+std::string wisdom_file() {
+  if (const char* p = std::getenv("GFMD_FFTW_WISDOM")) return p;
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::string(x) + "/gfmd/fftw-wisdom";
+  if (const char* h = std::getenv("HOME"); h && *h) return std::string(h) + "/.cache/gfmd/fftw-wisdom";
+  return {};
+}
+
+// Written through a temporary file and a rename, so that concurrent runs never read a
+// half-written file. A cache that cannot be written is not an error (plans are only slower
+// to make next time).
+void save_wisdom(const std::string& path) {
+  if (path.empty()) return;
+  std::error_code ec;
+  const std::filesystem::path target(path);
+  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path(), ec);
+  const std::string tmp = path + ".tmp." + std::to_string(static_cast<long>(getpid()));
+  if (fftw_export_wisdom_to_filename(tmp.c_str()) == 0) {
+    std::filesystem::remove(tmp, ec);
+    return;
+  }
+  std::filesystem::rename(tmp, target, ec);
+  if (ec) std::filesystem::remove(tmp, ec);
+}
 }  // namespace
 
 void* fftw_aligned_alloc(std::size_t bytes) {
@@ -47,13 +80,21 @@ struct FFT::Plans {
 FFT::FFT(const Grid& grid, Planner planner)
     : grid_(grid), plans_(std::make_unique<Plans>()), rbuf_(grid.size()), cbuf_(grid.spectral_size()) {
   if (g_threads == 0) set_threads(0);
-  const unsigned flags = (planner == Planner::Measure ? FFTW_MEASURE : FFTW_ESTIMATE);
+  const bool measure = planner == Planner::Measure;
+  const unsigned flags = (measure ? FFTW_MEASURE : FFTW_ESTIMATE);
   std::lock_guard lock(planner_mutex());
+  const std::string wisdom = measure ? wisdom_file() : std::string();
+  if (measure && !g_wisdom_loaded) {
+    if (!wisdom.empty()) fftw_import_wisdom_from_filename(wisdom.c_str());  // absent or stale: ignored
+    g_wisdom_loaded = true;
+  }
   auto* r = rbuf_.data();
   auto* c = reinterpret_cast<fftw_complex*>(cbuf_.data());
   plans_->r2c = fftw_plan_dft_r2c_2d(grid.ny, grid.nx, r, c, flags);
   plans_->c2r = fftw_plan_dft_c2r_2d(grid.ny, grid.nx, c, r, flags);
-  if (plans_->r2c == nullptr || plans_->c2r == nullptr) throw std::runtime_error("FFTW could not make a plan");
+  if (plans_->r2c == nullptr || plans_->c2r == nullptr)
+    throw std::runtime_error("FFTW could not make a plan");
+  if (measure) save_wisdom(wisdom);
 }
 
 FFT::~FFT() {

@@ -55,7 +55,7 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
                              const FrictionParams& fric, const SolverParams& solver)
     : body_(body),
       grid_(body.grid()),
-      fft_(body.grid()),
+      fft_(body.grid(), solver.fft_planner),
       inter_(inter),
       fric_(fric),
       sp_(solver),

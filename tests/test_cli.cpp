@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <iterator>
+#include <nlohmann/json.hpp>
 #include <string>
 
 namespace fs = std::filesystem;
@@ -35,9 +35,7 @@ fs::path scratch(const std::string& name) {
   return d;
 }
 
-void write(const fs::path& p, const std::string& text) {
-  std::ofstream(p) << text;
-}
+void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 
 const std::string kGood = R"([grid]
 nx = 64
@@ -53,8 +51,8 @@ force = 0.01
 
 struct BadCase {
   const char* name;
-  std::string toml;     // case file text
-  std::string extra;    // extra command-line arguments
+  std::string toml;      // case file text
+  std::string extra;     // extra command-line arguments
   const char* fragment;  // expected in the message
 };
 
@@ -67,7 +65,8 @@ TEST(Cli, RunWritesSummaryFieldsAndMaps) {
   ASSERT_EQ(r.code, 2) << "a bare case path is not a command: " << r.output;  // 'run' is required
   const auto ok = run_gfmd("run " + (d / "case.toml").string() + " -o " + (d / "out").string() + " -q");
   ASSERT_EQ(ok.code, 0) << ok.output;
-  for (const char* f : {"summary.json", "fields.nc", "pressure.png", "gap.png"}) EXPECT_TRUE(fs::exists(d / "out" / f)) << f;
+  for (const char* f : {"summary.json", "fields.nc", "pressure.png", "gap.png"})
+    EXPECT_TRUE(fs::exists(d / "out" / f)) << f;
   std::ifstream in(d / "out" / "summary.json");
   const auto j = nlohmann::json::parse(in);
   for (const char* k : {"relative_contact_area", "normal_force", "mean_pressure", "max_pressure", "mean_gap",
@@ -96,12 +95,14 @@ TEST(Cli, BadInputIsRefusedCleanly) {
     return s.replace(pos, from.size(), to);
   };
   const std::vector<BadCase> cases = {
-      {"unknown_key", sub(kGood, "poisson = 0.25", "poison = 0.25"), "", "elastic.poison: unknown key (did you mean 'poisson'?)"},
+      {"unknown_key", sub(kGood, "poisson = 0.25", "poison = 0.25"), "",
+       "elastic.poison: unknown key (did you mean 'poisson'?)"},
       {"unknown_section", kGood + "[elastc]\nx = 1\n", "", "elastc: unknown section"},
       {"wrong_type", sub(kGood, "nx = 64", "nx = \"big\""), "", "grid.nx: must be an integer"},
       {"nu_high", sub(kGood, "poisson = 0.25", "poisson = 0.7"), "", "elastic.poisson"},
       {"nu_low", sub(kGood, "poisson = 0.25", "poisson = -1.0"), "", "outside (-1, 0.5]"},
-      {"h_negative", sub(kGood, "poisson = 0.25", "poisson = 0.25\nthickness = -0.1"), "", "elastic.thickness"},
+      {"h_negative", sub(kGood, "poisson = 0.25", "poisson = 0.25\nthickness = -0.1"), "",
+       "elastic.thickness"},
       {"h_zero", sub(kGood, "poisson = 0.25", "poisson = 0.25\nthickness = 0"), "", "elastic.thickness"},
       {"nu_half_layer", sub(kGood, "poisson = 0.25", "poisson = 0.5\nthickness = 0.2"), "", "singular"},
       {"grid_too_small", sub(kGood, "nx = 64", "nx = 1"), "", "grid.nx: must be an integer in [2, 65536]"},
@@ -112,30 +113,39 @@ TEST(Cli, BadInputIsRefusedCleanly) {
       {"two_loads", sub(kGood, "force = 0.01", "force = 0.01\npressure = 0.1"), "", "exactly one of force"},
       {"negative_force", sub(kGood, "force = 0.01", "force = -0.01"), "", "load.force: must be positive"},
       {"bad_type", sub(kGood, "type = \"hertz\"", "type = \"herz\""), "", "did you mean 'hertz'"},
-      {"missing_file", sub(sub(kGood, "type = \"hertz\"", "type = \"file\""), "radius = 1.0", "path = \"nope.txt\""), "",
+      {"missing_file",
+       sub(sub(kGood, "type = \"hertz\"", "type = \"file\""), "radius = 1.0", "path = \"nope.txt\""), "",
        "nope.txt"},
-      {"nan_file", sub(sub(kGood, "type = \"hertz\"", "type = \"file\""), "radius = 1.0", "path = \"nan.txt\""), "",
+      {"nan_file",
+       sub(sub(kGood, "type = \"hertz\"", "type = \"file\""), "radius = 1.0", "path = \"nan.txt\""), "",
        "nan.txt"},
       {"syntax", "[grid\nnx = 3", "", "not valid TOML"},
       {"bad_set", kGood, "--set nonsense", "expected section.key=value"},
       {"set_unknown", kGood, "--set solver.tolerence=1e-6", "did you mean 'tolerance'"},
-      {"tolerance", sub(kGood, "force = 0.01", "force = 0.01\n[solver]\ntolerance = 2"), "", "solver.tolerance"},
+      {"tolerance", sub(kGood, "force = 0.01", "force = 0.01\n[solver]\ntolerance = 2"), "",
+       "solver.tolerance"},
       {"invalid_utf8", kGood + "# \xff\xfe\n", "", "not valid UTF-8"},
       {"negative_mu", kGood + "[friction]\ncoefficient = -0.5\n", "", "friction.coefficient"},
       {"bad_model", kGood + "[interaction]\nmodel = \"lennard-jones\"\n", "", "interaction.model"},
       {"threads", kGood + "[solver]\nthreads = -2\n", "", "solver.threads"},
+      {"fft_planner", kGood + "[solver]\nfft_planner = \"patient\"\n", "",
+       "solver.fft_planner: must be \"estimate\""},
       {"max_iterations", kGood + "[solver]\nmax_iterations = 0\n", "", "solver.max_iterations"},
       {"sweep_no_values", kGood + "[sweep]\nparameter = \"load.force\"\n", "", "sweep.values"},
-      {"eggcrate_period", sub(sub(kGood, "type = \"hertz\"", "type = \"eggcrate\""), "radius = 1.0", "wavelength = 0.7"),
-       "", "whole number of wavelengths"},
+      {"eggcrate_period",
+       sub(sub(kGood, "type = \"hertz\"", "type = \"eggcrate\""), "radius = 1.0", "wavelength = 0.7"), "",
+       "whole number of wavelengths"},
       {"selfaffine_coarse",
        sub(sub(kGood, "type = \"hertz\"", "type = \"selfaffine\""), "radius = 1.0",
            "lambda_long = 1.0\nlambda_short = 0.05\nrms_height = 0.01"),
        "", "indenter.lambda_short"},
       {"selfaffine_two_rms",
-       sub(sub(kGood, "type = \"hertz\"", "type = \"selfaffine\""), "radius = 1.0", "rms_height = 0.01\nrms_gradient = 0.1"),
+       sub(sub(kGood, "type = \"hertz\"", "type = \"selfaffine\""), "radius = 1.0",
+           "rms_height = 0.01\nrms_gradient = 0.1"),
        "", "exactly one of rms_height and rms_gradient"},
-      {"hurst", sub(sub(kGood, "type = \"hertz\"", "type = \"selfaffine\""), "radius = 1.0", "hurst = 1.5\nrms_height = 0.01"),
+      {"hurst",
+       sub(sub(kGood, "type = \"hertz\"", "type = \"selfaffine\""), "radius = 1.0",
+           "hurst = 1.5\nrms_height = 0.01"),
        "", "indenter.hurst"},
       {"negative_radius", sub(kGood, "radius = 1.0", "radius = -1.0"), "", "indenter.radius"},
       {"grid_not_table", "grid = 3\n" + kGood.substr(kGood.find("[elastic]")), "", "grid: must be a table"},

@@ -1,8 +1,13 @@
 // Green's tensor checks: SPEC §2 limits, stability, Hermitian symmetry, reciprocity sign.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <limits>
+#include <string>
 
 #include "gfmd/elastic.hpp"
 #include "gfmd/error.hpp"
@@ -186,4 +191,38 @@ TEST(Elastic, RejectsBadParameters) {
   EXPECT_NE(msg({1.0, 0.5, 1.0, true}).find("singular"), std::string::npos);
   EXPECT_NE(msg({-1.0, 0.3, kInf, true}).find("contact_modulus"), std::string::npos);
   EXPECT_EQ(msg({1.0, 0.5, kInf, true}), "");
+}
+
+// The measuring planner gives the same transforms as the estimating one to round-off,
+// and keeps its plans as wisdom in the file named by GFMD_FFTW_WISDOM (written
+// atomically: no temporary file is left behind).
+TEST(FFTPlanner, MeasureMatchesEstimateAndCachesWisdom) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("gfmd_wisdom_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const fs::path file = dir / "sub" / "wisdom";
+  ::setenv("GFMD_FFTW_WISDOM", file.c_str(), 1);
+  const gfmd::Grid g{48, 40, 1.0, 1.0};
+  gfmd::FFT est(g), meas(g, gfmd::Planner::Measure);
+  RealField x = est.real_field();
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.37 * static_cast<double>(i)) + 0.1 * (i % 7);
+  SpecField a = est.spec_field(), b = est.spec_field();
+  est.forward(x.data(), a.data());
+  meas.forward(x.data(), b.data());
+  double scale = 0.0, diff = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    scale = std::max(scale, std::abs(a[k]));
+    diff = std::max(diff, std::abs(a[k] - b[k]));
+  }
+  EXPECT_GT(scale, 1.0);
+  EXPECT_LT(diff, 1e-12 * scale);
+  RealField y = est.real_field();
+  meas.backward(b.data(), y.data());
+  for (std::size_t i = 0; i < x.size(); ++i) EXPECT_NEAR(y[i], x[i], 1e-12);
+  ASSERT_TRUE(fs::exists(file));
+  EXPECT_GT(fs::file_size(file), 0u);
+  for (const auto& e : fs::directory_iterator(file.parent_path()))
+    EXPECT_EQ(e.path().filename(), "wisdom") << "left behind: " << e.path();
+  ::unsetenv("GFMD_FFTW_WISDOM");
+  fs::remove_all(dir);
 }
