@@ -141,9 +141,9 @@ std::array<cplx, 9> ElasticBody::stiffness(int ikx, int iky) const {
     }
     return k;
   }
-  PhiRotated p = phi_rotated(params_.half_space() ? std::numeric_limits<double>::infinity()
-                                                  : q * params_.thickness,
-                             params_.poisson);
+  PhiRotated p =
+      phi_rotated(params_.half_space() ? std::numeric_limits<double>::infinity() : q * params_.thickness,
+                  params_.poisson);
   if (!params_.coupling) {
     // Inverse of the uncoupled compliance (direct terms of the coupled body kept).
     const double det = p.p11 * p.p33 - p.p13 * p.p13;

@@ -105,10 +105,12 @@ FFT::~FFT() {
 
 void FFT::forward(const double* in, cplx* out) const {
   // r2c leaves its input intact; the const_cast only satisfies FFTW's signature.
+  ++transforms_;
   fftw_execute_dft_r2c(plans_->r2c, const_cast<double*>(in), reinterpret_cast<fftw_complex*>(out));
 }
 
 void FFT::backward(const cplx* in, double* out) const {
+  ++transforms_;
   const double scale = 1.0 / static_cast<double>(grid_.size());
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.spectral_size());
   cplx* buf = cbuf_.data();

@@ -116,7 +116,8 @@ struct NcHandle {
   }
 };
 
-void put_text_att(const AtomicTarget& t, int ncid, int varid, const std::string& name, const std::string& value) {
+void put_text_att(const AtomicTarget& t, int ncid, int varid, const std::string& name,
+                  const std::string& value) {
   const int st = nc_put_att_text(ncid, varid, name.c_str(), value.size(), value.data());
   if (st != NC_NOERR) t.fail("cannot write attribute '" + name + "': " + nc_strerror(st));
 }
@@ -129,12 +130,13 @@ using Rgb = std::array<unsigned char, 3>;
 
 constexpr Rgb kNanGrey = {128, 128, 128};
 
-constexpr Rgb kViridis[] = {{68, 1, 84},    {71, 45, 123},   {59, 82, 139},  {44, 114, 142}, {33, 145, 140},
-                            {40, 174, 128}, {94, 201, 98},   {170, 220, 50}, {253, 231, 37}};
-constexpr Rgb kInferno[] = {{0, 0, 4},      {31, 12, 72},   {85, 15, 109},  {136, 34, 106}, {186, 54, 85},
-                            {227, 89, 51},  {249, 140, 10}, {249, 201, 50}, {252, 255, 164}};
-constexpr Rgb kCoolwarm[] = {{59, 76, 192},   {98, 130, 234},  {141, 176, 254}, {184, 208, 249}, {221, 221, 221},
-                             {245, 196, 173}, {244, 154, 123}, {222, 96, 77},   {180, 4, 38}};
+constexpr Rgb kViridis[] = {{68, 1, 84},    {71, 45, 123}, {59, 82, 139},  {44, 114, 142}, {33, 145, 140},
+                            {40, 174, 128}, {94, 201, 98}, {170, 220, 50}, {253, 231, 37}};
+constexpr Rgb kInferno[] = {{0, 0, 4},     {31, 12, 72},   {85, 15, 109},  {136, 34, 106}, {186, 54, 85},
+                            {227, 89, 51}, {249, 140, 10}, {249, 201, 50}, {252, 255, 164}};
+constexpr Rgb kCoolwarm[] = {{59, 76, 192},   {98, 130, 234},  {141, 176, 254},
+                             {184, 208, 249}, {221, 221, 221}, {245, 196, 173},
+                             {244, 154, 123}, {222, 96, 77},   {180, 4, 38}};
 constexpr Rgb kGray[] = {{0, 0, 0}, {255, 255, 255}};
 
 struct Colormap {
@@ -248,7 +250,8 @@ struct Canvas {
   int w = 0, h = 0;
   std::vector<unsigned char> px;  // RGB, top row first
 
-  Canvas(int width, int height) : w(width), h(height), px(static_cast<std::size_t>(width) * height * 3, 255) {}
+  Canvas(int width, int height)
+      : w(width), h(height), px(static_cast<std::size_t>(width) * height * 3, 255) {}
 
   void set(int x, int y, const Rgb& c) {
     if (x < 0 || y < 0 || x >= w || y >= h) return;
@@ -303,7 +306,8 @@ void write_fields_netcdf(const std::string& path, const Grid& grid, const std::v
     for (const auto& f : fields) {
       if (f.data == nullptr) throw InputError(path, "field '" + f.name + "' has no data");
       if (f.name.empty()) throw InputError(path, "field with an empty name");
-      if (!names.insert(f.name).second) throw InputError(path, "duplicate or reserved field name '" + f.name + "'");
+      if (!names.insert(f.name).second)
+        throw InputError(path, "duplicate or reserved field name '" + f.name + "'");
     }
     std::set<std::string> attrs{"lx", "ly"};
     for (const auto& a : global_attrs)
@@ -356,7 +360,8 @@ void write_fields_netcdf(const std::string& path, const Grid& grid, const std::v
   const int dims[2] = {dim_y, dim_x};
   for (const auto& f : fields) {
     int v = 0;
-    check(nc_def_var(nc.id, f.name.c_str(), NC_DOUBLE, 2, dims, &v), "cannot define variable '" + f.name + "'");
+    check(nc_def_var(nc.id, f.name.c_str(), NC_DOUBLE, 2, dims, &v),
+          "cannot define variable '" + f.name + "'");
     if (nc4) {
       check(nc_def_var_chunking(nc.id, v, NC_CHUNKED, chunks), "cannot set chunking of '" + f.name + "'");
       check(nc_def_var_deflate(nc.id, v, 1, 1, 1), "cannot set compression of '" + f.name + "'");
@@ -378,7 +383,8 @@ void write_fields_netcdf(const std::string& path, const Grid& grid, const std::v
   for (int i = 0; i < grid.ny; ++i) coord[static_cast<std::size_t>(i)] = grid.y(i);
   check(nc_put_var_double(nc.id, var_y, coord.data()), "cannot write variable y");
   for (std::size_t i = 0; i < fields.size(); ++i)
-    check(nc_put_var_double(nc.id, var_ids[i], fields[i].data), "cannot write variable '" + fields[i].name + "'");
+    check(nc_put_var_double(nc.id, var_ids[i], fields[i].data),
+          "cannot write variable '" + fields[i].name + "'");
 
   const int id = nc.id;
   nc.id = -1;
@@ -401,7 +407,8 @@ std::vector<double> read_netcdf_field(const std::string& path, const std::string
   st = nc_inq_varndims(nc.id, varid, &ndims);
   if (st != NC_NOERR) throw InputError(path, "variable '" + var + "': " + nc_strerror(st));
   if (ndims != 2)
-    throw InputError(path, "variable '" + var + "' has " + std::to_string(ndims) + " dimensions, expected 2 (y, x)");
+    throw InputError(
+        path, "variable '" + var + "' has " + std::to_string(ndims) + " dimensions, expected 2 (y, x)");
   int dimids[2] = {0, 0};
   std::size_t len[2] = {0, 0};
   st = nc_inq_vardimid(nc.id, varid, dimids);

@@ -46,7 +46,8 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
   o.relative_contact_area = grid_sum(g, [&](std::size_t i) { return f.pressure[i] > 0 ? 1.0 : 0.0; }) / n;
   o.normal_force = grid_sum(g, [&](std::size_t i) { return f.pressure[i]; }) * da;
   o.mean_pressure = o.normal_force / g.area();
-  o.max_pressure = grid_max(g, [&](std::size_t i) { return f.pressure[i]; }, 0.0);
+  o.max_pressure = grid_max(
+      g, [&](std::size_t i) { return f.pressure[i]; }, 0.0);
   o.mean_gap = grid_sum(g, [&](std::size_t i) { return f.gap[i]; }) / n;
   o.approach = info.approach;
   const double mu = fric.coefficient;
@@ -55,15 +56,19 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     slip_velocity(fft, fric, f.ux, f.uy, vx, vy);
     const double th = fric.direction_deg * std::numbers::pi / 180.0;
     directional_derivative(fft, std::cos(th), std::sin(th), topo.h, dh);
-    o.friction_force = mu * da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * std::hypot(vx[i], vy[i]); });
+    o.friction_force =
+        mu * da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * std::hypot(vx[i], vy[i]); });
     o.downhill_force = -da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * dh[i]; });
     o.friction_force_downhill = mu * o.normal_force + o.downhill_force;
     // The exact work of the driving force: mu_c sum p (s . e_s) + dF (s the unit slip direction).
     o.friction_force_drive =
-        mu * da * grid_sum(g, [&](std::size_t i) {
-          const double v = std::hypot(vx[i], vy[i]);
-          return v > 0 ? f.pressure[i] * (vx[i] * std::cos(th) + vy[i] * std::sin(th)) / v : 0.0;
-        }) + o.downhill_force;
+        mu * da *
+            grid_sum(g,
+                     [&](std::size_t i) {
+                       const double v = std::hypot(vx[i], vy[i]);
+                       return v > 0 ? f.pressure[i] * (vx[i] * std::cos(th) + vy[i] * std::sin(th)) / v : 0.0;
+                     }) +
+        o.downhill_force;
     o.friction_coefficient = o.friction_force / o.normal_force;
     o.friction_coefficient_downhill = o.friction_force_downhill / o.normal_force;
     o.energy_balance_error = std::abs(o.friction_force - o.friction_force_downhill) / o.friction_force;

@@ -2,16 +2,16 @@
 
 #include <unistd.h>
 
-#include <cmath>
-#include <numbers>
-#include <cstring>
-#include <iterator>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
+#include <iterator>
 #include <limits>
+#include <numbers>
+#include <sstream>
 
 #include "gfmd/error.hpp"
 #include "gfmd/io.hpp"
@@ -39,7 +39,8 @@ void compute_stresses(CaseResult& r, const ElasticBody& body, const FFT& fft) {
       if (!info.converged) throw SolveError("post-analysis reference: " + info.status);
       p = rf.pressure;
     }
-    const StressField ps = post_analysis_stress(fft, body, p, cfg.friction.coefficient, cfg.friction.direction_deg);
+    const StressField ps =
+        post_analysis_stress(fft, body, p, cfg.friction.coefficient, cfg.friction.direction_deg);
     PrincipalField pp = principal(ps);
     r.post_analysis = summarize(cfg.grid, pp, cfg.stress.high_tension_fraction);
     r.post_analysis_s1 = std::move(pp.s1);
@@ -47,7 +48,8 @@ void compute_stresses(CaseResult& r, const ElasticBody& body, const FFT& fft) {
   }
   for (double d : cfg.stress.depths) {
     const PrincipalField pf = principal(subsurface_stress(fft, cfg.elastic, r.fields, d));
-    r.subsurface.push_back({d, summarize(cfg.grid, pf, cfg.stress.high_tension_fraction), pf.von_mises, pf.s1});
+    r.subsurface.push_back(
+        {d, summarize(cfg.grid, pf, cfg.stress.high_tension_fraction), pf.von_mises, pf.s1});
   }
 }
 
@@ -97,7 +99,10 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     if (!opts.checkpoint_path.empty()) write_checkpoint(opts.checkpoint_path, cfg, r.fields);
     throw;
   }
-  if (r.has_reference) r.info.wall_time_s += r.reference_info.wall_time_s;
+  if (r.has_reference) {
+    r.info.wall_time_s += r.reference_info.wall_time_s;
+    r.info.transforms += r.reference_info.transforms;
+  }
   r.observables = compute_observables(solver.fft(), r.topography, cfg.friction, r.fields, r.info);
   if (r.info.converged) compute_stresses(r, body, solver.fft());
   if (r.info.converged && cfg.flow.enabled) {
@@ -171,7 +176,8 @@ std::optional<nlohmann::json> finished_summary(const std::string& dir, const Con
   } catch (const std::exception&) {
     return std::nullopt;
   }
-  if (old.is_object() && old.contains("input") && old["input"] == cfg.to_json() && old.value("converged", false))
+  if (old.is_object() && old.contains("input") && old["input"] == cfg.to_json() &&
+      old.value("converged", false))
     return old;
   return std::nullopt;
 }
@@ -194,19 +200,19 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["wall_time_s"] = r.info.wall_time_s;
   const Grid& g = r.config.grid;
   const auto stress_json = [&g](const StressSummary& s) {
-    return nlohmann::json{
-        {"max_tensile_stress", s.max_tensile_stress},
-        {"max_tensile_stress_location", {g.x(s.max_tensile_ix), g.y(s.max_tensile_iy)}},
-        {"max_von_mises", s.max_von_mises},
-        {"max_von_mises_location", {g.x(s.max_von_mises_ix), g.y(s.max_von_mises_iy)}},
-        {"high_tension_area_fraction", s.high_tension_area_fraction},
-        {"high_tension_fraction_of", s.high_tension_fraction_of}};
+    return nlohmann::json{{"max_tensile_stress", s.max_tensile_stress},
+                          {"max_tensile_stress_location", {g.x(s.max_tensile_ix), g.y(s.max_tensile_iy)}},
+                          {"max_von_mises", s.max_von_mises},
+                          {"max_von_mises_location", {g.x(s.max_von_mises_ix), g.y(s.max_von_mises_iy)}},
+                          {"high_tension_area_fraction", s.high_tension_area_fraction},
+                          {"high_tension_fraction_of", s.high_tension_fraction_of}};
   };
   if (!r.principal.s1.empty()) j.update(stress_json(r.stress_summary));
   if (r.has_post_analysis) j["post_analysis"] = stress_json(r.post_analysis);
   if (r.has_leakage) j["flow"] = r.leakage.json;
   if (r.has_post_analysis && r.post_analysis.max_tensile_stress > 0)
-    j["tensile_stress_ratio_to_post_analysis"] = r.stress_summary.max_tensile_stress / r.post_analysis.max_tensile_stress;
+    j["tensile_stress_ratio_to_post_analysis"] =
+        r.stress_summary.max_tensile_stress / r.post_analysis.max_tensile_stress;
   if (!r.subsurface.empty()) {
     j["subsurface"] = nlohmann::json::array();
     for (const auto& ss : r.subsurface) {
@@ -223,16 +229,20 @@ nlohmann::json summary_json(const CaseResult& r) {
   if (r.has_reference) {
     j["frictionless"] = to_json(r.reference);
     j["frictionless"]["iterations"] = r.reference_info.iterations;
-    j["delta_area_over_area"] =
-        r.observables.relative_contact_area / r.reference.relative_contact_area - 1.0;
+    j["delta_area_over_area"] = r.observables.relative_contact_area / r.reference.relative_contact_area - 1.0;
   }
   j["time_per_iteration_s"] = r.info.iterations > 0 ? r.info.wall_time_s / r.info.iterations : 0.0;
-  j["interaction_stiffness"] = std::isinf(r.info.stiffness) ? nlohmann::json("inf") : nlohmann::json(r.info.stiffness);
+  j["fft_count"] = r.info.transforms;
+  j["interaction_stiffness"] =
+      std::isinf(r.info.stiffness) ? nlohmann::json("inf") : nlohmann::json(r.info.stiffness);
   j["threads"] = threads();
   const auto& s = r.topography_stats;
-  j["topography"] = {{"kind", r.topography.kind},   {"mean", s.mean},
-                     {"rms_height", s.rms_height},   {"rms_gradient", s.rms_gradient},
-                     {"rms_curvature", s.rms_curvature}, {"min", s.min},
+  j["topography"] = {{"kind", r.topography.kind},
+                     {"mean", s.mean},
+                     {"rms_height", s.rms_height},
+                     {"rms_gradient", s.rms_gradient},
+                     {"rms_curvature", s.rms_curvature},
+                     {"min", s.min},
                      {"max", s.max}};
   j["input"] = r.config.to_json();
   j["units"] =
@@ -241,8 +251,9 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["conventions"] = {
       {"topography", "indenter height towards the body (peaks are maxima); initial gap g0 = max(h) - h"},
       {"z", "out of the body towards the indenter; uz < 0 is a depression"},
-      {"approach", "indenter displacement towards the body from first touch; for h = inf relative to the mean "
-                   "surface (mean uz pinned to 0)"}};
+      {"approach",
+       "indenter displacement towards the body from first touch; for h = inf relative to the mean "
+       "surface (mean uz pinned to 0)"}};
   j["version"] = kVersion;
   j["git_commit"] = kGitCommit;
   return j;
@@ -263,19 +274,27 @@ void write_profiles(const CaseResult& r, const std::string& dir) {
   FFT fft(g);
   DerivedFields d;
   if (r.config.friction.coefficient > 0) d = derived_fields(fft, r.config.friction, r.fields);
-  std::vector<std::pair<std::string, const double*>> cols = {
-      {"ux", r.fields.ux.data()}, {"uy", r.fields.uy.data()}, {"uz", r.fields.uz.data()},
-      {"pressure", r.fields.pressure.data()}};
+  std::vector<std::pair<std::string, const double*>> cols = {{"ux", r.fields.ux.data()},
+                                                             {"uy", r.fields.uy.data()},
+                                                             {"uz", r.fields.uz.data()},
+                                                             {"pressure", r.fields.pressure.data()}};
   if (!d.dissipation.empty()) {
     cols.push_back({"dissipation", d.dissipation.data()});
     cols.push_back({"slip_longitudinal", d.slip_longitudinal.data()});
     cols.push_back({"slip_transverse", d.slip_transverse.data()});
   }
-  for (const auto& c : std::vector<std::pair<std::string, const RealField*>>{
-           {"sigma_xx", &r.stress.xx}, {"sigma_yy", &r.stress.yy}, {"sigma_zz", &r.stress.zz},
-           {"sigma_xy", &r.stress.xy}, {"sigma_xz", &r.stress.xz}, {"sigma_yz", &r.stress.yz},
-           {"sigma_1", &r.principal.s1}, {"von_mises", &r.principal.von_mises}, {"e1_x", &r.principal.e1x},
-           {"e1_y", &r.principal.e1y}, {"e1_z", &r.principal.e1z}})
+  for (const auto& c :
+       std::vector<std::pair<std::string, const RealField*>>{{"sigma_xx", &r.stress.xx},
+                                                             {"sigma_yy", &r.stress.yy},
+                                                             {"sigma_zz", &r.stress.zz},
+                                                             {"sigma_xy", &r.stress.xy},
+                                                             {"sigma_xz", &r.stress.xz},
+                                                             {"sigma_yz", &r.stress.yz},
+                                                             {"sigma_1", &r.principal.s1},
+                                                             {"von_mises", &r.principal.von_mises},
+                                                             {"e1_x", &r.principal.e1x},
+                                                             {"e1_y", &r.principal.e1y},
+                                                             {"e1_z", &r.principal.e1z}})
     cols.push_back({c.first, c.second->data()});
   std::ostringstream os;
   os.precision(10);
@@ -330,8 +349,8 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
                         "relative longitudinal slip velocity v_l^rel/v0 - 1 = (e_s.grad) u_s", "1"});
       fields.push_back({"slip_transverse", d.slip_transverse.data(),
                         "transverse slip velocity / v0 = (e_s.grad) u_perp", "1"});
-      fields.push_back({"dissipation", d.dissipation.data(), "dissipated power density / v0 = mu_c p |v|/v0",
-                        "E*"});
+      fields.push_back(
+          {"dissipation", d.dissipation.data(), "dissipated power density / v0 = mu_c p |v|/v0", "E*"});
     }
     if (!r.principal.s1.empty()) {
       const StressField& st = r.stress;
@@ -363,12 +382,13 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
       }
     }
     if (r.has_leakage) append_current_fields(r.leakage, fields);
-    write_fields_netcdf((fs::path(dir) / "fields.nc").string(), g, fields,
-                        {{"gfmd_version", kVersion},
-                         {"git_commit", kGitCommit},
-                         {"input_toml", r.config.to_toml()},
-                         {"normalisation", "lengths in units of grid.lx, pressures in units of E* (contact_modulus)"}},
-                        "length");
+    write_fields_netcdf(
+        (fs::path(dir) / "fields.nc").string(), g, fields,
+        {{"gfmd_version", kVersion},
+         {"git_commit", kGitCommit},
+         {"input_toml", r.config.to_toml()},
+         {"normalisation", "lengths in units of grid.lx, pressures in units of E* (contact_modulus)"}},
+        "length");
   }
   if (r.config.output.png) {
     std::vector<unsigned char> mask(n);
@@ -417,7 +437,8 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
     write_png_map((fs::path(dir) / "von_mises.png").string(), g, r.principal.von_mises.data(), pv);
   }
   if (r.config.stress.profiles && !r.principal.s1.empty()) write_profiles(r, dir);
-  if (r.has_leakage) write_leakage(g, r.leakage, dir, {{"relative_contact_area", r.observables.relative_contact_area}});
+  if (r.has_leakage)
+    write_leakage(g, r.leakage, dir, {{"relative_contact_area", r.observables.relative_contact_area}});
   // summary.json last: its presence marks a complete run directory.
   write_text_atomic((fs::path(dir) / "summary.json").string(), summary_json(r).dump(2) + "\n");
 }
@@ -493,7 +514,8 @@ void write_sweep_tables(const std::string& dir, const std::string& param, const 
   j["total"] = values.size();
   j["version"] = kVersion;
   j["git_commit"] = kGitCommit;
-  if (!summaries.empty() && summaries.front().contains("input")) j["input_first_point"] = summaries.front()["input"];
+  if (!summaries.empty() && summaries.front().contains("input"))
+    j["input_first_point"] = summaries.front()["input"];
   write_text_atomic((fs::path(dir) / "sweep.csv").string(), csv.str());
   write_text_atomic((fs::path(dir) / "sweep.json").string(), j.dump(2) + "\n");
 }
@@ -509,7 +531,8 @@ std::string format_value(double v) {
 nlohmann::json run_sweep(const std::string& case_path, const Config& base, const std::string& dir,
                          const SweepOptions& opts) {
   const SweepConfig& sw = base.sweep;
-  if (!sw.active()) throw InputError(case_path, "no sweep: give [sweep] parameter and values, or --set key=v1,v2,...");
+  if (!sw.active())
+    throw InputError(case_path, "no sweep: give [sweep] parameter and values, or --set key=v1,v2,...");
   fs::create_directories(dir);
   std::vector<nlohmann::json> summaries;
   ContactFields warm;

@@ -59,7 +59,8 @@ namespace gfmd {
 namespace {
 
 void require_size(const RealField& f, std::size_t n, const char* what) {
-  if (f.size() != n) throw std::invalid_argument(std::string("stress: field '") + what + "' has the wrong size");
+  if (f.size() != n)
+    throw std::invalid_argument(std::string("stress: field '") + what + "' has the wrong size");
 }
 
 bool present(const RealField& f, std::size_t n, const char* what) {
@@ -212,7 +213,7 @@ Plane plane_layer_propagator(double x, double dl, double nu) {
     for (int c = 0; c < 2; ++c) rows[i][c] = Pd[i][0] * inv[0][c] + Pd[i][1] * inv[1][c];
   for (int c = 0; c < 2; ++c) {
     p.X[c] = -(p.U[c] - nu * p.N[c]) / om;  // X = -dS/d(qz)
-    p.Y[c] = nu * (p.X[c] + p.N[c]);         // plane strain
+    p.Y[c] = nu * (p.X[c] + p.N[c]);        // plane strain
   }
   return p;
 }
@@ -354,8 +355,8 @@ StressField surface_stress(const FFT& fft, const ElasticParams& el, const Contac
   return s;
 }
 
-StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const RealField& pressure, double mu,
-                                 double angle_deg) {
+StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const RealField& pressure,
+                                 double mu, double angle_deg) {
   const Grid& g = fft.grid();
   if (g.nx != body.grid().nx || g.ny != body.grid().ny || g.lx != body.grid().lx || g.ly != body.grid().ly)
     throw std::invalid_argument("post_analysis_stress: FFT and body are on different grids");
@@ -443,14 +444,16 @@ Principal3 principal(double xx, double yy, double zz, double xy, double xz, doub
   // come from the exact 2x2 problem in the plane orthogonal to it. (The trigonometric
   // values of a nearly repeated pair would carry errors of order sqrt(eps).)
   Principal3 out{0, 0, 0, {1.0, 0.0, 0.0}};
-  const double scale = std::max({std::abs(xx), std::abs(yy), std::abs(zz), std::abs(xy), std::abs(xz), std::abs(yz)});
+  const double scale =
+      std::max({std::abs(xx), std::abs(yy), std::abs(zz), std::abs(xy), std::abs(xz), std::abs(yz)});
   if (!(scale > 0.0) || !std::isfinite(scale)) {
     if (!std::isfinite(scale)) out.s1 = out.s2 = out.s3 = std::numeric_limits<double>::quiet_NaN();
     return out;
   }
   // Work on A / scale (no overflow or underflow in the squares and the determinant).
   const double inv = 1.0 / scale;
-  const double A[3][3] = {{xx * inv, xy * inv, xz * inv}, {xy * inv, yy * inv, yz * inv}, {xz * inv, yz * inv, zz * inv}};
+  const double A[3][3] = {
+      {xx * inv, xy * inv, xz * inv}, {xy * inv, yy * inv, yz * inv}, {xz * inv, yz * inv, zz * inv}};
   const double m = (A[0][0] + A[1][1] + A[2][2]) / 3.0;
   const double k00 = A[0][0] - m, k11 = A[1][1] - m, k22 = A[2][2] - m;
   const double off = A[0][1] * A[0][1] + A[0][2] * A[0][2] + A[1][2] * A[1][2];
@@ -463,16 +466,19 @@ Principal3 principal(double xx, double yy, double zz, double xy, double xz, doub
   // det(K/p)/2 in [-1, 1].
   const double b00 = k00 / p, b11 = k11 / p, b22 = k22 / p;
   const double b01 = A[0][1] / p, b02 = A[0][2] / p, b12 = A[1][2] / p;
-  const double det = b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
+  const double det =
+      b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
   const double r = std::clamp(0.5 * det, -1.0, 1.0);
   const double phi = std::acos(r) / 3.0;  // in [0, pi/3]
   // r >= 0: the largest eigenvalue is the best separated one, else the smallest.
   const bool top = r >= 0.0;
-  const double ld = top ? m + 2.0 * p * std::cos(phi) : m + 2.0 * p * std::cos(phi + 2.0 * std::numbers::pi / 3.0);
+  const double ld =
+      top ? m + 2.0 * p * std::cos(phi) : m + 2.0 * p * std::cos(phi + 2.0 * std::numbers::pi / 3.0);
   Vec3 w{1.0, 0.0, 0.0};
   if (!null_vector(A, ld, w)) w = {1.0, 0.0, 0.0};  // cannot happen for p > 0; keep it safe
   auto apply = [&](const Vec3& a) {
-    return Vec3{A[0][0] * a[0] + A[0][1] * a[1] + A[0][2] * a[2], A[1][0] * a[0] + A[1][1] * a[1] + A[1][2] * a[2],
+    return Vec3{A[0][0] * a[0] + A[0][1] * a[1] + A[0][2] * a[2],
+                A[1][0] * a[0] + A[1][1] * a[1] + A[1][2] * a[2],
                 A[2][0] * a[0] + A[2][1] * a[1] + A[2][2] * a[2]};
   };
   const double lw = dot(w, apply(w));  // Rayleigh quotient: second-order accurate
@@ -596,14 +602,14 @@ ModeResponse mode_response(double q, double depth, const ElasticParams& el) {
   r.stress[1][2] = p.Y[1];
   r.stress[2][0] = -i * p.N[0];
   r.stress[2][2] = p.N[1];
-  r.stress[4][0] = p.S[0];      // sigma_13 = i S = S_S t1 + i S_N t3
+  r.stress[4][0] = p.S[0];  // sigma_13 = i S = S_S t1 + i S_N t3
   r.stress[4][2] = i * p.S[1];
-  r.stress[3][1] = i * rho;     // sigma_12
-  r.stress[5][1] = tau;         // sigma_23
+  r.stress[3][1] = i * rho;                   // sigma_12
+  r.stress[5][1] = tau;                       // sigma_23
   const double u_unit = 1.0 / (2.0 * G * q);  // U, W are 2 G q times the displacement
   r.disp[0][0] = p.U[0] * u_unit;             // u1 = i U
   r.disp[0][2] = i * p.U[1] * u_unit;
-  r.disp[2][0] = -i * p.W[0] * u_unit;        // u3 = W
+  r.disp[2][0] = -i * p.W[0] * u_unit;  // u3 = W
   r.disp[2][2] = p.W[1] * u_unit;
   r.disp[1][1] = rho / (G * q);
   return r;

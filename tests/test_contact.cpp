@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 #include "gfmd/config.hpp"
@@ -168,4 +169,16 @@ tolerance = 1e-9
   EXPECT_NEAR(1.0 + std::log10(kappa[2] / kappa[0]), 1.0, 0.05);
   EXPECT_GT(kappa[1], 1.8);
   EXPECT_LT(kappa[1], 3.5);
+}
+
+// Cost accounting used by the benchmarks: a conjugate-gradient step of the normal problem
+// applies the compliance twice (2 forward + 2 inverse transforms); the final displacement
+// update adds a few more. The count covers this solve only.
+TEST(Contact, SolveCountsItsTransforms) {
+  const CaseResult r = solve(kHertz, {"grid.nx=64", "solver.tolerance=1e-8"});
+  ASSERT_TRUE(r.info.converged);
+  ASSERT_GT(r.info.iterations, 5);
+  const auto its = static_cast<std::uint64_t>(r.info.iterations);
+  EXPECT_GE(r.info.transforms, 4 * its);
+  EXPECT_LE(r.info.transforms, 4 * its + 12);
 }

@@ -26,8 +26,8 @@ struct OutputConfig {
 };
 
 struct SweepConfig {
-  std::string parameter;        // "section.key", e.g. "load.force"
-  std::vector<double> values;   // the values, in order
+  std::string parameter;                      // "section.key", e.g. "load.force"
+  std::vector<double> values;                 // the values, in order
   std::string plot = "friction_coefficient";  // summary key drawn against the parameter
   [[nodiscard]] bool active() const { return !parameter.empty(); }
 };
@@ -40,9 +40,9 @@ struct StressConfig {
 };
 
 struct FlowConfig {
-  bool enabled = false;            // [flow] present: flow right after the contact solve
+  bool enabled = false;                   // [flow] present: flow right after the contact solve
   std::vector<double> angles{0.0, 90.0};  // directions of the mean pressure gradient (deg from +x)
-  double tolerance = 1e-10;        // relative residual of the linear solve
+  double tolerance = 1e-10;               // relative residual of the linear solve
 };
 
 // Flow directions from "x", "y", "both" or an angle in degrees; empty if the text is none

@@ -16,8 +16,8 @@
 namespace gfmd {
 
 struct ElasticParams {
-  double contact_modulus = 1.0;                                 // E* = E/(1-nu^2)
-  double poisson = 0.25;                                        // nu in (-1, 0.5]
+  double contact_modulus = 1.0;                                // E* = E/(1-nu^2)
+  double poisson = 0.25;                                       // nu in (-1, 0.5]
   double thickness = std::numeric_limits<double>::infinity();  // h
   // false: the uncoupled reference. The cross-compliance (normal displacement from
   // tangential traction and in-plane displacement from pressure) is dropped; the direct

@@ -3,6 +3,7 @@
 
 #include <complex>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -70,6 +71,8 @@ class FFT {
   void backward(const cplx* in, double* out) const;
 
   [[nodiscard]] const Grid& grid() const { return grid_; }
+  // Number of transforms (forward + backward) executed so far by this object.
+  [[nodiscard]] std::uint64_t transforms() const { return transforms_; }
   [[nodiscard]] RealField real_field(double value = 0.0) const { return RealField(grid_.size(), value); }
   [[nodiscard]] SpecField spec_field() const { return SpecField(grid_.spectral_size()); }
 
@@ -79,6 +82,7 @@ class FFT {
   std::unique_ptr<Plans> plans_;
   mutable RealField rbuf_;
   mutable SpecField cbuf_;
+  mutable std::uint64_t transforms_ = 0;
 };
 
 }  // namespace gfmd

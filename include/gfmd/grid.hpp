@@ -37,7 +37,9 @@ struct Grid {
   [[nodiscard]] double qy_deriv(int iky) const { return (ny % 2 == 0 && iky == ny / 2) ? 0.0 : qy(iky); }
   // Multiplicity of a half-spectrum mode in the full spectrum (1 for kx = 0 and the
   // x-Nyquist column, 2 otherwise): sums of |f~|^2 over the half spectrum use it.
-  [[nodiscard]] double weight(int ikx) const { return (ikx == 0 || (nx % 2 == 0 && ikx == nx / 2)) ? 1.0 : 2.0; }
+  [[nodiscard]] double weight(int ikx) const {
+    return (ikx == 0 || (nx % 2 == 0 && ikx == nx / 2)) ? 1.0 : 2.0;
+  }
 };
 
 }  // namespace gfmd

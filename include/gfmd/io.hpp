@@ -72,7 +72,8 @@ struct PngOptions {
 // NaN cells are grey (128,128,128). Without colour bar and title the image is exactly
 // (nx*scale) x (ny*scale) pixels (for scale > 0). Written atomically.
 // Throws InputError(path, reason) for bad options, std::runtime_error on I/O failure.
-void write_png_map(const std::string& path, const Grid& grid, const double* field, const PngOptions& opt = {});
+void write_png_map(const std::string& path, const Grid& grid, const double* field,
+                   const PngOptions& opt = {});
 
 // Colour of colormap `name` at t in [0, 1] (clamped; NaN gives the NaN grey).
 // Throws InputError("colormap", ...) for an unknown name.

@@ -22,7 +22,8 @@ struct LeakageResult {
   std::vector<RealField> magnitude;  // |current density| of each flow
   nlohmann::json json;
 };
-LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vector<double>& angles, double tol);
+LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vector<double>& angles,
+                              double tol);
 
 // "x" for 0 degrees, "y" for 90, "<angle>deg" otherwise: the suffix of keys, fields and files.
 std::string direction_tag(double angle_deg);
@@ -32,14 +33,15 @@ void append_current_fields(const LeakageResult& r, std::vector<NamedField>& fiel
 
 // Writes flow.json, flow.nc (current density components and magnitude per direction) and
 // current_<x|y|angle>.png into dir.
-void write_leakage(const Grid& g, const LeakageResult& r, const std::string& dir, const nlohmann::json& extra);
+void write_leakage(const Grid& g, const LeakageResult& r, const std::string& dir,
+                   const nlohmann::json& extra);
 
 // Critical relative contact area a_c* along a direction (angle 0: x, 90: y): nested
 // intervals on the mean pressure until the open (gap > 0) region stops wrapping around the
 // cell along that direction, i.e. until the flow along it vanishes. Stops when the contact
 // areas of the bracket differ by less than area_tolerance.
 struct PercolationOptions {
-  int axis = 0;                  // 0: x, 1: y
+  int axis = 0;  // 0: x, 1: y
   double area_tolerance = 0.002;
   int max_solves = 40;
   std::function<void(const std::string&)> log;

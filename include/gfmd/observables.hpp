@@ -15,7 +15,7 @@ struct Observables {
   double normal_force = 0;           // sum p dA
   double mean_pressure = 0;          // normal_force / (lx ly)
   double max_pressure = 0;
-  double mean_gap = 0;               // mean of max(gap, 0) over the cell
+  double mean_gap = 0;  // mean of max(gap, 0) over the cell
   double approach = 0;
   // Friction (zero without friction). Dissipation: F = P_diss / v0 =
   // mu_c sum p |e_s + (e_s.grad) u| dA. Downhill: F = mu_c F_z + dF, dF = -sum p (e_s.grad h) dA.
@@ -32,9 +32,9 @@ struct Observables {
   double mean_tangential_traction_x = 0, mean_tangential_traction_y = 0;
   // Geometry relative to the indenter's highest point (the Hertz apex), along the
   // sliding direction e_s ("longitudinal") and across it ("transverse"), minimum image.
-  double centroid_shift = 0;          // pressure-weighted mean position . e_s
+  double centroid_shift = 0;  // pressure-weighted mean position . e_s
   double centroid_shift_transverse = 0;
-  double pressure_max_shift = 0;      // position of max p . e_s
+  double pressure_max_shift = 0;           // position of max p . e_s
   double contact_extent_longitudinal = 0;  // (max - min) of contact cells . e_s, + dx
   double contact_extent_transverse = 0;
   double max_slip_velocity = 0, min_slip_velocity = 0;  // |v_slip|/v0 over the contact

@@ -4,8 +4,8 @@
 
 #include <functional>
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "gfmd/config.hpp"
@@ -46,9 +46,9 @@ struct CaseResult {
 
 struct RunOptions {
   std::function<void(const Progress&)> progress;  // called every few iterations
-  const ContactFields* warm_start = nullptr;       // a previous solution on the same grid
-  std::function<bool()> stop_request;              // polled; true stops with gfmd::Interrupted
-  std::string checkpoint_path;                     // "" = no checkpoints
+  const ContactFields* warm_start = nullptr;      // a previous solution on the same grid
+  std::function<bool()> stop_request;             // polled; true stops with gfmd::Interrupted
+  std::string checkpoint_path;                    // "" = no checkpoints
   double checkpoint_interval_s = 60.0;
 };
 

@@ -20,6 +20,7 @@
 // Every outer step solves the normal problem to a tolerance tied to the outer residual.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <string>
@@ -70,6 +71,7 @@ struct SolveInfo {
   double approach = 0.0;   // delta
   double stiffness = 0.0;  // k_if used (inf for hard wall)
   double wall_time_s = 0.0;
+  std::uint64_t transforms = 0;  // real 2D FFTs (forward + inverse) the solve executed
 };
 
 struct Progress {

@@ -52,16 +52,16 @@ StressField surface_stress(const FFT& fft, const ElasticParams& el, const Contac
 // direction of the indenter (a = angle_deg); the displacements are recomputed from
 // (mu p e_s, -p) with the body's compliance (its coupling setting included), then the
 // stress is surface_stress of that state.
-StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const RealField& pressure, double mu,
-                                 double angle_deg);
+StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const RealField& pressure,
+                                 double mu, double angle_deg);
 
 // Eigen-decomposition of one symmetric 3x3 tensor in closed form: the best-separated
 // eigenvalue by the trigonometric formula and its eigenvector from cross products of the
 // rows of A - lambda I, the other two from the exact 2x2 problem orthogonal to it (robust
 // for repeated and nearly repeated eigenvalues; errors ~ eps * max|A_ij|).
 struct Principal3 {
-  double s1, s2, s3;           // s1 >= s2 >= s3
-  std::array<double, 3> e1;    // unit eigenvector of s1 (sign as in PrincipalField)
+  double s1, s2, s3;         // s1 >= s2 >= s3
+  std::array<double, 3> e1;  // unit eigenvector of s1 (sign as in PrincipalField)
 };
 Principal3 principal(double xx, double yy, double zz, double xy, double xz, double yz);
 double von_mises(double xx, double yy, double zz, double xy, double xz, double yz);
