@@ -109,6 +109,11 @@ void FFT::forward(const double* in, cplx* out) const {
   fftw_execute_dft_r2c(plans_->r2c, const_cast<double*>(in), reinterpret_cast<fftw_complex*>(out));
 }
 
+void FFT::backward_unscaled_destroying(cplx* in, double* out) const {
+  ++transforms_;
+  fftw_execute_dft_c2r(plans_->c2r, reinterpret_cast<fftw_complex*>(in), out);
+}
+
 void FFT::backward(const cplx* in, double* out) const {
   ++transforms_;
   const double scale = 1.0 / static_cast<double>(grid_.size());

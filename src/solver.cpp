@@ -83,16 +83,19 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   r1_.resize(grid_.size());
   r2_.resize(grid_.size());
   for (auto* f : {&cg_g_, &cg_t_, &cg_r_}) f->assign(grid_.size(), 0.0);
+  czz_n_.resize(body.modes().size());
+  for (std::size_t k = 0; k < czz_n_.size(); ++k)
+    czz_n_[k] = body.modes()[k].czz / static_cast<double>(grid_.size());
 }
 
 void ContactSolver::apply_compliance(const RealField& in, RealField& out) {
-  // out = C_zz in (the 1/k term is added by the callers in their fused passes).
+  // out = C_zz in (the 1/k term is added by the callers in their fused passes). One
+  // spectral pass with the contiguous table C_zz / N, then the inverse transform in place.
   fft_.forward(in.data(), s1_.data());
-  const auto& modes = body_.modes();
-  const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(modes.size());
+  const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(czz_n_.size());
 #pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t k = 0; k < ns; ++k) s1_[k] *= modes[k].czz;
-  fft_.backward(s1_.data(), out.data());
+  for (std::ptrdiff_t k = 0; k < ns; ++k) s1_[k] *= czz_n_[k];
+  fft_.backward_unscaled_destroying(s1_.data(), out.data());
 }
 
 ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, const RealField& w, RealField& p,

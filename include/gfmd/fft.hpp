@@ -69,6 +69,9 @@ class FFT {
   // Synthesis including the 1/(nx*ny): out[r] = (1/N) sum_q in[q] exp(+i q.r).
   // in is not modified.
   void backward(const cplx* in, double* out) const;
+  // Synthesis without the 1/(nx*ny) (fold it into the spectrum), overwriting `in`, which
+  // must come from an FFTW-aligned allocation (SpecField): one pass less than backward().
+  void backward_unscaled_destroying(cplx* in, double* out) const;
 
   [[nodiscard]] const Grid& grid() const { return grid_; }
   // Number of transforms (forward + backward) executed so far by this object.

@@ -132,6 +132,7 @@ class ContactSolver {
   SpecField s1_, s2_, s3_, s4_, s5_, s6_;
   RealField r1_, r2_;
   RealField cg_g_, cg_t_, cg_r_;  // work arrays of solve_normal
+  std::vector<double> czz_n_;     // C_zz / (nx ny) per half-spectrum mode, contiguous
   // Anderson history of the friction fixed point (ring buffers, single precision: only
   // the mixing uses them; convergence is always judged on the unaccelerated map).
   std::vector<std::vector<float>> and_df_, and_dx_;
