@@ -5,9 +5,9 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
-#include <fstream>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -37,40 +37,44 @@ struct ProgressPrinter {
     const auto now = std::chrono::steady_clock::now();
     const double since = std::chrono::duration<double>(now - last).count();
     if (verbose && p.outer > 0) {
-      std::fprintf(stderr, "  friction step %3d: %6d iterations, traction change %.3e\n", p.outer, p.iteration, p.error);
+      std::fprintf(stderr, "  friction step %3d: %6d iterations, traction change %.3e\n", p.outer,
+                   p.iteration, p.error);
       return;
     }
     if (since < (tty ? 0.2 : 5.0)) return;
     last = now;
     const double el = std::chrono::duration<double>(now - start).count();
     if (tty)
-      std::fprintf(stderr, "\r  iteration %6d  friction step %3d  change %.2e  %.1f s   ", p.iteration, p.outer,
-                   p.error, el);
+      std::fprintf(stderr, "\r  iteration %6d  friction step %3d  change %.2e  %.1f s   ", p.iteration,
+                   p.outer, p.error, el);
     else
-      std::fprintf(stderr, "  iteration %d friction step %d change %.3e elapsed %.1f s\n", p.iteration, p.outer,
-                   p.error, el);
+      std::fprintf(stderr, "  iteration %d friction step %d change %.3e elapsed %.1f s\n", p.iteration,
+                   p.outer, p.error, el);
   }
   void done() const {
     if (tty && !quiet) std::fprintf(stderr, "\r%80s\r", "");
   }
 };
 
-int cmd_run(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets, bool quiet,
-            bool verbose, bool resume, double checkpoint_s) {
+int cmd_run(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
+            bool quiet, bool verbose, bool resume, double checkpoint_s) {
   const gfmd::Config cfg = gfmd::load_config(case_path, sets);
-  if (out_dir.empty()) out_dir = (std::filesystem::path("out") / std::filesystem::path(case_path).stem()).string();
+  if (out_dir.empty())
+    out_dir = (std::filesystem::path("out") / std::filesystem::path(case_path).stem()).string();
   namespace fs = std::filesystem;
   const std::string ckpt = (fs::path(out_dir) / "checkpoint.bin").string();
   gfmd::ContactFields warm;
   bool have_warm = false;
   if (resume) {
     if (gfmd::finished_summary(out_dir, cfg)) {
-      std::printf("%s: already solved in %s/ (summary.json); nothing to do\n", case_path.c_str(), out_dir.c_str());
+      std::printf("%s: already solved in %s/ (summary.json); nothing to do\n", case_path.c_str(),
+                  out_dir.c_str());
       return 0;
     }
     have_warm = gfmd::read_checkpoint(ckpt, cfg, warm);
     if (!quiet)
-      std::fprintf(stderr, "%s\n", have_warm ? "resuming from the checkpoint" : "no usable checkpoint: starting afresh");
+      std::fprintf(stderr, "%s\n",
+                   have_warm ? "resuming from the checkpoint" : "no usable checkpoint: starting afresh");
   }
   // Validates the topography before anything is written.
   (void)gfmd::make_topography(cfg);
@@ -91,8 +95,8 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   } catch (const gfmd::Interrupted& e) {
     pp.done();
     gfmd::write_status(out_dir, "interrupted", e.what());
-    std::fprintf(stderr, "gfmd: %s: %s; state saved in %s, continue with --resume\n", case_path.c_str(), e.what(),
-                 ckpt.c_str());
+    std::fprintf(stderr, "gfmd: %s: %s; state saved in %s, continue with --resume\n", case_path.c_str(),
+                 e.what(), ckpt.c_str());
     return 4;
   } catch (const std::exception& e) {
     gfmd::write_status(out_dir, "failed", e.what());
@@ -116,8 +120,8 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   gfmd::write_outputs(r, out_dir);
   gfmd::write_status(out_dir, "converged");
   if (cfg.output.png && cfg.stress.profiles) {
-    const std::string cmd = std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR + "/plot_profiles.py\" \"" +
-                            out_dir + "/profiles.csv\" > /dev/null 2>&1";
+    const std::string cmd = std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR +
+                            "/plot_profiles.py\" \"" + out_dir + "/profiles.csv\" > /dev/null 2>&1";
     if (std::system(cmd.c_str()) != 0 && !quiet)
       std::fprintf(stderr, "gfmd: note: profiles.png not drawn (needs %s with matplotlib)\n", GFMD_PYTHON);
   }
@@ -164,11 +168,12 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
       sets.push_back(s);
     }
   }
-  gfmd::Config cfg = gfmd::load_config(case_path, param.empty() ? sets : [&] {
-    auto v = sets;
-    v.push_back(param + "=" + std::to_string(values.front()));
-    return v;
-  }());
+  gfmd::Config cfg = gfmd::load_config(
+      case_path, param.empty() ? sets : [&] {
+        auto v = sets;
+        v.push_back(param + "=" + std::to_string(values.front()));
+        return v;
+      }());
   if (!param.empty()) {
     cfg.sweep.parameter = param;
     cfg.sweep.values = values;
@@ -177,7 +182,8 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
     throw gfmd::InputError(case_path, "nothing to sweep: add --set section.key=v1,v2,... or a [sweep] table");
   if (plot.empty()) plot = cfg.sweep.plot;
   if (out_dir.empty())
-    out_dir = (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_sweep")).string();
+    out_dir = (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_sweep"))
+                  .string();
   ProgressPrinter pp;
   pp.quiet = quiet;
   gfmd::SweepOptions so;
@@ -198,16 +204,19 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
     gfmd::run_sweep(case_path, cfg, out_dir, so);
   } catch (const gfmd::Interrupted& e) {
     pp.done();
-    std::fprintf(stderr, "gfmd: sweep interrupted (%s); finished points and a checkpoint are kept in %s/, run the "
-                 "same command again to continue\n", e.what(), out_dir.c_str());
+    std::fprintf(stderr,
+                 "gfmd: sweep interrupted (%s); finished points and a checkpoint are kept in %s/, run the "
+                 "same command again to continue\n",
+                 e.what(), out_dir.c_str());
     return 4;
   }
-  std::printf("sweep of %s over %zu values: tables in %s/sweep.csv and sweep.json\n", cfg.sweep.parameter.c_str(),
-              cfg.sweep.values.size(), out_dir.c_str());
-  const std::string cmd = std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR + "/plot_sweep.py\" \"" +
-                          out_dir + "/sweep.csv\" --y \"" + plot + "\" > /dev/null";
+  std::printf("sweep of %s over %zu values: tables in %s/sweep.csv and sweep.json\n",
+              cfg.sweep.parameter.c_str(), cfg.sweep.values.size(), out_dir.c_str());
+  const std::string cmd = std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR +
+                          "/plot_sweep.py\" \"" + out_dir + "/sweep.csv\" --y \"" + plot + "\" > /dev/null";
   if (std::system(cmd.c_str()) != 0)
-    std::fprintf(stderr, "gfmd: warning: could not draw %s with matplotlib (%s)\n", plot.c_str(), GFMD_PYTHON);
+    std::fprintf(stderr, "gfmd: warning: could not draw %s with matplotlib (%s)\n", plot.c_str(),
+                 GFMD_PYTHON);
   else
     std::printf("  plot: %s/sweep_%s.png\n", out_dir.c_str(), plot.c_str());
   return 0;
@@ -225,13 +234,16 @@ int cmd_flow(const std::string& dir, const std::string& direction, double tol) {
     throw gfmd::InputError(sp.string(), std::string("unreadable: ") + e.what());
   }
   const auto& gi = s.at("input").at("grid");
-  gfmd::Grid g{gi.at("nx").get<int>(), gi.at("ny").get<int>(), gi.at("lx").get<double>(), gi.at("ly").get<double>()};
+  gfmd::Grid g{gi.at("nx").get<int>(), gi.at("ny").get<int>(), gi.at("lx").get<double>(),
+               gi.at("ly").get<double>()};
   int nx = 0, ny = 0;
-  const std::vector<double> gap = gfmd::read_netcdf_field((fs::path(dir) / "fields.nc").string(), "gap", nx, ny);
+  const std::vector<double> gap =
+      gfmd::read_netcdf_field((fs::path(dir) / "fields.nc").string(), "gap", nx, ny);
   if (nx != g.nx || ny != g.ny) throw gfmd::InputError(dir, "fields.nc does not match summary.json");
   const std::vector<double> angles = gfmd::parse_flow_directions(direction);
   if (angles.empty())
-    throw gfmd::InputError("--direction", "must be x, y, both or an angle in degrees, got '" + direction + "'");
+    throw gfmd::InputError("--direction",
+                           "must be x, y, both or an angle in degrees, got '" + direction + "'");
   const auto r = gfmd::compute_leakage(g, gap.data(), angles, tol);
   gfmd::write_leakage(g, r, dir, {{"relative_contact_area", s.value("relative_contact_area", 0.0)}});
   std::printf("%s/flow.json:\n%s\n", dir.c_str(), r.json.dump(2).c_str());
@@ -242,7 +254,10 @@ int cmd_percolation(const std::string& case_path, std::string out_dir, const std
                     const std::string& direction, double area_tol, bool quiet) {
   const gfmd::Config cfg = gfmd::load_config(case_path, sets);
   if (direction != "x" && direction != "y") throw gfmd::InputError("--direction", "must be x or y");
-  if (out_dir.empty()) out_dir = (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_percolation")).string();
+  if (out_dir.empty())
+    out_dir =
+        (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_percolation"))
+            .string();
   gfmd::PercolationOptions po;
   po.axis = direction == "x" ? 0 : 1;
   po.area_tolerance = area_tol;
@@ -250,9 +265,11 @@ int cmd_percolation(const std::string& case_path, std::string out_dir, const std
   const nlohmann::json j = gfmd::find_percolation(cfg, po);
   std::filesystem::create_directories(out_dir);
   gfmd::write_text_atomic((std::filesystem::path(out_dir) / "percolation.json").string(), j.dump(2) + "\n");
-  std::printf("critical relative contact area along %s: %.4f (pressure %.6g) after %d solves -> %s/percolation.json\n",
-              direction.c_str(), j["critical_relative_contact_area"].get<double>(), j["critical_pressure"].get<double>(),
-              j["solves"].get<int>(), out_dir.c_str());
+  std::printf(
+      "critical relative contact area along %s: %.4f (pressure %.6g) after %d solves -> "
+      "%s/percolation.json\n",
+      direction.c_str(), j["critical_relative_contact_area"].get<double>(),
+      j["critical_pressure"].get<double>(), j["solves"].get<int>(), out_dir.c_str());
   return 0;
 }
 
@@ -262,8 +279,12 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
   if (std::sscanf(seeds.c_str(), "%d..%d", &s0, &s1) != 2 || s0 < 0 || s1 < s0)
     throw gfmd::InputError("--seeds", "expected FIRST..LAST, e.g. 0..7, got '" + seeds + "'");
   const gfmd::Config probe = gfmd::load_config(case_path, sets);
-  if (probe.indenter.type != "selfaffine") throw gfmd::InputError(case_path, "an ensemble needs a selfaffine indenter");
-  if (out_dir.empty()) out_dir = (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_ensemble")).string();
+  if (probe.indenter.type != "selfaffine")
+    throw gfmd::InputError(case_path, "an ensemble needs a selfaffine indenter");
+  if (out_dir.empty())
+    out_dir =
+        (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_ensemble"))
+            .string();
   const bool pairs = probe.friction.coefficient > 0;
   nlohmann::json j;
   j["seeds"] = nlohmann::json::array();
@@ -277,18 +298,22 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
       const gfmd::Config c = gfmd::load_config(case_path, ss);
       const gfmd::CaseResult r = gfmd::run_case(c);
       if (!r.info.converged) throw gfmd::SolveError("seed " + std::to_string(seed) + ": " + r.info.status);
-      const std::string d = (std::filesystem::path(out_dir) / ((variant ? "frictionless_seed_" : "seed_") + std::to_string(seed))).string();
+      const std::string d = (std::filesystem::path(out_dir) /
+                             ((variant ? "frictionless_seed_" : "seed_") + std::to_string(seed)))
+                                .string();
       gfmd::write_outputs(r, d);
       const double x = r.leakage.json["conductivity_x"], y = r.leakage.json["conductivity_y"];
       (variant ? kx0 : kx).push_back(x);
       (variant ? ky0 : ky).push_back(y);
       (variant ? ac0 : ac).push_back(r.observables.relative_contact_area);
-      j["seeds"].push_back({{"seed", seed}, {"friction_coefficient", c.friction.coefficient},
+      j["seeds"].push_back({{"seed", seed},
+                            {"friction_coefficient", c.friction.coefficient},
                             {"relative_contact_area", r.observables.relative_contact_area},
-                            {"conductivity_x", x}, {"conductivity_y", y}});
+                            {"conductivity_x", x},
+                            {"conductivity_y", y}});
       if (!quiet)
-        std::fprintf(stderr, "  seed %d%s: a_c = %.4f, K_x = %.4e, K_y = %.4e\n", seed, variant ? " (frictionless)" : "",
-                     r.observables.relative_contact_area, x, y);
+        std::fprintf(stderr, "  seed %d%s: a_c = %.4f, K_x = %.4e, K_y = %.4e\n", seed,
+                     variant ? " (frictionless)" : "", r.observables.relative_contact_area, x, y);
     }
   }
   // Mean and sample standard deviation; with the Bruggeman combination for conductivities.
@@ -308,9 +333,12 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
   j["conductivity_y"] = stats(ky);
   j["relative_contact_area"] = stats(ac);
   if (pairs) {
-    j["frictionless"] = {{"conductivity_x", stats(kx0)}, {"conductivity_y", stats(ky0)}, {"relative_contact_area", stats(ac0)}};
+    j["frictionless"] = {{"conductivity_x", stats(kx0)},
+                         {"conductivity_y", stats(ky0)},
+                         {"relative_contact_area", stats(ac0)}};
     const double bx = j["conductivity_x"]["bruggeman"], by = j["conductivity_y"]["bruggeman"];
-    const double bx0 = j["frictionless"]["conductivity_x"]["bruggeman"], by0 = j["frictionless"]["conductivity_y"]["bruggeman"];
+    const double bx0 = j["frictionless"]["conductivity_x"]["bruggeman"],
+                 by0 = j["frictionless"]["conductivity_y"]["bruggeman"];
     j["relative_change_x"] = bx0 > 0 ? bx / bx0 - 1 : 0.0;
     j["relative_change_y"] = by0 > 0 ? by / by0 - 1 : 0.0;
     std::vector<double> rx, ry;
@@ -326,17 +354,19 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
   j["git_commit"] = gfmd::kGitCommit;
   gfmd::write_text_atomic((std::filesystem::path(out_dir) / "ensemble.json").string(), j.dump(2) + "\n");
   std::printf("%s/ensemble.json: K_x = %.4e, K_y = %.4e (Bruggeman over %d seeds)", out_dir.c_str(),
-              j["conductivity_x"]["bruggeman"].get<double>(), j["conductivity_y"]["bruggeman"].get<double>(), s1 - s0 + 1);
+              j["conductivity_x"]["bruggeman"].get<double>(), j["conductivity_y"]["bruggeman"].get<double>(),
+              s1 - s0 + 1);
   if (pairs)
-    std::printf("; change through friction and coupling: x %+.1f %%, y %+.1f %%", 100 * j["relative_change_x"].get<double>(),
-                100 * j["relative_change_y"].get<double>());
+    std::printf("; change through friction and coupling: x %+.1f %%, y %+.1f %%",
+                100 * j["relative_change_x"].get<double>(), 100 * j["relative_change_y"].get<double>());
   std::printf("\n");
   return 0;
 }
 
 // Tabulates the dimensionless Green's tensor of SPEC §2 (frame with q along axis 1).
 int cmd_green(const std::vector<double>& nus, double from, double to, int points, const std::string& out) {
-  if (!(from > 0 && to > from) || points < 2) throw gfmd::InputError("gfmd green", "need 0 < --from < --to and --points >= 2");
+  if (!(from > 0 && to > from) || points < 2)
+    throw gfmd::InputError("gfmd green", "need 0 < --from < --to and --points >= 2");
   for (double nu : nus) gfmd::ElasticParams{1.0, nu, 1.0, true}.validate();
   std::ostringstream os;
   os.precision(12);
@@ -372,15 +402,18 @@ int main(int argc, char** argv) {
   bool verbose = false, resume = false;
   double checkpoint_s = 60.0;
   run->add_flag("-v,--verbose", verbose, "print every friction fixed-point step");
-  run->add_flag("--resume", resume, "continue from DIR/checkpoint.bin (or do nothing if DIR holds the result)");
+  run->add_flag("--resume", resume,
+                "continue from DIR/checkpoint.bin (or do nothing if DIR holds the result)");
   run->add_option("--checkpoint-interval", checkpoint_s, "seconds between checkpoints (default 60)");
 
   std::string plot;
-  auto* sweep = app.add_subcommand("sweep", "solve a case for a list of values of one key, warm-starting each point");
+  auto* sweep =
+      app.add_subcommand("sweep", "solve a case for a list of values of one key, warm-starting each point");
   sweep->add_option("case", case_path, "case file (TOML)")->required();
   sweep->add_option("-o,--output", out_dir, "output directory (default: out/<case name>_sweep)");
   sweep->add_option("--set", sets, "override a key; one key may take a comma-separated list: the sweep");
-  sweep->add_option("--plot", plot, "summary key to plot against the swept value (default friction_coefficient)");
+  sweep->add_option("--plot", plot,
+                    "summary key to plot against the swept value (default friction_coefficient)");
   sweep->add_flag("-q,--quiet", quiet, "no progress display");
 
   install_signal_handlers();
@@ -400,14 +433,17 @@ int main(int argc, char** argv) {
   flow->add_option("dir", flow_dir, "a directory written by gfmd run")->required();
   flow->add_option("--direction", direction, "x, y or both (default)");
   flow->add_option("--tolerance", flow_tol, "relative residual of the linear solve (default 1e-10)");
-  auto* perc = app.add_subcommand("percolation", "critical contact area at which the flow along a direction stops");
+  auto* perc =
+      app.add_subcommand("percolation", "critical contact area at which the flow along a direction stops");
   perc->add_option("case", case_path, "case file (TOML)")->required();
   perc->add_option("--direction", direction, "x or y")->required();
   perc->add_option("-o,--output", out_dir, "output directory");
   perc->add_option("--set", sets, "override a key (repeatable)");
-  perc->add_option("--area-tolerance", area_tol, "stop when the bracket's contact areas differ by less (default 0.002)");
+  perc->add_option("--area-tolerance", area_tol,
+                   "stop when the bracket's contact areas differ by less (default 0.002)");
   perc->add_flag("-q,--quiet", quiet, "no log lines");
-  auto* ens = app.add_subcommand("ensemble", "flow over roughness seeds, Bruggeman average, friction on/off pairs");
+  auto* ens =
+      app.add_subcommand("ensemble", "flow over roughness seeds, Bruggeman average, friction on/off pairs");
   ens->add_option("case", case_path, "case file (TOML) with a selfaffine indenter")->required();
   ens->add_option("--seeds", seeds, "FIRST..LAST (default 0..7)");
   ens->add_option("-o,--output", out_dir, "output directory");
@@ -435,7 +471,8 @@ int main(int argc, char** argv) {
     if (ens->parsed()) return cmd_ensemble(case_path, out_dir, sets, seeds, quiet);
     if (green->parsed()) return cmd_green(green_nu, green_from, green_to, green_points, out_dir);
     if (study->parsed()) {
-      std::string cmd = std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR + "/study.py\" \"" + study_path + "\"";
+      std::string cmd =
+          std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR + "/study.py\" \"" + study_path + "\"";
       if (study_quick) cmd += " --quick";
       if (!out_dir.empty()) cmd += " -o \"" + out_dir + "\"";
       const int rc = std::system(cmd.c_str());

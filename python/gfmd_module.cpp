@@ -17,9 +17,7 @@ namespace py = pybind11;
 
 namespace {
 
-py::object json_to_py(const nlohmann::json& j) {
-  return py::module_::import("json").attr("loads")(j.dump());
-}
+py::object json_to_py(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
 
 py::array_t<double> to_array(const gfmd::Grid& g, const gfmd::RealField& f) {
   py::array_t<double> a({g.ny, g.nx});

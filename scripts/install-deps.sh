@@ -14,6 +14,7 @@ PKGS=(
   libhypre-dev            # Reynolds flow linear solves
   python3-numpy python3-matplotlib python3-netcdf4 python3-pytest pybind11-dev python3-dev
   clang-14 libclang-rt-14-dev libomp-14-dev   # fuzzing (libFuzzer) and sanitizers
+  clang-format            # style check (scripts/check-format.sh)
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -49,7 +49,8 @@ HertzErrors hertz_errors(const CaseResult& r) {
     }
   const double a_moment = std::sqrt(2.5 * m2 / m0);
   const double a_area = std::sqrt(r.observables.relative_contact_area * g.area() / std::numbers::pi);
-  return {std::abs(a_moment / a - 1), std::abs(r.observables.max_pressure / p0 - 1), std::abs(a_area / a - 1)};
+  return {std::abs(a_moment / a - 1), std::abs(r.observables.max_pressure / p0 - 1),
+          std::abs(a_area / a - 1)};
 }
 
 }  // namespace
@@ -92,7 +93,8 @@ TEST(Contact, WestergaardSinusoid) {
   const double h0 = 0.01, pstar = std::numbers::pi * h0;
   Topography topo{g, RealField(g.size()), "sinusoid"};
   for (int iy = 0; iy < g.ny; ++iy)
-    for (int ix = 0; ix < g.nx; ++ix) topo.h[iy * g.nx + ix] = h0 * std::cos(2 * std::numbers::pi * ix / g.nx);
+    for (int ix = 0; ix < g.nx; ++ix)
+      topo.h[iy * g.nx + ix] = h0 * std::cos(2 * std::numbers::pi * ix / g.nx);
   ElasticBody body(g, ElasticParams{1.0, 0.3, std::numeric_limits<double>::infinity(), true});
   ContactSolver solver(body, topo, InteractionParams{}, FrictionParams{}, SolverParams{1e-10, 20000, 10});
   for (double frac : {0.1, 0.3, 0.6, 0.9}) {

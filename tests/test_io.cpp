@@ -1,6 +1,5 @@
 // Tests for atomic writes, NetCDF field files and PNG maps (include/gfmd/io.hpp).
-#include "gfmd/io.hpp"
-
+#include <gtest/gtest.h>
 #include <netcdf.h>
 #include <unistd.h>
 
@@ -13,9 +12,8 @@
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "gfmd/error.hpp"
+#include "gfmd/io.hpp"
 
 namespace fs = std::filesystem;
 using gfmd::Grid;
@@ -27,8 +25,8 @@ class IoDir : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("gfmd_io_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" + std::to_string(::getpid()));
+    dir_ = fs::temp_directory_path() / ("gfmd_io_" + std::string(info->test_suite_name()) + "_" +
+                                        info->name() + "_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -123,11 +121,11 @@ TEST_F(NetCdf, RoundTripValuesDimsAndAttributes) {
       u[static_cast<std::size_t>(iy) * g.nx + ix] = -std::sin(ix + 7.0 * iy);
     }
   const std::string path = file("fields.nc");
-  gfmd::write_fields_netcdf(path, g,
-                            {{"pressure", p.data(), "contact pressure", "E*"},
-                             {"displacement", u.data(), "surface displacement", "h_rms"}},
-                            {{"gfmd_version", "0.1.0"}, {"git_commit", "abc123"}, {"input_toml", "[grid]\nnx = 5\n"}},
-                            "um");
+  gfmd::write_fields_netcdf(
+      path, g,
+      {{"pressure", p.data(), "contact pressure", "E*"},
+       {"displacement", u.data(), "surface displacement", "h_rms"}},
+      {{"gfmd_version", "0.1.0"}, {"git_commit", "abc123"}, {"input_toml", "[grid]\nnx = 5\n"}}, "um");
   EXPECT_FALSE(has_tmp_file());
 
   int nx = 0, ny = 0;
@@ -225,9 +223,11 @@ TEST_F(NetCdf, ReadErrorsNameThePath) {
 TEST_F(NetCdf, WriteErrorsLeaveNothingBehind) {
   Grid g{2, 2, 1.0, 1.0};
   std::vector<double> a(g.size(), 0.0);
-  EXPECT_THROW(gfmd::write_fields_netcdf(file("nodir/f.nc"), g, {{"h", a.data(), "", ""}}, {}), std::runtime_error);
-  EXPECT_THROW(gfmd::write_fields_netcdf(file("dup.nc"), g, {{"h", a.data(), "", ""}, {"h", a.data(), "", ""}}, {}),
-               gfmd::InputError);
+  EXPECT_THROW(gfmd::write_fields_netcdf(file("nodir/f.nc"), g, {{"h", a.data(), "", ""}}, {}),
+               std::runtime_error);
+  EXPECT_THROW(
+      gfmd::write_fields_netcdf(file("dup.nc"), g, {{"h", a.data(), "", ""}, {"h", a.data(), "", ""}}, {}),
+      gfmd::InputError);
   EXPECT_THROW(gfmd::write_fields_netcdf(file("bad.nc"), g, {{"bad/name", a.data(), "", ""}}, {}),
                std::runtime_error);
   EXPECT_TRUE(entries().empty());
@@ -346,7 +346,7 @@ TEST_F(Png, NanCellIsGrey) {
   gfmd::write_png_map(path, g, f.data(), opt);
   int w = 0, h = 0;
   const auto img = gfmd::read_png_rgb(path, w, h);
-  EXPECT_RGB(pixel(img, w, 5, 6), (Rgb{128, 128, 128}));  // centre cell
+  EXPECT_RGB(pixel(img, w, 5, 6), (Rgb{128, 128, 128}));                 // centre cell
   EXPECT_RGB(pixel(img, w, 1, 10), gfmd::colormap_rgb("viridis", 0.0));  // (0,0): minimum
   EXPECT_RGB(pixel(img, w, 10, 1), gfmd::colormap_rgb("viridis", 1.0));  // (2,2): maximum
 
@@ -371,7 +371,7 @@ TEST_F(Png, SymmetricMapsZeroToCentreColour) {
   const auto img = gfmd::read_png_rgb(path, w, h);
   const Rgb centre = gfmd::colormap_rgb("coolwarm", 0.5);
   EXPECT_RGB(centre, (Rgb{221, 221, 221}));
-  EXPECT_RGB(pixel(img, w, 2, 0), centre);                                // 0
+  EXPECT_RGB(pixel(img, w, 2, 0), centre);                                 // 0
   EXPECT_RGB(pixel(img, w, 0, 1), gfmd::colormap_rgb("coolwarm", 0.375));  // -1 of ±4
   EXPECT_RGB(pixel(img, w, 5, 1), gfmd::colormap_rgb("coolwarm", 1.0));    // 4
 
@@ -398,12 +398,12 @@ TEST_F(Png, MaskOutlineColourbarAndTitle) {
   int w = 0, h = 0;
   const auto img = gfmd::read_png_rgb(path, w, h);
   EXPECT_GT(w, 32);
-  EXPECT_GT(h, 32);  // title band
+  EXPECT_GT(h, 32);        // title band
   const int top = h - 32;  // the map sits at the bottom left
   const Rgb base = gfmd::colormap_rgb("viridis", 0.0);
-  EXPECT_RGB(pixel(img, w, 1, top + 1), base);            // unmasked cell
-  EXPECT_NE(str(pixel(img, w, 8, top + 8)), str(base));   // corner of the masked square: outline
-  EXPECT_RGB(pixel(img, w, 14, top + 14), base);          // inside the masked square
+  EXPECT_RGB(pixel(img, w, 1, top + 1), base);           // unmasked cell
+  EXPECT_NE(str(pixel(img, w, 8, top + 8)), str(base));  // corner of the masked square: outline
+  EXPECT_RGB(pixel(img, w, 14, top + 14), base);         // inside the masked square
   // Some dark ink in the title band and in the label column next to the bar.
   bool ink_title = false, ink_label = false;
   for (int y = 0; y < top; ++y)

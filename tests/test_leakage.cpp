@@ -64,10 +64,14 @@ TEST(Leakage, FlowCommandWritesFlowJson) {
   fs::create_directories(d);
   std::ofstream(d / "case.toml") << kEggcrate << "[flow]\ndirection = \"both\"\n";
   const std::string exe = GFMD_EXE;
-  ASSERT_EQ(std::system((exe + " run " + (d / "case.toml").string() + " -o " + (d / "out").string() + " -q > /dev/null").c_str()), 0);
+  ASSERT_EQ(std::system((exe + " run " + (d / "case.toml").string() + " -o " + (d / "out").string() +
+                         " -q > /dev/null")
+                            .c_str()),
+            0);
   std::ifstream in(d / "out" / "flow.json");
   const auto j = nlohmann::json::parse(in);
-  for (const char* k : {"flow_factor_x", "flow_factor_y", "percolates_x", "percolates_y", "conservation_error"})
+  for (const char* k :
+       {"flow_factor_x", "flow_factor_y", "percolates_x", "percolates_y", "conservation_error"})
     EXPECT_TRUE(j.contains(k)) << k;
   EXPECT_TRUE(j["percolates_x"].get<bool>());
   EXPECT_NEAR(j["flow_factor_x"].get<double>(), j["flow_factor_y"].get<double>(), 1e-9);
@@ -83,7 +87,9 @@ TEST(Leakage, FlowCommandWritesFlowJson) {
   EXPECT_FALSE(j2.contains("flow_factor_y"));
   // Sealed contact: no flow.
   ASSERT_EQ(std::system((exe + " run " + (d / "case.toml").string() + " -o " + (d / "sealed").string() +
-                         " -q --set load.pressure=0.06 > /dev/null").c_str()), 0);
+                         " -q --set load.pressure=0.06 > /dev/null")
+                            .c_str()),
+            0);
   std::ifstream in3(d / "sealed" / "flow.json");
   const auto j3 = nlohmann::json::parse(in3);
   EXPECT_FALSE(j3["percolates_x"].get<bool>());

@@ -102,8 +102,8 @@ TEST(Robustness, SigtermThenResumeFromTheCommandLine) {
   const std::string resume = exe + " run " + (dir / "case.toml").string() + " -o " + out +
                              " -q --set grid.nx=512 --resume > /dev/null 2>&1";
   ASSERT_EQ(std::system(resume.c_str()), 0);
-  const std::string fresh = exe + " run " + (dir / "case.toml").string() + " -o " + out2 +
-                            " -q --set grid.nx=512 > /dev/null 2>&1";
+  const std::string fresh =
+      exe + " run " + (dir / "case.toml").string() + " -o " + out2 + " -q --set grid.nx=512 > /dev/null 2>&1";
   ASSERT_EQ(std::system(fresh.c_str()), 0);
   std::ifstream a(fs::path(out) / "summary.json"), b(fs::path(out2) / "summary.json");
   const auto ja = nlohmann::json::parse(a), jb = nlohmann::json::parse(b);
@@ -148,8 +148,9 @@ TEST(Robustness, InterruptedSweepKeepsFinishedPointsAndResumes) {
   const fs::path dir = fs::temp_directory_path() / ("gfmd_sweep_resume_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const std::string text = std::string(kSliding) + "[output]\nfields = false\npng = false\n[sweep]\n"
-                                                   "parameter = \"load.force\"\nvalues = [0.002, 0.005, 0.01]\n";
+  const std::string text = std::string(kSliding) +
+                           "[output]\nfields = false\npng = false\n[sweep]\n"
+                           "parameter = \"load.force\"\nvalues = [0.002, 0.005, 0.01]\n";
   std::ofstream(dir / "case.toml") << text;
   const std::string path = (dir / "case.toml").string();
   const Config cfg = load_config(path);
@@ -177,7 +178,8 @@ TEST(Robustness, InterruptedSweepKeepsFinishedPointsAndResumes) {
   EXPECT_EQ(full["completed"].get<int>(), 3);
   // Same answer as an uninterrupted solve of the last point.
   const CaseResult last = run_case(parse_config(kSliding, "t.toml", {"load.force=0.01"}));
-  EXPECT_NEAR(full["points"][2]["friction_coefficient"].get<double>(), last.observables.friction_coefficient, 1e-7);
+  EXPECT_NEAR(full["points"][2]["friction_coefficient"].get<double>(), last.observables.friction_coefficient,
+              1e-7);
   EXPECT_FALSE(fs::exists(dir / "out" / "point_002" / "checkpoint.bin"));
   fs::remove_all(dir);
 }

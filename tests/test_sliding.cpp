@@ -72,7 +72,8 @@ TEST(Sliding, UncoupledGivesMicroscopicFrictionAndSymmetricPressure) {
   // SPEC §7: nu = 0.5 on a half-space, and any nu without coupling: mu = mu_c, p symmetric.
   for (const std::vector<std::string>& sets :
        {std::vector<std::string>{"elastic.poisson=0.5"}, std::vector<std::string>{"elastic.coupling=false"},
-        std::vector<std::string>{"elastic.coupling=false", "elastic.poisson=0.49", "elastic.thickness=0.2"}}) {
+        std::vector<std::string>{"elastic.coupling=false", "elastic.poisson=0.49",
+                                 "elastic.thickness=0.2"}}) {
     const auto r = solve(kHertz, sets);
     EXPECT_NEAR(r.observables.friction_coefficient, 1.0, 1e-3) << sets.back();
     EXPECT_NEAR(r.observables.friction_coefficient_downhill, 1.0, 1e-6) << sets.back();
@@ -157,8 +158,8 @@ TEST(Sliding, RoughConfinedFrictionIsNonMonotonicInPressure) {
   for (const char* p : {"load.pressure=0.003", "load.pressure=0.03", "load.pressure=0.3"}) {
     const auto r = solve(kRoughLayer, {p});
     d.push_back(r.observables.friction_coefficient - 1.0);
-    std::printf("%s: a_c = %.4f, Delta mu/mu_c = %.5f, %d iterations\n", p, r.observables.relative_contact_area,
-                d.back(), r.info.iterations);
+    std::printf("%s: a_c = %.4f, Delta mu/mu_c = %.5f, %d iterations\n", p,
+                r.observables.relative_contact_area, d.back(), r.info.iterations);
   }
   EXPECT_GT(d[0], 0.0);
   EXPECT_GT(d[1], d[0]);

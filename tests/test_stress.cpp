@@ -28,7 +28,7 @@ using namespace gfmd;
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kA = 0.2;                      // Hertz contact radius
+constexpr double kA = 0.2;                       // Hertz contact radius
 constexpr double kF = 4.0 * kA * kA * kA / 3.0;  // load giving a = 0.2 for R = E* = 1
 const double kP0 = 3.0 * kF / (2.0 * kPi * kA * kA);
 
@@ -48,10 +48,11 @@ const CaseResult& hertz(int nx) {
   if (it != cache.end()) return it->second;
   char force[64];
   std::snprintf(force, sizeof force, "%.17g", kF);
-  const std::string toml = "[grid]\nnx = " + std::to_string(nx) +
-                           "\nlx = 3.2\n[elastic]\npoisson = 0.3\n[indenter]\ntype = \"hertz\"\nradius = 1.0\n"
-                           "[load]\nforce = " +
-                           force + "\n[interaction]\nmodel = \"hardwall\"\n[solver]\ntolerance = 1e-10\nthreads = 1\n";
+  const std::string toml =
+      "[grid]\nnx = " + std::to_string(nx) +
+      "\nlx = 3.2\n[elastic]\npoisson = 0.3\n[indenter]\ntype = \"hertz\"\nradius = 1.0\n"
+      "[load]\nforce = " +
+      force + "\n[interaction]\nmodel = \"hardwall\"\n[solver]\ntolerance = 1e-10\nthreads = 1\n";
   CaseResult r = run_case(parse_config(toml, "hertz.toml"));
   EXPECT_TRUE(r.info.converged) << r.info.status;
   return cache.emplace(nx, std::move(r)).first->second;
@@ -191,7 +192,8 @@ TEST(StressPrincipal, RandomAndNearlyDegenerateEigenpairs) {
                                        (e.s3 - e.s1) * (e.s3 - e.s1)));
     EXPECT_NEAR(vm, vp, 1e-12 * ref);
   }
-  std::printf("principal: worst eigenvalue error %.2e, worst |A v - s1 v| %.2e (relative)\n", worst_inv, worst);
+  std::printf("principal: worst eigenvalue error %.2e, worst |A v - s1 v| %.2e (relative)\n", worst_inv,
+              worst);
   EXPECT_LT(worst_inv, 1e-13);
   EXPECT_LT(worst, 1e-12);
 }
@@ -260,8 +262,9 @@ TEST(StressSurface, HookeCoefficientsFromAnalyticStrains) {
           sxx = lam * (exx + eyy + ezz) + 2 * G * exx;
           syy = lam * (exx + eyy + ezz) + 2 * G * eyy;
         }
-        err = std::max({err, std::abs(s.xx[k] - sxx), std::abs(s.yy[k] - syy), std::abs(s.xy[k] - 2 * G * exy),
-                        std::abs(s.zz[k] + 0.3), std::abs(s.xz[k]), std::abs(s.yz[k])});
+        err =
+            std::max({err, std::abs(s.xx[k] - sxx), std::abs(s.yy[k] - syy), std::abs(s.xy[k] - 2 * G * exy),
+                      std::abs(s.zz[k] + 0.3), std::abs(s.xz[k]), std::abs(s.yz[k])});
       }
     EXPECT_LT(err, 1e-13) << "nu = " << nu;
   }
@@ -281,11 +284,12 @@ TEST(StressSurface, HertzFrictionlessEdgeAndCentre) {
     const StressField s = post_analysis_stress(fft, body, r.fields.pressure, 0.0, 0.0);
     const StressSummary m = summarize(g, principal(s));
     const double edge = (1 - 2 * nu) / 3 * kP0, centre = -(1 + 2 * nu) / 2 * kP0;
-    const double r_max = std::hypot((m.max_tensile_ix - g.nx / 2) * g.dx(), (m.max_tensile_iy - g.ny / 2) * g.dy());
-    const double e_edge = m.max_tensile_stress / edge - 1, e_xx = s.xx[c] / centre - 1, e_yy = s.yy[c] / centre - 1,
-                 e_zz = s.zz[c] / -kP0 - 1;
-    std::printf("Hertz nu=%.2f: edge tension %+.4f at r/a=%.3f, centre xx %+.4f yy %+.4f zz %+.4f\n", nu, e_edge,
-                r_max / kA, e_xx, e_yy, e_zz);
+    const double r_max =
+        std::hypot((m.max_tensile_ix - g.nx / 2) * g.dx(), (m.max_tensile_iy - g.ny / 2) * g.dy());
+    const double e_edge = m.max_tensile_stress / edge - 1, e_xx = s.xx[c] / centre - 1,
+                 e_yy = s.yy[c] / centre - 1, e_zz = s.zz[c] / -kP0 - 1;
+    std::printf("Hertz nu=%.2f: edge tension %+.4f at r/a=%.3f, centre xx %+.4f yy %+.4f zz %+.4f\n", nu,
+                e_edge, r_max / kA, e_xx, e_yy, e_zz);
     EXPECT_LT(std::abs(e_edge), 0.03);
     EXPECT_NEAR(r_max / kA, 1.0, 2 * g.dx() / kA);
     EXPECT_LT(std::abs(e_xx), 0.03);
@@ -371,7 +375,8 @@ TEST(StressPostAnalysis, RotatingSlidingDirectionWithIndenterRotatesField) {
   for (int iy = 0; iy < g.ny; ++iy)
     for (int ix = 0; ix < g.nx; ++ix) {
       const int jx = ((cx - (iy - cy)) % g.nx + g.nx) % g.nx, jy = ((cy + (ix - cx)) % g.ny + g.ny) % g.ny;
-      const std::size_t i = static_cast<std::size_t>(iy) * g.nx + ix, j = static_cast<std::size_t>(jy) * g.nx + jx;
+      const std::size_t i = static_cast<std::size_t>(iy) * g.nx + ix,
+                        j = static_cast<std::size_t>(jy) * g.nx + jx;
       d = std::max({d, std::abs(p90.s1[j] - p0.s1[i]), std::abs(p90.von_mises[j] - p0.von_mises[i])});
       // e1 rotates with the field (up to sign).
       const double ex = -p0.e1y[i], ey = p0.e1x[i], ez = p0.e1z[i];
@@ -400,7 +405,8 @@ TEST(StressSubsurface, SurfaceDisplacementIsTheBodyCompliance) {
       const ModeResponse r = mode_response(q, 0.0, el);
       const PhiRotated p = phi_rotated(qh, nu);
       const double det = p.p11 * p.p33 - p.p13 * p.p13, f = q * el.contact_modulus;
-      const double c11 = p.p33 / (det * f), c33 = p.p11 / (det * f), c13 = -p.p13 / (det * f), c22 = 1 / (p.p22 * f);
+      const double c11 = p.p33 / (det * f), c33 = p.p11 / (det * f), c13 = -p.p13 / (det * f),
+                   c22 = 1 / (p.p22 * f);
       const cplx i(0, 1);
       const cplx expect[3][3] = {{c11, 0, i * c13}, {0, c22, 0}, {-i * c13, 0, c33}};
       const double scale = std::max({c11, c22, c33});
@@ -457,7 +463,8 @@ TEST(StressSubsurface, FieldDisplacementAndStressAtDepthZero) {
     const DisplacementField d = subsurface_displacement(fft, el, f, 0.0);
     double du = 0;
     for (std::size_t k = 0; k < g.size(); ++k)
-      du = std::max({du, std::abs(d.ux[k] - s.ux[k]), std::abs(d.uy[k] - s.uy[k]), std::abs(d.uz[k] - s.uz[k])});
+      du = std::max(
+          {du, std::abs(d.ux[k] - s.ux[k]), std::abs(d.uy[k] - s.uy[k]), std::abs(d.uz[k] - s.uz[k])});
     const double uscale = std::max({max_abs(s.ux), max_abs(s.uy), max_abs(s.uz)});
     EXPECT_LT(du, 1e-12 * uscale) << "h = " << h;
     // Stress: remove the noise so that the Nyquist lines are empty, then compare.
@@ -473,8 +480,9 @@ TEST(StressSubsurface, FieldDisplacementAndStressAtDepthZero) {
     const StressField a = surface_stress(fft, el, smooth), b = subsurface_stress(fft, el, smooth, 0.0);
     double ds = 0;
     for (std::size_t k = 0; k < g.size(); ++k)
-      ds = std::max({ds, std::abs(a.xx[k] - b.xx[k]), std::abs(a.yy[k] - b.yy[k]), std::abs(a.zz[k] - b.zz[k]),
-                     std::abs(a.xy[k] - b.xy[k]), std::abs(a.xz[k] - b.xz[k]), std::abs(a.yz[k] - b.yz[k])});
+      ds =
+          std::max({ds, std::abs(a.xx[k] - b.xx[k]), std::abs(a.yy[k] - b.yy[k]), std::abs(a.zz[k] - b.zz[k]),
+                    std::abs(a.xy[k] - b.xy[k]), std::abs(a.xz[k] - b.xz[k]), std::abs(a.yz[k] - b.yz[k])});
     EXPECT_LT(ds, 1e-12 * max_abs(a.zz)) << "h = " << h;
   }
 }
@@ -488,7 +496,8 @@ TEST(StressSubsurface, DepthZeroMatchesSurfaceStressOfSolvedSlidingState) {
   for (const char* sets : {"elastic.poisson=0.25", "elastic.thickness=0.3"}) {
     const std::string toml =
         "[grid]\nnx = 128\nlx = 1.6\n[elastic]\npoisson = 0.3\n[indenter]\ntype = \"hertz\"\nradius = 1.0\n"
-        "[load]\nforce = 0.01\n[friction]\ncoefficient = 0.5\nreference = false\n[solver]\ntolerance = 1e-10\nthreads = 1\n";
+        "[load]\nforce = 0.01\n[friction]\ncoefficient = 0.5\nreference = false\n[solver]\ntolerance = "
+        "1e-10\nthreads = 1\n";
     const CaseResult r = run_case(parse_config(toml, "t.toml", {sets}));
     ASSERT_TRUE(r.info.converged) << r.info.status;
     const Grid& g = r.config.grid;
@@ -511,8 +520,8 @@ TEST(StressSubsurface, DepthZeroMatchesSurfaceStressOfSolvedSlidingState) {
       fft.backward(sd.data(), d.data());
       off_nyquist = std::max(off_nyquist, max_abs(d));
     }
-    std::printf("%s: depth 0 vs surface stress: %.2e of p_max, %.2e without the Nyquist lines\n", sets, raw / pmax,
-                off_nyquist / pmax);
+    std::printf("%s: depth 0 vs surface stress: %.2e of p_max, %.2e without the Nyquist lines\n", sets,
+                raw / pmax, off_nyquist / pmax);
     EXPECT_LT(off_nyquist, 1e-12 * pmax);
     EXPECT_LT(raw, 5e-3 * pmax);
   }
@@ -544,10 +553,12 @@ TEST(StressSubsurface, NavierEquilibriumHookeAndBaseConditions) {
       const DisplacementField up = subsurface_displacement(fft, el, f, d - e),
                               um = subsurface_displacement(fft, el, f, d + e);
       // z = -d: d/dz = -d/dd, so d/dz ~ (F(d - e) - F(d + e)) / (2e).
-      const RealField dxx = deriv(fft, s.xx, true), dxy_y = deriv(fft, s.xy, false), dxy_x = deriv(fft, s.xy, true),
-                      dyy = deriv(fft, s.yy, false), dxz = deriv(fft, s.xz, true), dyz = deriv(fft, s.yz, false);
-      const RealField exx = deriv(fft, u.ux, true), eyy = deriv(fft, u.uy, false), uxy = deriv(fft, u.ux, false),
-                      uyx = deriv(fft, u.uy, true), uzx = deriv(fft, u.uz, true), uzy = deriv(fft, u.uz, false);
+      const RealField dxx = deriv(fft, s.xx, true), dxy_y = deriv(fft, s.xy, false),
+                      dxy_x = deriv(fft, s.xy, true), dyy = deriv(fft, s.yy, false),
+                      dxz = deriv(fft, s.xz, true), dyz = deriv(fft, s.yz, false);
+      const RealField exx = deriv(fft, u.ux, true), eyy = deriv(fft, u.uy, false),
+                      uxy = deriv(fft, u.ux, false), uyx = deriv(fft, u.uy, true),
+                      uzx = deriv(fft, u.uz, true), uzy = deriv(fft, u.uz, false);
       const double scale = max_abs(s.zz) + max_abs(s.xx);
       double eq = 0, hk = 0;
       for (std::size_t k = 0; k < g.size(); ++k) {
@@ -562,10 +573,11 @@ TEST(StressSubsurface, NavierEquilibriumHookeAndBaseConditions) {
         hk = std::max({hk, std::abs(s.xx[k] - es * (exx[k] + nu * eyy[k]) - nu / (1 - nu) * s.zz[k]),
                        std::abs(s.yy[k] - es * (eyy[k] + nu * exx[k]) - nu / (1 - nu) * s.zz[k]),
                        std::abs(s.xy[k] - G * (uxy[k] + uyx[k])), std::abs(s.xz[k] - G * (dz_ux + uzx[k])),
-                       std::abs(s.yz[k] - G * (dz_uy + uzy[k])), std::abs(s.zz[k] - lam * tr - 2 * G * dz_uz)});
+                       std::abs(s.yz[k] - G * (dz_uy + uzy[k])),
+                       std::abs(s.zz[k] - lam * tr - 2 * G * dz_uz)});
       }
-      std::printf("h=%g d=%g: equilibrium residual %.2e /L, Hooke residual %.2e (of the stress scale)\n", h, d,
-                  eq / scale * g.lx, hk / scale);
+      std::printf("h=%g d=%g: equilibrium residual %.2e /L, Hooke residual %.2e (of the stress scale)\n", h,
+                  d, eq / scale * g.lx, hk / scale);
       EXPECT_LT(eq * g.lx, 1e-5 * scale);
       EXPECT_LT(hk, 1e-5 * scale);
     }
@@ -617,7 +629,8 @@ TEST(StressSubsurface, StableForLargeQhAndRejectsBadDepth) {
     double diff = 0;
     for (std::size_t k = 0; k < g.size(); ++k) {
       ASSERT_TRUE(std::isfinite(b.xx[k]) && std::isfinite(b.zz[k]) && std::isfinite(b.xz[k]));
-      diff = std::max({diff, std::abs(a.xx[k] - b.xx[k]), std::abs(a.zz[k] - b.zz[k]), std::abs(a.xz[k] - b.xz[k])});
+      diff = std::max(
+          {diff, std::abs(a.xx[k] - b.xx[k]), std::abs(a.zz[k] - b.zz[k]), std::abs(a.xz[k] - b.xz[k])});
     }
     EXPECT_LT(diff, 1e-12 * max_abs(f.pressure)) << "d = " << d;
   }
@@ -666,12 +679,14 @@ TEST(StressSubsurface, HertzMaximumVonMisesOnAxis) {
       z_ref = zz;
     }
   }
-  std::printf("Hertz subsurface: max von Mises %.4f p0 at %.4f a (closed form %.4f p0 at %.4f a): %+.4f, %+.4f\n",
-              v_max / kP0, z_max / kA, ref / kP0, z_ref / kA, v_max / ref - 1, z_max / z_ref - 1);
+  std::printf(
+      "Hertz subsurface: max von Mises %.4f p0 at %.4f a (closed form %.4f p0 at %.4f a): %+.4f, %+.4f\n",
+      v_max / kP0, z_max / kA, ref / kP0, z_ref / kA, v_max / ref - 1, z_max / z_ref - 1);
   EXPECT_NEAR(ref / kP0, 0.62, 0.005);
   EXPECT_NEAR(z_ref / kA, 0.48, 0.005);
   EXPECT_LT(std::abs(v_max / ref - 1), 0.03);
   EXPECT_LT(std::abs(z_max / z_ref - 1), 0.03);
   // The on-axis profile itself, above and below the maximum.
-  for (double zz : {0.25 * kA, kA, 2 * kA}) EXPECT_LT(std::abs(vm_at(zz) / hertz_axis_von_mises(zz, 0.3) - 1), 0.03);
+  for (double zz : {0.25 * kA, kA, 2 * kA})
+    EXPECT_LT(std::abs(vm_at(zz) / hertz_axis_von_mises(zz, 0.3) - 1), 0.03);
 }
