@@ -232,6 +232,30 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// PCG for one right-hand side: the preconditioner set-up runs for the first one only;
+// both phases are timed.
+template <class Setup, class Solve>
+void timed_pcg(bool first, LinearSolution& sol, Setup&& setup, Solve&& solve) {
+  if (first) {
+    const auto t0 = std::chrono::steady_clock::now();
+    setup();
+    sol.setup_s = seconds_since(t0);
+  }
+  const auto t1 = std::chrono::steady_clock::now();
+  solve();
+  sol.solve_s = seconds_since(t1);
+}
+
+// Fills the outcome of a solve whose solution is already in sol.x, from HYPRE's
+// iteration count and final relative residual.
+void finish(LinearSolution& sol, HYPRE_Int its, HYPRE_Real res, const FlowOptions& opt) {
+  sol.iterations = its;
+  sol.residual = res;
+  bool finite = std::isfinite(res);
+  for (double v : sol.x) finite = finite && std::isfinite(v);
+  sol.converged = finite && res <= opt.tolerance;
+}
+
 // One PCG solve per right-hand side, all with the same operator and preconditioner.
 std::vector<LinearSolution> solve_struct(const LinearSystem& sys, const std::vector<std::vector<double>>& rhs,
                                          const FlowOptions& opt) {
@@ -341,25 +365,16 @@ std::vector<LinearSolution> solve_struct(const LinearSystem& sys, const std::vec
     hypre_check(HYPRE_StructVectorSetBoxValues(x, ilower, iupper, zero.data()), "SetBoxValues");
     hypre_check(HYPRE_StructVectorAssemble(x), "StructVectorAssemble");
     LinearSolution sol;
-    if (k == 0) {
-      const auto t0 = std::chrono::steady_clock::now();
-      hypre_check(HYPRE_StructPCGSetup(pcg, A, b, x), "StructPCGSetup");
-      sol.setup_s = seconds_since(t0);
-    }
-    const auto t1 = std::chrono::steady_clock::now();
-    hypre_check(HYPRE_StructPCGSolve(pcg, A, b, x), "StructPCGSolve");
-    sol.solve_s = seconds_since(t1);
+    timed_pcg(
+        k == 0, sol, [&] { hypre_check(HYPRE_StructPCGSetup(pcg, A, b, x), "StructPCGSetup"); },
+        [&] { hypre_check(HYPRE_StructPCGSolve(pcg, A, b, x), "StructPCGSolve"); });
     HYPRE_Int its = 0;
     HYPRE_Real res = 0.0;
     HYPRE_StructPCGGetNumIterations(pcg, &its);
     HYPRE_StructPCGGetFinalRelativeResidualNorm(pcg, &res);
-    sol.iterations = its;
-    sol.residual = res;
     sol.x.assign(n, 0.0);
     hypre_check(HYPRE_StructVectorGetBoxValues(x, ilower, iupper, sol.x.data()), "GetBoxValues");
-    bool finite = std::isfinite(res);
-    for (double v : sol.x) finite = finite && std::isfinite(v);
-    sol.converged = finite && res <= opt.tolerance;
+    finish(sol, its, res, opt);
     out.push_back(std::move(sol));
   }
   return out;
@@ -514,30 +529,19 @@ std::vector<LinearSolution> solve_amg(const LinearSystem& sys,
     hypre_check(HYPRE_IJVectorSetValues(x, static_cast<HYPRE_Int>(n), rows.data(), zero.data()),
                 "IJVectorSetValues");
     LinearSolution sol;
-    if (k == 0) {
-      const auto t0 = std::chrono::steady_clock::now();
-      hypre_check(HYPRE_ParCSRPCGSetup(pcg, parA, parb, parx), "ParCSRPCGSetup");
-      sol.setup_s = seconds_since(t0);
-    }
-    const auto t1 = std::chrono::steady_clock::now();
-    hypre_check(HYPRE_ParCSRPCGSolve(pcg, parA, parb, parx), "ParCSRPCGSolve");
-    sol.solve_s = seconds_since(t1);
+    timed_pcg(
+        k == 0, sol, [&] { hypre_check(HYPRE_ParCSRPCGSetup(pcg, parA, parb, parx), "ParCSRPCGSetup"); },
+        [&] { hypre_check(HYPRE_ParCSRPCGSolve(pcg, parA, parb, parx), "ParCSRPCGSolve"); });
     HYPRE_Int its = 0;
     HYPRE_Real res = 0.0;
     HYPRE_PCGGetNumIterations(pcg, &its);
     HYPRE_PCGGetFinalRelativeResidualNorm(pcg, &res);
-    sol.iterations = its;
-    sol.residual = res;
     hypre_check(HYPRE_IJVectorGetValues(x, static_cast<HYPRE_Int>(n), rows.data(), xr.data()),
                 "IJVectorGetValues");
-    bool finite = std::isfinite(res);
     sol.x.assign(ncell, 0.0);
     for (std::size_t i = 0; i < ncell; ++i)
-      if (index[i] >= 0) {
-        sol.x[i] = xr[static_cast<std::size_t>(index[i])];
-        finite = finite && std::isfinite(sol.x[i]);
-      }
-    sol.converged = finite && res <= opt.tolerance;
+      if (index[i] >= 0) sol.x[i] = xr[static_cast<std::size_t>(index[i])];
+    finish(sol, its, res, opt);
     out.push_back(std::move(sol));
   }
   return out;
