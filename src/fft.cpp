@@ -2,16 +2,17 @@
 
 #include <fftw3.h>
 #include <omp.h>
-#include <unistd.h>
 
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <mutex>
 #include <new>
 #include <string>
 #include <system_error>
+
+#include "gfmd/io.hpp"
 
 namespace gfmd {
 
@@ -33,21 +34,22 @@ std::string wisdom_file() {
   return {};
 }
 
-// Written through a temporary file and a rename, so that concurrent runs never read a
+// Written atomically (write_text_atomic), so that concurrent runs never read a
 // half-written file. A cache that cannot be written is not an error (plans are only slower
 // to make next time).
 void save_wisdom(const std::string& path) {
   if (path.empty()) return;
-  std::error_code ec;
-  const std::filesystem::path target(path);
-  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path(), ec);
-  const std::string tmp = path + ".tmp." + std::to_string(static_cast<long>(getpid()));
-  if (fftw_export_wisdom_to_filename(tmp.c_str()) == 0) {
-    std::filesystem::remove(tmp, ec);
-    return;
+  char* text = fftw_export_wisdom_to_string();
+  if (text == nullptr) return;
+  try {
+    const std::filesystem::path target(path);
+    std::error_code ec;
+    if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path(), ec);
+    write_text_atomic(path, text);
+  } catch (const std::exception&) {
+    // unwritable cache: ignored
   }
-  std::filesystem::rename(tmp, target, ec);
-  if (ec) std::filesystem::remove(tmp, ec);
+  fftw_free(text);
 }
 }  // namespace
 

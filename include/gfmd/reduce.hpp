@@ -10,24 +10,9 @@
 
 namespace gfmd {
 
-// sum over all points of f(i) where i = iy * nx + ix.
-template <class F>
-double grid_sum(const Grid& g, F&& f) {
-  std::vector<double> rows(static_cast<std::size_t>(g.ny));
-#pragma omp parallel for schedule(static)
-  for (int iy = 0; iy < g.ny; ++iy) {
-    double s = 0.0;
-    const std::size_t base = static_cast<std::size_t>(iy) * g.nx;
-    for (int ix = 0; ix < g.nx; ++ix) s += f(base + ix);
-    rows[iy] = s;
-  }
-  double total = 0.0;
-  for (double r : rows) total += r;
-  return total;
-}
-
 // K sums in one pass: f(i, acc) adds point i's contributions into acc[0..K-1]. Same
-// row-then-row-order summation as grid_sum, so the results do not depend on threads.
+// sums each row serially and adds the row sums in row order, so the results do not
+// depend on the number of threads.
 template <std::size_t K, class F>
 std::array<double, K> grid_sums(const Grid& g, F&& f) {
   std::vector<std::array<double, K>> rows(static_cast<std::size_t>(g.ny));
@@ -42,6 +27,12 @@ std::array<double, K> grid_sums(const Grid& g, F&& f) {
   for (const auto& r : rows)
     for (std::size_t k = 0; k < K; ++k) total[k] += r[k];
   return total;
+}
+
+// sum over all points of f(i) where i = iy * nx + ix (the one-sum case of grid_sums).
+template <class F>
+double grid_sum(const Grid& g, F&& f) {
+  return grid_sums<1>(g, [&](std::size_t i, std::array<double, 1>& acc) { acc[0] += f(i); })[0];
 }
 
 // As grid_sums with a run-time number k of sums: f(i, acc) adds into acc[0..k-1].
