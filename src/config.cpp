@@ -306,6 +306,9 @@ Config build(const toml::value& root, const std::string& name, const std::string
   Section fr(root, "friction", errors);
   c.friction.coefficient = fr.number("coefficient", 0.0);
   c.friction.direction_deg = fr.number("direction", 0.0);
+  c.friction.regularization = fr.number("regularization", 0.0);
+  if (!(c.friction.regularization >= 0 && c.friction.regularization < 1))
+    fr.error("regularization", "must be in [0, 1) (slip speed / v0 below which the traction is regularised)");
   if (!(c.friction.coefficient >= 0) || !std::isfinite(c.friction.coefficient))
     fr.error("coefficient", "must be a non-negative number" + fr.at("coefficient"));
   if (!std::isfinite(c.friction.direction_deg)) fr.error("direction", "must be finite (degrees from +x)");
@@ -578,6 +581,7 @@ nlohmann::json Config::to_json() const {
   j["load"] = {{lk, load.value}};
   j["friction"] = {{"coefficient", friction.coefficient},
                    {"direction", friction.direction_deg},
+                   {"regularization", friction.regularization},
                    {"reference", friction_reference}};
   j["interaction"] = {{"model", interaction.hard_wall ? "hardwall" : "harmonic"},
                       {"stiffness", interaction.stiffness}};

@@ -56,19 +56,36 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     slip_velocity(fft, fric, f.ux, f.uy, vx, vy);
     const double th = fric.direction_deg * std::numbers::pi / 180.0;
     directional_derivative(fft, std::cos(th), std::sin(th), topo.h, dh);
-    o.friction_force =
-        mu * da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * std::hypot(vx[i], vy[i]); });
+    // Traction magnitude mu_c p f(|v|) (f = 1 for exact Coulomb, |v|/eps below the
+    // regularisation speed eps); direction v/|v|.
+    const auto factor = [&](double v) { return fric.traction_factor(v); };
+    o.friction_force = mu * da * grid_sum(g, [&](std::size_t i) {
+                         const double v = std::hypot(vx[i], vy[i]);
+                         return f.pressure[i] * v * factor(v);
+                       });
     o.downhill_force = -da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * dh[i]; });
-    o.friction_force_downhill = mu * o.normal_force + o.downhill_force;
-    // The exact work of the driving force: mu_c sum p (s . e_s) + dF (s the unit slip direction).
-    o.friction_force_drive =
+    o.friction_force_downhill =
         mu * da *
-            grid_sum(g,
-                     [&](std::size_t i) {
-                       const double v = std::hypot(vx[i], vy[i]);
-                       return v > 0 ? f.pressure[i] * (vx[i] * std::cos(th) + vy[i] * std::sin(th)) / v : 0.0;
-                     }) +
+            grid_sum(g, [&](std::size_t i) { return f.pressure[i] * factor(std::hypot(vx[i], vy[i])); }) +
         o.downhill_force;
+    // The exact work of the driving force: sum tau . e_s + dF.
+    o.friction_force_drive = mu * da *
+                                 grid_sum(g,
+                                          [&](std::size_t i) {
+                                            const double v = std::hypot(vx[i], vy[i]);
+                                            return v > 0
+                                                       ? f.pressure[i] * factor(v) *
+                                                             (vx[i] * std::cos(th) + vy[i] * std::sin(th)) / v
+                                                       : 0.0;
+                                          }) +
+                             o.downhill_force;
+    if (fric.regularization > 0)
+      o.near_stick_fraction =
+          grid_sum(g,
+                   [&](std::size_t i) {
+                     return (f.pressure[i] > 0 && std::hypot(vx[i], vy[i]) < fric.regularization) ? 1.0 : 0.0;
+                   }) /
+          n;
     o.friction_coefficient = o.friction_force / o.normal_force;
     o.friction_coefficient_downhill = o.friction_force_downhill / o.normal_force;
     o.energy_balance_error = std::abs(o.friction_force - o.friction_force_downhill) / o.friction_force;
@@ -143,7 +160,8 @@ DerivedFields derived_fields(const FFT& fft, const FrictionParams& fric, const C
   for (std::size_t i = 0; i < n; ++i) {
     d.slip_longitudinal[i] = vx[i] * ex + vy[i] * ey - 1.0;
     d.slip_transverse[i] = -vx[i] * ey + vy[i] * ex;
-    d.dissipation[i] = fric.coefficient * f.pressure[i] * std::hypot(vx[i], vy[i]);
+    const double v = std::hypot(vx[i], vy[i]);
+    d.dissipation[i] = fric.coefficient * f.pressure[i] * v * fric.traction_factor(v);
   }
   return d;
 }
@@ -166,6 +184,7 @@ nlohmann::json to_json(const Observables& o) {
     j["energy_balance_error_exact"] = o.energy_balance_error_exact;
     j["max_slip_velocity"] = o.max_slip_velocity;
     j["min_slip_velocity"] = o.min_slip_velocity;
+    j["near_stick_fraction"] = o.near_stick_fraction;
   }
   j["centroid_shift"] = o.centroid_shift;
   j["centroid_shift_transverse"] = o.centroid_shift_transverse;

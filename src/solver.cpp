@@ -283,11 +283,12 @@ void ContactSolver::slip_tractions(const ContactFields& f, RealField& tx, RealFi
   fft_.backward(s1_.data(), r1_.data());
   fft_.backward(s2_.data(), r2_.data());
   const double mu = fric_.coefficient;
+  const double eps = fric_.regularization;  // tau = mu p v / max(|v|, eps)
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.size());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const double vx = ex + r1_[i], vy = ey + r2_[i];
-    const double norm = std::hypot(vx, vy);
+    const double norm = std::max(std::hypot(vx, vy), eps);
     const double p = f.pressure[i];
     tx[i] = (p > 0 && norm > 0) ? mu * p * vx / norm : 0.0;
     ty[i] = (p > 0 && norm > 0) ? mu * p * vy / norm : 0.0;
@@ -375,6 +376,10 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     double err = 1.0, best = std::numeric_limits<double>::infinity();
     int since_best = 0;
     double omega = sp_.mixing;
+    // Stall test: the best change must improve by 10 % within 20 steps. Slow but steady
+    // progress (stiff slip feedback near stick) is not a stall; a limit cycle is.
+    constexpr double stall_gain = 0.9;
+    constexpr int stall_steps = 20;
     info.status = "not converged: friction fixed point did not settle";
     const Grid g2{grid_.nx, 2 * grid_.ny, grid_.lx, grid_.ly};  // sums over both components
     // Component c of the iterate x (the traction in f), of G(x) (tx, ty) at flat index i < 2n.
@@ -410,10 +415,10 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         info.status = "converged";
         break;
       }
-      if (err < 0.5 * best) {
+      if (err < stall_gain * best) {
         best = err;
         since_best = 0;
-      } else if (++since_best >= 15) {
+      } else if (++since_best >= stall_steps) {
         // Stalled: damp harder and restart the mixing history; give up once damping
         // no longer helps (a limit cycle of the slip field).
         omega *= 0.5;
@@ -515,6 +520,29 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     }
     and_df_.clear();
     and_dx_.clear();
+    if (!info.converged) {
+      // Near stick the slip direction of the exact Coulomb law is ill-conditioned (the
+      // usual cause of a friction fixed point that does not settle): say so. r1_/r2_ hold
+      // the last (e.grad) u.
+      const double th = fric_.direction_deg * std::numbers::pi / 180.0;
+      const double ex = std::cos(th), ey = std::sin(th);
+      constexpr double slow = 0.1;
+      std::size_t nslow = 0;
+      double vmin = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < n; ++i)
+        if (f.pressure[i] > 0) {
+          const double v = std::hypot(ex + r1_[i], ey + r2_[i]);
+          vmin = std::min(vmin, v);
+          if (v < slow) ++nslow;
+        }
+      if (nslow > 0 && fric_.regularization < slow) {
+        std::ostringstream os;
+        os << info.status << "; " << nslow << " contact points slip slower than " << slow << " v0 (minimum "
+           << vmin
+           << " v0), where the exact Coulomb law is ill-conditioned: set friction.regularization (e.g. 0.1)";
+        info.status = os.str();
+      }
+    }
     if (!pk.converged && info.converged) {
       info.converged = false;
       info.status = "not converged: iteration limit reached";

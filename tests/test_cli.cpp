@@ -126,6 +126,8 @@ TEST(Cli, BadInputIsRefusedCleanly) {
        "solver.tolerance"},
       {"invalid_utf8", kGood + "# \xff\xfe\n", "", "not valid UTF-8"},
       {"negative_mu", kGood + "[friction]\ncoefficient = -0.5\n", "", "friction.coefficient"},
+      {"regularization", kGood + "[friction]\ncoefficient = 1\nregularization = 1.5\n", "",
+       "friction.regularization: must be in [0, 1)"},
       {"bad_model", kGood + "[interaction]\nmodel = \"lennard-jones\"\n", "", "interaction.model"},
       {"threads", kGood + "[solver]\nthreads = -2\n", "", "solver.threads"},
       {"fft_planner", kGood + "[solver]\nfft_planner = \"patient\"\n", "",

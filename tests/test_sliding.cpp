@@ -166,3 +166,31 @@ TEST(Sliding, RoughConfinedFrictionIsNonMonotonicInPressure) {
   EXPECT_LT(d[2], d[1]);
   EXPECT_GT(d[2], 0.0);
 }
+
+TEST(Sliding, RegularisedCoulombSettlesNearStickAndLeavesFullSlipAlone) {
+  // A thinner layer (h = 0.05 lambda_l) at p = 0.1 E*: in-plane strains (e_s.grad) u_s near
+  // -1 make some contact points slip at < 1 % of v0, where the direction of the exact
+  // Coulomb traction is ill-conditioned. Its fixed point does not settle and the solver
+  // says why; the regularised law (traction mu_c p v / eps below |v| = eps) converges, and
+  // its observables still balance the energy exactly (work of the driving force =
+  // dissipation, both from the regularised traction).
+  const std::vector<std::string> thin = {"elastic.thickness=0.05", "load.pressure=0.1"};
+  const CaseResult exact = run_case(parse_config(kRoughLayer, "test.toml", thin));
+  EXPECT_FALSE(exact.info.converged);
+  EXPECT_NE(exact.info.status.find("set friction.regularization"), std::string::npos) << exact.info.status;
+  auto sets = thin;
+  sets.emplace_back("friction.regularization=0.1");
+  const auto reg = solve(kRoughLayer, sets);
+  EXPECT_GT(reg.observables.near_stick_fraction, 0.0);
+  EXPECT_LT(reg.observables.near_stick_fraction, 0.01);
+  EXPECT_LT(reg.observables.min_slip_velocity, 0.1);
+  EXPECT_LT(reg.observables.energy_balance_error_exact, 1e-4);
+  // Where every contact point slips faster than eps the law is exact Coulomb: the same
+  // numbers to the last bit.
+  const auto a = solve(kRoughLayer);
+  const auto b = solve(kRoughLayer, {"friction.regularization=0.1"});
+  EXPECT_GT(a.observables.min_slip_velocity, 0.1);
+  EXPECT_EQ(a.observables.friction_coefficient, b.observables.friction_coefficient);
+  EXPECT_EQ(a.observables.relative_contact_area, b.observables.relative_contact_area);
+  EXPECT_EQ(b.observables.near_stick_fraction, 0.0);
+}

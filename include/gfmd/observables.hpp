@@ -17,8 +17,9 @@ struct Observables {
   double max_pressure = 0;
   double mean_gap = 0;  // mean of max(gap, 0) over the cell
   double approach = 0;
-  // Friction (zero without friction). Dissipation: F = P_diss / v0 =
-  // mu_c sum p |e_s + (e_s.grad) u| dA. Downhill: F = mu_c F_z + dF, dF = -sum p (e_s.grad h) dA.
+  // Friction (zero without friction). Dissipation: F = P_diss / v0 = sum tau . v dA =
+  // mu_c sum p |e_s + (e_s.grad) u| dA. Downhill: F = mu_c F_z + dF, dF = -sum p (e_s.grad h) dA
+  // (with the regularised law near stick, mu_c F_z becomes sum |tau| dA).
   double friction_force = 0;
   double friction_force_downhill = 0;
   double downhill_force = 0;
@@ -38,6 +39,9 @@ struct Observables {
   double contact_extent_longitudinal = 0;  // (max - min) of contact cells . e_s, + dx
   double contact_extent_transverse = 0;
   double max_slip_velocity = 0, min_slip_velocity = 0;  // |v_slip|/v0 over the contact
+  // Fraction of all cells in contact and slipping slower than friction.regularization
+  // (where the regularised law applies; 0 without regularisation).
+  double near_stick_fraction = 0;
 };
 
 // Fields derived from a solved state (all on the grid).

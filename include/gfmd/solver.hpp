@@ -13,7 +13,9 @@
 //
 // Friction (SPEC §4-5): the slip velocity of the body relative to the indenter is
 // -v0 (e_s + (e_s.grad) u) (the indenter moves along +e_s over the body); the Coulomb
-// traction on the body opposes it: tau = mu_c p s, s = (e_s + (e_s.grad)u)/|...|.
+// traction on the body opposes it: tau = mu_c p s, s = (e_s + (e_s.grad)u)/|...|, or
+// regularised near stick (FrictionParams::regularization: tau = mu_c p v / eps where the
+// slip speed |v| < eps), where the exact law makes the slip direction ill-conditioned.
 // The non-conservative traction enters as a fixed point: for a given tau the normal
 // problem is the same convex problem with g0 replaced by g0 - w, w = C_z. tau (the
 // normal displacement friction causes); then tau is rebuilt from the new p and u.
@@ -39,6 +41,14 @@ struct InteractionParams {
 struct FrictionParams {
   double coefficient = 0.0;    // mu_c
   double direction_deg = 0.0;  // sliding direction of the indenter, degrees from +x
+  // Regularised Coulomb law near stick: where the slip speed |v_slip|/v0 falls below this
+  // value, the traction is mu_c p v_slip / regularization (it vanishes with the slip
+  // instead of jumping); above it the law is exact Coulomb. 0: exact Coulomb everywhere.
+  double regularization = 0.0;
+  // |tau| / (mu_c p) at slip speed v (in units of v0).
+  [[nodiscard]] double traction_factor(double v) const {
+    return (regularization > 0 && v < regularization) ? v / regularization : 1.0;
+  }
 };
 
 enum class LoadMode { Force, Pressure, Approach };
