@@ -331,7 +331,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
   Section so(root, "solver", errors);
   c.solver.tolerance = so.number("tolerance", 1e-8);
   c.solver.max_iterations = static_cast<int>(so.integer("max_iterations", 20000));
-  c.solver.max_outer = static_cast<int>(so.integer("max_outer", 500));
+  c.solver.max_outer = static_cast<int>(so.integer("max_outer", 2000));
   c.solver.anderson = static_cast<int>(so.integer("anderson", 10));
   c.solver.mixing = so.number("mixing", 0.5);
   if (!(c.solver.mixing > 0 && c.solver.mixing <= 1)) so.error("mixing", "must be in (0, 1]");

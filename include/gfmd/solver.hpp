@@ -60,7 +60,7 @@ struct LoadParams {
 struct SolverParams {
   double tolerance = 1e-8;                  // gap residual, relative pressure change, relative tau change
   int max_iterations = 20000;               // total inner (conjugate-gradient) iterations
-  int max_outer = 500;                      // friction fixed-point steps
+  int max_outer = 2000;                     // friction fixed-point steps
   int anderson = 10;                        // Anderson mixing depth of the friction fixed point (0: none)
   double mixing = 0.5;                      // relaxation of the friction fixed point, in (0, 1]
   Planner fft_planner = Planner::Estimate;  // FFTW planner of the solver's transforms
