@@ -375,6 +375,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     bool have_prev = false;
     double err = 1.0, best = std::numeric_limits<double>::infinity();
     int since_best = 0;
+    bool have_slip = false;  // r1_/r2_ hold (e.grad) u of this solve
     double omega = sp_.mixing;
     // Stall test: the best change must improve by 10 % within 20 steps. Slow but steady
     // progress (stiff slip feedback near stick) is not a stall; a limit cycle is.
@@ -399,6 +400,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       // w and the two slip derivatives back.
       inplane_spectra(f);
       slip_tractions(f, tx, ty);
+      have_slip = true;
       const auto dn = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
         acc[0] += std::abs(tx[i] - f.tx[i]) + std::abs(ty[i] - f.ty[i]);
         acc[1] += std::abs(tx[i]) + std::abs(ty[i]);
@@ -520,7 +522,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     }
     and_df_.clear();
     and_dx_.clear();
-    if (!info.converged) {
+    if (!info.converged && have_slip) {
       // Near stick the slip direction of the exact Coulomb law is ill-conditioned (the
       // usual cause of a friction fixed point that does not settle): say so. r1_/r2_ hold
       // the last (e.grad) u.
