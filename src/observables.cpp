@@ -1,6 +1,7 @@
 #include "gfmd/observables.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -56,36 +57,23 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     slip_velocity(fft, fric, f.ux, f.uy, vx, vy);
     const double th = fric.direction_deg * std::numbers::pi / 180.0;
     directional_derivative(fft, std::cos(th), std::sin(th), topo.h, dh);
-    // Traction magnitude mu_c p f(|v|) (f = 1 for exact Coulomb, |v|/eps below the
-    // regularisation speed eps); direction v/|v|.
-    const auto factor = [&](double v) { return fric.traction_factor(v); };
-    o.friction_force = mu * da * grid_sum(g, [&](std::size_t i) {
-                         const double v = std::hypot(vx[i], vy[i]);
-                         return f.pressure[i] * v * factor(v);
-                       });
+    // One pass over the slip field. Traction magnitude mu_c p f(|v|) (f = 1 for exact
+    // Coulomb, |v|/eps below the regularisation speed eps), direction v/|v|:
+    // [0] dissipation sum p |v| f, [1] sum p f (downhill form), [2] the work of the driving
+    // force sum p f (v.e_s)/|v|, [3] cells in contact slipping slower than eps.
+    const double ex = std::cos(th), ey = std::sin(th), eps = fric.regularization;
+    const auto s = grid_sums<4>(g, [&](std::size_t i, std::array<double, 4>& acc) {
+      const double v = std::hypot(vx[i], vy[i]), p = f.pressure[i], pf = p * fric.traction_factor(v);
+      acc[0] += pf * v;
+      acc[1] += pf;
+      acc[2] += v > 0 ? pf * (vx[i] * ex + vy[i] * ey) / v : 0.0;
+      acc[3] += (p > 0 && v < eps) ? 1.0 : 0.0;
+    });
     o.downhill_force = -da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * dh[i]; });
-    o.friction_force_downhill =
-        mu * da *
-            grid_sum(g, [&](std::size_t i) { return f.pressure[i] * factor(std::hypot(vx[i], vy[i])); }) +
-        o.downhill_force;
-    // The exact work of the driving force: sum tau . e_s + dF.
-    o.friction_force_drive = mu * da *
-                                 grid_sum(g,
-                                          [&](std::size_t i) {
-                                            const double v = std::hypot(vx[i], vy[i]);
-                                            return v > 0
-                                                       ? f.pressure[i] * factor(v) *
-                                                             (vx[i] * std::cos(th) + vy[i] * std::sin(th)) / v
-                                                       : 0.0;
-                                          }) +
-                             o.downhill_force;
-    if (fric.regularization > 0)
-      o.near_stick_fraction =
-          grid_sum(g,
-                   [&](std::size_t i) {
-                     return (f.pressure[i] > 0 && std::hypot(vx[i], vy[i]) < fric.regularization) ? 1.0 : 0.0;
-                   }) /
-          n;
+    o.friction_force = mu * da * s[0];
+    o.friction_force_downhill = mu * da * s[1] + o.downhill_force;
+    o.friction_force_drive = mu * da * s[2] + o.downhill_force;
+    o.near_stick_fraction = s[3] / n;
     o.friction_coefficient = o.friction_force / o.normal_force;
     o.friction_coefficient_downhill = o.friction_force_downhill / o.normal_force;
     o.energy_balance_error = std::abs(o.friction_force - o.friction_force_downhill) / o.friction_force;
