@@ -2,6 +2,7 @@
 // added in row order, so the result does not depend on the number of threads.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -48,6 +49,26 @@ std::vector<double> grid_sums(const Grid& g, std::size_t k, F&& f) {
   std::vector<double> total(k, 0.0);
   for (int iy = 0; iy < g.ny; ++iy)
     for (std::size_t j = 0; j < k; ++j) total[j] += rows[static_cast<std::size_t>(iy) * k + j];
+  return total;
+}
+
+// As the run-time grid_sums over the indices 0..len-1 of a list (not a grid): blocks of a
+// fixed length are summed serially and the block sums added in order, so the results do
+// not depend on the number of threads either.
+template <class F>
+std::vector<double> range_sums(std::size_t len, std::size_t k, F&& f) {
+  constexpr std::size_t block = 4096;
+  const std::ptrdiff_t nb = static_cast<std::ptrdiff_t>((len + block - 1) / block);
+  std::vector<double> blocks(static_cast<std::size_t>(nb) * k, 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t b = 0; b < nb; ++b) {
+    double* s = blocks.data() + static_cast<std::size_t>(b) * k;
+    const std::size_t lo = static_cast<std::size_t>(b) * block, hi = std::min(len, lo + block);
+    for (std::size_t i = lo; i < hi; ++i) f(i, s);
+  }
+  std::vector<double> total(k, 0.0);
+  for (std::ptrdiff_t b = 0; b < nb; ++b)
+    for (std::size_t j = 0; j < k; ++j) total[j] += blocks[static_cast<std::size_t>(b) * k + j];
   return total;
 }
 
