@@ -162,14 +162,15 @@ std::array<cplx, 9> ElasticBody::stiffness(int ikx, int iky) const {
   return k;
 }
 
-void ElasticBody::displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy,
-                               cplx* uz) const {
+void ElasticBody::displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
+                               double scale) const {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(modes_.size());
   const cplx i(0.0, 1.0);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     const ComplianceMode& m = modes_[k];
-    const cplx x = tx ? tx[k] : cplx(0.0), y = ty ? ty[k] : cplx(0.0), z = tz ? tz[k] : cplx(0.0);
+    const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
+               z = tz ? scale * tz[k] : cplx(0.0);
     if (ux) ux[k] = m.cxx * x + m.cxy * y + i * m.cxz * z;
     if (uy) uy[k] = m.cxy * x + m.cyy * y + i * m.cyz * z;
     if (uz) uz[k] = -i * m.cxz * x - i * m.cyz * y + m.czz * z;

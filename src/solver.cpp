@@ -79,9 +79,7 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   }
   m /= static_cast<double>(g0_.size());
   g0_rms_ = std::sqrt(std::max(0.0, m2 / static_cast<double>(g0_.size()) - m * m));
-  for (auto* s : {&s1_, &s2_, &s3_, &s4_, &s5_, &s6_}) s->resize(grid_.spectral_size());
-  r1_.resize(grid_.size());
-  r2_.resize(grid_.size());
+  for (auto* s : {&s1_, &s2_, &s3_}) s->resize(grid_.spectral_size());
   for (auto* f : {&cg_g_, &cg_t_, &cg_r_}) f->assign(grid_.size(), 0.0);
   czz_n_.resize(body.modes().size());
   for (std::size_t k = 0; k < czz_n_.size(); ++k)
@@ -242,46 +240,50 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
 }
 
 void ContactSolver::update_displacements(ContactFields& f) {
-  // Tractions on the body: (tau_x, tau_y, -p).
+  // Tractions on the body: (tau_x, tau_y, -p); the displacement spectra replace the
+  // traction spectra in place (1/N folded in) and are synthesised destructively.
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.size());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) r1_[i] = -f.pressure[i];
   fft_.forward(r1_.data(), s1_.data());
   fft_.forward(f.tx.data(), s2_.data());
   fft_.forward(f.ty.data(), s3_.data());
-  body_.displacement(s2_.data(), s3_.data(), s1_.data(), s4_.data(), s5_.data(), s6_.data());
-  fft_.backward(s4_.data(), f.ux.data());
-  fft_.backward(s5_.data(), f.uy.data());
-  fft_.backward(s6_.data(), f.uz.data());
+  body_.displacement(s2_.data(), s3_.data(), s1_.data(), s2_.data(), s3_.data(), s1_.data(),
+                     1.0 / static_cast<double>(n));
+  fft_.backward_unscaled_destroying(s2_.data(), f.ux.data());
+  fft_.backward_unscaled_destroying(s3_.data(), f.uy.data());
+  fft_.backward_unscaled_destroying(s1_.data(), f.uz.data());
 }
 
 void ContactSolver::inplane_spectra(const ContactFields& f) {
   // Requires s2_/s3_ to hold the spectra of tau_x/tau_y (friction_normal_displacement);
-  // leaves the spectra of ux/uy in s4_/s5_. One forward FFT.
+  // replaces them with the spectra of ux/uy. One forward FFT.
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.size());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) r1_[i] = -f.pressure[i];
   fft_.forward(r1_.data(), s1_.data());
-  body_.displacement(s2_.data(), s3_.data(), s1_.data(), s4_.data(), s5_.data(), nullptr);
+  body_.displacement(s2_.data(), s3_.data(), s1_.data(), s2_.data(), s3_.data(), nullptr);
 }
 
 void ContactSolver::slip_tractions(const ContactFields& f, RealField& tx, RealField& ty) {
-  // Requires s4_/s5_ to hold the spectra of ux/uy (update_displacements or inplane_spectra).
+  // Requires s2_/s3_ to hold the spectra of ux/uy (inplane_spectra); leaves (e.grad) u in
+  // r1_/r2_.
   const double th = fric_.direction_deg * std::numbers::pi / 180.0;
   const double ex = std::cos(th), ey = std::sin(th);
   const int nxh = grid_.nxh();
+  const double scale = 1.0 / static_cast<double>(grid_.size());
 #pragma omp parallel for schedule(static)
   for (int iky = 0; iky < grid_.ny; ++iky) {
     const double qy = grid_.qy_deriv(iky);
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
-      const cplx d(0.0, ex * grid_.qx_deriv(ikx) + ey * qy);
-      s1_[k] = d * s4_[k];
-      s2_[k] = d * s5_[k];
+      const cplx d(0.0, scale * (ex * grid_.qx_deriv(ikx) + ey * qy));
+      s1_[k] = d * s2_[k];
+      s2_[k] = d * s3_[k];
     }
   }
-  fft_.backward(s1_.data(), r1_.data());
-  fft_.backward(s2_.data(), r2_.data());
+  fft_.backward_unscaled_destroying(s1_.data(), r1_.data());
+  fft_.backward_unscaled_destroying(s2_.data(), r2_.data());
   const double mu = fric_.coefficient;
   const double eps = fric_.regularization;  // tau = mu p v / max(|v|, eps)
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.size());
@@ -298,8 +300,9 @@ void ContactSolver::slip_tractions(const ContactFields& f, RealField& tx, RealFi
 void ContactSolver::friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w) {
   fft_.forward(tx.data(), s2_.data());
   fft_.forward(ty.data(), s3_.data());
-  body_.displacement(s2_.data(), s3_.data(), nullptr, nullptr, nullptr, s6_.data());
-  fft_.backward(s6_.data(), w.data());
+  body_.displacement(s2_.data(), s3_.data(), nullptr, nullptr, nullptr, s1_.data(),
+                     1.0 / static_cast<double>(grid_.size()));
+  fft_.backward_unscaled_destroying(s1_.data(), w.data());
 }
 
 double ContactSolver::residual(const ContactFields& f, double delta) {
@@ -341,8 +344,11 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
   current_ = &f;
   last_checkpoint_ = std::chrono::duration<double>(t0.time_since_epoch()).count();
   const std::size_t n = grid_.size();
-  for (auto* fld : {&f.pressure, &f.tx, &f.ty, &f.ux, &f.uy, &f.uz, &f.gap})
+  for (auto* fld : {&f.pressure, &f.tx, &f.ty})
     if (fld->size() != n) fld->assign(n, 0.0);
+  // The displacements and the gap follow from (p, tau) at the end: their memory is given
+  // back during the iterations.
+  for (auto* fld : {&f.ux, &f.uy, &f.uz, &f.gap}) RealField().swap(*fld);
   total_it_ = 0;
   SolveInfo info;
   info.stiffness = k_;
@@ -363,10 +369,20 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     // itself through the in-plane compliance) and on thin, nearly incompressible layers,
     // so it is accelerated by Anderson mixing over the last `anderson` steps.
     RealField tx(n), ty(n);
-    const std::size_t n2 = 2 * n;
-    // Anderson state: previous iterate and residual (double), ring buffers of their
-    // differences (float), the Gram matrix of the residual differences (slot-indexed).
-    RealField xprev(n2), fprev(n2);
+    // Anderson state, kept on the support of the traction only: the points where the
+    // iterate or its image has been non-zero since the solve began (the contact set and
+    // the points that left it; elsewhere every difference is exactly zero). supp lists them in
+    // order of entry; per support point the previous iterate and residual (double) and
+    // the ring buffers of their differences (float) hold two interleaved components.
+    std::vector<std::uint32_t> supp;
+    // Zero-extends v to len with 25 % headroom (the support grows in small steps; the
+    // default doubling would hold up to twice the memory).
+    const auto grow = [](auto& v, std::size_t len) {
+      if (v.capacity() < len) v.reserve(len + len / 4);
+      v.resize(len, 0);
+    };
+    std::vector<unsigned char> in_supp(n, 0);
+    std::vector<double> xprev, fprev;
     const int m = std::max(0, sp_.anderson);
     and_df_.assign(static_cast<std::size_t>(m), {});
     and_dx_.assign(static_cast<std::size_t>(m), {});
@@ -382,10 +398,6 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     constexpr double stall_gain = 0.9;
     constexpr int stall_steps = 20;
     info.status = "not converged: friction fixed point did not settle";
-    const Grid g2{grid_.nx, 2 * grid_.ny, grid_.lx, grid_.ly};  // sums over both components
-    // Component c of the iterate x (the traction in f), of G(x) (tx, ty) at flat index i < 2n.
-    const auto xval = [&](std::size_t i) { return i < n ? f.tx[i] : f.ty[i - n]; };
-    const auto gval = [&](std::size_t i) { return i < n ? tx[i] : ty[i - n]; };
     for (int outer = 0; outer < sp_.max_outer; ++outer) {
       info.outer_iterations = outer + 1;
       friction_normal_displacement(f.tx, f.ty, w);
@@ -401,9 +413,12 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       inplane_spectra(f);
       slip_tractions(f, tx, ty);
       have_slip = true;
-      const auto dn = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
+      // acc[2]: points outside the Anderson support where the iterate or its image is
+      // non-zero (they join the support below).
+      const auto dn = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
         acc[0] += std::abs(tx[i] - f.tx[i]) + std::abs(ty[i] - f.ty[i]);
         acc[1] += std::abs(tx[i]) + std::abs(ty[i]);
+        if (!in_supp[i] && (tx[i] != 0.0 || ty[i] != 0.0 || f.tx[i] != 0.0 || f.ty[i] != 0.0)) acc[2] += 1.0;
       });
       err = dn[1] > 0 ? dn[0] / dn[1] : 0.0;
       require_finite(err, "the friction traction", total_it_);
@@ -445,12 +460,32 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       // gamma = argmin |f - dF gamma|, x <- x - dX gamma + omega (f - dF gamma).
       // omega < 1 damps the rotating (imaginary-eigenvalue) modes of the slip feedback.
       // One pass stores the new differences and forms the new Gram row and dF^T f.
+      if (dn[2] > 0) {
+        // New support points (in grid order, so the layout does not depend on threads):
+        // their previous iterate, residual and all stored differences are zero.
+        for (std::size_t i = 0; i < n; ++i)
+          if (!in_supp[i] && (tx[i] != 0.0 || ty[i] != 0.0 || f.tx[i] != 0.0 || f.ty[i] != 0.0)) {
+            in_supp[i] = 1;
+            supp.push_back(static_cast<std::uint32_t>(i));
+          }
+        const std::size_t len = 2 * supp.size();
+        grow(xprev, len);
+        grow(fprev, len);
+        for (int sl : slots) {
+          grow(and_df_[static_cast<std::size_t>(sl)], len);
+          grow(and_dx_[static_cast<std::size_t>(sl)], len);
+        }
+      }
+      const std::size_t ns = supp.size();
       std::vector<double> rhs;
       if (!have_prev) {
 #pragma omp parallel for schedule(static)
-        for (std::size_t i = 0; i < n2; ++i) {
-          xprev[i] = xval(i);
-          fprev[i] = gval(i) - xval(i);
+        for (std::size_t j = 0; j < ns; ++j) {
+          const std::size_t i = supp[j];
+          xprev[2 * j] = f.tx[i];
+          xprev[2 * j + 1] = f.ty[i];
+          fprev[2 * j] = tx[i] - f.tx[i];
+          fprev[2 * j + 1] = ty[i] - f.ty[i];
         }
         have_prev = true;
       } else {
@@ -466,21 +501,24 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         slots.push_back(slot);
         auto& dfs = and_df_[static_cast<std::size_t>(slot)];
         auto& dxs = and_dx_[static_cast<std::size_t>(slot)];
-        dfs.resize(n2);
-        dxs.resize(n2);
+        grow(dfs, 2 * ns);
+        grow(dxs, 2 * ns);
         const std::size_t h = slots.size();
         std::vector<const float*> hist(h);
         for (std::size_t r = 0; r < h; ++r) hist[r] = and_df_[static_cast<std::size_t>(slots[r])].data();
-        // acc[0..h-1]: <dF_r, dF_new>, acc[h..2h-1]: <dF_r, f>.
-        const auto sums = grid_sums(g2, 2 * h, [&](std::size_t i, double* acc) {
-          const double xi = xval(i), fi = gval(i) - xi;
-          const float dfi = static_cast<float>(fi - fprev[i]);
-          dfs[i] = dfi;
-          dxs[i] = static_cast<float>(xi - xprev[i]);
-          xprev[i] = xi;
-          fprev[i] = fi;
+        // Over both components of every support point: acc[0..h-1] = <dF_r, dF_new>,
+        // acc[h..2h-1] = <dF_r, f>.
+        const auto sums = range_sums(2 * ns, 2 * h, [&](std::size_t e, double* acc) {
+          const std::size_t i = supp[e / 2];
+          const double xi = (e % 2 == 0) ? f.tx[i] : f.ty[i];
+          const double fi = ((e % 2 == 0) ? tx[i] : ty[i]) - xi;
+          const float dfi = static_cast<float>(fi - fprev[e]);
+          dfs[e] = dfi;
+          dxs[e] = static_cast<float>(xi - xprev[e]);
+          xprev[e] = xi;
+          fprev[e] = fi;
           for (std::size_t r = 0; r < h; ++r) {
-            const double hr = hist[r][i];
+            const double hr = hist[r][e];
             acc[r] += hr * static_cast<double>(dfi);
             acc[h + r] += hr * fi;
           }
@@ -505,17 +543,19 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         hf[r] = and_df_[static_cast<std::size_t>(slots[r])].data();
         hx[r] = and_dx_[static_cast<std::size_t>(slots[r])].data();
       }
-      const std::ptrdiff_t nn = static_cast<std::ptrdiff_t>(n);
+      // Outside the support the iterate and its image are zero, and so is the update.
+      const std::ptrdiff_t nsp = static_cast<std::ptrdiff_t>(ns);
 #pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < nn; ++i) {
-        const std::size_t j = static_cast<std::size_t>(i) + n;
-        double xx = xprev[i], xy = xprev[j], fx = fprev[i], fy = fprev[j];
+      for (std::ptrdiff_t j = 0; j < nsp; ++j) {
+        const std::size_t ex = 2 * static_cast<std::size_t>(j), ey = ex + 1;
+        double xx = xprev[ex], xy = xprev[ey], fx = fprev[ex], fy = fprev[ey];
         for (std::size_t r = 0; r < h; ++r) {
-          xx -= gamma[r] * hx[r][i];
-          xy -= gamma[r] * hx[r][j];
-          fx -= gamma[r] * hf[r][i];
-          fy -= gamma[r] * hf[r][j];
+          xx -= gamma[r] * hx[r][ex];
+          xy -= gamma[r] * hx[r][ey];
+          fx -= gamma[r] * hf[r][ex];
+          fy -= gamma[r] * hf[r][ey];
         }
+        const std::size_t i = supp[static_cast<std::size_t>(j)];
         f.tx[i] = xx + omega * fx;
         f.ty[i] = xy + omega * fy;
       }
@@ -553,6 +593,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
   info.iterations = total_it_;
   info.pk_error = pk.error;
   info.approach = pk.delta;
+  for (auto* fld : {&f.ux, &f.uy, &f.uz, &f.gap}) fld->resize(n);
   update_displacements(f);
   for (std::size_t i = 0; i < n; ++i) f.gap[i] = std::max(0.0, g0_[i] - pk.delta - f.uz[i]);
   info.residual = residual(f, pk.delta);

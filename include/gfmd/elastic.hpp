@@ -64,8 +64,11 @@ class ElasticBody {
   [[nodiscard]] std::array<cplx, 9> stiffness(int ikx, int iky) const;
   [[nodiscard]] std::array<cplx, 9> compliance(int ikx, int iky) const;
 
-  // Displacement spectra from traction spectra (any of tx, ty may be null = zero).
-  void displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz) const;
+  // Displacement spectra from traction spectra, times `scale` (any of tx, ty, tz may be
+  // null = zero; any of ux, uy, uz null = not wanted). Outputs may alias inputs (each mode
+  // is read before it is written), e.g. ux = tx, uy = ty, uz = tz in place.
+  void displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
+                    double scale = 1.0) const;
 
  private:
   Grid grid_;

@@ -96,12 +96,14 @@ class ContactSolver {
                 const FrictionParams& fric, const SolverParams& solver);
 
   // Solves for the given load. `fields` may hold a previous solution of the same grid
-  // (warm start); it is overwritten with the new one.
+  // (warm start: pressure and tractions are used); it is overwritten with the new one.
+  // While the solve runs (progress, checkpoints, an exception) only pressure, tx and ty
+  // are valid; ux, uy, uz and gap are empty until the end.
   SolveInfo solve(const LoadParams& load, ContactFields& fields);
 
   void set_progress(std::function<void(const Progress&)> cb) { progress_ = std::move(cb); }
   // Polled every iteration: returning true stops the solve with gfmd::Interrupted, the
-  // fields holding the last state (a valid warm start).
+  // fields holding the last pressure and tractions (a valid warm start).
   void set_stop_request(std::function<bool()> cb) { stop_ = std::move(cb); }
   // Called with the current state every `interval_s` seconds (checkpoints).
   void set_checkpoint(std::function<void(const ContactFields&)> cb, double interval_s) {
@@ -139,10 +141,13 @@ class ContactSolver {
   double inv_k_;  // 1/k
   RealField g0_;
   double g0_rms_ = 0.0;
-  SpecField s1_, s2_, s3_, s4_, s5_, s6_;
-  RealField r1_, r2_;
+  SpecField s1_, s2_, s3_;        // half-spectrum scratch
   RealField cg_g_, cg_t_, cg_r_;  // work arrays of solve_normal
-  std::vector<double> czz_n_;     // C_zz / (nx ny) per half-spectrum mode, contiguous
+  // Real scratch of the friction step and the displacement update; solve_normal does not
+  // keep anything in its work arrays between calls, so these share them.
+  RealField& r1_ = cg_t_;
+  RealField& r2_ = cg_r_;
+  std::vector<double> czz_n_;  // C_zz / (nx ny) per half-spectrum mode, contiguous
   // Anderson history of the friction fixed point (ring buffers, single precision: only
   // the mixing uses them; convergence is always judged on the unaccelerated map).
   std::vector<std::vector<float>> and_df_, and_dx_;
