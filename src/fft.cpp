@@ -3,6 +3,10 @@
 #include <fftw3.h>
 #include <omp.h>
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #include <cstdlib>
 #include <cstring>
 #include <exception>
@@ -53,6 +57,23 @@ void save_wisdom(const std::string& path) {
 }
 }  // namespace
 
+#ifdef __GLIBC__
+// Grid-sized blocks must be mapped and unmapped whole, so that a freed field goes back to
+// the system. SuperLU_DIST (loaded with HYPRE) switches that off in its static
+// initialiser (mallopt M_MMAP_MAX = 0, M_TRIM_THRESHOLD = -1: every block from the heap,
+// never trimmed), which kept every field ever freed resident (+70-150 B per grid point
+// of peak memory at 2048^2). This initialiser runs after those of the shared libraries:
+// it restores mapping, with a fixed threshold (glibc would otherwise raise it to the size
+// of a freed block, up to 32 MiB) and the default trimming.
+namespace {
+bool restore_block_mapping() {
+  return mallopt(M_MMAP_MAX, 65536) == 1 && mallopt(M_MMAP_THRESHOLD, 1 << 20) == 1 &&
+         mallopt(M_TRIM_THRESHOLD, 128 * 1024) == 1;
+}
+[[maybe_unused]] const bool g_block_mapping = restore_block_mapping();
+}  // namespace
+#endif
+
 void* fftw_aligned_alloc(std::size_t bytes) {
   void* p = fftw_malloc(bytes == 0 ? 1 : bytes);
   if (p == nullptr) throw std::bad_alloc();
@@ -79,8 +100,7 @@ struct FFT::Plans {
   fftw_plan c2r = nullptr;
 };
 
-FFT::FFT(const Grid& grid, Planner planner)
-    : grid_(grid), plans_(std::make_unique<Plans>()), rbuf_(grid.size()), cbuf_(grid.spectral_size()) {
+FFT::FFT(const Grid& grid, Planner planner) : grid_(grid), plans_(std::make_unique<Plans>()) {
   if (g_threads == 0) set_threads(0);
   const bool measure = planner == Planner::Measure;
   const unsigned flags = (measure ? FFTW_MEASURE : FFTW_ESTIMATE);
@@ -90,8 +110,11 @@ FFT::FFT(const Grid& grid, Planner planner)
     if (!wisdom.empty()) fftw_import_wisdom_from_filename(wisdom.c_str());  // absent or stale: ignored
     g_wisdom_loaded = true;
   }
-  auto* r = rbuf_.data();
-  auto* c = reinterpret_cast<fftw_complex*>(cbuf_.data());
+  // Planning arrays only (the plans run on the callers' aligned arrays): freed at once.
+  RealField rplan(grid.size());
+  SpecField cplan(grid.spectral_size());
+  auto* r = rplan.data();
+  auto* c = reinterpret_cast<fftw_complex*>(cplan.data());
   plans_->r2c = fftw_plan_dft_r2c_2d(grid.ny, grid.nx, r, c, flags);
   plans_->c2r = fftw_plan_dft_c2r_2d(grid.ny, grid.nx, c, r, flags);
   if (plans_->r2c == nullptr || plans_->c2r == nullptr)
@@ -120,6 +143,7 @@ void FFT::backward(const cplx* in, double* out) const {
   ++transforms_;
   const double scale = 1.0 / static_cast<double>(grid_.size());
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.spectral_size());
+  if (cbuf_.empty()) cbuf_.resize(grid_.spectral_size());  // first use: c2r destroys its input
   cplx* buf = cbuf_.data();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) buf[i] = in[i] * scale;

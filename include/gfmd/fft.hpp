@@ -67,7 +67,7 @@ class FFT {
   // Analysis: out[q] = sum_r in[r] exp(-i q.r) (no normalisation). in is not modified.
   void forward(const double* in, cplx* out) const;
   // Synthesis including the 1/(nx*ny): out[r] = (1/N) sum_q in[q] exp(+i q.r).
-  // in is not modified.
+  // in is not modified (it is copied into a buffer this object allocates on first use).
   void backward(const cplx* in, double* out) const;
   // Synthesis without the 1/(nx*ny) (fold it into the spectrum), overwriting `in`, which
   // must come from an FFTW-aligned allocation (SpecField): one pass less than backward().
@@ -83,8 +83,7 @@ class FFT {
   struct Plans;
   Grid grid_;
   std::unique_ptr<Plans> plans_;
-  mutable RealField rbuf_;
-  mutable SpecField cbuf_;
+  mutable SpecField cbuf_;  // backward()'s copy of its input, allocated on first use
   mutable std::uint64_t transforms_ = 0;
 };
 
