@@ -88,6 +88,7 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   opts.stop_request = stop_requested;
   opts.checkpoint_path = ckpt;
   opts.checkpoint_interval_s = checkpoint_s;
+  opts.keep_stress_fields = gfmd::outputs_need_stress_fields(cfg);
   if (have_warm) opts.warm_start = &warm;
   gfmd::CaseResult r;
   try {
@@ -296,7 +297,9 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
       ss.push_back("flow.direction=\"both\"");
       if (variant == 1) ss.push_back("friction.coefficient=0");
       const gfmd::Config c = gfmd::load_config(case_path, ss);
-      const gfmd::CaseResult r = gfmd::run_case(c);
+      gfmd::RunOptions ro;
+      ro.keep_stress_fields = gfmd::outputs_need_stress_fields(c);
+      const gfmd::CaseResult r = gfmd::run_case(c, ro);
       if (!r.info.converged) throw gfmd::SolveError("seed " + std::to_string(seed) + ": " + r.info.status);
       const std::string d = (std::filesystem::path(out_dir) /
                              ((variant ? "frictionless_seed_" : "seed_") + std::to_string(seed)))

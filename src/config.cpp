@@ -481,11 +481,13 @@ std::vector<double> parse_flow_directions(const std::string& text) {
 }
 
 double estimated_memory_bytes(const Grid& grid) {
-  // 7 output fields + g0 + w + 2 traction scratch + 4 CG fields + 2 real scratch
-  // + FFT buffers (1 real, 1 complex) + 7 complex half-spectra + compliance (48 B/mode).
+  // Peak of a sliding solve (BENCHMARKS.md, memory budget): topography, pressure and two
+  // tractions, g0, w, the traction image, three CG fields (11 real fields), three complex
+  // half-spectra, the compliance tables (56 B/mode) and the Anderson history on the
+  // traction's support (196 B per support point; allowance: half the grid in contact).
   const double n = static_cast<double>(grid.size());
   const double ns = static_cast<double>(grid.spectral_size());
-  return n * 8.0 * 18.0 + ns * (16.0 * 8.0 + 48.0);
+  return n * (8.0 * 11.0 + 0.5 * 196.0) + ns * (3.0 * 16.0 + 56.0);
 }
 
 namespace {

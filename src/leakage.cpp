@@ -113,6 +113,7 @@ nlohmann::json find_percolation(const Config& base, const PercolationOptions& op
     c.stress.post_analysis = false;
     c.stress.depths.clear();
     RunOptions ro;
+    ro.keep_stress_fields = false;
     if (have) ro.warm_start = &warm;
     CaseResult r = run_case(c, ro);
     if (!r.info.converged)

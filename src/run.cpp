@@ -21,15 +21,27 @@ namespace gfmd {
 
 namespace fs = std::filesystem;
 
-void compute_stresses(CaseResult& r, const ElasticBody& body, const FFT& fft) {
+namespace {
+std::string profiles_table(const CaseResult& r, const FFT& fft);
+
+// Stresses, their summaries and the profiles table. With keep_fields false only the
+// summaries and the table stay (the full fields are what fields.nc and the PNG maps show).
+void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
   const Config& cfg = r.config;
   r.stress = surface_stress(fft, cfg.elastic, r.fields);
-  r.principal = principal(r.stress);
+  r.principal = principal(r.stress, keep_fields ? PrincipalParts::All : PrincipalParts::SummaryOnly);
   r.stress_summary = summarize(cfg.grid, r.principal, cfg.stress.high_tension_fraction);
+  r.has_stress = true;
+  if (cfg.stress.profiles) r.profiles_csv = profiles_table(r, fft);
+  if (!keep_fields) {
+    r.stress = StressField{};
+    r.principal = PrincipalField{};
+  }
   if (cfg.stress.post_analysis) {
     // Frictionless pressure: the reference solve, or the solution itself without friction.
     RealField p = r.reference_pressure;
     if (p.empty() && cfg.friction.coefficient == 0) p = r.fields.pressure;
+    const ElasticBody body(cfg.grid, cfg.elastic);
     if (p.empty()) {
       FrictionParams none = cfg.friction;
       none.coefficient = 0.0;
@@ -39,19 +51,26 @@ void compute_stresses(CaseResult& r, const ElasticBody& body, const FFT& fft) {
       if (!info.converged) throw SolveError("post-analysis reference: " + info.status);
       p = rf.pressure;
     }
-    const StressField ps =
-        post_analysis_stress(fft, body, p, cfg.friction.coefficient, cfg.friction.direction_deg);
-    PrincipalField pp = principal(ps);
+    PrincipalField pp;
+    {
+      const StressField ps =
+          post_analysis_stress(fft, body, p, cfg.friction.coefficient, cfg.friction.direction_deg);
+      pp = principal(ps, PrincipalParts::SummaryOnly);
+    }
     r.post_analysis = summarize(cfg.grid, pp, cfg.stress.high_tension_fraction);
     r.post_analysis_s1 = std::move(pp.s1);
     r.has_post_analysis = true;
   }
   for (double d : cfg.stress.depths) {
-    const PrincipalField pf = principal(subsurface_stress(fft, cfg.elastic, r.fields, d));
+    const PrincipalField pf =
+        principal(subsurface_stress(fft, cfg.elastic, r.fields, d), PrincipalParts::SummaryOnly);
     r.subsurface.push_back(
         {d, summarize(cfg.grid, pf, cfg.stress.high_tension_fraction), pf.von_mises, pf.s1});
   }
 }
+}  // namespace
+
+bool outputs_need_stress_fields(const Config& cfg) { return cfg.output.fields || cfg.output.png; }
 
 CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   set_threads(cfg.threads);
@@ -59,7 +78,9 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   r.config = cfg;
   r.topography = make_topography(cfg);
   r.topography_stats = statistics(r.topography);
-  ElasticBody body(cfg.grid, cfg.elastic);
+  // The body and the solvers live only as long as the solves: the stage after them
+  // (stresses, flow) gets the memory back.
+  auto body = std::make_unique<ElasticBody>(cfg.grid, cfg.elastic);
   if (opts.warm_start && opts.warm_start->pressure.size() == cfg.grid.size()) r.fields = *opts.warm_start;
   const auto hook = [&](ContactSolver& s) {
     if (opts.progress) s.set_progress(opts.progress);
@@ -72,7 +93,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     // Frictionless reference at the same load; it also warm-starts the sliding solve.
     FrictionParams none = cfg.friction;
     none.coefficient = 0.0;
-    ContactSolver ref(body, r.topography, cfg.interaction, none, cfg.solver);
+    ContactSolver ref(*body, r.topography, cfg.interaction, none, cfg.solver);
     hook(ref);
     ContactFields rf = r.fields;
     try {
@@ -88,23 +109,27 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     }
     r.reference = compute_observables(ref.fft(), r.topography, none, rf, r.reference_info);
     r.has_reference = true;
-    r.reference_pressure = rf.pressure;
-    if (!opts.warm_start) r.fields.pressure = rf.pressure;
+    if (cfg.stress.post_analysis) r.reference_pressure = rf.pressure;
+    if (!opts.warm_start) r.fields.pressure = std::move(rf.pressure);
   }
-  ContactSolver solver(body, r.topography, cfg.interaction, cfg.friction, cfg.solver);
-  hook(solver);
-  try {
-    r.info = solver.solve(cfg.load, r.fields);
-  } catch (const Interrupted&) {
-    if (!opts.checkpoint_path.empty()) write_checkpoint(opts.checkpoint_path, cfg, r.fields);
-    throw;
+  {
+    ContactSolver solver(*body, r.topography, cfg.interaction, cfg.friction, cfg.solver);
+    hook(solver);
+    try {
+      r.info = solver.solve(cfg.load, r.fields);
+    } catch (const Interrupted&) {
+      if (!opts.checkpoint_path.empty()) write_checkpoint(opts.checkpoint_path, cfg, r.fields);
+      throw;
+    }
+    if (r.has_reference) {
+      r.info.wall_time_s += r.reference_info.wall_time_s;
+      r.info.transforms += r.reference_info.transforms;
+    }
   }
-  if (r.has_reference) {
-    r.info.wall_time_s += r.reference_info.wall_time_s;
-    r.info.transforms += r.reference_info.transforms;
-  }
-  r.observables = compute_observables(solver.fft(), r.topography, cfg.friction, r.fields, r.info);
-  if (r.info.converged) compute_stresses(r, body, solver.fft());
+  body.reset();
+  const FFT fft(cfg.grid, cfg.solver.fft_planner);
+  r.observables = compute_observables(fft, r.topography, cfg.friction, r.fields, r.info);
+  if (r.info.converged) compute_stresses(r, fft, opts.keep_stress_fields);
   if (r.info.converged && cfg.flow.enabled) {
     r.leakage = compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance);
     r.has_leakage = true;
@@ -207,7 +232,7 @@ nlohmann::json summary_json(const CaseResult& r) {
                           {"high_tension_area_fraction", s.high_tension_area_fraction},
                           {"high_tension_fraction_of", s.high_tension_fraction_of}};
   };
-  if (!r.principal.s1.empty()) j.update(stress_json(r.stress_summary));
+  if (r.has_stress) j.update(stress_json(r.stress_summary));
   if (r.has_post_analysis) j["post_analysis"] = stress_json(r.post_analysis);
   if (r.has_leakage) j["flow"] = r.leakage.json;
   if (r.has_post_analysis && r.post_analysis.max_tensile_stress > 0)
@@ -261,8 +286,9 @@ nlohmann::json summary_json(const CaseResult& r) {
 
 namespace {
 // Line profiles through the pressure maximum along and across the sliding direction
-// (nearest grid point on the line), as in the paper's SM Fig. 2.
-void write_profiles(const CaseResult& r, const std::string& dir) {
+// (nearest grid point on the line), as in the paper's SM Fig. 2. Needs the surface stress
+// tensor; the principal values are evaluated at the line points only.
+std::string profiles_table(const CaseResult& r, const FFT& fft) {
   const Grid& g = r.config.grid;
   const std::size_t n = g.size();
   std::size_t imax = 0;
@@ -271,7 +297,6 @@ void write_profiles(const CaseResult& r, const std::string& dir) {
   const int cx = static_cast<int>(imax % g.nx), cy = static_cast<int>(imax / g.nx);
   const double th = r.config.friction.direction_deg * std::numbers::pi / 180.0;
   const double ex = std::cos(th), ey = std::sin(th);
-  FFT fft(g);
   DerivedFields d;
   if (r.config.friction.coefficient > 0) d = derived_fields(fft, r.config.friction, r.fields);
   std::vector<std::pair<std::string, const double*>> cols = {{"ux", r.fields.ux.data()},
@@ -283,26 +308,29 @@ void write_profiles(const CaseResult& r, const std::string& dir) {
     cols.push_back({"slip_longitudinal", d.slip_longitudinal.data()});
     cols.push_back({"slip_transverse", d.slip_transverse.data()});
   }
-  for (const auto& c :
-       std::vector<std::pair<std::string, const RealField*>>{{"sigma_xx", &r.stress.xx},
-                                                             {"sigma_yy", &r.stress.yy},
-                                                             {"sigma_zz", &r.stress.zz},
-                                                             {"sigma_xy", &r.stress.xy},
-                                                             {"sigma_xz", &r.stress.xz},
-                                                             {"sigma_yz", &r.stress.yz},
-                                                             {"sigma_1", &r.principal.s1},
-                                                             {"von_mises", &r.principal.von_mises},
-                                                             {"e1_x", &r.principal.e1x},
-                                                             {"e1_y", &r.principal.e1y},
-                                                             {"e1_z", &r.principal.e1z}})
+  const StressField& st = r.stress;
+  for (const auto& c : std::vector<std::pair<std::string, const RealField*>>{{"sigma_xx", &st.xx},
+                                                                             {"sigma_yy", &st.yy},
+                                                                             {"sigma_zz", &st.zz},
+                                                                             {"sigma_xy", &st.xy},
+                                                                             {"sigma_xz", &st.xz},
+                                                                             {"sigma_yz", &st.yz}})
     cols.push_back({c.first, c.second->data()});
+  static const char* const kPrincipal[] = {"sigma_1", "von_mises", "e1_x", "e1_y", "e1_z"};
+  const auto principal_at = [&](std::size_t i) {
+    const Principal3 e = principal(st.xx[i], st.yy[i], st.zz[i], st.xy[i], st.xz[i], st.yz[i]);
+    return std::array<double, 5>{e.s1, von_mises(st.xx[i], st.yy[i], st.zz[i], st.xy[i], st.xz[i], st.yz[i]),
+                                 e.e1[0], e.e1[1], e.e1[2]};
+  };
   std::ostringstream os;
   os.precision(10);
   os << "# profiles through the pressure maximum at (" << g.x(cx) << ", " << g.y(cy)
      << "); s = distance along the line; longitudinal = along the sliding direction, transverse = across\n";
   os << "s";
-  for (const char* dir_name : {"longitudinal", "transverse"})
+  for (const char* dir_name : {"longitudinal", "transverse"}) {
     for (const auto& c : cols) os << "," << c.first << "_" << dir_name;
+    for (const char* c : kPrincipal) os << "," << c << "_" << dir_name;
+  }
   os << "\n";
   const int half = std::min(g.nx, g.ny) / 2;
   const double ds = std::min(g.dx(), g.dy());
@@ -314,12 +342,13 @@ void write_profiles(const CaseResult& r, const std::string& dir) {
   for (int k = -half; k < half; ++k) {
     const double sdist = k * ds;
     os << sdist;
-    const std::size_t il = at(sdist * ex, sdist * ey), it = at(-sdist * ey, sdist * ex);
-    for (const auto& c : cols) os << "," << c.second[il];
-    for (const auto& c : cols) os << "," << c.second[it];
+    for (const std::size_t i : {at(sdist * ex, sdist * ey), at(-sdist * ey, sdist * ex)}) {
+      for (const auto& c : cols) os << "," << c.second[i];
+      for (double v : principal_at(i)) os << "," << v;
+    }
     os << "\n";
   }
-  write_text_atomic((fs::path(dir) / "profiles.csv").string(), os.str());
+  return os.str();
 }
 }  // namespace
 
@@ -436,7 +465,8 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
     pv.title = "von mises";
     write_png_map((fs::path(dir) / "von_mises.png").string(), g, r.principal.von_mises.data(), pv);
   }
-  if (r.config.stress.profiles && !r.principal.s1.empty()) write_profiles(r, dir);
+  if (r.config.stress.profiles && !r.profiles_csv.empty())
+    write_text_atomic((fs::path(dir) / "profiles.csv").string(), r.profiles_csv);
   if (r.has_leakage)
     write_leakage(g, r.leakage, dir, {{"relative_contact_area", r.observables.relative_contact_area}});
   // summary.json last: its presence marks a complete run directory.
@@ -555,6 +585,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     ro.progress = opts.progress;
     ro.stop_request = opts.stop_request;
     ro.checkpoint_interval_s = opts.checkpoint_interval_s;
+    ro.keep_stress_fields = outputs_need_stress_fields(cfg);
     fs::create_directories(pdir);
     ro.checkpoint_path = (fs::path(pdir) / "checkpoint.bin").string();
     ContactFields resumed;

@@ -319,25 +319,26 @@ StressField surface_stress(const FFT& fft, const ElasticParams& el, const Contac
   require_size(f.uy, n, "uy");
   const bool has_tx = present(f.tx, n, "tx"), has_ty = present(f.ty, n, "ty");
 
-  SpecField U = fft.spec_field(), V = fft.spec_field();
+  SpecField U = fft.spec_field(), V = fft.spec_field(), W = fft.spec_field();
   fft.forward(f.ux.data(), U.data());
   fft.forward(f.uy.data(), V.data());
-  SpecField exx = fft.spec_field(), eyy = fft.spec_field(), gxy = fft.spec_field();
   const int nxh = g.nxh();
   const cplx i(0.0, 1.0);
+  // One strain component at a time: W = its spectrum, synthesised in place.
+  const auto strain = [&](int comp, RealField& out) {
 #pragma omp parallel for schedule(static)
-  for (int iky = 0; iky < g.ny; ++iky)
-    for (int ikx = 0; ikx < nxh; ++ikx) {
-      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
-      const double qx = g.qx_deriv(ikx), qy = g.qy_deriv(iky);
-      exx[k] = i * qx * U[k];
-      eyy[k] = i * qy * V[k];
-      gxy[k] = i * qy * U[k] + i * qx * V[k];  // 2 eps_xy
-    }
+    for (int iky = 0; iky < g.ny; ++iky)
+      for (int ikx = 0; ikx < nxh; ++ikx) {
+        const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
+        const double qx = g.qx_deriv(ikx), qy = g.qy_deriv(iky);
+        W[k] = comp == 0 ? i * qx * U[k] : comp == 1 ? i * qy * V[k] : i * qy * U[k] + i * qx * V[k];
+      }
+    fft.backward(W.data(), out.data());
+  };
   StressField s = make_stress(n);
-  fft.backward(exx.data(), s.xx.data());
-  fft.backward(eyy.data(), s.yy.data());
-  fft.backward(gxy.data(), s.xy.data());
+  strain(0, s.xx);  // eps_xx
+  strain(1, s.yy);  // eps_yy
+  strain(2, s.xy);  // 2 eps_xy
 
   const double es = el.contact_modulus, nu = el.poisson;
   const double G = el.shear_modulus(), lat = nu / (1.0 - nu);
@@ -510,23 +511,28 @@ Principal3 principal(double xx, double yy, double zz, double xy, double xz, doub
   return out;
 }
 
-PrincipalField principal(const StressField& s) {
+PrincipalField principal(const StressField& s, PrincipalParts parts) {
   const std::size_t n = s.xx.size();
   for (const RealField* f : {&s.yy, &s.zz, &s.xy, &s.xz, &s.yz})
     if (f->size() != n) throw std::invalid_argument("principal: stress components of different sizes");
   PrincipalField p;
-  for (RealField* f : {&p.s1, &p.s2, &p.s3, &p.e1x, &p.e1y, &p.e1z, &p.von_mises}) f->assign(n, 0.0);
+  const bool all = parts == PrincipalParts::All;
+  for (RealField* f : {&p.s1, &p.von_mises}) f->assign(n, 0.0);
+  if (all)
+    for (RealField* f : {&p.s2, &p.s3, &p.e1x, &p.e1y, &p.e1z}) f->assign(n, 0.0);
   const std::ptrdiff_t nn = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t k = 0; k < nn; ++k) {
     const Principal3 e = principal(s.xx[k], s.yy[k], s.zz[k], s.xy[k], s.xz[k], s.yz[k]);
     p.s1[k] = e.s1;
-    p.s2[k] = e.s2;
-    p.s3[k] = e.s3;
-    p.e1x[k] = e.e1[0];
-    p.e1y[k] = e.e1[1];
-    p.e1z[k] = e.e1[2];
     p.von_mises[k] = von_mises(s.xx[k], s.yy[k], s.zz[k], s.xy[k], s.xz[k], s.yz[k]);
+    if (all) {
+      p.s2[k] = e.s2;
+      p.s3[k] = e.s3;
+      p.e1x[k] = e.e1[0];
+      p.e1y[k] = e.e1[1];
+      p.e1z[k] = e.e1[2];
+    }
   }
   return p;
 }

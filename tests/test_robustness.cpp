@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -12,6 +13,7 @@
 
 #include "gfmd/config.hpp"
 #include "gfmd/error.hpp"
+#include "gfmd/reduce.hpp"
 #include "gfmd/run.hpp"
 
 using namespace gfmd;
@@ -182,4 +184,76 @@ TEST(Robustness, InterruptedSweepKeepsFinishedPointsAndResumes) {
               1e-7);
   EXPECT_FALSE(fs::exists(dir / "out" / "point_002" / "checkpoint.bin"));
   fs::remove_all(dir);
+}
+
+TEST(Robustness, RangeSumsDoNotDependOnThreads) {
+  // range_sums adds fixed blocks in order: the same bits with 1 and 2 threads, and the
+  // exact sum of a series whose partial sums are representable.
+  const std::size_t len = 100003;
+  const auto run = [&](int nt) {
+    const int saved = threads();
+    set_threads(nt);
+    const auto s = range_sums(len, 2, [](std::size_t i, double* acc) {
+      acc[0] += 1.0 / (1.0 + static_cast<double>(i));
+      acc[1] += static_cast<double>(i);
+    });
+    set_threads(saved);
+    return s;
+  };
+  const auto one = run(1), two = run(2);
+  EXPECT_EQ(one[0], two[0]);
+  EXPECT_EQ(one[1], two[1]);
+  EXPECT_EQ(one[1], static_cast<double>(len) * static_cast<double>(len - 1) / 2.0);
+  EXPECT_NEAR(one[0], std::log(static_cast<double>(len)) + 0.5772156649, 1e-5);
+}
+
+TEST(Robustness, FreedGridFieldsGoBackToTheSystem) {
+  // SuperLU_DIST, loaded with HYPRE, turns off glibc's mapping of large blocks and heap
+  // trimming; src/fft.cpp restores both. Without that, a freed field stays resident.
+  const auto rss_mib = [] {
+    std::ifstream f("/proc/self/statm");
+    long pages = 0, resident = 0;
+    f >> pages >> resident;
+    return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / 1048576.0;
+  };
+  double during = 0;
+  {
+    RealField big(std::size_t{24} << 20, 1.0);  // 192 MiB, every page touched
+    during = rss_mib();
+  }
+  const double after = rss_mib();
+  std::printf("resident: %.0f MiB with a 192 MiB field, %.0f MiB after freeing it\n", during, after);
+  EXPECT_GT(during - after, 150.0);
+}
+
+TEST(Robustness, StressSummariesDoNotDependOnKeepingTheFields) {
+  // Without fields.nc and PNG maps the CLI keeps only the stress summaries: the same
+  // numbers and the same profiles.csv as with the fields kept.
+  const std::string text =
+      std::string(kSliding) + "[stress]\npost_analysis = true\ndepths = [0.02]\nprofiles = true\n";
+  const Config cfg = parse_config(text, "t.toml", {"grid.nx=64", "solver.tolerance=1e-7"});
+  RunOptions lean;
+  lean.keep_stress_fields = false;
+  const CaseResult a = run_case(cfg), b = run_case(cfg, lean);
+  ASSERT_TRUE(a.info.converged) << a.info.status;
+  ASSERT_TRUE(b.info.converged) << b.info.status;
+  EXPECT_FALSE(a.stress.xx.empty());
+  EXPECT_FALSE(a.principal.e1z.empty());
+  EXPECT_TRUE(b.stress.xx.empty());
+  EXPECT_TRUE(b.principal.s1.empty());
+  EXPECT_FALSE(a.profiles_csv.empty());
+  EXPECT_EQ(a.profiles_csv, b.profiles_csv);
+  nlohmann::json ja = summary_json(a), jb = summary_json(b);
+  for (auto* j : {&ja, &jb}) j->erase("wall_time_s");
+  ASSERT_TRUE(ja.contains("max_tensile_stress"));
+  ASSERT_TRUE(ja.contains("post_analysis"));
+  ASSERT_TRUE(ja.contains("subsurface"));
+  EXPECT_EQ(ja["max_tensile_stress"], jb["max_tensile_stress"]);
+  EXPECT_EQ(ja["max_von_mises"], jb["max_von_mises"]);
+  EXPECT_EQ(ja["high_tension_area_fraction"], jb["high_tension_area_fraction"]);
+  EXPECT_EQ(ja["post_analysis"], jb["post_analysis"]);
+  EXPECT_EQ(ja["subsurface"], jb["subsurface"]);
+  EXPECT_FALSE(
+      outputs_need_stress_fields(parse_config(text, "t.toml", {"output.fields=false", "output.png=false"})));
+  EXPECT_TRUE(outputs_need_stress_fields(parse_config(text, "t.toml", {"output.fields=false"})));
 }

@@ -27,7 +27,10 @@ struct CaseResult {
   Observables reference;
   SolveInfo reference_info;
   RealField reference_pressure;  // frictionless pressure (with friction_reference)
-  // Stresses (SPEC §5).
+  // Stresses (SPEC §5): summaries when has_stress (a converged solve); the fields only if
+  // RunOptions::keep_stress_fields.
+  bool has_stress = false;
+  std::string profiles_csv;  // profiles.csv (stress.profiles)
   StressField stress;
   PrincipalField principal;
   StressSummary stress_summary;
@@ -50,7 +53,13 @@ struct RunOptions {
   std::function<bool()> stop_request;             // polled; true stops with gfmd::Interrupted
   std::string checkpoint_path;                    // "" = no checkpoints
   double checkpoint_interval_s = 60.0;
+  // false: the stress fields are reduced to their summaries (less memory); the CLI sets
+  // it from outputs_need_stress_fields.
+  bool keep_stress_fields = true;
 };
+
+// Whether the configured outputs show stress fields (fields.nc, PNG maps).
+bool outputs_need_stress_fields(const Config& cfg);
 
 // Checkpoints: the solver state (pressure and friction traction) with the input it
 // belongs to, written atomically. read_checkpoint returns false if the file is missing,

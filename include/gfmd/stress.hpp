@@ -66,7 +66,10 @@ struct Principal3 {
 Principal3 principal(double xx, double yy, double zz, double xy, double xz, double yz);
 double von_mises(double xx, double yy, double zz, double xy, double xz, double yz);
 
-PrincipalField principal(const StressField& s);
+// All: every member of PrincipalField. SummaryOnly: s1 and von_mises only (what
+// summarize reads), the other members left empty.
+enum class PrincipalParts { All, SummaryOnly };
+PrincipalField principal(const StressField& s, PrincipalParts parts = PrincipalParts::All);
 
 struct StressSummary {
   double max_tensile_stress = 0;  // max of s1 over the grid
