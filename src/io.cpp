@@ -365,6 +365,11 @@ void write_fields_netcdf(const std::string& path, const Grid& grid, const std::v
     if (nc4) {
       check(nc_def_var_chunking(nc.id, v, NC_CHUNKED, chunks), "cannot set chunking of '" + f.name + "'");
       check(nc_def_var_deflate(nc.id, v, 1, 1, 1), "cannot set compression of '" + f.name + "'");
+      // Each variable is written whole, in order: a cache of a few chunks suffices. The
+      // library's default (16 MiB per variable) keeps that much per variable resident
+      // until the file is closed: ~400 MiB for a 2048^2 fields.nc of 25 variables.
+      check(nc_set_var_chunk_cache(nc.id, v, 4 * chunk_x * chunk_y * sizeof(double), 17, 1.0f),
+            "cannot set the chunk cache of '" + f.name + "'");
     }
     put_text_att(target, nc.id, v, "long_name", f.long_name.empty() ? f.name : f.long_name);
     if (!f.units.empty()) put_text_att(target, nc.id, v, "units", f.units);
