@@ -382,6 +382,10 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       v.resize(len, 0);
     };
     std::vector<unsigned char> in_supp(n, 0);
+    // Point i joins the support when the iterate (f) or its image (tx, ty) is non-zero there.
+    const auto joins = [&](std::size_t i) {
+      return !in_supp[i] && (tx[i] != 0.0 || ty[i] != 0.0 || f.tx[i] != 0.0 || f.ty[i] != 0.0);
+    };
     std::vector<double> xprev, fprev;
     const int m = std::max(0, sp_.anderson);
     and_df_.assign(static_cast<std::size_t>(m), {});
@@ -418,7 +422,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       const auto dn = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
         acc[0] += std::abs(tx[i] - f.tx[i]) + std::abs(ty[i] - f.ty[i]);
         acc[1] += std::abs(tx[i]) + std::abs(ty[i]);
-        if (!in_supp[i] && (tx[i] != 0.0 || ty[i] != 0.0 || f.tx[i] != 0.0 || f.ty[i] != 0.0)) acc[2] += 1.0;
+        if (joins(i)) acc[2] += 1.0;
       });
       err = dn[1] > 0 ? dn[0] / dn[1] : 0.0;
       require_finite(err, "the friction traction", total_it_);
@@ -464,7 +468,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         // New support points (in grid order, so the layout does not depend on threads):
         // their previous iterate, residual and all stored differences are zero.
         for (std::size_t i = 0; i < n; ++i)
-          if (!in_supp[i] && (tx[i] != 0.0 || ty[i] != 0.0 || f.tx[i] != 0.0 || f.ty[i] != 0.0)) {
+          if (joins(i)) {
             in_supp[i] = 1;
             supp.push_back(static_cast<std::uint32_t>(i));
           }
