@@ -357,7 +357,6 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
   const Grid& g = r.config.grid;
   const std::size_t n = g.size();
   if (r.config.output.fields) {
-    std::vector<unsigned char> mask(n);
     RealField cm(n);
     for (std::size_t i = 0; i < n; ++i) cm[i] = r.fields.pressure[i] > 0 ? 1.0 : 0.0;
     std::vector<NamedField> fields = {
