@@ -5,6 +5,7 @@
 
 #ifdef __GLIBC__
 #include <malloc.h>
+#include <sys/mman.h>
 #endif
 
 #include <cstdlib>
@@ -71,7 +72,40 @@ bool restore_block_mapping() {
          mallopt(M_TRIM_THRESHOLD, 128 * 1024) == 1;
 }
 [[maybe_unused]] const bool g_block_mapping = restore_block_mapping();
+std::mutex g_heap_scope_mutex;
+int g_heap_scopes = 0;
 }  // namespace
+
+HeapAllocationScope::HeapAllocationScope(std::size_t expected_bytes) {
+  std::lock_guard<std::mutex> lock(g_heap_scope_mutex);
+  if (g_heap_scopes++ == 0) {
+    mallopt(M_MMAP_MAX, 0);
+    mallopt(M_TRIM_THRESHOLD, -1);
+    if (expected_bytes >= (std::size_t{8} << 20)) {
+      // Grow the heap once by the expected size and ask for transparent huge pages there:
+      // the blocks carved from it later fault in 2 MiB at a time instead of 4 KiB. Only
+      // what is touched becomes resident.
+      if (void* p = std::malloc(expected_bytes)) {
+        const auto a = reinterpret_cast<std::uintptr_t>(p);
+        const std::uintptr_t huge = std::uintptr_t{2} << 20;
+        const std::uintptr_t lo = (a + huge - 1) & ~(huge - 1), hi = (a + expected_bytes) & ~(huge - 1);
+        if (hi > lo) madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_HUGEPAGE);
+        std::free(p);
+      }
+    }
+  }
+}
+
+HeapAllocationScope::~HeapAllocationScope() {
+  std::lock_guard<std::mutex> lock(g_heap_scope_mutex);
+  if (--g_heap_scopes == 0) {
+    restore_block_mapping();
+    malloc_trim(0);
+  }
+}
+#else
+HeapAllocationScope::HeapAllocationScope(std::size_t) {}
+HeapAllocationScope::~HeapAllocationScope() = default;
 #endif
 
 void* fftw_aligned_alloc(std::size_t bytes) {

@@ -687,6 +687,10 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
   for (std::size_t i = 0; i < n && all_open; ++i) all_open = kfx[i] > 0.0 && kfy[i] > 0.0;
   const bool use_struct =
       which == detail::FlowSolver::StructPFMG || (which == detail::FlowSolver::Auto && struct_ok && all_open);
+  // From here on every block comes from the heap (HYPRE's set-up makes many short-lived
+  // grid-sized allocations); the scope ends after the last of them is freed, when the
+  // free heap pages go back to the system. The results' fields were allocated above.
+  const HeapAllocationScope heap_only(512 * n);
   std::vector<LinearSolution> sols;
   {
     ensure_hypre();

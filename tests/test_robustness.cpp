@@ -226,6 +226,32 @@ TEST(Robustness, FreedGridFieldsGoBackToTheSystem) {
   EXPECT_GT(during - after, 150.0);
 }
 
+TEST(Robustness, HeapAllocationScopeKeepsBlocksUntilItEnds) {
+  // Inside the scope (the flow solver's HYPRE calls) a freed block stays in the heap for
+  // reuse; when the scope ends, the free heap pages go back to the system.
+  const auto rss_mib = [] {
+    std::ifstream f("/proc/self/statm");
+    long pages = 0, resident = 0;
+    f >> pages >> resident;
+    return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / 1048576.0;
+  };
+  const double before = rss_mib();
+  double kept = 0;
+  {
+    const HeapAllocationScope heap_only(std::size_t{256} << 20);
+    {
+      std::vector<double> big(std::size_t{24} << 20, 1.0);  // 192 MiB, every page touched
+      ASSERT_EQ(big[12345], 1.0);
+    }
+    kept = rss_mib();
+  }
+  const double after = rss_mib();
+  std::printf("resident: %.0f MiB before, %.0f MiB in the scope after freeing 192 MiB, %.0f MiB after it\n",
+              before, kept, after);
+  EXPECT_GT(kept - before, 150.0);
+  EXPECT_LT(after - before, 40.0);
+}
+
 TEST(Robustness, StressSummariesDoNotDependOnKeepingTheFields) {
   // Without fields.nc and PNG maps the CLI keeps only the stress summaries: the same
   // numbers and the same profiles.csv as with the fields kept.
