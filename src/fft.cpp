@@ -109,11 +109,19 @@ HeapAllocationScope::~HeapAllocationScope() = default;
 #endif
 
 void* fftw_aligned_alloc(std::size_t bytes) {
-  void* p = fftw_malloc(bytes == 0 ? 1 : bytes);
+  constexpr std::size_t huge = std::size_t{2} << 20;
+  if (bytes >= 2 * huge) {
+    const std::size_t rounded = (bytes + huge - 1) / huge * huge;
+    void* p = std::aligned_alloc(huge, rounded);
+    if (p == nullptr) throw std::bad_alloc();
+    madvise(p, rounded, MADV_HUGEPAGE);
+    return p;
+  }
+  void* p = std::aligned_alloc(64, (bytes + 63) / 64 * 64 + (bytes == 0 ? 64 : 0));
   if (p == nullptr) throw std::bad_alloc();
   return p;
 }
-void fftw_aligned_free(void* p) noexcept { fftw_free(p); }
+void fftw_aligned_free(void* p) noexcept { std::free(p); }
 
 void set_threads(int n) {
   std::lock_guard lock(planner_mutex());

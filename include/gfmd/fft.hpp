@@ -13,8 +13,10 @@ namespace gfmd {
 
 using cplx = std::complex<double>;
 
-// Allocator returning FFTW-aligned memory so that every field can be passed to the
-// new-array execute functions of a plan.
+// Allocator returning SIMD-aligned memory (64 bytes) so that every field can be passed to
+// the new-array execute functions of a plan. Blocks of 4 MiB and more are aligned to 2 MiB
+// and advised for transparent huge pages: the column passes of a 2048^2 transform touch a
+// new 4 KiB page at nearly every element otherwise (bare 3+3 FFTs 76 -> 56 ms there).
 template <class T>
 struct FftwAllocator {
   using value_type = T;
