@@ -130,14 +130,20 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     ++res.iterations;
     ++total_it_;
     apply_compliance(p, g);
-    // A: separation g = C p + p/k + g0 - w - delta; contact count, sums over the contact set.
-    const auto a = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
-      const double v = g[i] + ik * p[i] + g0_[i] - w[i] - delta_imp;
+    // A: separation g = C p + p/k + g0 - w - delta; contact count, sums over the contact
+    // set: of g, and of g0 - w and its square (about the previous mean, s2_ref, so that
+    // the spread does not cancel).
+    const double ref = s2_ref_;
+    const auto a = grid_sums<4>(grid_, [&](std::size_t i, std::array<double, 4>& acc) {
+      const double gw = g0_[i] - w[i];
+      const double v = g[i] + ik * p[i] + gw - delta_imp;
       g[i] = v;
       if (p[i] > 0) {
+        const double d = gw - ref;
         acc[0] += 1.0;
         acc[1] += v;
-        acc[2] += g0_[i] - w[i];
+        acc[2] += d;
+        acc[3] += d * d;
       }
     });
     const double ns = a[0];
@@ -156,22 +162,22 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
       conjugate = false;
       continue;
     }
+    // With load control the separation is measured from its mean on the contact set, gbar:
+    // g - gbar below (g itself is not rewritten).
     const double gbar = load_ctrl ? a[1] / ns : 0.0;
     const double s1 = a[2] / ns;
-    // B: shift by the mean separation on the contact set (load control); squared residual
-    // on the contact set, overlap outside it, spread of g0 - w over the contact set.
-    const auto b = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
+    const double s2 = std::max(0.0, a[3] / ns - s1 * s1);  // variance of g0 - w on the contact set
+    s2_ref_ = ref + s1;
+    // B: squared residual on the contact set, overlap outside it.
+    const auto b = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
       const double v = g[i] - gbar;
-      g[i] = v;
       if (p[i] > 0) {
-        const double d = g0_[i] - w[i] - s1;
         acc[0] += v * v;
-        acc[2] += d * d;
       } else if (v < 0) {
         acc[1] += v * v;
       }
     });
-    const double G = b[0], viol = b[1], s2 = b[2] / ns;
+    const double G = b[0], viol = b[1];
     // Residual of the contact conditions: gap on the contact set and overlap outside,
     // relative to the spread of the separation over the contact set.
     const double scale = std::max(std::sqrt(s2), 1e-3 * g0_rms_) + 1e-300;
@@ -180,9 +186,10 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     gold = G;
     // C: conjugate direction on the contact set.
     const auto c = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
-      const double v = p[i] > 0 ? g[i] + beta * t[i] : 0.0;
+      const double gi = g[i] - gbar;
+      const double v = p[i] > 0 ? gi + beta * t[i] : 0.0;
       t[i] = v;
-      acc[0] += g[i] * v;
+      acc[0] += gi * v;
       acc[1] += v;
     });
     apply_compliance(t, r);
@@ -209,8 +216,9 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     const auto e = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
       r[i] = p[i];
       double v = p[i] > 0 ? std::max(0.0, p[i] - tau * t[i]) : 0.0;
-      if (v == 0.0 && g[i] < 0.0) {
-        v = -tau * g[i];
+      const double gi = g[i] - gbar;
+      if (v == 0.0 && gi < 0.0) {
+        v = -tau * gi;
         acc[0] += 1.0;
       }
       p[i] = v;
@@ -265,7 +273,8 @@ void ContactSolver::inplane_spectra(const ContactFields& f) {
   body_.displacement(s2_.data(), s3_.data(), s1_.data(), s2_.data(), s3_.data(), nullptr);
 }
 
-void ContactSolver::slip_tractions(const ContactFields& f, RealField& tx, RealField& ty) {
+std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, RealField& tx, RealField& ty,
+                                                    const std::vector<unsigned char>& in_supp) {
   // Requires s2_/s3_ to hold the spectra of ux/uy (inplane_spectra); leaves (e.grad) u in
   // r1_/r2_.
   const double th = fric_.direction_deg * std::numbers::pi / 180.0;
@@ -286,15 +295,25 @@ void ContactSolver::slip_tractions(const ContactFields& f, RealField& tx, RealFi
   fft_.backward_unscaled_destroying(s2_.data(), r2_.data());
   const double mu = fric_.coefficient;
   const double eps = fric_.regularization;  // tau = mu p v / max(|v|, eps)
-  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    const double vx = ex + r1_[i], vy = ey + r2_[i];
-    const double norm = std::max(std::hypot(vx, vy), eps);
+  return grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
+    // Slip velocities are read on the contact set only (a few % of the grid).
     const double p = f.pressure[i];
-    tx[i] = (p > 0 && norm > 0) ? mu * p * vx / norm : 0.0;
-    ty[i] = (p > 0 && norm > 0) ? mu * p * vy / norm : 0.0;
-  }
+    double x = 0.0, y = 0.0;
+    if (p > 0) {
+      const double vx = ex + r1_[i], vy = ey + r2_[i];
+      const double norm = std::max(std::sqrt(vx * vx + vy * vy), eps);  // |v| = O(1): no hypot needed
+      if (norm > 0) {
+        x = mu * p * vx / norm;
+        y = mu * p * vy / norm;
+      }
+    }
+    tx[i] = x;
+    ty[i] = y;
+    const double fx = f.tx[i], fy = f.ty[i];
+    acc[0] += std::abs(x - fx) + std::abs(y - fy);
+    acc[1] += std::abs(x) + std::abs(y);
+    if (!in_supp[i] && (x != 0.0 || y != 0.0 || fx != 0.0 || fy != 0.0)) acc[2] += 1.0;
+  });
 }
 
 void ContactSolver::friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w) {
@@ -415,15 +434,10 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       // One friction step costs 3 forward + 3 inverse FFTs: tau_x, tau_y and p forward,
       // w and the two slip derivatives back.
       inplane_spectra(f);
-      slip_tractions(f, tx, ty);
-      have_slip = true;
-      // acc[2]: points outside the Anderson support where the iterate or its image is
+      // dn[2]: points outside the Anderson support where the iterate or its image is
       // non-zero (they join the support below).
-      const auto dn = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
-        acc[0] += std::abs(tx[i] - f.tx[i]) + std::abs(ty[i] - f.ty[i]);
-        acc[1] += std::abs(tx[i]) + std::abs(ty[i]);
-        if (joins(i)) acc[2] += 1.0;
-      });
+      const auto dn = slip_tractions(f, tx, ty, in_supp);
+      have_slip = true;
       err = dn[1] > 0 ? dn[0] / dn[1] : 0.0;
       require_finite(err, "the friction traction", total_it_);
       info.friction_error = err;

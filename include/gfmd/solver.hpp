@@ -22,6 +22,7 @@
 // Every outer step solves the normal problem to a tolerance tied to the outer residual.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -127,7 +128,11 @@ class ContactSolver {
   void apply_compliance(const RealField& in, RealField& out);  // C_zz in
   void update_displacements(ContactFields& f);                 // u from (tau, -p)
   void inplane_spectra(const ContactFields& f);                // spectra of ux, uy (tau spectra cached)
-  void slip_tractions(const ContactFields& f, RealField& tx, RealField& ty);
+  // Coulomb tractions of the current slip into (tx, ty); returns, over the grid,
+  // sum |(tx, ty) - (f.tx, f.ty)|_1, sum |(tx, ty)|_1 and the number of points outside the
+  // Anderson support (in_supp == 0) where either traction is non-zero.
+  std::array<double, 3> slip_tractions(const ContactFields& f, RealField& tx, RealField& ty,
+                                       const std::vector<unsigned char>& in_supp);
   void friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w);
   double residual(const ContactFields& f, double delta);
 
@@ -141,6 +146,7 @@ class ContactSolver {
   double inv_k_;  // 1/k
   RealField g0_;
   double g0_rms_ = 0.0;
+  double s2_ref_ = 0.0;           // solve_normal: last mean of g0 - w on the contact set
   SpecField s1_, s2_, s3_;        // half-spectrum scratch
   RealField cg_g_, cg_t_, cg_r_;  // work arrays of solve_normal
   // Real scratch of the friction step and the displacement update; solve_normal does not
