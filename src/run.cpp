@@ -594,6 +594,16 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       ro.warm_start = &warm;
     }
     CaseResult r = run_case(cfg, ro);
+    bool retried = false;
+    if (!r.info.converged && ro.warm_start == &warm) {
+      // Started from the previous point's solution, the friction fixed point can fall into
+      // a limit cycle that a start from the frictionless solution avoids: try that once.
+      if (opts.on_point)
+        opts.on_point(i, total, std::string(name) + ": " + r.info.status + "; retrying from a cold start");
+      ro.warm_start = nullptr;
+      r = run_case(cfg, ro);
+      retried = true;
+    }
     std::error_code ec;
     fs::remove(ro.checkpoint_path, ec);
     if (!r.info.converged) {
@@ -608,8 +618,8 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     have_warm = cfg.grid.size() == base.grid.size();
     if (opts.on_point) {
       char msg[160];
-      std::snprintf(msg, sizeof msg, "%s: %s = %.6g, %d iterations, %.2f s", name, sw.parameter.c_str(),
-                    sw.values[i], r.info.iterations, r.info.wall_time_s);
+      std::snprintf(msg, sizeof msg, "%s: %s = %.6g, %d iterations, %.2f s%s", name, sw.parameter.c_str(),
+                    sw.values[i], r.info.iterations, r.info.wall_time_s, retried ? " (cold start)" : "");
       opts.on_point(i + 1, total, msg);
     }
   }
