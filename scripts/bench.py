@@ -37,7 +37,7 @@ CASES = {
 def fft_time(n, threads, planner):
     """Seconds of one bare-FFT iteration (3 + 3 real 2D transforms) of an n x n grid."""
     name = f"BM_FFTIteration/{n}/{threads}/{1 if planner == 'measure' else 0}"
-    out = subprocess.run([KERNELS, f"--benchmark_filter=^{name}$", "--benchmark_format=json"],
+    out = subprocess.run([KERNELS, f"--benchmark_filter=^{name}/", "--benchmark_format=json"],
                          capture_output=True, text=True, check=True).stdout
     for b in json.loads(out)["benchmarks"]:
         if b["name"].startswith(name):
