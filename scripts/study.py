@@ -32,9 +32,12 @@ def log(msg):
     print(msg, file=sys.stderr, flush=True)
 
 
-def run(cmd):
+NOT_CONVERGED = 3  # gfmd's exit status when a solve does not converge
+
+
+def run(cmd, tolerate_not_converged=False):
     p = subprocess.run(cmd, capture_output=True, text=True)
-    if p.returncode != 0:
+    if p.returncode != 0 and not (tolerate_not_converged and p.returncode == NOT_CONVERGED):
         sys.exit(f"study: command failed ({p.returncode}): {' '.join(cmd)}\n{p.stdout}{p.stderr}")
     return p
 
@@ -48,9 +51,10 @@ def read_table(path):
         return list(csv.DictReader(f))
 
 
-def run_series(study, mode_sets, out, quick):
+def run_series(study, mode_sets, out, quick, incomplete):
     """Runs every series; returns a list of (series, result) with result the sweep rows or
-    the single run's summary."""
+    the single run's summary. A sweep that stops at a point that does not converge keeps its
+    finished points (drawn, labelled as stopped) and is listed in `incomplete`."""
     results = []
     total = len(study["series"])
     t0 = time.time()
@@ -70,8 +74,16 @@ def run_series(study, mode_sets, out, quick):
             run([GFMD, "green", "--poisson", ",".join(str(v) for v in s["poisson"]), "-o", csvp])
             res = read_table(csvp)
         elif study.get("kind", "sweep") == "sweep":
-            run([GFMD, "sweep", case, "-o", d, "-q", "--plot", study["y"]] + args)
-            res = read_table(os.path.join(d, "sweep.csv"))
+            p = run([GFMD, "sweep", case, "-o", d, "-q", "--plot", study["y"]] + args, tolerate_not_converged=True)
+            table = os.path.join(d, "sweep.csv")
+            if p.returncode != 0:
+                why = (p.stderr.strip().splitlines() or ["not converged"])[-1]
+                if not os.path.exists(table):
+                    sys.exit(f"study: series '{s['label']}' failed with no finished point: {why}")
+                log(f"study: series '{s['label']}' stopped early: {why}")
+                incomplete.append({"series": s["label"], "reason": why})
+                s = dict(s, label=s["label"] + " (stopped: not converged)")
+            res = read_table(table)
         else:
             summary = os.path.join(d, "summary.json")
             run([GFMD, "run", case, "-o", d, "-q", "--resume"] + args)
@@ -211,7 +223,8 @@ def main():
     out = os.path.join(args.output, name, mode)
     os.makedirs(out, exist_ok=True)
     t0 = time.time()
-    results = run_series(study, study.get(mode, {}).get("set", []), out, args.quick)
+    incomplete = []
+    results = run_series(study, study.get(mode, {}).get("set", []), out, args.quick, incomplete)
     fig_base = os.path.join(out, name)
     if study.get("kind") == "percolation":
         plot_percolation(study, results, out, fig_base)
@@ -224,11 +237,15 @@ def main():
 
         study_figures.draw(study, results, out, fig_base)
     report = {"study": name, "mode": mode, "wall_time_s": time.time() - t0,
-              "figure": fig_base + ".png", "series": [s["label"] for s, _ in results]}
+              "figure": fig_base + ".png", "series": [s["label"] for s, _ in results],
+              "incomplete_series": incomplete}
     with open(os.path.join(out, "study.json.tmp"), "w") as f:
         json.dump(report, f, indent=2)
     os.replace(os.path.join(out, "study.json.tmp"), os.path.join(out, "study.json"))
     print(f"{name} ({mode}): {fig_base}.png, .pdf, .csv  [{report['wall_time_s']:.1f} s]")
+    if incomplete:
+        sys.exit(f"study: {len(incomplete)} series stopped early (drawn with their finished points): "
+                 + "; ".join(f"{x['series']}: {x['reason']}" for x in incomplete))
 
 
 if __name__ == "__main__":

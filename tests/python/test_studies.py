@@ -69,3 +69,31 @@ def test_fig3jm_quick_percolation_shifts(out):
     # Constrictions open along the sliding direction and close across it.
     for m in (comp, conf):
         assert m["a_c*_friction_along_sliding"] > m["a_c*_frictionless"] > m["a_c*_friction_across_sliding"]
+
+
+def test_sweep_series_that_stops_early_is_drawn_and_reported(tmp_path):
+    # Point 0 converges; point 1 asks for an unreachable tolerance within 60 iterations and
+    # stops (also after the cold-start retry). The study keeps point 0, draws the series as
+    # stopped, lists it in study.json and exits non-zero.
+    case = tmp_path / "case.toml"
+    case.write_text(open(os.path.join(ROOT, "examples", "hertz_nu025.toml")).read()
+                    + "\n[solver]\nmax_iterations = 60\n"
+                    + "\n[sweep]\nparameter = \"solver.tolerance\"\nvalues = [1e-4, 1e-30]\n"
+                    + "plot = \"relative_contact_area\"\n")
+    study = tmp_path / "partial.toml"
+    study.write_text(f'title = "partial"\nkind = "sweep"\nx = "solver.tolerance"\n'
+                     f'y = "relative_contact_area"\n\n[[series]]\nlabel = "s"\ncase = "{case}"\n\n'
+                     f'[quick]\nset = ["grid.nx=64"]\n')
+    p = subprocess.run(STUDY + [str(study), "--quick", "-o", str(tmp_path / "out")],
+                       capture_output=True, text=True)
+    assert p.returncode != 0
+    assert "stopped early" in p.stderr
+    d = tmp_path / "out" / "partial" / "quick"
+    table = rows(d / "partial.csv")[1:]
+    assert [r[0] for r in table] == ["s (stopped: not converged)"]
+    assert 0.0 < float(table[0][2]) < 1.0
+    assert (d / "partial.png").exists()
+    import json
+    report = json.load(open(d / "study.json"))
+    assert report["incomplete_series"][0]["series"] == "s"
+    assert "not converged" in report["incomplete_series"][0]["reason"]
