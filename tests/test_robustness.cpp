@@ -207,15 +207,17 @@ TEST(Robustness, RangeSumsDoNotDependOnThreads) {
   EXPECT_NEAR(one[0], std::log(static_cast<double>(len)) + 0.5772156649, 1e-5);
 }
 
+// Resident set of this process in MiB.
+static double rss_mib() {
+  std::ifstream f("/proc/self/statm");
+  long pages = 0, resident = 0;
+  f >> pages >> resident;
+  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / 1048576.0;
+}
+
 TEST(Robustness, FreedGridFieldsGoBackToTheSystem) {
   // SuperLU_DIST, loaded with HYPRE, turns off glibc's mapping of large blocks and heap
   // trimming; src/fft.cpp restores both. Without that, a freed field stays resident.
-  const auto rss_mib = [] {
-    std::ifstream f("/proc/self/statm");
-    long pages = 0, resident = 0;
-    f >> pages >> resident;
-    return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / 1048576.0;
-  };
   double during = 0;
   {
     RealField big(std::size_t{24} << 20, 1.0);  // 192 MiB, every page touched
@@ -229,12 +231,6 @@ TEST(Robustness, FreedGridFieldsGoBackToTheSystem) {
 TEST(Robustness, HeapAllocationScopeKeepsBlocksUntilItEnds) {
   // Inside the scope (the flow solver's HYPRE calls) a freed block stays in the heap for
   // reuse; when the scope ends, the free heap pages go back to the system.
-  const auto rss_mib = [] {
-    std::ifstream f("/proc/self/statm");
-    long pages = 0, resident = 0;
-    f >> pages >> resident;
-    return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / 1048576.0;
-  };
   const double before = rss_mib();
   double kept = 0;
   {
