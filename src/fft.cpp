@@ -2,10 +2,9 @@
 
 #include <fftw3.h>
 #include <omp.h>
-
+#include <sys/mman.h>
 #ifdef __GLIBC__
 #include <malloc.h>
-#include <sys/mman.h>
 #endif
 
 #include <cstdlib>
