@@ -49,6 +49,12 @@ std::vector<double> solve_small_spd(std::vector<double> M, std::vector<double> r
   }
   return x;
 }
+// A point joins the Anderson support of the friction iteration when it is not in it yet
+// and the iterate (fx, fy) or its image (x, y) is non-zero there.
+bool joins_support(unsigned char in_supp, double x, double y, double fx, double fy) {
+  return !in_supp && (x != 0.0 || y != 0.0 || fx != 0.0 || fy != 0.0);
+}
+
 }  // namespace
 
 ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, const InteractionParams& inter,
@@ -312,7 +318,7 @@ std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, Real
     const double fx = f.tx[i], fy = f.ty[i];
     acc[0] += std::abs(x - fx) + std::abs(y - fy);
     acc[1] += std::abs(x) + std::abs(y);
-    if (!in_supp[i] && (x != 0.0 || y != 0.0 || fx != 0.0 || fy != 0.0)) acc[2] += 1.0;
+    if (joins_support(in_supp[i], x, y, fx, fy)) acc[2] += 1.0;
   });
 }
 
@@ -401,10 +407,6 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       v.resize(len, 0);
     };
     std::vector<unsigned char> in_supp(n, 0);
-    // Point i joins the support when the iterate (f) or its image (tx, ty) is non-zero there.
-    const auto joins = [&](std::size_t i) {
-      return !in_supp[i] && (tx[i] != 0.0 || ty[i] != 0.0 || f.tx[i] != 0.0 || f.ty[i] != 0.0);
-    };
     std::vector<double> xprev, fprev;
     const int m = std::max(0, sp_.anderson);
     and_df_.assign(static_cast<std::size_t>(m), {});
@@ -482,7 +484,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         // New support points (in grid order, so the layout does not depend on threads):
         // their previous iterate, residual and all stored differences are zero.
         for (std::size_t i = 0; i < n; ++i)
-          if (joins(i)) {
+          if (joins_support(in_supp[i], tx[i], ty[i], f.tx[i], f.ty[i])) {
             in_supp[i] = 1;
             supp.push_back(static_cast<std::uint32_t>(i));
           }
