@@ -137,9 +137,9 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     ++total_it_;
     apply_compliance(p, g);
     // A: separation g = C p + p/k + g0 - w - delta; contact count, sums over the contact
-    // set: of g, and of g0 - w and its square (about the previous mean, s2_ref, so that
+    // set: of g, and of g0 - w and its square (about the previous mean, gw_mean_ref_, so that
     // the spread does not cancel).
-    const double ref = s2_ref_;
+    const double ref = gw_mean_ref_;
     const auto a = grid_sums<4>(grid_, [&](std::size_t i, std::array<double, 4>& acc) {
       const double gw = g0_[i] - w[i];
       const double v = g[i] + ik * p[i] + gw - delta_imp;
@@ -173,7 +173,7 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     const double gbar = load_ctrl ? a[1] / ns : 0.0;
     const double s1 = a[2] / ns;
     const double s2 = std::max(0.0, a[3] / ns - s1 * s1);  // variance of g0 - w on the contact set
-    s2_ref_ = ref + s1;
+    gw_mean_ref_ = ref + s1;
     // B: squared residual on the contact set, overlap outside it.
     const auto b = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
       const double v = g[i] - gbar;

@@ -146,7 +146,7 @@ class ContactSolver {
   double inv_k_;  // 1/k
   RealField g0_;
   double g0_rms_ = 0.0;
-  double s2_ref_ = 0.0;           // solve_normal: last mean of g0 - w on the contact set
+  double gw_mean_ref_ = 0.0;      // solve_normal: last mean of g0 - w on the contact set
   SpecField s1_, s2_, s3_;        // half-spectrum scratch
   RealField cg_g_, cg_t_, cg_r_;  // work arrays of solve_normal
   // Real scratch of the friction step and the displacement update; solve_normal does not
