@@ -162,18 +162,39 @@ std::array<cplx, 9> ElasticBody::stiffness(int ikx, int iky) const {
   return k;
 }
 
+namespace {
+// i c z for real c, without a general complex product (which also checks for NaN/inf).
+inline cplx times_i(double c, cplx z) { return {-c * z.imag(), c * z.real()}; }
+}  // namespace
+
 void ElasticBody::displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
-                               double scale) const {
+                               double scale, double scale_z) const {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(modes_.size());
-  const cplx i(0.0, 1.0);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     const ComplianceMode& m = modes_[k];
     const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
-               z = tz ? scale * tz[k] : cplx(0.0);
-    if (ux) ux[k] = m.cxx * x + m.cxy * y + i * m.cxz * z;
-    if (uy) uy[k] = m.cxy * x + m.cyy * y + i * m.cyz * z;
-    if (uz) uz[k] = -i * m.cxz * x - i * m.cyz * y + m.czz * z;
+               z = tz ? scale_z * tz[k] : cplx(0.0);
+    if (ux) ux[k] = m.cxx * x + m.cxy * y + times_i(m.cxz, z);
+    if (uy) uy[k] = m.cxy * x + m.cyy * y + times_i(m.cyz, z);
+    if (uz) uz[k] = m.czz * z - times_i(m.cxz, x) - times_i(m.cyz, y);
+  }
+}
+
+void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, double ex, double ey,
+                                cplx* dux, cplx* duy, double scale, double scale_z) const {
+  const int nxh = grid_.nxh();
+#pragma omp parallel for schedule(static)
+  for (int iky = 0; iky < grid_.ny; ++iky) {
+    const double dy = ey * grid_.qy_deriv(iky);
+    for (int ikx = 0; ikx < nxh; ++ikx) {
+      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
+      const ComplianceMode& m = modes_[k];
+      const cplx x = scale * tx[k], y = scale * ty[k], z = scale_z * tz[k];
+      const double d = ex * grid_.qx_deriv(ikx) + dy;
+      dux[k] = times_i(d, m.cxx * x + m.cxy * y + times_i(m.cxz, z));
+      duy[k] = times_i(d, m.cxy * x + m.cyy * y + times_i(m.cyz, z));
+    }
   }
 }
 

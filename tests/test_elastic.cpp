@@ -254,3 +254,39 @@ TEST(Elastic, DisplacementInPlaceAndScaledEqualsOutOfPlace) {
   EXPECT_GT(mag, 0.0);
   EXPECT_LT(err, 1e-15 * mag);
 }
+
+TEST(Elastic, InplaneSlopeIsTheDerivativeOfTheDisplacement) {
+  // The friction step takes the slopes (e.grad) u_x, (e.grad) u_y of the in-plane
+  // displacement of (tx, ty, -tz) in one spectral pass: it must equal the displacement
+  // product (normal traction scaled by -1 via scale_z) times i (e.q), Nyquist modes dropped.
+  const Grid g{32, 16, 1.0, 0.5};
+  ElasticBody body(g, ElasticParams{1.0, 0.3, 0.2, true});
+  const std::size_t ns = g.spectral_size();
+  SpecField tx(ns), ty(ns), tz(ns), mz(ns);
+  for (std::size_t k = 0; k < ns; ++k) {
+    const double a = static_cast<double>(k);
+    tx[k] = cplx(std::sin(a), std::cos(1.3 * a));
+    ty[k] = cplx(std::cos(0.7 * a), std::sin(2.1 * a));
+    tz[k] = cplx(std::sin(0.3 * a + 1), -std::cos(a));
+    mz[k] = -tz[k];
+  }
+  const double scale = 0.25, th = 0.6, ex = std::cos(th), ey = std::sin(th);
+  SpecField ux(ns), uy(ns), vx(ns), vy(ns);
+  body.displacement(tx.data(), ty.data(), mz.data(), ux.data(), uy.data(), nullptr);
+  body.displacement(tx.data(), ty.data(), tz.data(), vx.data(), vy.data(), nullptr, scale, -scale);
+  SpecField a = tx, b = ty, c = tz;
+  body.inplane_slope(a.data(), b.data(), c.data(), ex, ey, a.data(), b.data(), scale, -scale);
+  double err = 0, err_z = 0, mag = 0;
+  const int nxh = g.nxh();
+  for (int iky = 0; iky < g.ny; ++iky)
+    for (int ikx = 0; ikx < nxh; ++ikx) {
+      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
+      const cplx d(0.0, ex * g.qx_deriv(ikx) + ey * g.qy_deriv(iky));
+      err = std::max({err, std::abs(a[k] - scale * d * ux[k]), std::abs(b[k] - scale * d * uy[k])});
+      err_z = std::max({err_z, std::abs(vx[k] - scale * ux[k]), std::abs(vy[k] - scale * uy[k])});
+      mag = std::max({mag, std::abs(scale * d * ux[k]), std::abs(scale * d * uy[k])});
+    }
+  EXPECT_GT(mag, 0.0);
+  EXPECT_LT(err, 1e-14 * mag);
+  EXPECT_LT(err_z, 1e-14 * mag);
+}

@@ -68,7 +68,18 @@ class ElasticBody {
   // null = zero; any of ux, uy, uz null = not wanted). Outputs may alias inputs (each mode
   // is read before it is written), e.g. ux = tx, uy = ty, uz = tz in place.
   void displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
-                    double scale = 1.0) const;
+                    double scale = 1.0) const {
+    displacement(tx, ty, tz, ux, uy, uz, scale, scale);
+  }
+  // The same with the normal traction scaled by scale_z instead: e.g. -scale turns the
+  // spectrum of a pressure p into that of t_z = -p without a pass over the grid.
+  void displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
+                    double scale, double scale_z) const;
+  // Spectra of the slopes (e.grad) u_x and (e.grad) u_y along the unit vector (ex, ey) of
+  // the in-plane displacement caused by the tractions (scale tx, scale ty, scale_z tz); the
+  // Nyquist modes of the derivative are dropped. Outputs may alias inputs.
+  void inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, double ex, double ey, cplx* dux,
+                     cplx* duy, double scale, double scale_z) const;
 
  private:
   Grid grid_;
