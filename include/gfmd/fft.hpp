@@ -91,6 +91,8 @@ class FFT {
   [[nodiscard]] const Grid& grid() const { return grid_; }
   // Number of transforms (forward + backward) executed so far by this object.
   [[nodiscard]] std::uint64_t transforms() const { return transforms_; }
+  // Wall time spent inside FFTW's executes so far (the transforms alone, no scaling passes).
+  [[nodiscard]] double seconds() const { return seconds_; }
   [[nodiscard]] RealField real_field(double value = 0.0) const { return RealField(grid_.size(), value); }
   [[nodiscard]] SpecField spec_field() const { return SpecField(grid_.spectral_size()); }
 
@@ -100,6 +102,7 @@ class FFT {
   std::unique_ptr<Plans> plans_;
   mutable SpecField cbuf_;  // backward()'s copy of its input, allocated on first use
   mutable std::uint64_t transforms_ = 0;
+  mutable double seconds_ = 0.0;
 };
 
 }  // namespace gfmd

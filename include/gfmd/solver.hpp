@@ -83,6 +83,7 @@ struct SolveInfo {
   double stiffness = 0.0;  // k_if used (inf for hard wall)
   double wall_time_s = 0.0;
   std::uint64_t transforms = 0;  // real 2D FFTs (forward + inverse) the solve executed
+  double fft_seconds = 0.0;      // wall time of those transforms alone
 };
 
 struct Progress {
