@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <sstream>
 
@@ -92,34 +93,42 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
     czz_n_[k] = body.modes()[k].czz / static_cast<double>(grid_.size());
 }
 
-void ContactSolver::apply_compliance(const RealField& in, RealField& out) {
-  // out = C_zz in (the 1/k term is added by the callers in their fused passes). One
+void ContactSolver::apply_compliance(const RealField& in, RealField& out, double scale) {
+  // out = scale C_zz in (the 1/k term is added by the callers in their fused passes). One
   // spectral pass with the contiguous table C_zz / N, then the inverse transform in place.
   fft_.forward(in.data(), s1_.data());
   const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(czz_n_.size());
+  if (scale == 1.0) {
 #pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t k = 0; k < ns; ++k) s1_[k] *= czz_n_[k];
+    for (std::ptrdiff_t k = 0; k < ns; ++k) s1_[k] *= czz_n_[k];
+  } else {
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t k = 0; k < ns; ++k) s1_[k] *= scale * czz_n_[k];
+  }
   fft_.backward_unscaled_destroying(s1_.data(), out.data());
 }
 
-ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, const RealField& w, RealField& p,
-                                                    double tol, int max_it) {
+ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, const RealField& w, bool w_zero,
+                                                    RealField& p, double tol, int max_it) {
   // Constrained conjugate gradients (Polonsky & Keer 1999) on (C_zz + 1/k) p = overlap.
-  // Per iteration: two compliance products (2 forward + 2 inverse FFTs) and six fused
-  // pointwise passes (A-F below); the work arrays are members (no allocation here).
+  // Per iteration: two compliance products (2 forward + 2 inverse FFTs) and four fused
+  // pointwise passes (A, C, D, E below; 17 reads and writes of 8 bytes per point, 16 when
+  // w = 0); the work arrays are members (no allocation here).
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.size());
   const bool load_ctrl = load.mode != LoadMode::Approach;
   const double pbar = load.mode == LoadMode::Force ? load.value / grid_.area() : load.value;
   const double delta_imp = load_ctrl ? 0.0 : load.value;
   const double ik = inv_k_;
 
+  // The load rescaling of a step (a factor on the whole pressure) is applied by the next
+  // step's compliance product and pass A, which writes p anyway: `pending` until then.
+  double pending = 1.0;
   double psum = grid_sum(grid_, [&](std::size_t i) { return p[i]; });
   if (load_ctrl) {
     if (!(psum > 0)) {
       std::fill(p.begin(), p.end(), pbar);
     } else {
-      const double f = pbar * static_cast<double>(n) / psum;
-      for (auto& v : p) v *= f;
+      pending = pbar * static_cast<double>(n) / psum;
     }
   } else if (!(psum > 0)) {
     const double kk = inter_.hard_wall ? body_.params().contact_modulus / grid_.dx() : k_;
@@ -128,30 +137,50 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
 
   RealField& g = cg_g_;
   RealField& t = cg_t_;
-  RealField& r = cg_r_;  // C t, then the previous pressure
+  RealField& r = cg_r_;  // C t
   bool conjugate = false;
   double gold = 1.0;
+  const auto apply_pending = [&] {
+    if (pending == 1.0) return;
+    const double f = pending;
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) p[i] *= f;
+    pending = 1.0;
+  };
   PKResult res{0, 1.0, 0.0, false};
   for (int it = 0; it < max_it; ++it) {
     ++res.iterations;
     ++total_it_;
-    apply_compliance(p, g);
-    // A: separation g = C p + p/k + g0 - w - delta; contact count, sums over the contact
-    // set: of g, and of g0 - w and its square (about the previous mean, gw_mean_ref_, so that
-    // the spread does not cancel).
+    apply_compliance(p, g, pending);
+    // A: pressure rescaled, separation g = C p + p/k + g0 - w - delta; sums over the contact
+    // set: its size; of g - gref and its square, with gref the previous mean of g there
+    // (load control; 0 otherwise), so that the squared residual below does not cancel; of
+    // g0 - w and its square about its previous mean, gw_mean_ref_, likewise.
     const double ref = gw_mean_ref_;
-    const auto a = grid_sums<4>(grid_, [&](std::size_t i, std::array<double, 4>& acc) {
-      const double gw = g0_[i] - w[i];
-      const double v = g[i] + ik * p[i] + gw - delta_imp;
-      g[i] = v;
-      if (p[i] > 0) {
-        const double d = gw - ref;
-        acc[0] += 1.0;
-        acc[1] += v;
-        acc[2] += d;
-        acc[3] += d * d;
-      }
-    });
+    const double gref = load_ctrl ? g_mean_ref_ : 0.0;
+    const double fp = pending;
+    const auto pass_a = [&]<bool WZero>() {
+      return grid_sums<5>(grid_, [&](std::size_t i, std::array<double, 5>& acc) {
+        const double gw = WZero ? g0_[i] : g0_[i] - w[i];
+        double pi = p[i];
+        if (fp != 1.0) {
+          pi *= fp;
+          p[i] = pi;
+        }
+        const double v = g[i] + ik * pi + gw - delta_imp;
+        g[i] = v;
+        if (pi > 0) {
+          const double d = gw - ref, e = v - gref;
+          acc[0] += 1.0;
+          acc[1] += e;
+          acc[2] += e * e;
+          acc[3] += d;
+          acc[4] += d * d;
+        }
+      });
+    };
+    const auto a = w_zero ? pass_a.template operator()<true>() : pass_a.template operator()<false>();
+    pending = 1.0;
     const double ns = a[0];
     if (ns == 0.0) {
       // Approach control with no contact at all: p = 0 is the solution if nothing overlaps.
@@ -169,35 +198,44 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
       continue;
     }
     // With load control the separation is measured from its mean on the contact set, gbar:
-    // g - gbar below (g itself is not rewritten).
-    const double gbar = load_ctrl ? a[1] / ns : 0.0;
-    const double s1 = a[2] / ns;
-    const double s2 = std::max(0.0, a[3] / ns - s1 * s1);  // variance of g0 - w on the contact set
-    gw_mean_ref_ = ref + s1;
-    // B: squared residual on the contact set, overlap outside it.
-    const auto b = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
-      const double v = g[i] - gbar;
-      if (p[i] > 0) {
-        acc[0] += v * v;
-      } else if (v < 0) {
-        acc[1] += v * v;
+    // g - gbar below (g itself is not rewritten). G: squared residual on the contact set.
+    const double shift = a[1] / ns;  // gbar - gref
+    const double gbar = load_ctrl ? gref + shift : 0.0;
+    double G = load_ctrl ? std::max(0.0, a[2] - ns * shift * shift) : a[2];
+    if (load_ctrl) {
+      g_mean_ref_ = gbar;
+      // Shifted sums lose log10(ns shift^2 / G) digits: recomputed directly when that
+      // leaves fewer than about 6 (the reference is the previous mean, so this is rare).
+      if (!(G > 1e-10 * ns * shift * shift)) {
+        G = grid_sum(grid_, [&](std::size_t i) {
+          const double v = g[i] - gbar;
+          return p[i] > 0 ? v * v : 0.0;
+        });
       }
-    });
-    const double G = b[0], viol = b[1];
-    // Residual of the contact conditions: gap on the contact set and overlap outside,
-    // relative to the spread of the separation over the contact set.
-    const double scale = std::max(std::sqrt(s2), 1e-3 * g0_rms_) + 1e-300;
-    const double gap_residual = std::sqrt((G + viol) / ns) / scale;
+    }
+    const double s1 = a[3] / ns;
+    const double s2 = std::max(0.0, a[4] / ns - s1 * s1);  // variance of g0 - w on the contact set
+    gw_mean_ref_ = ref + s1;
     const double beta = conjugate ? G / gold : 0.0;
     gold = G;
-    // C: conjugate direction on the contact set.
-    const auto c = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
+    // C: conjugate direction on the contact set; squared overlap outside it.
+    const auto c = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
       const double gi = g[i] - gbar;
-      const double v = p[i] > 0 ? gi + beta * t[i] : 0.0;
+      double v = 0.0;
+      if (p[i] > 0) {
+        v = gi + beta * t[i];
+      } else if (gi < 0) {
+        acc[2] += gi * gi;
+      }
       t[i] = v;
       acc[0] += gi * v;
       acc[1] += v;
     });
+    const double viol = c[2];
+    // Residual of the contact conditions: gap on the contact set and overlap outside,
+    // relative to the spread of the separation over the contact set.
+    const double scale = std::max(std::sqrt(s2), 1e-3 * g0_rms_) + 1e-300;
+    const double gap_residual = std::sqrt((G + viol) / ns) / scale;
     apply_compliance(t, r);
     // D: r = (C + 1/k) t; with load control the mean of r over the contact set is removed,
     // which changes sum_c r t by rbar sum_c t.
@@ -218,10 +256,11 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
       return res;
     }
     const double tau = num / den;
-    // E: projected step; points that overlap outside the contact set enter it.
-    const auto e = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
-      r[i] = p[i];
-      double v = p[i] > 0 ? std::max(0.0, p[i] - tau * t[i]) : 0.0;
+    // E: projected step; points that overlap outside the contact set enter it. Sums: the
+    // entering points, the new total and the change of the pressure.
+    const auto e = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
+      const double pi = p[i];
+      double v = pi > 0 ? std::max(0.0, pi - tau * t[i]) : 0.0;
       const double gi = g[i] - gbar;
       if (v == 0.0 && gi < 0.0) {
         v = -tau * gi;
@@ -229,96 +268,85 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
       }
       p[i] = v;
       acc[1] += v;
+      acc[2] += std::abs(v - pi);
     });
     conjugate = (e[0] == 0.0);
     double pnew = e[1];
-    const double fscale = (load_ctrl && pnew > 0) ? pbar * static_cast<double>(n) / pnew : 1.0;
-    if (load_ctrl && pnew > 0) pnew = pbar * static_cast<double>(n);
-    // F: load rescaling and the change of the pressure.
-    const double change = grid_sum(grid_, [&](std::size_t i) {
-      const double v = p[i] * fscale;
-      p[i] = v;
-      return std::abs(v - r[i]);
-    });
+    // Load control rescales the new pressure by f (pending until the next pass A). The
+    // change |f v - p| summed is bounded by sum |v - p| + |f - 1| sum v: the bound is what
+    // the convergence test uses (exact when f = 1).
+    double change = e[2];
+    if (load_ctrl && pnew > 0) {
+      pending = pbar * static_cast<double>(n) / pnew;
+      change += std::abs(pending - 1.0) * pnew;
+      pnew = pbar * static_cast<double>(n);
+    }
     res.error = std::max(gap_residual, pnew > 0 ? change / pnew : (change > 0 ? 1.0 : 0.0));
     res.delta = load_ctrl ? gbar : delta_imp;
     require_finite(res.error, "the pressure", total_it_);
     if (progress_ && (total_it_ % 50 == 0)) progress_(Progress{total_it_, 0, res.error});
-    poll(current_);
     if (res.error < tol) {
+      apply_pending();
       res.converged = true;
       return res;
     }
+    poll(current_, apply_pending);  // a checkpoint or an interruption sees the rescaled pressure
   }
+  apply_pending();
   return res;
 }
 
 void ContactSolver::update_displacements(ContactFields& f) {
-  // Tractions on the body: (tau_x, tau_y, -p); the displacement spectra replace the
-  // traction spectra in place (1/N folded in) and are synthesised destructively.
-  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) r1_[i] = -f.pressure[i];
-  fft_.forward(r1_.data(), s1_.data());
+  // Tractions on the body: (tau_x, tau_y, -p), the sign of -p applied to its spectrum; the
+  // displacement spectra replace the traction spectra in place (1/N folded in) and are
+  // synthesised destructively.
+  const double scale = 1.0 / static_cast<double>(grid_.size());
+  fft_.forward(f.pressure.data(), s1_.data());
   fft_.forward(f.tx.data(), s2_.data());
   fft_.forward(f.ty.data(), s3_.data());
-  body_.displacement(s2_.data(), s3_.data(), s1_.data(), s2_.data(), s3_.data(), s1_.data(),
-                     1.0 / static_cast<double>(n));
+  body_.displacement(s2_.data(), s3_.data(), s1_.data(), s2_.data(), s3_.data(), s1_.data(), scale, -scale);
   fft_.backward_unscaled_destroying(s2_.data(), f.ux.data());
   fft_.backward_unscaled_destroying(s3_.data(), f.uy.data());
   fft_.backward_unscaled_destroying(s1_.data(), f.uz.data());
 }
 
-void ContactSolver::inplane_spectra(const ContactFields& f) {
-  // Requires s2_/s3_ to hold the spectra of tau_x/tau_y (friction_normal_displacement);
-  // replaces them with the spectra of ux/uy. One forward FFT.
-  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) r1_[i] = -f.pressure[i];
-  fft_.forward(r1_.data(), s1_.data());
-  body_.displacement(s2_.data(), s3_.data(), s1_.data(), s2_.data(), s3_.data(), nullptr);
-}
-
 std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, RealField& tx, RealField& ty,
                                                     const std::vector<unsigned char>& in_supp) {
-  // Requires s2_/s3_ to hold the spectra of ux/uy (inplane_spectra); leaves (e.grad) u in
-  // r1_/r2_.
+  // Requires s2_/s3_ to hold the spectra of tau_x/tau_y (friction_normal_displacement).
+  // One forward FFT (of p; t_z = -p), the slopes (e.grad) u of the in-plane displacement in
+  // one spectral pass, two inverse FFTs; leaves (e.grad) u in r1_/r2_.
   const double th = fric_.direction_deg * std::numbers::pi / 180.0;
   const double ex = std::cos(th), ey = std::sin(th);
-  const int nxh = grid_.nxh();
   const double scale = 1.0 / static_cast<double>(grid_.size());
-#pragma omp parallel for schedule(static)
-  for (int iky = 0; iky < grid_.ny; ++iky) {
-    const double qy = grid_.qy_deriv(iky);
-    for (int ikx = 0; ikx < nxh; ++ikx) {
-      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
-      const cplx d(0.0, scale * (ex * grid_.qx_deriv(ikx) + ey * qy));
-      s1_[k] = d * s2_[k];
-      s2_[k] = d * s3_[k];
-    }
-  }
+  fft_.forward(f.pressure.data(), s1_.data());
+  body_.inplane_slope(s2_.data(), s3_.data(), s1_.data(), ex, ey, s1_.data(), s2_.data(), scale, -scale);
   fft_.backward_unscaled_destroying(s1_.data(), r1_.data());
   fft_.backward_unscaled_destroying(s2_.data(), r2_.data());
   const double mu = fric_.coefficient;
   const double eps = fric_.regularization;  // tau = mu p v / max(|v|, eps)
+  // Outside the contact set the new traction is zero; outside the Anderson support the
+  // traction and its previous image are zero too (see solve), so nothing there is read.
   return grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
-    // Slip velocities are read on the contact set only (a few % of the grid).
     const double p = f.pressure[i];
-    double x = 0.0, y = 0.0;
     if (p > 0) {
       const double vx = ex + r1_[i], vy = ey + r2_[i];
       const double norm = std::max(std::sqrt(vx * vx + vy * vy), eps);  // |v| = O(1): no hypot needed
+      double x = 0.0, y = 0.0;
       if (norm > 0) {
         x = mu * p * vx / norm;
         y = mu * p * vy / norm;
       }
+      tx[i] = x;
+      ty[i] = y;
+      const double fx = f.tx[i], fy = f.ty[i];
+      acc[0] += std::abs(x - fx) + std::abs(y - fy);
+      acc[1] += std::abs(x) + std::abs(y);
+      if (joins_support(in_supp[i], x, y, fx, fy)) acc[2] += 1.0;
+    } else if (in_supp[i]) {
+      tx[i] = 0.0;
+      ty[i] = 0.0;
+      acc[0] += std::abs(f.tx[i]) + std::abs(f.ty[i]);
     }
-    tx[i] = x;
-    ty[i] = y;
-    const double fx = f.tx[i], fy = f.ty[i];
-    acc[0] += std::abs(x - fx) + std::abs(y - fy);
-    acc[1] += std::abs(x) + std::abs(y);
-    if (joins_support(in_supp[i], x, y, fx, fy)) acc[2] += 1.0;
   });
 }
 
@@ -352,14 +380,19 @@ double ContactSolver::residual(const ContactFields& f, double delta) {
   return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
 }
 
-void ContactSolver::poll(const ContactFields* f) {
-  if (stop_ && stop_()) throw Interrupted("interrupted at iteration " + std::to_string(total_it_));
+void ContactSolver::poll(const ContactFields* f, const std::function<void()>& settle) {
+  const bool stop = stop_ && stop_();
+  bool save = false;
+  double now = 0.0;
   if (checkpoint_ && f) {
-    const double now = std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
-    if (now - last_checkpoint_ >= checkpoint_interval_s_) {
-      last_checkpoint_ = now;
-      checkpoint_(*f);
-    }
+    now = std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+    save = now - last_checkpoint_ >= checkpoint_interval_s_;
+  }
+  if ((stop || save) && settle) settle();
+  if (stop) throw Interrupted("interrupted at iteration " + std::to_string(total_it_));
+  if (save) {
+    last_checkpoint_ = now;
+    checkpoint_(*f);
   }
 }
 
@@ -385,7 +418,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
   if (mu == 0.0) {
     std::fill(f.tx.begin(), f.tx.end(), 0.0);
     std::fill(f.ty.begin(), f.ty.end(), 0.0);
-    pk = solve_normal(load, w, f.pressure, tol, sp_.max_iterations);
+    pk = solve_normal(load, w, true, f.pressure, tol, sp_.max_iterations);
     info.converged = pk.converged;
     info.status = pk.converged ? "converged" : "not converged: iteration limit reached";
   } else {
@@ -409,6 +442,14 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     };
     std::vector<unsigned char> in_supp(n, 0);
     std::vector<double> xprev, fprev;
+    // A warm start's traction starts the support (the slip pass reads nothing outside it).
+    for (std::size_t i = 0; i < n; ++i)
+      if (f.tx[i] != 0.0 || f.ty[i] != 0.0) {
+        in_supp[i] = 1;
+        supp.push_back(static_cast<std::uint32_t>(i));
+      }
+    grow(xprev, 2 * supp.size());
+    grow(fprev, 2 * supp.size());
     const int m = std::max(0, sp_.anderson);
     and_df_.assign(static_cast<std::size_t>(m), {});
     and_dx_.assign(static_cast<std::size_t>(m), {});
@@ -433,10 +474,9 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         info.status = "not converged: iteration limit reached";
         break;
       }
-      pk = solve_normal(load, w, f.pressure, inner_tol, budget);
+      pk = solve_normal(load, w, false, f.pressure, inner_tol, budget);
       // One friction step costs 3 forward + 3 inverse FFTs: tau_x, tau_y and p forward,
       // w and the two slip derivatives back.
-      inplane_spectra(f);
       // dn[2]: points outside the Anderson support where the iterate or its image is
       // non-zero (they join the support below).
       const auto dn = slip_tractions(f, tx, ty, in_supp);
@@ -470,17 +510,6 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
           break;
         }
       }
-      if (m == 0) {
-        for (std::size_t i = 0; i < n; ++i) {
-          f.tx[i] += omega * (tx[i] - f.tx[i]);
-          f.ty[i] += omega * (ty[i] - f.ty[i]);
-        }
-        continue;
-      }
-      // Anderson mixing with relaxation (Walker & Ni 2011): with x the traction, f = G(x) - x,
-      // gamma = argmin |f - dF gamma|, x <- x - dX gamma + omega (f - dF gamma).
-      // omega < 1 damps the rotating (imaginary-eigenvalue) modes of the slip feedback.
-      // One pass stores the new differences and forms the new Gram row and dF^T f.
       if (dn[2] > 0) {
         // New support points (in grid order, so the layout does not depend on threads):
         // their previous iterate, residual and all stored differences are zero.
@@ -497,6 +526,17 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
           grow(and_dx_[static_cast<std::size_t>(sl)], len);
         }
       }
+      if (m == 0) {
+        for (std::size_t i = 0; i < n; ++i) {
+          f.tx[i] += omega * (tx[i] - f.tx[i]);
+          f.ty[i] += omega * (ty[i] - f.ty[i]);
+        }
+        continue;
+      }
+      // Anderson mixing with relaxation (Walker & Ni 2011): with x the traction, f = G(x) - x,
+      // gamma = argmin |f - dF gamma|, x <- x - dX gamma + omega (f - dF gamma).
+      // omega < 1 damps the rotating (imaginary-eigenvalue) modes of the slip feedback.
+      // One pass stores the new differences and forms the new Gram row and dF^T f.
       const std::size_t ns = supp.size();
       std::vector<double> rhs;
       if (!have_prev) {

@@ -1,7 +1,9 @@
 // Steady frictional sliding: energy balance, uncoupled limits, paper Fig. 2 trends.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "gfmd/config.hpp"
 #include "gfmd/run.hpp"
@@ -193,4 +195,35 @@ TEST(Sliding, RegularisedCoulombSettlesNearStickAndLeavesFullSlipAlone) {
   EXPECT_EQ(a.observables.friction_coefficient, b.observables.friction_coefficient);
   EXPECT_EQ(a.observables.relative_contact_area, b.observables.relative_contact_area);
   EXPECT_EQ(b.observables.near_stick_fraction, 0.0);
+}
+
+// A warm start may carry traction where the new solve has no contact (a sweep's previous
+// load, a checkpoint): the solve must drop it and reach the cold start's answer. Here the
+// warm traction is a long-wave shear over the whole cell, mostly outside the contact (a
+// uniform one would not deform the body).
+TEST(Sliding, WarmStartTractionOutsideTheContactIsDropped) {
+  const Config cfg = parse_config(kHertz, "t.toml", {"grid.nx=128", "solver.tolerance=1e-8"});
+  const CaseResult cold = run_case(cfg);
+  ASSERT_TRUE(cold.info.converged) << cold.info.status;
+  ContactFields warm = cold.fields;
+  const Grid& g = cfg.grid;
+  std::size_t outside = 0;
+  for (int iy = 0; iy < g.ny; ++iy)
+    for (int ix = 0; ix < g.nx; ++ix) {
+      const std::size_t i = static_cast<std::size_t>(iy) * g.nx + ix;
+      warm.tx[i] += 0.01 * std::sin(2 * std::numbers::pi * ix / g.nx);
+      warm.ty[i] -= 0.005 * std::cos(2 * std::numbers::pi * iy / g.ny);
+      if (warm.pressure[i] == 0.0) ++outside;
+    }
+  ASSERT_GT(outside, warm.tx.size() / 2);
+  RunOptions o;
+  o.warm_start = &warm;
+  const CaseResult r = run_case(cfg, o);
+  ASSERT_TRUE(r.info.converged) << r.info.status;
+  EXPECT_NEAR(r.observables.friction_coefficient, cold.observables.friction_coefficient, 1e-7);
+  double stray = 0.0;
+  for (std::size_t i = 0; i < r.fields.tx.size(); ++i)
+    if (r.fields.pressure[i] == 0.0)
+      stray = std::max({stray, std::abs(r.fields.tx[i]), std::abs(r.fields.ty[i])});
+  EXPECT_EQ(stray, 0.0);
 }

@@ -125,10 +125,11 @@ class ContactSolver {
     double delta;
     bool converged;
   };
-  PKResult solve_normal(const LoadParams& load, const RealField& w, RealField& p, double tol, int max_it);
-  void apply_compliance(const RealField& in, RealField& out);  // C_zz in
-  void update_displacements(ContactFields& f);                 // u from (tau, -p)
-  void inplane_spectra(const ContactFields& f);                // spectra of ux, uy (tau spectra cached)
+  // w_zero: w is zero everywhere (not read then).
+  PKResult solve_normal(const LoadParams& load, const RealField& w, bool w_zero, RealField& p, double tol,
+                        int max_it);
+  void apply_compliance(const RealField& in, RealField& out, double scale = 1.0);  // scale C_zz in
+  void update_displacements(ContactFields& f);                                     // u from (tau, -p)
   // Coulomb tractions of the current slip into (tx, ty); returns, over the grid,
   // sum |(tx, ty) - (f.tx, f.ty)|_1, sum |(tx, ty)|_1 and the number of points outside the
   // Anderson support (in_supp == 0) where either traction is non-zero.
@@ -148,6 +149,7 @@ class ContactSolver {
   RealField g0_;
   double g0_rms_ = 0.0;
   double gw_mean_ref_ = 0.0;      // solve_normal: last mean of g0 - w on the contact set
+  double g_mean_ref_ = 0.0;       // solve_normal: last mean of the separation there (load control)
   SpecField s1_, s2_, s3_;        // half-spectrum scratch
   RealField cg_g_, cg_t_, cg_r_;  // work arrays of solve_normal
   // Real scratch of the friction step and the displacement update; solve_normal does not
@@ -158,7 +160,9 @@ class ContactSolver {
   // Anderson history of the friction fixed point (ring buffers, single precision: only
   // the mixing uses them; convergence is always judged on the unaccelerated map).
   std::vector<std::vector<float>> and_df_, and_dx_;
-  void poll(const ContactFields* f);  // stop requests and checkpoints
+  // Stop requests and checkpoints; `settle` runs first when either is due (it brings the
+  // state up to date).
+  void poll(const ContactFields* f, const std::function<void()>& settle = {});
   std::function<void(const Progress&)> progress_;
   std::function<bool()> stop_;
   std::function<void(const ContactFields&)> checkpoint_;
