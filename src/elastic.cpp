@@ -1,5 +1,6 @@
 #include "gfmd/elastic.hpp"
 
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -165,6 +166,10 @@ std::array<cplx, 9> ElasticBody::stiffness(int ikx, int iky) const {
 namespace {
 // i c z for real c, without a general complex product (which also checks for NaN/inf).
 inline cplx times_i(double c, cplx z) { return {-c * z.imag(), c * z.real()}; }
+// In-plane displacement (u_x, u_y) of one mode under the tractions (x, y, z).
+inline std::array<cplx, 2> inplane(const ComplianceMode& m, cplx x, cplx y, cplx z) {
+  return {m.cxx * x + m.cxy * y + times_i(m.cxz, z), m.cxy * x + m.cyy * y + times_i(m.cyz, z)};
+}
 }  // namespace
 
 void ElasticBody::displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
@@ -175,8 +180,11 @@ void ElasticBody::displacement(const cplx* tx, const cplx* ty, const cplx* tz, c
     const ComplianceMode& m = modes_[k];
     const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
                z = tz ? scale_z * tz[k] : cplx(0.0);
-    if (ux) ux[k] = m.cxx * x + m.cxy * y + times_i(m.cxz, z);
-    if (uy) uy[k] = m.cxy * x + m.cyy * y + times_i(m.cyz, z);
+    if (ux || uy) {
+      const auto u = inplane(m, x, y, z);
+      if (ux) ux[k] = u[0];
+      if (uy) uy[k] = u[1];
+    }
     if (uz) uz[k] = m.czz * z - times_i(m.cxz, x) - times_i(m.cyz, y);
   }
 }
@@ -192,8 +200,9 @@ void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, 
       const ComplianceMode& m = modes_[k];
       const cplx x = scale * tx[k], y = scale * ty[k], z = scale_z * tz[k];
       const double d = ex * grid_.qx_deriv(ikx) + dy;
-      dux[k] = times_i(d, m.cxx * x + m.cxy * y + times_i(m.cxz, z));
-      duy[k] = times_i(d, m.cxy * x + m.cyy * y + times_i(m.cyz, z));
+      const auto u = inplane(m, x, y, z);
+      dux[k] = times_i(d, u[0]);
+      duy[k] = times_i(d, u[1]);
     }
   }
 }

@@ -98,13 +98,8 @@ void ContactSolver::apply_compliance(const RealField& in, RealField& out, double
   // spectral pass with the contiguous table C_zz / N, then the inverse transform in place.
   fft_.forward(in.data(), s1_.data());
   const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(czz_n_.size());
-  if (scale == 1.0) {
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t k = 0; k < ns; ++k) s1_[k] *= czz_n_[k];
-  } else {
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t k = 0; k < ns; ++k) s1_[k] *= scale * czz_n_[k];
-  }
+  for (std::ptrdiff_t k = 0; k < ns; ++k) s1_[k] *= scale * czz_n_[k];  // exact for scale = 1
   fft_.backward_unscaled_destroying(s1_.data(), out.data());
 }
 
@@ -290,7 +285,9 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
       res.converged = true;
       return res;
     }
-    poll(current_, apply_pending);  // a checkpoint or an interruption sees the rescaled pressure
+    // A checkpoint or an interruption sees the rescaled pressure (std::ref: the std::function
+    // holds a reference, no allocation per step).
+    poll(current_, std::ref(apply_pending));
   }
   apply_pending();
   return res;
