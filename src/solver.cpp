@@ -524,7 +524,8 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         }
       }
       if (m == 0) {
-        for (std::size_t i = 0; i < n; ++i) {
+        // Plain relaxation; outside the support both tractions are zero.
+        for (const std::uint32_t i : supp) {
           f.tx[i] += omega * (tx[i] - f.tx[i]);
           f.ty[i] += omega * (ty[i] - f.ty[i]);
         }

@@ -227,3 +227,23 @@ TEST(Sliding, WarmStartTractionOutsideTheContactIsDropped) {
       stray = std::max({stray, std::abs(r.fields.tx[i]), std::abs(r.fields.ty[i])});
   EXPECT_EQ(stray, 0.0);
 }
+
+// Without Anderson mixing (solver.anderson = 0) the plain relaxation must reach the same
+// fixed point (it updates the traction on the support only), in more friction steps.
+TEST(Sliding, PlainRelaxationReachesTheAcceleratedFixedPoint) {
+  const Config acc = parse_config(kHertz, "t.toml", {"grid.nx=64", "solver.tolerance=1e-8"});
+  const Config plain =
+      parse_config(kHertz, "t.toml", {"grid.nx=64", "solver.tolerance=1e-8", "solver.anderson=0"});
+  const CaseResult a = run_case(acc);
+  const CaseResult b = run_case(plain);
+  ASSERT_TRUE(a.info.converged) << a.info.status;
+  ASSERT_TRUE(b.info.converged) << b.info.status;
+  EXPECT_GT(b.info.outer_iterations, a.info.outer_iterations);
+  EXPECT_NEAR(b.observables.friction_coefficient, a.observables.friction_coefficient, 1e-6);
+  EXPECT_EQ(b.observables.relative_contact_area, a.observables.relative_contact_area);
+  double stray = 0.0;
+  for (std::size_t i = 0; i < b.fields.tx.size(); ++i)
+    if (b.fields.pressure[i] == 0.0)
+      stray = std::max({stray, std::abs(b.fields.tx[i]), std::abs(b.fields.ty[i])});
+  EXPECT_EQ(stray, 0.0);
+}
