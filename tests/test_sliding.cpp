@@ -197,6 +197,14 @@ TEST(Sliding, RegularisedCoulombSettlesNearStickAndLeavesFullSlipAlone) {
   EXPECT_EQ(b.observables.near_stick_fraction, 0.0);
 }
 
+// Largest tangential traction component where the pressure is zero (must be exactly 0).
+static double traction_outside_contact(const ContactFields& f) {
+  double stray = 0.0;
+  for (std::size_t i = 0; i < f.tx.size(); ++i)
+    if (f.pressure[i] == 0.0) stray = std::max({stray, std::abs(f.tx[i]), std::abs(f.ty[i])});
+  return stray;
+}
+
 // A warm start may carry traction where the new solve has no contact (a sweep's previous
 // load, a checkpoint): the solve must drop it and reach the cold start's answer. Here the
 // warm traction is a long-wave shear over the whole cell, mostly outside the contact (a
@@ -221,11 +229,7 @@ TEST(Sliding, WarmStartTractionOutsideTheContactIsDropped) {
   const CaseResult r = run_case(cfg, o);
   ASSERT_TRUE(r.info.converged) << r.info.status;
   EXPECT_NEAR(r.observables.friction_coefficient, cold.observables.friction_coefficient, 1e-7);
-  double stray = 0.0;
-  for (std::size_t i = 0; i < r.fields.tx.size(); ++i)
-    if (r.fields.pressure[i] == 0.0)
-      stray = std::max({stray, std::abs(r.fields.tx[i]), std::abs(r.fields.ty[i])});
-  EXPECT_EQ(stray, 0.0);
+  EXPECT_EQ(traction_outside_contact(r.fields), 0.0);
 }
 
 // Without Anderson mixing (solver.anderson = 0) the plain relaxation must reach the same
@@ -241,9 +245,5 @@ TEST(Sliding, PlainRelaxationReachesTheAcceleratedFixedPoint) {
   EXPECT_GT(b.info.outer_iterations, a.info.outer_iterations);
   EXPECT_NEAR(b.observables.friction_coefficient, a.observables.friction_coefficient, 1e-6);
   EXPECT_EQ(b.observables.relative_contact_area, a.observables.relative_contact_area);
-  double stray = 0.0;
-  for (std::size_t i = 0; i < b.fields.tx.size(); ++i)
-    if (b.fields.pressure[i] == 0.0)
-      stray = std::max({stray, std::abs(b.fields.tx[i]), std::abs(b.fields.ty[i])});
-  EXPECT_EQ(stray, 0.0);
+  EXPECT_EQ(traction_outside_contact(b.fields), 0.0);
 }
