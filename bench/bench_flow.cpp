@@ -2,7 +2,7 @@
 // self-affine surface (H = 0.8, lambda_l = L/4, lambda_s = 4 dx) cut at the height that
 // closes a given fraction of the cells, gap = max(c - h, 0).
 //
-//   bench_flow [N=2048] [closed_fraction=0.2] [solver=auto|pfmg|amg] [tolerance=1e-8]
+//   bench_flow [N=2048] [closed_fraction=0.2] [solver=auto|native|boomeramg] [tolerance=1e-8]
 //
 // Prints one line per direction: iterations, residual, phase times (set-up of the
 // preconditioner, PCG solve, total) and K / <g^3>.
@@ -38,9 +38,9 @@ int main(int argc, char** argv) {
 
   gfmd::FlowOptions opt;
   opt.tolerance = tol;
-  const auto solver = which == "pfmg"  ? gfmd::detail::FlowSolver::StructPFMG
-                      : which == "amg" ? gfmd::detail::FlowSolver::BoomerAMG
-                                       : gfmd::detail::FlowSolver::Auto;
+  const auto solver = which == "native"      ? gfmd::detail::FlowSolver::Amg
+                      : which == "boomeramg" ? gfmd::detail::FlowSolver::BoomerAMG
+                                             : gfmd::detail::FlowSolver::Auto;
   std::printf("N = %d, closed fraction %.3f, solver %s, tolerance %.1e\n", n, closed, which.c_str(), tol);
   // One direction per call (what `gfmd flow --direction x` costs), then both at once.
   for (const std::vector<double>& angles :

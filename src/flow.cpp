@@ -13,8 +13,6 @@
 #include <HYPRE_IJ_mv.h>
 #include <HYPRE_krylov.h>
 #include <HYPRE_parcsr_ls.h>
-#include <HYPRE_struct_ls.h>
-#include <HYPRE_struct_mv.h>
 #include <HYPRE_utilities.h>
 #include <mpi.h>
 
@@ -37,11 +35,13 @@
 #include <cstdint>
 #include <cstdlib>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <numbers>
 #include <string>
 #include <vector>
 
+#include "gfmd/amg.hpp"
 #include "gfmd/error.hpp"
 #include "gfmd/reduce.hpp"
 
@@ -60,6 +60,10 @@ struct LeakCheckPause {
   ~LeakCheckPause() { __lsan_enable(); }
 #endif
 };
+
+// Iterations of AMG-PCG after which the automatic back end gives up and solves with
+// BoomerAMG instead (typical counts are 10-20).
+constexpr int kAmgIterationBudget = 200;
 
 bool g_mpi_initialised_here = false;
 std::once_flag g_hypre_once;
@@ -128,8 +132,8 @@ class WrapUnionFind {
     for (auto it = path_.rbegin(); it != path_.rend(); ++it) {
       ax += ox_[*it];
       ay += oy_[*it];
-      ox_[*it] = ax;
-      oy_[*it] = ay;
+      ox_[*it] = static_cast<std::int32_t>(ax);
+      oy_[*it] = static_cast<std::int32_t>(ay);
       parent_[*it] = r;
     }
     ox = (i == r) ? 0 : ox_[i];
@@ -150,14 +154,14 @@ class WrapUnionFind {
     }
     if (size_[ri] >= size_[rj]) {
       parent_[rj] = ri;
-      ox_[rj] = dx;
-      oy_[rj] = dy;
+      ox_[rj] = static_cast<std::int32_t>(dx);
+      oy_[rj] = static_cast<std::int32_t>(dy);
       size_[ri] += size_[rj];
       wrap_[ri] |= wrap_[rj];
     } else {
       parent_[ri] = rj;
-      ox_[ri] = -dx;
-      oy_[ri] = -dy;
+      ox_[ri] = static_cast<std::int32_t>(-dx);
+      oy_[ri] = static_cast<std::int32_t>(-dy);
       size_[rj] += size_[ri];
       wrap_[rj] |= wrap_[ri];
     }
@@ -176,7 +180,7 @@ class WrapUnionFind {
 
  private:
   std::vector<std::int32_t> parent_, size_;
-  std::vector<std::int64_t> ox_, oy_;
+  std::vector<std::int32_t> ox_, oy_;  // |offset| <= number of cells on a path < 2^31
   std::vector<unsigned char> wrap_;
   std::vector<std::int32_t> path_;
 };
@@ -188,8 +192,6 @@ void check_grid(const Grid& grid, const char* where) {
   if (!(grid.lx > 0.0) || !(grid.ly > 0.0) || !std::isfinite(grid.lx) || !std::isfinite(grid.ly))
     throw InputError(where, "cell sizes lx, ly must be positive and finite");
 }
-
-bool is_pow2(int n) { return n > 0 && (n & (n - 1)) == 0; }
 
 // Unites neighbouring cells across open faces (open_x[i]: face between i and its +x
 // neighbour, open_y[i]: between i and its +y neighbour).
@@ -210,13 +212,300 @@ void unite_open_faces(WrapUnionFind& uf, const Grid& grid, OpenX&& open_x, OpenY
 // ---------------------------------------------------------------------------------------
 // The reduced SPD system.
 
+// The operator, independent of the direction of the imposed gradient (G = 1): face
+// conductances (weighted by the face length over the centre distance) and the cells that
+// are not unknowns. Unknown cell i: diag_i x_i + sum_faces coupling_f x_nb(f) = b_i, with
+// diag_i the sum of its four face conductances and coupling_f = -conductance_f, or 0 across
+// a closed face and to a pinned neighbour (P~ = 0 there: symmetric elimination).
+struct Face {
+  std::size_t cell;
+  double coupling;
+};
+
 struct LinearSystem {
   int nx = 0, ny = 0;
-  std::vector<double> diag;           // diagonal (pinned/isolated rows: identity scaled)
-  std::vector<double> west;           // coupling to the -x neighbour (0 across closed or pinned)
-  std::vector<double> south;          // coupling to the -y neighbour
-  std::vector<unsigned char> pinned;  // not an unknown (gauge cell or no net flow): identity row
+  std::vector<double> kx;             // face between i and its +x neighbour: (dy/dx) k_f
+  std::vector<double> ky;             // face between i and its +y neighbour: (dx/dy) k_f
+  std::vector<unsigned char> pinned;  // not an unknown (gauge cell or no net flow)
+  // Periodic neighbours: columns ix -+ 1, row offsets (iy -+ 1) * nx.
+  std::vector<std::size_t> xm, xp, ym, yp;
+
+  void make_tables() {
+    const auto unx = static_cast<std::size_t>(nx), uny = static_cast<std::size_t>(ny);
+    xm.resize(unx);
+    xp.resize(unx);
+    ym.resize(uny);
+    yp.resize(uny);
+    for (std::size_t ix = 0; ix < unx; ++ix) {
+      xm[ix] = ix == 0 ? unx - 1 : ix - 1;
+      xp[ix] = ix + 1 == unx ? 0 : ix + 1;
+    }
+    for (std::size_t iy = 0; iy < uny; ++iy) {
+      ym[iy] = (iy == 0 ? uny - 1 : iy - 1) * unx;
+      yp[iy] = (iy + 1 == uny ? 0 : iy + 1) * unx;
+    }
+  }
+  [[nodiscard]] std::size_t size() const { return kx.size(); }
+  [[nodiscard]] std::size_t at(std::size_t ix, std::size_t iy) const {
+    return iy * static_cast<std::size_t>(nx) + ix;
+  }
+  // The four faces (-x, +x, -y, +y) of cell (ix, iy); on grids one or two cells wide a
+  // neighbour can appear twice, or be the cell itself.
+  [[nodiscard]] std::array<Face, 4> faces(std::size_t ix, std::size_t iy) const {
+    const std::size_t row = at(0, iy), i = row + ix, iw = row + xm[ix], ie = row + xp[ix];
+    const std::size_t is = ym[iy] + ix, in = yp[iy] + ix;
+    std::array<Face, 4> f = {{{iw, -kx[iw]}, {ie, -kx[i]}, {is, -ky[is]}, {in, -ky[i]}}};
+    for (Face& e : f)
+      if (pinned[i] || pinned[e.cell]) e.coupling = 0.0;
+    return f;
+  }
+  [[nodiscard]] double diag(std::size_t ix, std::size_t iy) const {
+    const std::size_t row = at(0, iy);
+    return kx[row + xm[ix]] + kx[row + ix] + ky[ym[iy] + ix] + ky[row + ix];
+  }
+  // Conductance of a cell to its pinned neighbours (the row sum of an unknown's equation).
+  [[nodiscard]] double excess(std::size_t ix, std::size_t iy) const {
+    const std::size_t row = at(0, iy), i = row + ix, iw = row + xm[ix], ie = row + xp[ix];
+    const std::size_t is = ym[iy] + ix, in = yp[iy] + ix;
+    return (pinned[iw] ? kx[iw] : 0.0) + (pinned[ie] ? kx[i] : 0.0) + (pinned[is] ? ky[is] : 0.0) +
+           (pinned[in] ? ky[i] : 0.0);
+  }
+  // Calls f(iy) for every grid row, rows shared among the threads.
+  template <class F>
+  void for_rows(F&& f) const {
+#pragma omp parallel for schedule(static)
+    for (int iy = 0; iy < ny; ++iy) f(static_cast<std::size_t>(iy));
+  }
 };
+
+// The system handed to the linear solvers. All unknowns (cells not pinned, in grid order)
+// in general. On grids with even sizes the cells are coloured red ((ix + iy) even) and
+// black: a black cell couples to red cells only, so the black unknowns are eliminated
+// exactly (the Schur complement S = A_rr - A_rb A_bb^-1 A_br with a diagonal A_bb, nine
+// couplings per red row) and recovered after the solve from their own equations.
+// S_ij = -sum_k a_ik a_kj / a_kk has no cancellation; its diagonal is taken from its row
+// sum (the pinned-cell conductances, eliminated alike) plus the magnitudes of the
+// couplings, so that nearly closed cells lose no digits either. Rows are in compressed
+// form, diagonal first; couplings to the same neighbour across two faces are merged,
+// those of a cell to itself (nx or ny == 1) go to the diagonal.
+class ReducedSystem {
+ public:
+  ReducedSystem(const LinearSystem& sys, bool red_black) : sys_(sys) {
+    red_black_ = red_black && sys.nx % 2 == 0 && sys.ny % 2 == 0;
+    const auto ny = static_cast<std::size_t>(sys.ny), nx = static_cast<std::size_t>(sys.nx);
+    // Unknowns of each grid row, then their numbers.
+    row_first_.assign(ny + 1, 0);
+    sys.for_rows([&](std::size_t iy) {
+      std::size_t c = 0;
+      for (std::size_t ix = 0; ix < nx; ++ix) c += kept(ix, iy) ? 1 : 0;
+      row_first_[iy + 1] = c;
+    });
+    for (std::size_t iy = 0; iy < ny; ++iy) row_first_[iy + 1] += row_first_[iy];
+    index_.resize(sys.size());
+    sys.for_rows([&](std::size_t iy) {
+      auto r = static_cast<std::int32_t>(row_first_[iy]);
+      for (std::size_t ix = 0; ix < nx; ++ix) index_[sys.at(ix, iy)] = kept(ix, iy) ? r++ : -1;
+    });
+    // Rows are built twice: to count, then to fill the compressed rows in place.
+    const std::size_t m = size();
+    std::vector<std::uint8_t> len(m);
+    sys.for_rows([&](std::size_t iy) {
+      std::array<std::int32_t, kWidth> cols;
+      std::array<double, kWidth> vals;
+      std::size_t r = row_first_[iy];
+      for (std::size_t ix = 0; ix < nx; ++ix)
+        if (kept(ix, iy)) len[r++] = static_cast<std::uint8_t>(row(ix, iy, cols, vals));
+    });
+    matrix_.n = m;
+    matrix_.ptr.assign(m + 1, 0);
+    for (std::size_t r = 0; r < m; ++r) matrix_.ptr[r + 1] = matrix_.ptr[r] + len[r];
+    matrix_.col.resize(matrix_.ptr[m]);
+    matrix_.val.resize(matrix_.ptr[m]);
+    sys.for_rows([&](std::size_t iy) {
+      std::array<std::int32_t, kWidth> cols;
+      std::array<double, kWidth> vals;
+      std::size_t r = row_first_[iy];
+      for (std::size_t ix = 0; ix < nx; ++ix) {
+        if (!kept(ix, iy)) continue;
+        const std::size_t c = row(ix, iy, cols, vals);
+        std::copy_n(cols.data(), c, matrix_.col.data() + matrix_.ptr[r]);
+        std::copy_n(vals.data(), c, matrix_.val.data() + matrix_.ptr[r]);
+        ++r;
+      }
+    });
+  }
+
+  [[nodiscard]] std::size_t size() const { return row_first_.back(); }
+  [[nodiscard]] bool red_black() const { return red_black_; }
+  CsrMatrix take_matrix() { return std::move(matrix_); }
+  [[nodiscard]] std::int32_t index(std::size_t cell) const { return index_[cell]; }
+
+  // The right-hand side of the reduced system for the full one b (on cells).
+  void reduce(const std::vector<double>& b, std::vector<double>& br) const {
+    br.resize(size());
+    const auto nx = static_cast<std::size_t>(sys_.nx);
+    sys_.for_rows([&](std::size_t iy) {
+      std::size_t r = row_first_[iy];
+      for (std::size_t ix = 0; ix < nx; ++ix) {
+        if (!kept(ix, iy)) continue;
+        double v = b[sys_.at(ix, iy)];
+        if (red_black_)
+          for (const Face& f : sys_.faces(ix, iy))
+            if (f.coupling != 0.0) v -= f.coupling * b[f.cell] / sys_.diag(f.cell % nx, f.cell / nx);
+        br[r++] = v;
+      }
+    });
+  }
+
+  // The full solution (0 on pinned cells) from that of the reduced system.
+  void expand(const std::vector<double>& b, const std::vector<double>& xr, std::vector<double>& x) const {
+    x.resize(sys_.size());
+    const auto nx = static_cast<std::size_t>(sys_.nx);
+    sys_.for_rows([&](std::size_t iy) {
+      std::size_t r = row_first_[iy];
+      for (std::size_t ix = 0; ix < nx; ++ix) x[sys_.at(ix, iy)] = kept(ix, iy) ? xr[r++] : 0.0;
+    });
+    if (!red_black_) return;
+    sys_.for_rows([&](std::size_t iy) {
+      for (std::size_t ix = (iy + 1) % 2; ix < nx; ix += 2) {
+        const std::size_t i = sys_.at(ix, iy);
+        if (sys_.pinned[i]) continue;
+        double v = b[i];
+        for (const Face& f : sys_.faces(ix, iy))
+          if (f.coupling != 0.0) v -= f.coupling * x[f.cell];
+        x[i] = v / sys_.diag(ix, iy);
+      }
+    });
+  }
+
+ private:
+  static constexpr std::size_t kWidth = 13;  // diagonal + 4 black neighbours x 3 red cells
+  const LinearSystem& sys_;
+  bool red_black_ = false;
+  std::vector<std::size_t> row_first_;  // first reduced unknown of each grid row (ny + 1)
+  std::vector<std::int32_t> index_;     // cell -> reduced unknown, -1 otherwise
+  CsrMatrix matrix_;
+
+  [[nodiscard]] bool kept(std::size_t ix, std::size_t iy) const {
+    return !sys_.pinned[sys_.at(ix, iy)] && (!red_black_ || (ix + iy) % 2 == 0);
+  }
+
+  // Row of the unknown (ix, iy): diagonal first, no zero couplings; returns its length.
+  std::size_t row(std::size_t ix, std::size_t iy, std::array<std::int32_t, kWidth>& cols,
+                  std::array<double, kWidth>& vals) const {
+    if (red_black_ && sys_.nx > 4 && sys_.ny > 4) return row_wide(ix, iy, cols, vals);
+    // General case (and grids four cells wide or less, where neighbours coincide): the
+    // couplings are merged by column.
+    const LinearSystem& sys = sys_;
+    const auto nx = static_cast<std::size_t>(sys.nx);
+    const std::size_t i = sys.at(ix, iy);
+    std::size_t c = 1;
+    cols[0] = index_[i];
+    auto add = [&](std::size_t cell, double v) {
+      const std::int32_t j = index_[cell];
+      std::size_t k = 0;
+      while (k < c && cols[k] != j) ++k;
+      if (k == c) {
+        cols[c] = j;
+        vals[c] = v;
+        ++c;
+      } else {
+        vals[k] += v;
+      }
+    };
+    if (!red_black_) {
+      vals[0] = sys.diag(ix, iy);
+      for (const Face& f : sys.faces(ix, iy))
+        if (f.coupling != 0.0) add(f.cell, f.coupling);
+      return c;
+    }
+    double rowsum = sys.excess(ix, iy), offsum = 0.0;
+    vals[0] = 0.0;
+    for (const Face& f : sys.faces(ix, iy)) {
+      if (f.coupling == 0.0) continue;
+      const std::size_t kx = f.cell % nx, ky = f.cell / nx;
+      const double inv = 1.0 / sys.diag(kx, ky);
+      rowsum -= f.coupling * sys.excess(kx, ky) * inv;
+      for (const Face& g : sys.faces(kx, ky)) {
+        if (g.coupling == 0.0 || g.cell == i) continue;
+        const double v = -f.coupling * g.coupling * inv;
+        offsum -= v;
+        add(g.cell, v);
+      }
+    }
+    vals[0] = rowsum + offsum;
+    return c;
+  }
+
+  // A red row on grids more than four cells wide: the eight red neighbours at (+-2, 0),
+  // (0, +-2) (through one black cell) and (+-1, +-1) (through two) are distinct.
+  std::size_t row_wide(std::size_t ix, std::size_t iy, std::array<std::int32_t, kWidth>& cols,
+                       std::array<double, kWidth>& vals) const {
+    const LinearSystem& sys = sys_;
+    const std::size_t xm1 = sys.xm[ix], xp1 = sys.xp[ix], xm2 = sys.xm[xm1], xp2 = sys.xp[xp1];
+    const auto nx = static_cast<std::size_t>(sys.nx);
+    const std::size_t y0 = iy * nx, ym1 = sys.ym[iy], yp1 = sys.yp[iy];
+    const std::size_t ym2 = sys.ym[ym1 / nx], yp2 = sys.yp[yp1 / nx];
+    const unsigned char* pin = sys.pinned.data();
+    const double* kx = sys.kx.data();
+    const double* ky = sys.ky.data();
+    // Conductance between two cells if both are unknowns (the face is named by its cell
+    // on the -x / -y side), 0 otherwise.
+    auto cx = [&](std::size_t a, std::size_t b, std::size_t face) {
+      return pin[a] || pin[b] ? 0.0 : kx[face];
+    };
+    auto cy = [&](std::size_t a, std::size_t b, std::size_t face) {
+      return pin[a] || pin[b] ? 0.0 : ky[face];
+    };
+    const std::size_t i = y0 + ix, W = y0 + xm1, E = y0 + xp1, S = ym1 + ix, N = yp1 + ix;
+    const double aW = cx(i, W, W), aE = cx(i, E, i), aS = cy(i, S, S), aN = cy(i, N, i);
+    const std::size_t sy = ym1 / nx, ny_ = yp1 / nx;
+    const double iW = aW > 0.0 ? 1.0 / sys.diag(xm1, iy) : 0.0, iE = aE > 0.0 ? 1.0 / sys.diag(xp1, iy) : 0.0;
+    const double iS = aS > 0.0 ? 1.0 / sys.diag(ix, sy) : 0.0, iN = aN > 0.0 ? 1.0 / sys.diag(ix, ny_) : 0.0;
+    const std::array<std::size_t, 8> nb = {y0 + xm2,  y0 + xp2,  ym2 + ix,  yp2 + ix,
+                                           ym1 + xm1, ym1 + xp1, yp1 + xm1, yp1 + xp1};
+    // Products a_ik a_kj / a_kk (>= 0; S_ij is minus their sum).
+    const std::array<double, 8> v = {aW * cx(W, nb[0], nb[0]) * iW,
+                                     aE * cx(E, nb[1], E) * iE,
+                                     aS * cy(S, nb[2], nb[2]) * iS,
+                                     aN * cy(N, nb[3], N) * iN,
+                                     aW * cy(W, nb[4], nb[4]) * iW + aS * cx(S, nb[4], nb[4]) * iS,
+                                     aE * cy(E, nb[5], nb[5]) * iE + aS * cx(S, nb[5], S) * iS,
+                                     aW * cy(W, nb[6], W) * iW + aN * cx(N, nb[6], nb[6]) * iN,
+                                     aE * cy(E, nb[7], E) * iE + aN * cx(N, nb[7], N) * iN};
+    double rowsum = sys.excess(ix, iy);
+    if (aW > 0.0) rowsum += aW * sys.excess(xm1, iy) * iW;
+    if (aE > 0.0) rowsum += aE * sys.excess(xp1, iy) * iE;
+    if (aS > 0.0) rowsum += aS * sys.excess(ix, sy) * iS;
+    if (aN > 0.0) rowsum += aN * sys.excess(ix, ny_) * iN;
+    std::size_t c = 1;
+    double offsum = 0.0;
+    cols[0] = index_[i];
+    for (std::size_t k = 0; k < 8; ++k) {
+      if (v[k] == 0.0) continue;
+      cols[c] = index_[nb[k]];
+      vals[c] = -v[k];
+      offsum += v[k];
+      ++c;
+    }
+    vals[0] = rowsum + offsum;
+    return c;
+  }
+};
+
+// ||b - A x||_2 over the unknowns of the full system.
+double full_residual_norm(const LinearSystem& sys, const std::vector<double>& b,
+                          const std::vector<double>& x) {
+  const Grid g{sys.nx, sys.ny, 1.0, 1.0};
+  const auto nx = static_cast<std::size_t>(sys.nx);
+  return std::sqrt(grid_sum(g, [&](std::size_t i) {
+    if (sys.pinned[i]) return 0.0;
+    const std::size_t ix = i % nx, iy = i / nx;
+    double v = b[i] - sys.diag(ix, iy) * x[i];
+    for (const Face& f : sys.faces(ix, iy)) v -= f.coupling * x[f.cell];
+    return v * v;
+  }));
+}
 
 // Solution for one right-hand side; the set-up time is that of the preconditioner,
 // counted for the first right-hand side only (the others reuse it).
@@ -256,150 +545,62 @@ void finish(LinearSolution& sol, HYPRE_Int its, HYPRE_Real res, const FlowOption
   sol.converged = finite && res <= opt.tolerance;
 }
 
-// One PCG solve per right-hand side, all with the same operator and preconditioner.
-std::vector<LinearSolution> solve_struct(const LinearSystem& sys, const std::vector<std::vector<double>>& rhs,
-                                         const FlowOptions& opt) {
-  const MPI_Comm comm = MPI_COMM_SELF;
-  HYPRE_Int ilower[2] = {0, 0};
-  HYPRE_Int iupper[2] = {sys.nx - 1, sys.ny - 1};
-  HYPRE_Int period[2] = {sys.nx, sys.ny};
-
-  HYPRE_StructGrid sgrid = nullptr;
-  HYPRE_StructStencil stencil = nullptr;
-  HYPRE_StructMatrix A = nullptr;
-  HYPRE_StructVector b = nullptr, x = nullptr;
-  HYPRE_StructSolver pcg = nullptr, pfmg = nullptr;
-  struct Cleanup {
-    HYPRE_StructGrid& g;
-    HYPRE_StructStencil& s;
-    HYPRE_StructMatrix& A;
-    HYPRE_StructVector &b, &x;
-    HYPRE_StructSolver &pcg, &pfmg;
-    ~Cleanup() {
-      if (pfmg) HYPRE_StructPFMGDestroy(pfmg);
-      if (pcg) HYPRE_StructPCGDestroy(pcg);
-      if (x) HYPRE_StructVectorDestroy(x);
-      if (b) HYPRE_StructVectorDestroy(b);
-      if (A) HYPRE_StructMatrixDestroy(A);
-      if (s) HYPRE_StructStencilDestroy(s);
-      if (g) HYPRE_StructGridDestroy(g);
-      HYPRE_ClearAllErrors();
-    }
-  } cleanup{sgrid, stencil, A, b, x, pcg, pfmg};
-
-  hypre_check(HYPRE_StructGridCreate(comm, 2, &sgrid), "StructGridCreate");
-  hypre_check(HYPRE_StructGridSetExtents(sgrid, ilower, iupper), "StructGridSetExtents");
-  hypre_check(HYPRE_StructGridSetPeriodic(sgrid, period), "StructGridSetPeriodic");
-  hypre_check(HYPRE_StructGridAssemble(sgrid), "StructGridAssemble");
-
-  // Full 5-point storage (PFMG's red/black smoother needs it): centre, west, east, south,
-  // north; the east/north couplings are the west/south ones of the neighbour.
-  const int nx = sys.nx, ny = sys.ny;
-  const std::size_t n = sys.diag.size();
-  HYPRE_Int offsets[5][2] = {{0, 0}, {-1, 0}, {1, 0}, {0, -1}, {0, 1}};
-  hypre_check(HYPRE_StructStencilCreate(2, 5, &stencil), "StructStencilCreate");
-  for (HYPRE_Int e = 0; e < 5; ++e)
-    hypre_check(HYPRE_StructStencilSetElement(stencil, e, offsets[e]), "StencilSet");
-
-  hypre_check(HYPRE_StructMatrixCreate(comm, sgrid, stencil, &A), "StructMatrixCreate");
-  hypre_check(HYPRE_StructMatrixSetSymmetric(A, 0), "StructMatrixSetSymmetric");
-  hypre_check(HYPRE_StructMatrixInitialize(A), "StructMatrixInitialize");
-  {
-    std::vector<double> east(n), north(n);
-#pragma omp parallel for schedule(static)
-    for (int iy = 0; iy < ny; ++iy) {
-      const int iyn = (iy + 1 == ny) ? 0 : iy + 1;
-      for (int ix = 0; ix < nx; ++ix) {
-        const int ixe = (ix + 1 == nx) ? 0 : ix + 1;
-        const std::size_t i = static_cast<std::size_t>(iy) * nx + ix;
-        east[i] = sys.west[static_cast<std::size_t>(iy) * nx + ixe];
-        north[i] = sys.south[static_cast<std::size_t>(iyn) * nx + ix];
-      }
-    }
-    const std::array<const std::vector<double>*, 5> coeffs = {&sys.diag, &sys.west, &east, &sys.south,
-                                                              &north};
-    for (HYPRE_Int e = 0; e < 5; ++e) {
-      HYPRE_Int entry = e;
-      hypre_check(HYPRE_StructMatrixSetBoxValues(A, ilower, iupper, 1, &entry,
-                                                 const_cast<double*>(coeffs[e]->data())),
-                  "StructMatrixSetBoxValues");
-    }
-  }
-  hypre_check(HYPRE_StructMatrixAssemble(A), "StructMatrixAssemble");
-
-  std::vector<double> zero(n, 0.0);
-  hypre_check(HYPRE_StructVectorCreate(comm, sgrid, &b), "StructVectorCreate");
-  hypre_check(HYPRE_StructVectorInitialize(b), "StructVectorInitialize");
-  hypre_check(HYPRE_StructVectorCreate(comm, sgrid, &x), "StructVectorCreate");
-  hypre_check(HYPRE_StructVectorInitialize(x), "StructVectorInitialize");
-
-  hypre_check(HYPRE_StructPCGCreate(comm, &pcg), "StructPCGCreate");
-  HYPRE_StructPCGSetTol(pcg, opt.tolerance);
-  HYPRE_StructPCGSetAbsoluteTol(pcg, 0.0);
-  HYPRE_StructPCGSetMaxIter(pcg, opt.max_iterations);
-  HYPRE_StructPCGSetTwoNorm(pcg, 1);
-  HYPRE_StructPCGSetRelChange(pcg, 0);
-  HYPRE_StructPCGSetPrintLevel(pcg, 0);
-  HYPRE_StructPCGSetLogging(pcg, 1);
-
-  hypre_check(HYPRE_StructPFMGCreate(comm, &pfmg), "StructPFMGCreate");
-  HYPRE_StructPFMGSetMaxIter(pfmg, 1);
-  HYPRE_StructPFMGSetPrintLevel(pfmg, 0);
-  HYPRE_StructPFMGSetTol(pfmg, 0.0);
-  HYPRE_StructPFMGSetZeroGuess(pfmg);
-  HYPRE_StructPFMGSetRAPType(pfmg, 0);    // Galerkin coarse operators
-  HYPRE_StructPFMGSetRelaxType(pfmg, 2);  // symmetric red/black Gauss-Seidel
-  HYPRE_StructPFMGSetNumPreRelax(pfmg, 1);
-  HYPRE_StructPFMGSetNumPostRelax(pfmg, 1);
-  HYPRE_StructPFMGSetSkipRelax(pfmg, 0);
-
-  HYPRE_StructPFMGSetLogging(pfmg, 0);
-  hypre_check(HYPRE_StructPCGSetPrecond(pcg, HYPRE_StructPFMGSolve, HYPRE_StructPFMGSetup, pfmg),
-              "SetPrecond");
-
+// Our algebraic multigrid (gfmd/amg.hpp) under CG, one hierarchy for all right-hand sides,
+// on the red-black reduced system where the grid allows it. A solve counts as converged
+// when CG met the tolerance and the residual of the full system, recomputed, is within
+// ten times it.
+std::vector<LinearSolution> solve_native(const LinearSystem& sys, const std::vector<std::vector<double>>& rhs,
+                                         const FlowOptions& opt, int max_iterations) {
   std::vector<LinearSolution> out;
-  for (std::size_t k = 0; k < rhs.size(); ++k) {
-    hypre_check(HYPRE_StructVectorSetBoxValues(b, ilower, iupper, const_cast<double*>(rhs[k].data())),
-                "SetBoxValues");
-    hypre_check(HYPRE_StructVectorAssemble(b), "StructVectorAssemble");
-    hypre_check(HYPRE_StructVectorSetBoxValues(x, ilower, iupper, zero.data()), "SetBoxValues");
-    hypre_check(HYPRE_StructVectorAssemble(x), "StructVectorAssemble");
+  const auto t0 = std::chrono::steady_clock::now();
+  ReducedSystem red(sys, true);
+  if (red.size() == 0) {
     LinearSolution sol;
-    timed_pcg(
-        k == 0, sol, [&] { hypre_check(HYPRE_StructPCGSetup(pcg, A, b, x), "StructPCGSetup"); },
-        [&] { hypre_check(HYPRE_StructPCGSolve(pcg, A, b, x), "StructPCGSolve"); });
-    HYPRE_Int its = 0;
-    HYPRE_Real res = 0.0;
-    HYPRE_StructPCGGetNumIterations(pcg, &its);
-    HYPRE_StructPCGGetFinalRelativeResidualNorm(pcg, &res);
-    sol.x.assign(n, 0.0);
-    hypre_check(HYPRE_StructVectorGetBoxValues(x, ilower, iupper, sol.x.data()), "GetBoxValues");
-    finish(sol, its, res, opt);
+    sol.x.assign(sys.size(), 0.0);
+    sol.converged = true;
+    return std::vector<LinearSolution>(rhs.size(), sol);
+  }
+  const AlgebraicMultigrid amg(red.take_matrix());
+  const double setup_s = seconds_since(t0);
+  std::vector<double> br, xr;
+  for (std::size_t k = 0; k < rhs.size(); ++k) {
+    LinearSolution sol;
+    sol.setup_s = k == 0 ? setup_s : 0.0;
+    const auto t1 = std::chrono::steady_clock::now();
+    const double bnorm = std::sqrt(range_sums(
+        rhs[k].size(), 1, [&](std::size_t i, double* acc) { acc[0] += rhs[k][i] * rhs[k][i]; })[0]);
+    red.reduce(rhs[k], br);
+    xr.assign(br.size(), 0.0);
+    const CgOutcome cg = amg_pcg(amg, br.data(), xr.data(), opt.tolerance, max_iterations, bnorm);
+    red.expand(rhs[k], xr, sol.x);
+    sol.solve_s = seconds_since(t1);
+    sol.iterations = cg.iterations;
+    sol.residual = bnorm > 0.0 ? full_residual_norm(sys, rhs[k], sol.x) / bnorm : 0.0;
+    bool finite = std::isfinite(sol.residual);
+    for (double v : sol.x) finite = finite && std::isfinite(v);
+    sol.converged = finite && cg.converged && sol.residual <= 10.0 * opt.tolerance;
     out.push_back(std::move(sol));
   }
   return out;
 }
 
-std::vector<LinearSolution> solve_amg(const LinearSystem& sys,
-                                      const std::vector<std::vector<double>>& rhs_list,
-                                      const FlowOptions& opt) {
+std::vector<LinearSolution> solve_boomeramg(const LinearSystem& sys,
+                                            const std::vector<std::vector<double>>& rhs_list,
+                                            const FlowOptions& opt) {
   const MPI_Comm comm = MPI_COMM_SELF;
-  const int nx = sys.nx, ny = sys.ny;
-  const std::size_t ncell = sys.diag.size();
+  const std::size_t ncell = sys.size();
 
   // Only the free cells are unknowns: pinned and isolated cells (P~ = 0) are dropped,
   // together with their couplings (which are zero in the reduced system anyway).
-  std::vector<HYPRE_BigInt> index(ncell, -1);
-  HYPRE_BigInt m = 0;
-  for (std::size_t i = 0; i < ncell; ++i)
-    if (!sys.pinned[i]) index[i] = m++;
-  if (m == 0) {
+  ReducedSystem u(sys, false);
+  if (u.size() == 0) {
     LinearSolution sol;
     sol.x.assign(ncell, 0.0);
     sol.converged = true;
     return std::vector<LinearSolution>(rhs_list.size(), sol);
   }
-  const auto n = m;
+  const auto n = static_cast<HYPRE_BigInt>(u.size());
+  const CsrMatrix a = u.take_matrix();
 
   HYPRE_IJMatrix A = nullptr;
   HYPRE_IJVector b = nullptr, x = nullptr;
@@ -418,43 +619,13 @@ std::vector<LinearSolution> solve_amg(const LinearSystem& sys,
     }
   } cleanup{A, b, x, pcg, amg};
 
-  // Rows in CSR form; duplicate neighbours (nx or ny <= 2) are merged, couplings of a
-  // cell to itself (nx or ny == 1) go to the diagonal.
   std::vector<HYPRE_Int> ncols(static_cast<std::size_t>(n));
-  std::vector<HYPRE_BigInt> rows(static_cast<std::size_t>(n)), cols;
-  std::vector<double> vals, rhs(static_cast<std::size_t>(n));  // rhs: reduced right-hand side
-  cols.reserve(static_cast<std::size_t>(n) * 5);
-  vals.reserve(static_cast<std::size_t>(n) * 5);
-  for (int iy = 0; iy < ny; ++iy) {
-    const int iyn = (iy + 1 == ny) ? 0 : iy + 1;
-    const int iys = (iy == 0) ? ny - 1 : iy - 1;
-    for (int ix = 0; ix < nx; ++ix) {
-      const std::size_t i = static_cast<std::size_t>(iy) * nx + ix;
-      if (index[i] < 0) continue;
-      const int ixe = (ix + 1 == nx) ? 0 : ix + 1;
-      const int ixw = (ix == 0) ? nx - 1 : ix - 1;
-      const std::array<std::size_t, 5> c = {
-          i, static_cast<std::size_t>(iy) * nx + ixw, static_cast<std::size_t>(iy) * nx + ixe,
-          static_cast<std::size_t>(iys) * nx + ix, static_cast<std::size_t>(iyn) * nx + ix};
-      const std::array<double, 5> v = {sys.diag[i], sys.west[i], sys.west[c[2]], sys.south[i],
-                                       sys.south[c[4]]};
-      const std::size_t start = cols.size();
-      for (int e = 0; e < 5; ++e) {
-        if (e > 0 && (v[e] == 0.0 || index[c[e]] < 0)) continue;
-        const HYPRE_BigInt col = index[c[e]];
-        std::size_t k = start;
-        while (k < cols.size() && cols[k] != col) ++k;
-        if (k == cols.size()) {
-          cols.push_back(col);
-          vals.push_back(v[e]);
-        } else {
-          vals[k] += v[e];
-        }
-      }
-      const HYPRE_BigInt r = index[i];
-      rows[r] = r;
-      ncols[r] = static_cast<HYPRE_Int>(cols.size() - start);
-    }
+  std::vector<HYPRE_BigInt> rows(static_cast<std::size_t>(n)), cols(a.col.begin(), a.col.end());
+  const std::vector<double>& vals = a.val;
+  std::vector<double> rhs;  // right-hand side of the unknowns
+  for (std::size_t r = 0; r < a.n; ++r) {
+    rows[r] = static_cast<HYPRE_BigInt>(r);
+    ncols[r] = static_cast<HYPRE_Int>(a.ptr[r + 1] - a.ptr[r]);
   }
   hypre_check(HYPRE_IJMatrixCreate(comm, 0, n - 1, 0, n - 1, &A), "IJMatrixCreate");
   hypre_check(HYPRE_IJMatrixSetObjectType(A, HYPRE_PARCSR), "IJMatrixSetObjectType");
@@ -465,7 +636,7 @@ std::vector<LinearSolution> solve_amg(const LinearSystem& sys,
   hypre_check(HYPRE_IJMatrixSetMaxOffProcElmts(A, 0), "IJMatrixSetMaxOffProcElmts");
   hypre_check(HYPRE_IJMatrixInitialize(A), "IJMatrixInitialize");
   hypre_check(HYPRE_IJMatrixSetValues(A, static_cast<HYPRE_Int>(n), ncols.data(), rows.data(), cols.data(),
-                                      vals.data()),
+                                      const_cast<double*>(vals.data())),
               "IJMatrixSetValues");
   hypre_check(HYPRE_IJMatrixAssemble(A), "IJMatrixAssemble");
   HYPRE_ParCSRMatrix parA = nullptr;
@@ -522,8 +693,7 @@ std::vector<LinearSolution> solve_amg(const LinearSystem& sys,
   std::vector<LinearSolution> out;
   std::vector<double> xr(static_cast<std::size_t>(n));
   for (std::size_t k = 0; k < rhs_list.size(); ++k) {
-    for (std::size_t i = 0; i < ncell; ++i)
-      if (index[i] >= 0) rhs[static_cast<std::size_t>(index[i])] = rhs_list[k][i];
+    u.reduce(rhs_list[k], rhs);
     hypre_check(HYPRE_IJVectorSetValues(b, static_cast<HYPRE_Int>(n), rows.data(), rhs.data()),
                 "IJVectorSetValues");
     hypre_check(HYPRE_IJVectorSetValues(x, static_cast<HYPRE_Int>(n), rows.data(), zero.data()),
@@ -538,9 +708,7 @@ std::vector<LinearSolution> solve_amg(const LinearSystem& sys,
     HYPRE_PCGGetFinalRelativeResidualNorm(pcg, &res);
     hypre_check(HYPRE_IJVectorGetValues(x, static_cast<HYPRE_Int>(n), rows.data(), xr.data()),
                 "IJVectorGetValues");
-    sol.x.assign(ncell, 0.0);
-    for (std::size_t i = 0; i < ncell; ++i)
-      if (index[i] >= 0) sol.x[i] = xr[static_cast<std::size_t>(index[i])];
+    u.expand(rhs_list[k], xr, sol.x);
     finish(sol, its, res, opt);
     out.push_back(std::move(sol));
   }
@@ -560,10 +728,12 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
   if (opt.max_iterations < 1) throw InputError("flow", "max_iterations must be >= 1");
   const int nx = grid.nx, ny = grid.ny;
   const std::size_t n = grid.size();
-  const bool struct_ok = is_pow2(nx) && is_pow2(ny) && nx >= 4 && ny >= 4;
-  if (which == detail::FlowSolver::StructPFMG && !struct_ok)
-    throw InputError("flow", "the Struct PFMG solver needs nx, ny powers of two >= 4");
 
+  // Every block of the solve comes from the heap, grown once for all of them and advised
+  // for transparent huge pages, and is given back when the solve ends: the many grid-sized
+  // temporaries (operator, reduction, multigrid set-up, HYPRE's) would otherwise each be
+  // mapped and faulted in afresh, 4 KiB at a time (2048^2: seconds in the kernel).
+  const HeapAllocationScope heap_only(512 * n);
   double gmax = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(gap[i])) throw InputError("flow", "non-finite gap at index " + std::to_string(i));
@@ -592,14 +762,19 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
   }
   if (!(gmax > 0.0)) return results;  // everything closed: no flow
 
-  // Normalised cell and face conductances: kn = (g / gmax)^3, physical k = kscale * kn.
+  // Normalised face conductances (kn = (g / gmax)^3 of the cells, physical k = kscale * kn),
+  // weighted by the face length over the centre distance.
   const double kscale = gmax * gmax * gmax;
-  std::vector<double> kn(n), kfx(n), kfy(n);
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  LinearSystem sys;
+  sys.nx = nx;
+  sys.ny = ny;
+  sys.make_tables();
+  sys.kx.resize(n);
+  sys.ky.resize(n);
+  auto kcell = [&](std::size_t i) {
     const double g = std::max(gap[i], 0.0) / gmax;
-    kn[i] = g * g * g;
-  }
+    return g * g * g;
+  };
   auto harmonic = [](double ki, double kj) {
     return (ki > 0.0 && kj > 0.0) ? 2.0 * ki * kj / (ki + kj) : 0.0;
   };
@@ -609,8 +784,9 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     for (int ix = 0; ix < nx; ++ix) {
       const int ixe = (ix + 1 == nx) ? 0 : ix + 1;
       const std::size_t i = static_cast<std::size_t>(iy) * nx + ix;
-      kfx[i] = harmonic(kn[i], kn[static_cast<std::size_t>(iy) * nx + ixe]);
-      kfy[i] = harmonic(kn[i], kn[static_cast<std::size_t>(iyn) * nx + ix]);
+      const double ki = kcell(i);
+      sys.kx[i] = wx * harmonic(ki, kcell(static_cast<std::size_t>(iy) * nx + ixe));
+      sys.ky[i] = wy * harmonic(ki, kcell(static_cast<std::size_t>(iyn) * nx + ix));
     }
   }
 
@@ -619,47 +795,26 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
   // cell) carries no flow: its total pressure is constant. Such "still" cells are not
   // unknowns (their currents are zero); neither is one gauge cell (the root, P~ = 0) of
   // every winding component.
-  WrapUnionFind uf(n);
-  unite_open_faces(
-      uf, grid, [&](std::size_t i) { return kfx[i] > 0.0; }, [&](std::size_t i) { return kfy[i] > 0.0; });
-  const bool wraps_x = uf.any_wraps(0), wraps_y = uf.any_wraps(1);
-  std::vector<unsigned char> pinned(n), still(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::int32_t r = uf.root(static_cast<std::int32_t>(i));
-    still[i] = !(uf.wraps(r, 0) || uf.wraps(r, 1));
-    pinned[i] = still[i] || r == static_cast<std::int32_t>(i);
-  }
-
-  // Operator (independent of the direction; G = 1).
-  LinearSystem sys;
-  sys.nx = nx;
-  sys.ny = ny;
-  sys.diag.assign(n, 0.0);
-  sys.west.assign(n, 0.0);
-  sys.south.assign(n, 0.0);
-  sys.pinned = pinned;
-  const double identity = 2.0 * (wx + wy);
-#pragma omp parallel for schedule(static)
-  for (int iy = 0; iy < ny; ++iy) {
-    const int iys = (iy == 0) ? ny - 1 : iy - 1;
-    for (int ix = 0; ix < nx; ++ix) {
-      const int ixw = (ix == 0) ? nx - 1 : ix - 1;
-      const std::size_t i = static_cast<std::size_t>(iy) * nx + ix;
-      const std::size_t iw = static_cast<std::size_t>(iy) * nx + ixw;
-      const std::size_t is = static_cast<std::size_t>(iys) * nx + ix;
-      const double d = wx * (kfx[i] + kfx[iw]) + wy * (kfy[i] + kfy[is]);
-      if (pinned[i]) {
-        sys.diag[i] = d > 0.0 ? d : identity;
-        continue;  // couplings stay zero, rhs 0
-      }
-      sys.diag[i] = d;
-      // Couplings to a pinned neighbour vanish (symmetric elimination); those stored at
-      // the +x/+y neighbour of a pinned cell are that neighbour's west/south entries.
-      sys.west[i] = pinned[iw] ? 0.0 : -wx * kfx[iw];
-      sys.south[i] = pinned[is] ? 0.0 : -wy * kfy[is];
+  sys.pinned.assign(n, 0);
+  std::vector<unsigned char>& pinned = sys.pinned;
+  std::vector<unsigned char> still(n);
+  bool wraps_x = false, wraps_y = false;
+  {
+    WrapUnionFind uf(n);
+    unite_open_faces(
+        uf, grid, [&](std::size_t i) { return sys.kx[i] > 0.0; },
+        [&](std::size_t i) { return sys.ky[i] > 0.0; });
+    wraps_x = uf.any_wraps(0);
+    wraps_y = uf.any_wraps(1);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::int32_t r = uf.root(static_cast<std::int32_t>(i));
+      still[i] = !(uf.wraps(r, 0) || uf.wraps(r, 1));
+      pinned[i] = still[i] || r == static_cast<std::int32_t>(i);
     }
   }
-  // Right-hand sides, one per direction d = (cos a, sin a).
+
+  // Right-hand sides, one per direction d = (cos a, sin a): the divergence of the imposed
+  // current, G d_x dx through x faces and G d_y dy through y faces (times the conductance).
   std::vector<std::vector<double>> rhs(angles.size(), std::vector<double>(n, 0.0));
   for (std::size_t k = 0; k < angles.size(); ++k) {
     const double a = angles[k] * std::numbers::pi / 180.0;
@@ -674,52 +829,44 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
         if (pinned[i]) continue;
         const std::size_t iw = static_cast<std::size_t>(iy) * nx + ixw;
         const std::size_t is = static_cast<std::size_t>(iys) * nx + ix;
-        b[i] = dxd * dy * (kfx[iw] - kfx[i]) + dyd * dx * (kfy[is] - kfy[i]);
+        b[i] = dxd * dx * (sys.kx[iw] - sys.kx[i]) + dyd * dy * (sys.ky[is] - sys.ky[i]);
       }
     }
   }
 
-  // Back end. PFMG's operator-dependent interpolation breaks down (the preconditioner
-  // stops being positive definite) on fields with closed faces, so the structured solver
-  // is used only when every face is open; everything else goes to BoomerAMG, which is
-  // also the fallback if the structured solve fails. One set-up serves all directions.
-  bool all_open = true;
-  for (std::size_t i = 0; i < n && all_open; ++i) all_open = kfx[i] > 0.0 && kfy[i] > 0.0;
-  const bool use_struct =
-      which == detail::FlowSolver::StructPFMG || (which == detail::FlowSolver::Auto && struct_ok && all_open);
-  // From here on every block comes from the heap (HYPRE's set-up makes many short-lived
-  // grid-sized allocations); the scope ends after the last of them is freed, when the
-  // free heap pages go back to the system. The results' fields were allocated above.
-  const HeapAllocationScope heap_only(512 * n);
+  // Back end: our algebraic multigrid (OpenMP, on the red-black reduced system), with
+  // HYPRE's BoomerAMG (serial) as the fallback if it does not converge within its
+  // iteration budget; or BoomerAMG alone when asked for. One set-up serves all directions.
   std::vector<LinearSolution> sols;
-  {
+  std::string failure;
+  if (which != detail::FlowSolver::BoomerAMG) {
+    const int budget = which == detail::FlowSolver::Amg ? opt.max_iterations
+                                                        : std::min(opt.max_iterations, kAmgIterationBudget);
+    try {
+      sols = solve_native(sys, rhs, opt, budget);
+      for (const LinearSolution& sol : sols)
+        if (!sol.converged && failure.empty())
+          failure = "AMG-PCG reached relative residual " + std::to_string(sol.residual) + " after " +
+                    std::to_string(sol.iterations) + " iterations";
+    } catch (const SolveError& e) {
+      failure = e.what();
+    }
+    if (!failure.empty() && which == detail::FlowSolver::Amg)
+      throw SolveError("flow: linear solve did not converge to " + std::to_string(opt.tolerance) + ": " +
+                       failure);
+  }
+  if (which == detail::FlowSolver::BoomerAMG || !failure.empty()) {
     ensure_hypre();
     std::lock_guard<std::mutex> lock(g_hypre_mutex);
-    std::string failure;
-    if (use_struct) {
-      try {
-        sols = solve_struct(sys, rhs, opt);
-        for (const LinearSolution& sol : sols)
-          if (!sol.converged && failure.empty())
-            failure = "Struct PFMG-PCG reached relative residual " + std::to_string(sol.residual) +
-                      " after " + std::to_string(sol.iterations) + " iterations";
-      } catch (const SolveError& e) {
-        failure = e.what();
+    sols = solve_boomeramg(sys, rhs, opt);
+    for (const LinearSolution& sol : sols)
+      if (!sol.converged) {
+        if (!failure.empty()) failure += "; then ";
+        failure += "BoomerAMG-PCG reached relative residual " + std::to_string(sol.residual) + " after " +
+                   std::to_string(sol.iterations) + " iterations";
+        throw SolveError("flow: linear solve did not converge to " + std::to_string(opt.tolerance) + ": " +
+                         failure);
       }
-      if (!failure.empty() && which == detail::FlowSolver::StructPFMG)
-        throw SolveError(failure.rfind("flow: ", 0) == 0 ? failure : "flow: " + failure);
-    }
-    if (!use_struct || !failure.empty()) {
-      sols = solve_amg(sys, rhs, opt);
-      for (const LinearSolution& sol : sols)
-        if (!sol.converged) {
-          if (!failure.empty()) failure += "; then ";
-          failure += "BoomerAMG-PCG reached relative residual " + std::to_string(sol.residual) + " after " +
-                     std::to_string(sol.iterations) + " iterations";
-          throw SolveError("flow: linear solve did not converge to " + std::to_string(opt.tolerance) + ": " +
-                           failure);
-        }
-    }
   }
 
   std::vector<double> qxf(n), qyf(n);
@@ -743,8 +890,9 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
         const std::size_t i = static_cast<std::size_t>(iy) * nx + ix;
         const std::size_t ie = static_cast<std::size_t>(iy) * nx + ixe;
         const std::size_t in = static_cast<std::size_t>(iyn) * nx + ix;
-        qxf[i] = (kfx[i] > 0.0 && !still[i]) ? -kscale * kfx[i] * (P[ie] - P[i] - dxd * dx) / dx : 0.0;
-        qyf[i] = (kfy[i] > 0.0 && !still[i]) ? -kscale * kfy[i] * (P[in] - P[i] - dyd * dy) / dy : 0.0;
+        // kx / dy = k_f / dx, ky / dx = k_f / dy.
+        qxf[i] = (sys.kx[i] > 0.0 && !still[i]) ? -kscale * sys.kx[i] * (P[ie] - P[i] - dxd * dx) / dy : 0.0;
+        qyf[i] = (sys.ky[i] > 0.0 && !still[i]) ? -kscale * sys.ky[i] * (P[in] - P[i] - dyd * dy) / dx : 0.0;
       }
     }
 #pragma omp parallel for schedule(static)

@@ -127,7 +127,7 @@ namespace detail {
 // BoomerAMG again if PFMG fails). StructPFMG forces PFMG: InputError("flow", ...) on a
 // grid that is not a power of two >= 4 each way, SolveError if it fails (it usually does
 // once faces are closed). BoomerAMG forces the IJ interface.
-enum class FlowSolver { Auto, StructPFMG, BoomerAMG };
+enum class FlowSolver { Auto, Amg, BoomerAMG };
 FlowResult solve_flow(const Grid& grid, const double* gap, double angle_deg, const FlowOptions& opt,
                       FlowSolver solver);
 std::vector<FlowResult> solve_flow(const Grid& grid, const double* gap, const std::vector<double>& angles_deg,
