@@ -63,10 +63,13 @@ void check_matrix(const CsrMatrix& a) {
 
 void CsrMatrix::multiply(const double* x, double* y) const {
   const auto rows = static_cast<std::ptrdiff_t>(n);
+  const std::size_t* const p = ptr.data();
+  const std::int32_t* const c = col.data();
+  const double* const v = val.data();
 #pragma omp parallel for schedule(static) if (n >= kParallelMin)
   for (std::ptrdiff_t i = 0; i < rows; ++i) {
     double s = 0.0;
-    for (std::size_t k = ptr[i]; k < ptr[i + 1]; ++k) s += val[k] * x[col[k]];
+    for (std::size_t k = p[i]; k < p[i + 1]; ++k) s += v[k] * x[c[k]];
     y[i] = s;
   }
 }
@@ -75,13 +78,17 @@ struct AlgebraicMultigrid::Level {
   CsrMatrix a;
   // Interpolation from the next coarser level (rows: this level, columns: coarse) and its
   // transpose, the restriction; empty on the coarsest level.
-  std::vector<std::size_t> p_ptr, r_ptr;
-  std::vector<Index> p_col, r_col;
-  std::vector<double> p_val, r_val;
-  std::vector<double> inv_diag;
+  Buffer<std::size_t> p_ptr, r_ptr;
+  Buffer<Index> p_col, r_col;
+  Buffer<double> p_val, r_val;
+  Buffer<double> inv_diag;
   std::size_t blocks = 1;  // Gauss-Seidel blocks (even, or 1)
-  bool far = false;        // a coupling between two different blocks of the same colour
-  mutable std::vector<double> x, b, r, snapshot;  // work arrays
+  // Per row: the couplings with a lower column come first (rows are sorted by column
+  // after the diagonal), `lower` of them; `interior` if every coupling stays in the
+  // row's Gauss-Seidel block.
+  Buffer<std::uint32_t> lower;
+  Buffer<std::uint8_t> interior;
+  mutable Buffer<double> x, b, r;  // work arrays
 
   [[nodiscard]] std::size_t n() const { return a.n; }
   [[nodiscard]] bool parallel() const { return a.n >= kParallelMin; }
@@ -106,170 +113,261 @@ std::vector<std::uint8_t> strength(const CsrMatrix& a, double theta) {
   return strong;
 }
 
-// Ruge-Stueben coarse/fine splitting: first pass (greedy maximal set by the number of
-// undecided points that depend strongly on a point) and second pass (strongly connected
-// fine points share a coarse point). Serial; deterministic.
-std::vector<std::uint8_t> split(const CsrMatrix& a, const std::vector<std::uint8_t>& strong) {
-  const std::size_t n = a.n;
-  // S^T: for each j, the points i that depend strongly on j.
-  std::vector<std::size_t> tptr(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1]; ++k)
-      if (strong[k]) ++tptr[static_cast<std::size_t>(a.col[k]) + 1];
-  std::partial_sum(tptr.begin(), tptr.end(), tptr.begin());
-  std::vector<Index> tidx(tptr[n]);
-  {
-    std::vector<std::size_t> fill(tptr.begin(), tptr.end() - 1);
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1]; ++k)
-        if (strong[k]) tidx[fill[static_cast<std::size_t>(a.col[k])]++] = static_cast<Index>(i);
+// Blocks of rows of the coarse/fine splitting (a function of the size only).
+std::size_t split_blocks(std::size_t n) { return std::clamp<std::size_t>(n / 65536, 1, 16); }
+
+// Ruge-Stueben first pass on the rows [lo, hi), with the strong couplings inside the
+// block: repeatedly the undecided point on which most undecided points depend strongly
+// becomes coarse and those points fine. A point whose strong couplings all leave the
+// block becomes coarse; one without any strong coupling fine.
+void first_pass(const CsrMatrix& a, const std::vector<std::uint8_t>& strong, std::size_t lo, std::size_t hi,
+                std::vector<std::uint8_t>& state) {
+  const std::size_t m = hi - lo;
+  const auto ilo = static_cast<Index>(lo), ihi = static_cast<Index>(hi);
+  // The strong couplings inside the block in local numbering: S (the points each point
+  // depends on strongly) and S^T (the points that depend strongly on it).
+  std::vector<Index> sptr(m + 1, 0), tptr(m + 1, 0);
+  for (std::size_t i = lo; i < hi; ++i) {
+    bool any = false;
+    Index in = 0;
+    for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1]; ++k) {
+      if (!strong[k]) continue;
+      any = true;
+      const Index j = a.col[k];
+      if (j >= ilo && j < ihi) {
+        ++in;
+        ++tptr[static_cast<std::size_t>(j - ilo) + 1];
+      }
+    }
+    sptr[i - lo + 1] = in;
+    state[i] = !any ? kFine : (in > 0 ? kUndecided : kCoarse);
   }
-  std::vector<std::uint8_t> state(n, kUndecided);
-  std::vector<Index> lambda(n);
+  std::partial_sum(sptr.begin(), sptr.end(), sptr.begin());
+  std::partial_sum(tptr.begin(), tptr.end(), tptr.begin());
+  std::vector<Index> sidx(static_cast<std::size_t>(sptr[m])), tidx(static_cast<std::size_t>(tptr[m]));
+  {
+    std::vector<Index> fill(tptr.begin(), tptr.end() - 1);
+    for (std::size_t i = lo; i < hi; ++i) {
+      Index q = sptr[i - lo];
+      for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1]; ++k) {
+        const Index j = a.col[k];
+        if (!strong[k] || j < ilo || j >= ihi) continue;
+        sidx[static_cast<std::size_t>(q++)] = j - ilo;
+        tidx[static_cast<std::size_t>(fill[static_cast<std::size_t>(j - ilo)]++)] =
+            static_cast<Index>(i - lo);
+      }
+    }
+  }
+  std::uint8_t* const st = state.data() + lo;  // local view
+  std::vector<Index> lambda(m);
   Index max_lambda = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    lambda[i] = static_cast<Index>(tptr[i + 1] - tptr[i]);
-    max_lambda = std::max(max_lambda, lambda[i]);
-    bool depends = false;
-    for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1] && !depends; ++k) depends = strong[k] != 0;
-    if (lambda[i] == 0 && !depends) state[i] = kFine;  // no strong coupling at all
+  for (std::size_t u = 0; u < m; ++u) {
+    lambda[u] = tptr[u + 1] - tptr[u];
+    max_lambda = std::max(max_lambda, lambda[u]);
   }
   // Buckets by lambda (doubly linked lists); lambda never exceeds twice its start value.
   const std::size_t nbuckets = 2 * static_cast<std::size_t>(max_lambda) + 2;
-  std::vector<Index> head(nbuckets, -1), next(n, -1), prev(n, -1);
-  auto insert = [&](Index i) {
-    const auto b = static_cast<std::size_t>(lambda[i]);
-    prev[i] = -1;
-    next[i] = head[b];
-    if (head[b] >= 0) prev[head[b]] = i;
-    head[b] = i;
+  std::vector<Index> head(nbuckets, -1), next(m, -1), prev(m, -1);
+  auto insert = [&](Index u) {
+    const auto b = static_cast<std::size_t>(lambda[u]);
+    prev[u] = -1;
+    next[u] = head[b];
+    if (head[b] >= 0) prev[head[b]] = u;
+    head[b] = u;
   };
-  auto remove = [&](Index i) {
-    const auto b = static_cast<std::size_t>(lambda[i]);
-    if (prev[i] >= 0) {
-      next[prev[i]] = next[i];
+  auto remove = [&](Index u) {
+    const auto b = static_cast<std::size_t>(lambda[u]);
+    if (prev[u] >= 0) {
+      next[prev[u]] = next[u];
     } else {
-      head[b] = next[i];
+      head[b] = next[u];
     }
-    if (next[i] >= 0) prev[next[i]] = prev[i];
+    if (next[u] >= 0) prev[next[u]] = prev[u];
   };
   // Inserted from the last point to the first: among equals, the lowest index goes first.
-  for (std::size_t i = n; i-- > 0;)
-    if (state[i] == kUndecided) insert(static_cast<Index>(i));
+  for (std::size_t u = m; u-- > 0;)
+    if (st[u] == kUndecided) insert(static_cast<Index>(u));
   std::size_t top = nbuckets - 1;
   for (;;) {
     while (top > 0 && head[top] < 0) --top;
     if (head[top] < 0) break;
     const Index c = head[top];
     remove(c);
-    state[c] = kCoarse;
-    for (std::size_t t = tptr[c]; t < tptr[c + 1]; ++t) {
-      const Index f = tidx[t];
-      if (state[f] != kUndecided) continue;
+    st[c] = kCoarse;
+    for (Index t = tptr[c]; t < tptr[c + 1]; ++t) {
+      const Index f = tidx[static_cast<std::size_t>(t)];
+      if (st[f] != kUndecided) continue;
       remove(f);
-      state[f] = kFine;
-      for (std::size_t k = a.ptr[f] + 1; k < a.ptr[f + 1]; ++k) {
-        const Index u = a.col[k];
-        if (!strong[k] || state[u] != kUndecided) continue;
+      st[f] = kFine;
+      for (Index q = sptr[f]; q < sptr[f + 1]; ++q) {
+        const Index u = sidx[static_cast<std::size_t>(q)];
+        if (st[u] != kUndecided) continue;
         remove(u);
         ++lambda[u];
         insert(u);
         top = std::max(top, static_cast<std::size_t>(lambda[u]));
       }
     }
-    for (std::size_t k = a.ptr[c] + 1; k < a.ptr[c + 1]; ++k) {
-      const Index u = a.col[k];
-      if (!strong[k] || state[u] != kUndecided || lambda[u] == 0) continue;
+    for (Index q = sptr[c]; q < sptr[c + 1]; ++q) {
+      const Index u = sidx[static_cast<std::size_t>(q)];
+      if (st[u] != kUndecided || lambda[u] == 0) continue;
       remove(u);
       --lambda[u];
       insert(u);
     }
   }
-  // Second pass: every strong fine neighbour k of a fine point i must share a coarse
-  // point with i; otherwise k becomes coarse.
-  std::vector<std::int64_t> stamp(n, -1);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (state[i] != kFine) continue;
-    const auto si = static_cast<std::int64_t>(i);
-    for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1]; ++k)
-      if (strong[k] && state[a.col[k]] == kCoarse) stamp[a.col[k]] = si;
-    for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1]; ++k) {
-      const Index f = a.col[k];
-      if (!strong[k] || state[f] != kFine) continue;
-      bool shared = false;
-      for (std::size_t m = a.ptr[f] + 1; m < a.ptr[f + 1] && !shared; ++m)
-        shared = strong[m] && stamp[a.col[m]] == si;
-      if (!shared) {
-        state[f] = kCoarse;
-        stamp[f] = si;
-      }
+}
+
+// Second pass for the fine point i: every strong fine neighbour k must share a strong
+// coarse neighbour with i; otherwise k becomes coarse.
+inline void second_pass_row(const CsrMatrix& a, const std::vector<std::uint8_t>& strong, std::size_t i,
+                            std::vector<std::uint8_t>& state) {
+  constexpr std::size_t kMax = 64;
+  std::array<Index, kMax> ci{};
+  std::size_t nci = 0;
+  for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1]; ++k)
+    if (strong[k] && state[static_cast<std::size_t>(a.col[k])] == kCoarse && nci < kMax) ci[nci++] = a.col[k];
+  for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1]; ++k) {
+    const Index f = a.col[k];
+    if (!strong[k] || state[static_cast<std::size_t>(f)] != kFine) continue;
+    bool shared = false;
+    for (std::size_t m = a.ptr[f] + 1; m < a.ptr[f + 1] && !shared; ++m)
+      if (strong[m])
+        for (std::size_t q = 0; q < nci && !shared; ++q) shared = ci[q] == a.col[m];
+    if (!shared) {
+      state[static_cast<std::size_t>(f)] = kCoarse;
+      if (nci < kMax) ci[nci++] = f;
     }
   }
+}
+
+// Ruge-Stueben coarse/fine splitting: the first pass in blocks of rows side by side, then
+// the second pass, first on the rows whose strong couplings stay inside their block (block
+// by block, side by side), then on the others in order. Deterministic for any number of
+// threads.
+std::vector<std::uint8_t> split(const CsrMatrix& a, const std::vector<std::uint8_t>& strong) {
+  const std::size_t n = a.n, nblk = split_blocks(n);
+  std::vector<std::uint8_t> state(n, kUndecided);
+  std::vector<std::uint8_t> boundary(n, 0);
+  const auto nb = static_cast<std::ptrdiff_t>(nblk);
+#pragma omp parallel for schedule(dynamic, 1) if (nblk > 1)
+  for (std::ptrdiff_t blk = 0; blk < nb; ++blk) {
+    const std::size_t lo = n * static_cast<std::size_t>(blk) / nblk,
+                      hi = n * static_cast<std::size_t>(blk + 1) / nblk;
+    first_pass(a, strong, lo, hi, state);
+    for (std::size_t i = lo; i < hi; ++i)
+      for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1] && !boundary[i]; ++k)
+        boundary[i] = strong[k] && (a.col[k] < static_cast<Index>(lo) || a.col[k] >= static_cast<Index>(hi));
+  }
+  // A fine point with a strong neighbour in another block is left to the serial part; so is
+  // one with a strong neighbour that has one (its neighbours' rows are read).
+  std::vector<std::uint8_t> serial(n, 0);
+#pragma omp parallel for schedule(static) if (nblk > 1)
+  for (std::ptrdiff_t ii = 0; ii < static_cast<std::ptrdiff_t>(n); ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    bool s = boundary[i] != 0;
+    for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1] && !s; ++k) s = strong[k] && boundary[a.col[k]];
+    serial[i] = s ? 1 : 0;
+  }
+#pragma omp parallel for schedule(dynamic, 1) if (nblk > 1)
+  for (std::ptrdiff_t blk = 0; blk < nb; ++blk) {
+    const std::size_t lo = n * static_cast<std::size_t>(blk) / nblk,
+                      hi = n * static_cast<std::size_t>(blk + 1) / nblk;
+    for (std::size_t i = lo; i < hi; ++i)
+      if (state[i] == kFine && !serial[i]) second_pass_row(a, strong, i, state);
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (state[i] == kFine && serial[i]) second_pass_row(a, strong, i, state);
   return state;
 }
 
 // Classical modified interpolation (see the header), truncated to max_w weights per row.
+// Rows are counted first (a coarse point: 1; a fine point: its strong coarse neighbours,
+// at most max_w), then computed straight into place.
 void build_interpolation(Level& l, const std::vector<std::uint8_t>& strong,
                          const std::vector<std::uint8_t>& state, int max_w, std::size_t& nc) {
   const CsrMatrix& a = l.a;
   const std::size_t n = a.n;
+  const auto rows = static_cast<std::ptrdiff_t>(n);
   std::vector<Index> cidx(n, -1);
   nc = 0;
   for (std::size_t i = 0; i < n; ++i)
     if (state[i] == kCoarse) cidx[i] = static_cast<Index>(nc++);
   const auto width = static_cast<std::size_t>(max_w);
-  std::vector<Index> wcol(n * width);
-  std::vector<double> wval(n * width);
-  std::vector<std::uint8_t> count(n, 0);
+  l.p_ptr.assign(n + 1, 0);
+#pragma omp parallel for schedule(static) if (l.parallel())
+  for (std::ptrdiff_t ii = 0; ii < rows; ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    std::size_t c = 0;
+    if (state[i] == kCoarse) {
+      c = 1;
+    } else {
+      for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1]; ++k)
+        c += strong[k] && state[static_cast<std::size_t>(a.col[k])] == kCoarse ? 1 : 0;
+      c = std::min(c, width);
+    }
+    l.p_ptr[i + 1] = c;
+  }
+  for (std::size_t i = 0; i < n; ++i) l.p_ptr[i + 1] += l.p_ptr[i];
+  l.p_col.resize(l.p_ptr[n]);
+  l.p_val.resize(l.p_ptr[n]);
 #pragma omp parallel if (l.parallel())
   {
-    std::vector<std::int64_t> stamp(n, -1);
-    std::vector<std::size_t> slot(n, 0);
+    // stamp[j] == i marks the strong coarse neighbours j of row i, slot[j] their place.
+    std::vector<Index> stamp(n, -1);
+    std::vector<Index> slot(n, 0);
     std::vector<Index> cj;
     std::vector<double> w;
     std::vector<std::size_t> order;
 #pragma omp for schedule(static)
-    for (std::ptrdiff_t ii = 0; ii < static_cast<std::ptrdiff_t>(n); ++ii) {
+    for (std::ptrdiff_t ii = 0; ii < rows; ++ii) {
       const auto i = static_cast<std::size_t>(ii);
-      Index* rc = wcol.data() + i * width;
-      double* rv = wval.data() + i * width;
+      Index* rc = l.p_col.data() + l.p_ptr[i];
+      double* rv = l.p_val.data() + l.p_ptr[i];
       if (state[i] == kCoarse) {
         rc[0] = cidx[i];
         rv[0] = 1.0;
-        count[i] = 1;
         continue;
       }
-      const auto si = static_cast<std::int64_t>(i);
+      if (l.p_ptr[i + 1] == l.p_ptr[i]) continue;  // no coarse neighbour: left to the smoother
+      const auto si = static_cast<Index>(i);
       cj.clear();
       w.clear();
       for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1]; ++k) {
         const Index j = a.col[k];
-        if (strong[k] && state[j] == kCoarse) {
-          stamp[j] = si;
-          slot[j] = cj.size();
+        if (strong[k] && state[static_cast<std::size_t>(j)] == kCoarse) {
+          stamp[static_cast<std::size_t>(j)] = si;
+          slot[static_cast<std::size_t>(j)] = static_cast<Index>(cj.size());
           cj.push_back(j);
           w.push_back(a.val[k]);
         }
       }
-      if (cj.empty()) continue;  // no coarse neighbour: left to the smoother
       double diag = a.val[a.ptr[i]];
       for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1]; ++k) {
-        const Index j = a.col[k];
+        const auto j = static_cast<std::size_t>(a.col[k]);
         if (stamp[j] == si) continue;  // a coarse neighbour of the interpolation
         const double aij = a.val[k];
         if (strong[k] && state[j] == kFine) {
           double den = 0.0;
           for (std::size_t m = a.ptr[j] + 1; m < a.ptr[j + 1]; ++m)
-            if (stamp[a.col[m]] == si && a.val[m] < 0.0) den += a.val[m];
+            if (stamp[static_cast<std::size_t>(a.col[m])] == si && a.val[m] < 0.0) den += a.val[m];
           if (den < 0.0) {
             for (std::size_t m = a.ptr[j] + 1; m < a.ptr[j + 1]; ++m)
-              if (stamp[a.col[m]] == si && a.val[m] < 0.0) w[slot[a.col[m]]] += aij * a.val[m] / den;
+              if (stamp[static_cast<std::size_t>(a.col[m])] == si && a.val[m] < 0.0)
+                w[slot[static_cast<std::size_t>(a.col[m])]] += aij * a.val[m] / den;
             continue;
           }
         }
         diag += aij;  // weak, positive, or a fine neighbour sharing no coarse point
       }
-      if (!(diag > 0.0)) continue;
+      const std::size_t count = l.p_ptr[i + 1] - l.p_ptr[i];
+      if (!(diag > 0.0)) {  // cannot happen for an M-matrix; no interpolation then
+        for (std::size_t t = 0; t < count; ++t) {
+          rc[t] = cidx[static_cast<std::size_t>(cj[t])];
+          rv[t] = 0.0;
+        }
+        continue;
+      }
       for (double& v : w) v = -v / diag;
       // Keep the largest weights (ties: lower column), rescaled to the same sum.
       order.resize(w.size());
@@ -288,24 +386,12 @@ void build_interpolation(Level& l, const std::vector<std::uint8_t>& strong,
         std::sort(order.begin(), order.end(), [&](std::size_t p, std::size_t q) { return cj[p] < cj[q]; });
         for (std::size_t& t : order) w[t] *= scale;
       }
-      std::size_t c = 0;
-      for (std::size_t t : order) {
-        rc[c] = cidx[cj[t]];
-        rv[c] = w[t];
-        ++c;
+      for (std::size_t t = 0; t < count; ++t) {
+        rc[t] = cidx[static_cast<std::size_t>(cj[order[t]])];
+        rv[t] = w[order[t]];
       }
-      count[i] = static_cast<std::uint8_t>(c);
     }
   }
-  l.p_ptr.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) l.p_ptr[i + 1] = l.p_ptr[i] + count[i];
-  l.p_col.resize(l.p_ptr[n]);
-  l.p_val.resize(l.p_ptr[n]);
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t c = 0; c < count[i]; ++c) {
-      l.p_col[l.p_ptr[i] + c] = wcol[i * width + c];
-      l.p_val[l.p_ptr[i] + c] = wval[i * width + c];
-    }
   // Restriction R = P^T (rows in increasing fine index).
   l.r_ptr.assign(nc + 1, 0);
   for (Index c : l.p_col) ++l.r_ptr[static_cast<std::size_t>(c) + 1];
@@ -322,57 +408,72 @@ void build_interpolation(Level& l, const std::vector<std::uint8_t>& strong,
 }
 
 // Galerkin product R A P of level f (rows in order; the diagonal first in each row). Rows
-// are computed in fixed chunks (a function of the size only), shared among the threads.
+// are computed in fixed chunks (a function of the size only), shared among the threads,
+// each with a dense accumulator over the coarse columns.
 CsrMatrix galerkin(const Level& f, std::size_t nc) {
   const CsrMatrix& a = f.a;
   CsrMatrix c;
   c.n = nc;
-  std::vector<std::size_t> len(nc, 0);
+  Buffer<std::size_t> len(nc);
   const std::size_t nchunks = std::clamp<std::size_t>(nc / 4096, 1, 256);
   std::vector<std::vector<Index>> bcol(nchunks);
   std::vector<std::vector<double>> bval(nchunks);
   const auto chunks = static_cast<std::ptrdiff_t>(nchunks);
 #pragma omp parallel if (nchunks > 1)
   {
-    std::vector<std::int64_t> marker(nc, -1);
+    std::vector<Index> marker(nc, -1);
+    std::vector<double> acc(nc, 0.0);
+    std::vector<Index> touched;
 #pragma omp for schedule(dynamic, 1)
     for (std::ptrdiff_t ch = 0; ch < chunks; ++ch) {
       const auto t = static_cast<std::size_t>(ch);
       std::vector<Index>& cols = bcol[t];
       std::vector<double>& vals = bval[t];
       const std::size_t lo = nc * t / nchunks, hi = nc * (t + 1) / nchunks;
+      cols.reserve((hi - lo) * 12);
+      vals.reserve((hi - lo) * 12);
+      const std::size_t* const rp = f.r_ptr.data();
+      const Index* const rc = f.r_col.data();
+      const double* const rv = f.r_val.data();
+      const std::size_t* const ap = a.ptr.data();
+      const Index* const ac = a.col.data();
+      const double* const av = a.val.data();
+      const std::size_t* const pp = f.p_ptr.data();
+      const Index* const pc = f.p_col.data();
+      const double* const pv = f.p_val.data();
+      Index* const mk = marker.data();
+      double* const ac_sum = acc.data();
       for (std::size_t I = lo; I < hi; ++I) {
-        const auto start = static_cast<std::int64_t>(cols.size());
-        for (std::size_t q = f.r_ptr[I]; q < f.r_ptr[I + 1]; ++q) {
-          const auto i = static_cast<std::size_t>(f.r_col[q]);
-          const double ri = f.r_val[q];
-          for (std::size_t k = a.ptr[i]; k < a.ptr[i + 1]; ++k) {
-            const auto j = static_cast<std::size_t>(a.col[k]);
-            const double ra = ri * a.val[k];
-            for (std::size_t m = f.p_ptr[j]; m < f.p_ptr[j + 1]; ++m) {
-              const auto J = static_cast<std::size_t>(f.p_col[m]);
-              if (marker[J] < start) {
-                marker[J] = static_cast<std::int64_t>(cols.size());
-                cols.push_back(static_cast<Index>(J));
-                vals.push_back(ra * f.p_val[m]);
+        const auto row = static_cast<Index>(I);
+        touched.clear();
+        mk[I] = row;  // the diagonal first
+        touched.push_back(row);
+        ac_sum[I] = 0.0;
+        for (std::size_t q = rp[I]; q < rp[I + 1]; ++q) {
+          const auto i = static_cast<std::size_t>(rc[q]);
+          const double ri = rv[q];
+          for (std::size_t k = ap[i]; k < ap[i + 1]; ++k) {
+            const auto j = static_cast<std::size_t>(ac[k]);
+            const double ra = ri * av[k];
+            for (std::size_t m = pp[j]; m < pp[j + 1]; ++m) {
+              const auto J = static_cast<std::size_t>(pc[m]);
+              const double v = ra * pv[m];
+              if (mk[J] != row) {
+                mk[J] = row;
+                touched.push_back(static_cast<Index>(J));
+                ac_sum[J] = v;
               } else {
-                vals[static_cast<std::size_t>(marker[J])] += ra * f.p_val[m];
+                ac_sum[J] += v;
               }
             }
           }
         }
-        // Diagonal first.
-        const auto s = static_cast<std::size_t>(start);
-        for (std::size_t k = s; k < cols.size(); ++k)
-          if (cols[k] == static_cast<Index>(I)) {
-            std::swap(cols[k], cols[s]);
-            std::swap(vals[k], vals[s]);
-            break;
-          }
-        len[I] = cols.size() - s;
+        for (Index J : touched) {
+          cols.push_back(J);
+          vals.push_back(ac_sum[static_cast<std::size_t>(J)]);
+        }
+        len[I] = touched.size();
       }
-      // Markers of this chunk point into its own buffer: invalidate them for the next one.
-      for (Index J : cols) marker[static_cast<std::size_t>(J)] = -1;
     }
   }
   c.ptr.assign(nc + 1, 0);
@@ -385,61 +486,106 @@ CsrMatrix galerkin(const Level& f, std::size_t nc) {
     const std::size_t lo = nc * t / nchunks;
     std::copy(bcol[t].begin(), bcol[t].end(), c.col.begin() + static_cast<std::ptrdiff_t>(c.ptr[lo]));
     std::copy(bval[t].begin(), bval[t].end(), c.val.begin() + static_cast<std::ptrdiff_t>(c.ptr[lo]));
+    std::vector<Index>().swap(bcol[t]);
+    std::vector<double>().swap(bval[t]);
   }
   return c;
 }
 
 void finish_level(Level& l) {
   const std::size_t n = l.n();
+  const auto rows = static_cast<std::ptrdiff_t>(n);
+  const CsrMatrix& a = l.a;
   l.inv_diag.resize(n);
-  for (std::size_t i = 0; i < n; ++i) l.inv_diag[i] = 1.0 / l.a.val[l.a.ptr[i]];
+#pragma omp parallel for schedule(static) if (l.parallel())
+  for (std::ptrdiff_t i = 0; i < rows; ++i) l.inv_diag[static_cast<std::size_t>(i)] = 1.0 / a.val[a.ptr[i]];
   l.blocks = blocks_for(n);
-  l.far = false;
-  if (l.blocks > 1) {
-    const std::size_t nb = l.blocks;
-    for (std::size_t blk = 0; blk < nb && !l.far; ++blk) {
-      const std::size_t lo = n * blk / nb, hi = n * (blk + 1) / nb;
-      for (std::size_t k = l.a.ptr[lo]; k < l.a.ptr[hi] && !l.far; ++k) {
-        const std::size_t cb = block_of(static_cast<std::size_t>(l.a.col[k]), n, nb);
-        l.far = cb != blk && ((cb ^ blk) & 1) == 0;
+  const std::size_t nb = l.blocks;
+  int far = 0;
+#pragma omp parallel for schedule(static) reduction(| : far) if (nb > 1)
+  for (std::ptrdiff_t blk = 0; blk < static_cast<std::ptrdiff_t>(nb); ++blk) {
+    const auto ub = static_cast<std::size_t>(blk);
+    const std::size_t lo = n * ub / nb, hi = n * (ub + 1) / nb;
+    for (std::size_t k = a.ptr[lo]; k < a.ptr[hi]; ++k) {
+      const std::size_t cb = block_of(static_cast<std::size_t>(a.col[k]), n, nb);
+      if (cb != ub && ((cb ^ ub) & 1) == 0) {
+        far = 1;
+        break;
       }
     }
   }
-  l.r.assign(n, 0.0);
-  if (l.far) l.snapshot.assign(n, 0.0);
+  // Two blocks of the same colour coupled (rows coupling to rows far away): the blocks
+  // cannot be relaxed side by side, so the level is relaxed in one sequential sweep.
+  if (far != 0) l.blocks = 1;
+  l.r.resize(n);
 }
 
-// One Gauss-Seidel sweep, forward or backward. With several blocks of rows (an even number)
-// the even blocks are relaxed first, side by side, then the odd ones (backward: odd first):
-// Gauss-Seidel in that order of the rows, whatever the number of threads. A coupling to
-// another block of the same colour (rare: rows couple to nearby rows) reads the value from
-// before the sweep, since that block is being relaxed at the same time. zero_guess: x is
-// overwritten (taken as 0 before the sweep).
+// Once the hierarchy is built (the coarsening reads the rows in their given order): the
+// couplings of every row sorted by column after the diagonal, the number of lower ones,
+// and whether they all stay in the row's Gauss-Seidel block.
+void prepare_relaxation(Level& l) {
+  const std::size_t n = l.n(), nb = l.blocks;
+  CsrMatrix& a = l.a;
+  l.lower.resize(n);
+  l.interior.resize(n);
+#pragma omp parallel for schedule(static) if (l.parallel())
+  for (std::ptrdiff_t ii = 0; ii < static_cast<std::ptrdiff_t>(n); ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    for (std::size_t k = a.ptr[i] + 2; k < a.ptr[i + 1]; ++k) {  // insertion sort: rows are short
+      const Index c = a.col[k];
+      const double v = a.val[k];
+      std::size_t m = k;
+      for (; m > a.ptr[i] + 1 && a.col[m - 1] > c; --m) {
+        a.col[m] = a.col[m - 1];
+        a.val[m] = a.val[m - 1];
+      }
+      a.col[m] = c;
+      a.val[m] = v;
+    }
+    std::uint32_t low = 0;
+    for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1] && static_cast<std::size_t>(a.col[k]) < i; ++k) ++low;
+    l.lower[i] = low;
+    const std::size_t blk = block_of(i, n, nb), lo = n * blk / nb, hi = n * (blk + 1) / nb;
+    const bool inside =
+        a.ptr[i + 1] == a.ptr[i] + 1 || (static_cast<std::size_t>(a.col[a.ptr[i] + 1]) >= lo &&
+                                         static_cast<std::size_t>(a.col[a.ptr[i + 1] - 1]) < hi);
+    l.interior[i] = inside ? 1 : 0;
+  }
+}
+
+// One Gauss-Seidel sweep, forward or backward. With several blocks of rows (an even number;
+// a block couples only to blocks of the other colour) the even blocks are relaxed first,
+// side by side, then the odd ones (backward: odd first): Gauss-Seidel in that order of the
+// rows, whatever the number of threads. zero_guess (a forward sweep from x = 0): x is
+// overwritten, and values not yet relaxed in this sweep count as 0 without being read.
 void relax(const Level& l, const double* b, double* x, bool forward, bool zero_guess) {
   const CsrMatrix& a = l.a;
   const std::size_t n = a.n, nb = l.blocks;
-  if (zero_guess) {
-    std::fill(x, x + n, 0.0);
-  } else if (l.far) {
-    std::copy(x, x + n, l.snapshot.begin());
-  }
   auto sweep_block = [&](std::size_t blk) {
     const std::size_t lo = n * blk / nb, hi = n * (blk + 1) / nb;
-    // Rows of the neighbouring blocks (the other colour): [near_lo, near_hi).
-    const std::size_t near_lo = blk == 0 ? 0 : n * (blk - 1) / nb;
-    const std::size_t near_hi = blk + 1 == nb ? n : n * (blk + 2) / nb;
+    // zero_guess: the other colour has been relaxed already only if this block is odd.
+    const bool other_done = (blk & 1) != 0;
+    const std::size_t* const ap = a.ptr.data();
+    const Index* const ac = a.col.data();
+    const double* const av = a.val.data();
+    const double* const id = l.inv_diag.data();
+    const std::uint8_t* const interior = l.interior.data();
+    const std::uint32_t* const lower = l.lower.data();
     for (std::size_t t = lo; t < hi; ++t) {
       const std::size_t i = forward ? t : hi - 1 - (t - lo);
       double s = b[i];
-      for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1]; ++k) {
-        const auto j = static_cast<std::size_t>(a.col[k]);
-        if ((j >= near_lo && j < near_hi) || ((block_of(j, n, nb) ^ blk) & 1) != 0) {
-          s -= a.val[k] * x[j];  // this block (current values) or the other colour (fixed now)
-        } else if (!zero_guess) {
-          s -= a.val[k] * l.snapshot[j];  // another block of this colour
+      if (!zero_guess) {
+        for (std::size_t k = ap[i] + 1; k < ap[i + 1]; ++k) s -= av[k] * x[ac[k]];
+      } else if (interior[i]) {  // every coupling in this block: the lower ones are relaxed
+        for (std::size_t k = ap[i] + 1; k < ap[i] + 1 + lower[i]; ++k) s -= av[k] * x[ac[k]];
+      } else {
+        for (std::size_t k = ap[i] + 1; k < ap[i + 1]; ++k) {
+          const auto j = static_cast<std::size_t>(ac[k]);
+          const bool own = j >= lo && j < hi;
+          if ((own && j < i) || (!own && other_done)) s -= av[k] * x[j];
         }
       }
-      x[i] = s * l.inv_diag[i];
+      x[i] = s * id[i];
     }
   };
   if (nb == 1) {
@@ -479,10 +625,11 @@ AlgebraicMultigrid::AlgebraicMultigrid(CsrMatrix a, const AmgOptions& opt) {
     auto c = std::make_unique<Level>();
     c->a = galerkin(f, nc);
     finish_level(*c);
-    c->x.assign(nc, 0.0);
-    c->b.assign(nc, 0.0);
+    c->x.resize(nc);
+    c->b.resize(nc);
     levels_.push_back(std::move(c));
   }
+  for (auto& l : levels_) prepare_relaxation(*l);
   // The coarsest level loses its (unused) interpolation arrays.
   Level& cl = *levels_.back();
   cl.p_ptr.clear();
@@ -609,7 +756,8 @@ CgOutcome amg_pcg(const AlgebraicMultigrid& mg, const double* b, double* x, doub
   const CsrMatrix& a = mg.matrix();
   auto dot = [n](auto&& f) { return range_sums(n, 1, [&](std::size_t i, double* s) { s[0] += f(i); })[0]; };
   CgOutcome out;
-  std::fill(x, x + n, 0.0);
+#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+  for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(n); ++i) x[i] = 0.0;
   const double bnorm = std::sqrt(dot([&](std::size_t i) { return b[i] * b[i]; }));
   const double ref = reference_norm > 0.0 ? reference_norm : bnorm;
   if (!std::isfinite(bnorm)) return out;
@@ -617,9 +765,13 @@ CgOutcome amg_pcg(const AlgebraicMultigrid& mg, const double* b, double* x, doub
     out.converged = true;
     return out;
   }
-  std::vector<double> r(b, b + n), z(n), p(n), q(n);
+  Buffer<double> r(n), z(n), p(n), q(n);
+#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+  for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(n); ++i) r[static_cast<std::size_t>(i)] = b[i];
   mg.precondition(r.data(), z.data());
-  p = z;
+#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+  for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(n); ++i)
+    p[static_cast<std::size_t>(i)] = z[static_cast<std::size_t>(i)];
   double rz = dot([&](std::size_t i) { return r[i] * z[i]; });
   const auto rows = static_cast<std::ptrdiff_t>(n);
   for (int it = 1; it <= max_iterations; ++it) {

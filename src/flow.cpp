@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "gfmd/amg.hpp"
+#include "gfmd/buffer.hpp"
 #include "gfmd/error.hpp"
 #include "gfmd/reduce.hpp"
 
@@ -224,8 +225,8 @@ struct Face {
 
 struct LinearSystem {
   int nx = 0, ny = 0;
-  std::vector<double> kx;             // face between i and its +x neighbour: (dy/dx) k_f
-  std::vector<double> ky;             // face between i and its +y neighbour: (dx/dy) k_f
+  Buffer<double> kx;                  // face between i and its +x neighbour: (dy/dx) k_f
+  Buffer<double> ky;                  // face between i and its +y neighbour: (dx/dy) k_f
   std::vector<unsigned char> pinned;  // not an unknown (gauge cell or no net flow)
   // Periodic neighbours: columns ix -+ 1, row offsets (iy -+ 1) * nx.
   std::vector<std::size_t> xm, xp, ym, yp;
@@ -341,7 +342,7 @@ class ReducedSystem {
   [[nodiscard]] std::int32_t index(std::size_t cell) const { return index_[cell]; }
 
   // The right-hand side of the reduced system for the full one b (on cells).
-  void reduce(const std::vector<double>& b, std::vector<double>& br) const {
+  void reduce(const Buffer<double>& b, Buffer<double>& br) const {
     br.resize(size());
     const auto nx = static_cast<std::size_t>(sys_.nx);
     sys_.for_rows([&](std::size_t iy) {
@@ -358,7 +359,7 @@ class ReducedSystem {
   }
 
   // The full solution (0 on pinned cells) from that of the reduced system.
-  void expand(const std::vector<double>& b, const std::vector<double>& xr, std::vector<double>& x) const {
+  void expand(const Buffer<double>& b, const Buffer<double>& xr, Buffer<double>& x) const {
     x.resize(sys_.size());
     const auto nx = static_cast<std::size_t>(sys_.nx);
     sys_.for_rows([&](std::size_t iy) {
@@ -494,8 +495,7 @@ class ReducedSystem {
 };
 
 // ||b - A x||_2 over the unknowns of the full system.
-double full_residual_norm(const LinearSystem& sys, const std::vector<double>& b,
-                          const std::vector<double>& x) {
+double full_residual_norm(const LinearSystem& sys, const Buffer<double>& b, const Buffer<double>& x) {
   const Grid g{sys.nx, sys.ny, 1.0, 1.0};
   const auto nx = static_cast<std::size_t>(sys.nx);
   return std::sqrt(grid_sum(g, [&](std::size_t i) {
@@ -514,7 +514,7 @@ struct LinearSolution {
   double setup_s = 0.0, solve_s = 0.0;
   int iterations = 0;
   double residual = 0.0;
-  std::vector<double> x;
+  Buffer<double> x;
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -549,7 +549,7 @@ void finish(LinearSolution& sol, HYPRE_Int its, HYPRE_Real res, const FlowOption
 // on the red-black reduced system where the grid allows it. A solve counts as converged
 // when CG met the tolerance and the residual of the full system, recomputed, is within
 // ten times it.
-std::vector<LinearSolution> solve_native(const LinearSystem& sys, const std::vector<std::vector<double>>& rhs,
+std::vector<LinearSolution> solve_native(const LinearSystem& sys, const std::vector<Buffer<double>>& rhs,
                                          const FlowOptions& opt, int max_iterations) {
   std::vector<LinearSolution> out;
   const auto t0 = std::chrono::steady_clock::now();
@@ -562,7 +562,7 @@ std::vector<LinearSolution> solve_native(const LinearSystem& sys, const std::vec
   }
   const AlgebraicMultigrid amg(red.take_matrix());
   const double setup_s = seconds_since(t0);
-  std::vector<double> br, xr;
+  Buffer<double> br, xr;
   for (std::size_t k = 0; k < rhs.size(); ++k) {
     LinearSolution sol;
     sol.setup_s = k == 0 ? setup_s : 0.0;
@@ -570,7 +570,7 @@ std::vector<LinearSolution> solve_native(const LinearSystem& sys, const std::vec
     const double bnorm = std::sqrt(range_sums(
         rhs[k].size(), 1, [&](std::size_t i, double* acc) { acc[0] += rhs[k][i] * rhs[k][i]; })[0]);
     red.reduce(rhs[k], br);
-    xr.assign(br.size(), 0.0);
+    xr.resize(br.size());
     const CgOutcome cg = amg_pcg(amg, br.data(), xr.data(), opt.tolerance, max_iterations, bnorm);
     red.expand(rhs[k], xr, sol.x);
     sol.solve_s = seconds_since(t1);
@@ -585,7 +585,7 @@ std::vector<LinearSolution> solve_native(const LinearSystem& sys, const std::vec
 }
 
 std::vector<LinearSolution> solve_boomeramg(const LinearSystem& sys,
-                                            const std::vector<std::vector<double>>& rhs_list,
+                                            const std::vector<Buffer<double>>& rhs_list,
                                             const FlowOptions& opt) {
   const MPI_Comm comm = MPI_COMM_SELF;
   const std::size_t ncell = sys.size();
@@ -621,8 +621,8 @@ std::vector<LinearSolution> solve_boomeramg(const LinearSystem& sys,
 
   std::vector<HYPRE_Int> ncols(static_cast<std::size_t>(n));
   std::vector<HYPRE_BigInt> rows(static_cast<std::size_t>(n)), cols(a.col.begin(), a.col.end());
-  const std::vector<double>& vals = a.val;
-  std::vector<double> rhs;  // right-hand side of the unknowns
+  const Buffer<double>& vals = a.val;
+  Buffer<double> rhs;  // right-hand side of the unknowns
   for (std::size_t r = 0; r < a.n; ++r) {
     rows[r] = static_cast<HYPRE_BigInt>(r);
     ncols[r] = static_cast<HYPRE_Int>(a.ptr[r + 1] - a.ptr[r]);
@@ -691,7 +691,7 @@ std::vector<LinearSolution> solve_boomeramg(const LinearSystem& sys,
               "PCGSetPrecond");
 
   std::vector<LinearSolution> out;
-  std::vector<double> xr(static_cast<std::size_t>(n));
+  Buffer<double> xr(static_cast<std::size_t>(n));
   for (std::size_t k = 0; k < rhs_list.size(); ++k) {
     u.reduce(rhs_list[k], rhs);
     hypre_check(HYPRE_IJVectorSetValues(b, static_cast<HYPRE_Int>(n), rows.data(), rhs.data()),
@@ -755,12 +755,16 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
   for (std::size_t k = 0; k < angles.size(); ++k) {
     FlowResult& res = results[k];
     res.angle_deg = angles[k];
-    res.qx.assign(n, 0.0);
-    res.qy.assign(n, 0.0);
     res.mean_gap = mean_gap;
     res.mean_gap_cubed = mean_gap_cubed;
   }
-  if (!(gmax > 0.0)) return results;  // everything closed: no flow
+  if (!(gmax > 0.0)) {  // everything closed: no flow
+    for (FlowResult& res : results) {
+      res.qx.assign(n, 0.0);
+      res.qy.assign(n, 0.0);
+    }
+    return results;
+  }
 
   // Normalised face conductances (kn = (g / gmax)^3 of the cells, physical k = kscale * kn),
   // weighted by the face length over the centre distance.
@@ -815,18 +819,21 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
 
   // Right-hand sides, one per direction d = (cos a, sin a): the divergence of the imposed
   // current, G d_x dx through x faces and G d_y dy through y faces (times the conductance).
-  std::vector<std::vector<double>> rhs(angles.size(), std::vector<double>(n, 0.0));
+  std::vector<Buffer<double>> rhs(angles.size(), Buffer<double>(n));
   for (std::size_t k = 0; k < angles.size(); ++k) {
     const double a = angles[k] * std::numbers::pi / 180.0;
     const double dxd = std::cos(a), dyd = std::sin(a);
-    std::vector<double>& b = rhs[k];
+    Buffer<double>& b = rhs[k];
 #pragma omp parallel for schedule(static)
     for (int iy = 0; iy < ny; ++iy) {
       const int iys = (iy == 0) ? ny - 1 : iy - 1;
       for (int ix = 0; ix < nx; ++ix) {
         const int ixw = (ix == 0) ? nx - 1 : ix - 1;
         const std::size_t i = static_cast<std::size_t>(iy) * nx + ix;
-        if (pinned[i]) continue;
+        if (pinned[i]) {
+          b[i] = 0.0;
+          continue;
+        }
         const std::size_t iw = static_cast<std::size_t>(iy) * nx + ixw;
         const std::size_t is = static_cast<std::size_t>(iys) * nx + ix;
         b[i] = dxd * dx * (sys.kx[iw] - sys.kx[i]) + dyd * dy * (sys.ky[is] - sys.ky[i]);
@@ -869,7 +876,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
       }
   }
 
-  std::vector<double> qxf(n), qyf(n);
+  Buffer<double> qxf(n), qyf(n);
   for (std::size_t k = 0; k < angles.size(); ++k) {
     FlowResult& res = results[k];
     const double a = angles[k] * std::numbers::pi / 180.0;
@@ -879,7 +886,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     res.residual = sols[k].residual;
     res.setup_s = sols[k].setup_s;
     res.solve_s = sols[k].solve_s;
-    const std::vector<double>& P = sols[k].x;
+    const Buffer<double>& P = sols[k].x;
 
     // Face current densities (physical units, G = 1) and cell-centred averages.
 #pragma omp parallel for schedule(static)
@@ -895,6 +902,8 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
         qyf[i] = (sys.ky[i] > 0.0 && !still[i]) ? -kscale * sys.ky[i] * (P[in] - P[i] - dyd * dy) / dx : 0.0;
       }
     }
+    res.qx.resize(n);
+    res.qy.resize(n);
 #pragma omp parallel for schedule(static)
     for (int iy = 0; iy < ny; ++iy) {
       const int iys = (iy == 0) ? ny - 1 : iy - 1;

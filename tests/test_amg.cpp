@@ -199,6 +199,54 @@ TEST(Amg, ResultsDoNotDependOnTheThreadCount) {
   EXPECT_EQ(xs[0], xs[2]);
 }
 
+// The 2D diffusion matrix plus `extra` random long-range links of conductance 1: rows
+// couple to rows far away (other Gauss-Seidel blocks of the same colour, other blocks of
+// the coarsening).
+CsrMatrix with_long_links(int nx, int ny, int extra, std::uint64_t seed) {
+  const CsrMatrix base = diffusion_2d(nx, ny, 3.0, seed);
+  std::vector<std::vector<std::pair<int, double>>> rows(base.n);
+  for (std::size_t i = 0; i < base.n; ++i)
+    for (std::size_t k = base.ptr[i]; k < base.ptr[i + 1]; ++k)
+      rows[i].emplace_back(base.col[k], base.val[k]);
+  gfmd::Rng rng(seed + 1);
+  for (int e = 0; e < extra; ++e) {
+    const auto i = static_cast<std::size_t>(rng.uniform() * static_cast<double>(base.n));
+    const auto j = static_cast<std::size_t>(rng.uniform() * static_cast<double>(base.n));
+    if (i == j) continue;
+    rows[i][0].second += 1.0;
+    rows[j][0].second += 1.0;
+    rows[i].emplace_back(static_cast<int>(j), -1.0);
+    rows[j].emplace_back(static_cast<int>(i), -1.0);
+  }
+  return from_rows(rows);
+}
+
+TEST(Amg, LongRangeCouplingsKeepTheCycleSymmetricAndThreadIndependent) {
+  const CsrMatrix a = with_long_links(300, 250, 2000, 21);
+  const std::vector<double> b = random_vector(a.n, 22);
+  std::vector<std::vector<double>> xs;
+  std::vector<int> its;
+  const int saved = omp_get_max_threads();
+  for (int t : {1, 2}) {
+    omp_set_num_threads(t);
+    AlgebraicMultigrid mg(a);
+    std::vector<double> x(a.n);
+    const gfmd::CgOutcome cg = gfmd::amg_pcg(mg, b.data(), x.data(), 1e-10, 100);
+    EXPECT_TRUE(cg.converged);
+    EXPECT_LE(cg.iterations, 30);
+    its.push_back(cg.iterations);
+    xs.push_back(x);
+    const std::vector<double> u = random_vector(a.n, 23), v = random_vector(a.n, 24);
+    std::vector<double> mu(a.n), mv(a.n);
+    mg.precondition(u.data(), mu.data());
+    mg.precondition(v.data(), mv.data());
+    EXPECT_NEAR(dot(u, mv), dot(v, mu), 1e-12 * std::sqrt(dot(u, mu) * dot(v, mv)));
+  }
+  omp_set_num_threads(saved);
+  EXPECT_EQ(its[0], its[1]);
+  EXPECT_EQ(xs[0], xs[1]);
+}
+
 TEST(Amg, BadMatricesAreRejected) {
   EXPECT_THROW(AlgebraicMultigrid(CsrMatrix{}), gfmd::InputError);
   // Diagonal not first.

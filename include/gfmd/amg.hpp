@@ -26,15 +26,17 @@
 #include <memory>
 #include <vector>
 
+#include "gfmd/buffer.hpp"
+
 namespace gfmd {
 
 // Square sparse matrix in compressed rows. Row i holds entries ptr[i] .. ptr[i+1]-1; the
 // diagonal must be present (a positive number) and stored first in its row.
 struct CsrMatrix {
   std::size_t n = 0;
-  std::vector<std::size_t> ptr;  // n + 1
-  std::vector<std::int32_t> col;
-  std::vector<double> val;
+  Buffer<std::size_t> ptr;  // n + 1
+  Buffer<std::int32_t> col;
+  Buffer<double> val;
 
   [[nodiscard]] std::size_t nnz() const { return col.size(); }
   // y = A x (rows shared among the threads).
