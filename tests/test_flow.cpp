@@ -189,6 +189,30 @@ TEST(Flow, OurAlgebraicMultigridAndBoomerAmgAgree) {
   }
 }
 
+TEST(Flow, FallsBackToBoomerAmgWhenOurAmgDoesNotConverge) {
+  // Our AMG is allowed one iteration only: the automatic choice then solves with BoomerAMG
+  // and says so; the result is BoomerAMG's.
+  const Grid grid = make_grid(64, 64, 1.0, 1.0);
+  const std::vector<double> gap = cosine_gap(grid, 0.35);
+  FlowOptions opt;
+  opt.tolerance = 1e-11;
+  const FlowResult ours = gfmd::solve_flow(grid, gap.data(), 0.0, opt);
+  EXPECT_EQ(ours.solver, "amg");
+  opt.amg_iterations_before_fallback = 1;
+  const FlowResult fb = gfmd::solve_flow(grid, gap.data(), 0.0, opt);
+  const FlowResult ref = gfmd::detail::solve_flow(grid, gap.data(), 0.0, opt, FlowSolver::BoomerAMG);
+  EXPECT_EQ(fb.solver, "boomeramg (fallback)");
+  EXPECT_EQ(ref.solver, "boomeramg");
+  EXPECT_EQ(fb.conductivity, ref.conductivity);
+  EXPECT_NEAR(fb.conductivity, ours.conductivity, 1e-9 * ours.conductivity);
+  EXPECT_GT(fb.iterations, 1);
+  // Our AMG alone with the same budget fails with a SolveError naming the residual.
+  opt.max_iterations = 1;
+  EXPECT_THROW(gfmd::detail::solve_flow(grid, gap.data(), 0.0, opt, FlowSolver::Amg), gfmd::SolveError);
+  opt.amg_iterations_before_fallback = 0;
+  EXPECT_THROW(gfmd::solve_flow(grid, gap.data(), 0.0, opt), gfmd::InputError);
+}
+
 TEST(Flow, SymmetricGapGivesEqualConductancesAlongXAndY) {
   const Grid grid = make_grid(128, 128, 1.0, 1.0);
   std::vector<double> gap(grid.size());

@@ -76,6 +76,7 @@ TEST(Leakage, FlowCommandWritesFlowJson) {
   EXPECT_TRUE(j["percolates_x"].get<bool>());
   EXPECT_NEAR(j["flow_factor_x"].get<double>(), j["flow_factor_y"].get<double>(), 1e-9);
   EXPECT_LT(j["conservation_error"].get<double>(), 1e-8);
+  EXPECT_EQ(j["linear_solver"].get<std::string>(), "amg");
   EXPECT_TRUE(fs::exists(d / "out" / "flow.nc"));
   EXPECT_TRUE(fs::exists(d / "out" / "current_x.png"));
   // gfmd flow on the solved directory gives the same numbers.

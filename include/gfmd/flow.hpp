@@ -57,6 +57,7 @@
 // atexit; each solve runs on MPI_COMM_SELF, serialised by a mutex.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "gfmd/fft.hpp"
@@ -67,6 +68,9 @@ namespace gfmd {
 struct FlowOptions {
   double tolerance = 1e-10;   // relative residual ||b - A x|| / ||b|| of the linear solve
   int max_iterations = 1000;  // PCG iterations
+  // PCG iterations of our AMG after which the automatic choice gives up and solves with
+  // HYPRE's BoomerAMG instead (typical counts are 10-20).
+  int amg_iterations_before_fallback = 200;
 };
 
 struct FlowResult {
@@ -90,7 +94,10 @@ struct FlowResult {
   int iterations = 0;     // PCG iterations of the linear solve (0 if nothing to solve)
   double residual = 0.0;  // final relative residual reported by HYPRE
   double setup_s = 0.0;   // wall time of the preconditioner set-up (HYPRE)
-  double solve_s = 0.0;   // wall time of the PCG iterations (HYPRE)
+  double solve_s = 0.0;   // wall time of the PCG iterations (and of the back-substitution)
+  // Linear solver that produced the result: "amg" (ours), "boomeramg" (HYPRE, asked for)
+  // or "boomeramg (fallback)" (after ours did not converge); "none" if nothing was solved.
+  std::string solver = "none";
   // Current density at the cell centres (average of the two x faces / two y faces of
   // the cell) for a unit gradient G = 1, per unit width; row-major, x fastest.
   RealField qx, qy;
