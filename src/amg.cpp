@@ -392,19 +392,45 @@ void build_interpolation(Level& l, const std::vector<std::uint8_t>& strong,
       }
     }
   }
-  // Restriction R = P^T (rows in increasing fine index).
+  // Restriction R = P^T (each row in increasing fine index): the fine rows in a fixed
+  // number of chunks count their entries per coarse column, then each chunk writes its
+  // entries after those of the chunks before it.
+  const std::size_t nchunks = std::clamp<std::size_t>(n / 8192, 1, 8);
+  std::vector<Buffer<Index>> count(nchunks);
   l.r_ptr.assign(nc + 1, 0);
-  for (Index c : l.p_col) ++l.r_ptr[static_cast<std::size_t>(c) + 1];
-  std::partial_sum(l.r_ptr.begin(), l.r_ptr.end(), l.r_ptr.begin());
+  const auto chunks = static_cast<std::ptrdiff_t>(nchunks);
+#pragma omp parallel for schedule(static) if (nchunks > 1)
+  for (std::ptrdiff_t t = 0; t < chunks; ++t) {
+    const auto ut = static_cast<std::size_t>(t);
+    Buffer<Index>& c = count[ut];
+    c.assign(nc, 0);
+    for (std::size_t k = l.p_ptr[n * ut / nchunks]; k < l.p_ptr[n * (ut + 1) / nchunks]; ++k)
+      ++c[static_cast<std::size_t>(l.p_col[k])];
+  }
+  for (std::size_t J = 0; J < nc; ++J) {
+    std::size_t total = 0;
+    for (std::size_t t = 0; t < nchunks; ++t) total += static_cast<std::size_t>(count[t][J]);
+    l.r_ptr[J + 1] = l.r_ptr[J] + total;
+  }
   l.r_col.resize(l.p_col.size());
   l.r_val.resize(l.p_col.size());
-  std::vector<std::size_t> fill(l.r_ptr.begin(), l.r_ptr.end() - 1);
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t k = l.p_ptr[i]; k < l.p_ptr[i + 1]; ++k) {
-      const std::size_t pos = fill[static_cast<std::size_t>(l.p_col[k])]++;
-      l.r_col[pos] = static_cast<Index>(i);
-      l.r_val[pos] = l.p_val[k];
+#pragma omp parallel for schedule(static) if (nchunks > 1)
+  for (std::ptrdiff_t t = 0; t < chunks; ++t) {
+    const auto ut = static_cast<std::size_t>(t);
+    // Where this chunk's entries of each column start.
+    Buffer<std::size_t> fill(nc);
+    for (std::size_t J = 0; J < nc; ++J) {
+      std::size_t pos = l.r_ptr[J];
+      for (std::size_t q = 0; q < ut; ++q) pos += static_cast<std::size_t>(count[q][J]);
+      fill[J] = pos;
     }
+    for (std::size_t i = n * ut / nchunks; i < n * (ut + 1) / nchunks; ++i)
+      for (std::size_t k = l.p_ptr[i]; k < l.p_ptr[i + 1]; ++k) {
+        const std::size_t pos = fill[static_cast<std::size_t>(l.p_col[k])]++;
+        l.r_col[pos] = static_cast<Index>(i);
+        l.r_val[pos] = l.p_val[k];
+      }
+  }
 }
 
 // Galerkin product R A P of level f (rows in order; the diagonal first in each row). Rows

@@ -112,21 +112,30 @@ void hypre_check(HYPRE_Int ierr, const char* what) {
 
 class WrapUnionFind {
  public:
-  explicit WrapUnionFind(std::size_t n) : parent_(n), size_(n, 1), ox_(n, 0), oy_(n, 0), wrap_(n, 0) {
-    for (std::size_t i = 0; i < n; ++i) parent_[i] = static_cast<std::int32_t>(i);
+  using Path = std::vector<std::int32_t>;  // scratch of find(), one per thread
+
+  explicit WrapUnionFind(std::size_t n) : parent_(n), size_(n), ox_(n), oy_(n), wrap_(n) {
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(n); ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      parent_[u] = static_cast<std::int32_t>(i);
+      size_[u] = 1;
+      ox_[u] = oy_[u] = 0;
+      wrap_[u] = 0;
+    }
   }
 
   // Root of i and the offset of i relative to the root (with path compression).
-  std::int32_t find(std::int32_t i, std::int64_t& ox, std::int64_t& oy) {
-    path_.clear();
+  std::int32_t find(std::int32_t i, std::int64_t& ox, std::int64_t& oy, Path& path) {
+    path.clear();
     std::int32_t r = i;
     while (parent_[r] != r) {
-      path_.push_back(r);
+      path.push_back(r);
       r = parent_[r];
     }
     // Walk back from the node nearest to the root, accumulating offsets.
     std::int64_t ax = 0, ay = 0;
-    for (auto it = path_.rbegin(); it != path_.rend(); ++it) {
+    for (auto it = path.rbegin(); it != path.rend(); ++it) {
       ax += ox_[*it];
       ay += oy_[*it];
       ox_[*it] = static_cast<std::int32_t>(ax);
@@ -139,10 +148,10 @@ class WrapUnionFind {
   }
 
   // Joins i and j, where j sits at unwrapped position pos(i) + (sx, sy).
-  void unite(std::int32_t i, std::int32_t j, int sx, int sy) {
+  void unite(std::int32_t i, std::int32_t j, int sx, int sy, Path& path) {
     std::int64_t oix, oiy, ojx, ojy;
-    const std::int32_t ri = find(i, oix, oiy);
-    const std::int32_t rj = find(j, ojx, ojy);
+    const std::int32_t ri = find(i, oix, oiy, path);
+    const std::int32_t rj = find(j, ojx, ojy, path);
     const std::int64_t dx = oix + sx - ojx, dy = oiy + sy - ojy;  // pos(rj) - pos(ri)
     if (ri == rj) {
       if (dx != 0) wrap_[ri] |= 1;
@@ -164,9 +173,11 @@ class WrapUnionFind {
     }
   }
 
-  std::int32_t root(std::int32_t i) {
-    std::int64_t a, b;
-    return find(i, a, b);
+  // Root of i without changing the structure (safe from several threads once the unions
+  // are done).
+  [[nodiscard]] std::int32_t root(std::int32_t i) const {
+    while (parent_[i] != i) i = parent_[i];
+    return i;
   }
   [[nodiscard]] bool wraps(std::int32_t root, int axis) const { return (wrap_[root] >> axis) & 1; }
   [[nodiscard]] bool any_wraps(int axis) const {
@@ -176,11 +187,44 @@ class WrapUnionFind {
   }
 
  private:
-  std::vector<std::int32_t> parent_, size_;
-  std::vector<std::int32_t> ox_, oy_;  // |offset| <= number of cells on a path < 2^31
-  std::vector<unsigned char> wrap_;
-  std::vector<std::int32_t> path_;
+  Buffer<std::int32_t> parent_, size_;
+  Buffer<std::int32_t> ox_, oy_;  // |offset| <= number of cells on a path < 2^31
+  Buffer<unsigned char> wrap_;
 };
+
+// Unites neighbouring cells across open faces (open_x[i]: face between i and its +x
+// neighbour, open_y[i]: between i and its +y neighbour). Bands of rows (a function of the
+// grid only) are united side by side, each touching only its own cells, then the faces
+// between bands in order: the structure does not depend on the number of threads.
+template <class OpenX, class OpenY>
+void unite_open_faces(WrapUnionFind& uf, const Grid& grid, OpenX&& open_x, OpenY&& open_y) {
+  const int nx = grid.nx, ny = grid.ny;
+  const int bands = std::clamp(ny / 64, 1, 16);
+  auto band_lo = [&](int b) { return ny * b / bands; };
+#pragma omp parallel if (bands > 1)
+  {
+    WrapUnionFind::Path path;
+#pragma omp for schedule(dynamic, 1)
+    for (int b = 0; b < bands; ++b) {
+      const int y0 = band_lo(b), y1 = band_lo(b + 1);
+      for (int iy = y0; iy < y1; ++iy)
+        for (int ix = 0; ix < nx; ++ix) {
+          const int ixe = (ix + 1 == nx) ? 0 : ix + 1;
+          const auto i = static_cast<std::int32_t>(iy * nx + ix);
+          if (open_x(static_cast<std::size_t>(i))) uf.unite(i, iy * nx + ixe, 1, 0, path);
+          if (iy + 1 < y1 && open_y(static_cast<std::size_t>(i))) uf.unite(i, (iy + 1) * nx + ix, 0, 1, path);
+        }
+    }
+  }
+  WrapUnionFind::Path path;
+  for (int b = 0; b < bands; ++b) {
+    const int iy = band_lo(b + 1) - 1, iyn = (iy + 1 == ny) ? 0 : iy + 1;
+    for (int ix = 0; ix < nx; ++ix) {
+      const auto i = static_cast<std::int32_t>(iy * nx + ix);
+      if (open_y(static_cast<std::size_t>(i))) uf.unite(i, iyn * nx + ix, 0, 1, path);
+    }
+  }
+}
 
 void check_grid(const Grid& grid, const char* where) {
   if (grid.nx < 1 || grid.ny < 1) throw InputError(where, "grid must have nx, ny >= 1");
@@ -188,22 +232,6 @@ void check_grid(const Grid& grid, const char* where) {
     throw InputError(where, "grid too large");
   if (!(grid.lx > 0.0) || !(grid.ly > 0.0) || !std::isfinite(grid.lx) || !std::isfinite(grid.ly))
     throw InputError(where, "cell sizes lx, ly must be positive and finite");
-}
-
-// Unites neighbouring cells across open faces (open_x[i]: face between i and its +x
-// neighbour, open_y[i]: between i and its +y neighbour).
-template <class OpenX, class OpenY>
-void unite_open_faces(WrapUnionFind& uf, const Grid& grid, OpenX&& open_x, OpenY&& open_y) {
-  const int nx = grid.nx, ny = grid.ny;
-  for (int iy = 0; iy < ny; ++iy) {
-    const int iyn = (iy + 1 == ny) ? 0 : iy + 1;
-    for (int ix = 0; ix < nx; ++ix) {
-      const int ixe = (ix + 1 == nx) ? 0 : ix + 1;
-      const auto i = static_cast<std::int32_t>(iy * nx + ix);
-      if (open_x(static_cast<std::size_t>(i))) uf.unite(i, iy * nx + ixe, 1, 0);
-      if (open_y(static_cast<std::size_t>(i))) uf.unite(i, iyn * nx + ix, 0, 1);
-    }
-  }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -797,9 +825,9 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
   // cell) carries no flow: its total pressure is constant. Such "still" cells are not
   // unknowns (their currents are zero); neither is one gauge cell (the root, P~ = 0) of
   // every winding component.
-  sys.pinned.assign(n, 0);
+  sys.pinned.resize(n);
   std::vector<unsigned char>& pinned = sys.pinned;
-  std::vector<unsigned char> still(n);
+  Buffer<unsigned char> still(n);
   bool wraps_x = false, wraps_y = false;
   {
     WrapUnionFind uf(n);
@@ -808,7 +836,9 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
         [&](std::size_t i) { return sys.ky[i] > 0.0; });
     wraps_x = uf.any_wraps(0);
     wraps_y = uf.any_wraps(1);
-    for (std::size_t i = 0; i < n; ++i) {
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t ii = 0; ii < static_cast<std::ptrdiff_t>(n); ++ii) {
+      const auto i = static_cast<std::size_t>(ii);
       const std::int32_t r = uf.root(static_cast<std::int32_t>(i));
       still[i] = !(uf.wraps(r, 0) || uf.wraps(r, 1));
       pinned[i] = still[i] || r == static_cast<std::int32_t>(i);
