@@ -34,6 +34,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -361,9 +362,9 @@ class ReducedSystem {
   }
 
   [[nodiscard]] std::size_t size() const { return row_first_.back(); }
-  [[nodiscard]] bool red_black() const { return red_black_; }
   CsrMatrix take_matrix() { return std::move(matrix_); }
-  [[nodiscard]] std::int32_t index(std::size_t cell) const { return index_[cell]; }
+  // The cell -> unknown map is needed to build the matrix only.
+  void release_index() { Buffer<std::int32_t>().swap(index_); }
 
   // The right-hand side of the reduced system for the full one b (on cells).
   void reduce(const Buffer<double>& b, Buffer<double>& br) const {
@@ -408,7 +409,7 @@ class ReducedSystem {
   const LinearSystem& sys_;
   bool red_black_ = false;
   std::vector<std::size_t> row_first_;  // first reduced unknown of each grid row (ny + 1)
-  std::vector<std::int32_t> index_;     // cell -> reduced unknown, -1 otherwise
+  Buffer<std::int32_t> index_;          // cell -> reduced unknown, -1 otherwise
   CsrMatrix matrix_;
 
   [[nodiscard]] bool kept(std::size_t ix, std::size_t iy) const {
@@ -569,11 +570,15 @@ void finish(LinearSolution& sol, HYPRE_Int its, HYPRE_Real res, const FlowOption
   sol.converged = finite && res <= opt.tolerance;
 }
 
+// Fills the right-hand side of direction k (on cells, 0 on pinned cells). Built when its
+// solve starts, so that it does not hold memory during the set-up.
+using RhsFn = std::function<void(std::size_t k, Buffer<double>& b)>;
+
 // Our algebraic multigrid (gfmd/amg.hpp) under CG, one hierarchy for all right-hand sides,
 // on the red-black reduced system where the grid allows it. A solve counts as converged
 // when CG met the tolerance and the residual of the full system, recomputed, is within
 // ten times it.
-std::vector<LinearSolution> solve_native(const LinearSystem& sys, const std::vector<Buffer<double>>& rhs,
+std::vector<LinearSolution> solve_native(const LinearSystem& sys, std::size_t nrhs, const RhsFn& make_rhs,
                                          const FlowOptions& opt, int max_iterations) {
   std::vector<LinearSolution> out;
   const auto t0 = std::chrono::steady_clock::now();
@@ -582,24 +587,26 @@ std::vector<LinearSolution> solve_native(const LinearSystem& sys, const std::vec
     LinearSolution sol;
     sol.x.assign(sys.size(), 0.0);
     sol.converged = true;
-    return std::vector<LinearSolution>(rhs.size(), sol);
+    return std::vector<LinearSolution>(nrhs, sol);
   }
   const AlgebraicMultigrid amg(red.take_matrix());
+  red.release_index();
   const double setup_s = seconds_since(t0);
-  Buffer<double> br, xr;
-  for (std::size_t k = 0; k < rhs.size(); ++k) {
+  Buffer<double> b, br, xr;
+  for (std::size_t k = 0; k < nrhs; ++k) {
     LinearSolution sol;
     sol.setup_s = k == 0 ? setup_s : 0.0;
     const auto t1 = std::chrono::steady_clock::now();
-    const double bnorm = std::sqrt(range_sums(
-        rhs[k].size(), 1, [&](std::size_t i, double* acc) { acc[0] += rhs[k][i] * rhs[k][i]; })[0]);
-    red.reduce(rhs[k], br);
+    make_rhs(k, b);
+    const double bnorm =
+        std::sqrt(range_sums(b.size(), 1, [&](std::size_t i, double* acc) { acc[0] += b[i] * b[i]; })[0]);
+    red.reduce(b, br);
     xr.resize(br.size());
     const CgOutcome cg = amg_pcg(amg, br.data(), xr.data(), opt.tolerance, max_iterations, bnorm);
-    red.expand(rhs[k], xr, sol.x);
+    red.expand(b, xr, sol.x);
     sol.solve_s = seconds_since(t1);
     sol.iterations = cg.iterations;
-    sol.residual = bnorm > 0.0 ? full_residual_norm(sys, rhs[k], sol.x) / bnorm : 0.0;
+    sol.residual = bnorm > 0.0 ? full_residual_norm(sys, b, sol.x) / bnorm : 0.0;
     bool finite = std::isfinite(sol.residual);
     for (double v : sol.x) finite = finite && std::isfinite(v);
     sol.converged = finite && cg.converged && sol.residual <= 10.0 * opt.tolerance;
@@ -608,8 +615,7 @@ std::vector<LinearSolution> solve_native(const LinearSystem& sys, const std::vec
   return out;
 }
 
-std::vector<LinearSolution> solve_boomeramg(const LinearSystem& sys,
-                                            const std::vector<Buffer<double>>& rhs_list,
+std::vector<LinearSolution> solve_boomeramg(const LinearSystem& sys, std::size_t nrhs, const RhsFn& make_rhs,
                                             const FlowOptions& opt) {
   const MPI_Comm comm = MPI_COMM_SELF;
   const std::size_t ncell = sys.size();
@@ -621,7 +627,7 @@ std::vector<LinearSolution> solve_boomeramg(const LinearSystem& sys,
     LinearSolution sol;
     sol.x.assign(ncell, 0.0);
     sol.converged = true;
-    return std::vector<LinearSolution>(rhs_list.size(), sol);
+    return std::vector<LinearSolution>(nrhs, sol);
   }
   const auto n = static_cast<HYPRE_BigInt>(u.size());
   const CsrMatrix a = u.take_matrix();
@@ -716,8 +722,10 @@ std::vector<LinearSolution> solve_boomeramg(const LinearSystem& sys,
 
   std::vector<LinearSolution> out;
   Buffer<double> xr(static_cast<std::size_t>(n));
-  for (std::size_t k = 0; k < rhs_list.size(); ++k) {
-    u.reduce(rhs_list[k], rhs);
+  Buffer<double> full;
+  for (std::size_t k = 0; k < nrhs; ++k) {
+    make_rhs(k, full);
+    u.reduce(full, rhs);
     hypre_check(HYPRE_IJVectorSetValues(b, static_cast<HYPRE_Int>(n), rows.data(), rhs.data()),
                 "IJVectorSetValues");
     hypre_check(HYPRE_IJVectorSetValues(x, static_cast<HYPRE_Int>(n), rows.data(), zero.data()),
@@ -732,7 +740,7 @@ std::vector<LinearSolution> solve_boomeramg(const LinearSystem& sys,
     HYPRE_PCGGetFinalRelativeResidualNorm(pcg, &res);
     hypre_check(HYPRE_IJVectorGetValues(x, static_cast<HYPRE_Int>(n), rows.data(), xr.data()),
                 "IJVectorGetValues");
-    u.expand(rhs_list[k], xr, sol.x);
+    u.expand(full, xr, sol.x);
     finish(sol, its, res, opt);
     out.push_back(std::move(sol));
   }
@@ -845,13 +853,12 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     }
   }
 
-  // Right-hand sides, one per direction d = (cos a, sin a): the divergence of the imposed
-  // current, G d_x dx through x faces and G d_y dy through y faces (times the conductance).
-  std::vector<Buffer<double>> rhs(angles.size(), Buffer<double>(n));
-  for (std::size_t k = 0; k < angles.size(); ++k) {
+  // Right-hand side of direction d = (cos a, sin a): the divergence of the imposed current,
+  // G d_x dx through x faces and G d_y dy through y faces (times the conductance).
+  const RhsFn make_rhs = [&](std::size_t k, Buffer<double>& b) {
     const double a = angles[k] * std::numbers::pi / 180.0;
     const double dxd = std::cos(a), dyd = std::sin(a);
-    Buffer<double>& b = rhs[k];
+    b.resize(n);
 #pragma omp parallel for schedule(static)
     for (int iy = 0; iy < ny; ++iy) {
       const int iys = (iy == 0) ? ny - 1 : iy - 1;
@@ -867,7 +874,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
         b[i] = dxd * dx * (sys.kx[iw] - sys.kx[i]) + dyd * dy * (sys.ky[is] - sys.ky[i]);
       }
     }
-  }
+  };
 
   // Back end: our algebraic multigrid (OpenMP, on the red-black reduced system), with
   // HYPRE's BoomerAMG (serial) as the fallback if it does not converge within its
@@ -881,7 +888,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
                            : std::max(1, std::min(opt.max_iterations, opt.amg_iterations_before_fallback));
     const auto t0 = std::chrono::steady_clock::now();
     try {
-      sols = solve_native(sys, rhs, opt, budget);
+      sols = solve_native(sys, angles.size(), make_rhs, opt, budget);
       for (const LinearSolution& sol : sols)
         if (!sol.converged && failure.empty())
           failure = "AMG-PCG reached relative residual " + std::to_string(sol.residual) + " after " +
@@ -898,7 +905,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     solver = failure.empty() ? "boomeramg" : "boomeramg (fallback)";
     ensure_hypre();
     std::lock_guard<std::mutex> lock(g_hypre_mutex);
-    sols = solve_boomeramg(sys, rhs, opt);
+    sols = solve_boomeramg(sys, angles.size(), make_rhs, opt);
     for (const LinearSolution& sol : sols)
       if (!sol.converged) {
         if (!failure.empty()) failure += "; then ";

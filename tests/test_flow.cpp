@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gfmd/error.hpp"
+#include "gfmd/fft.hpp"
 #include "gfmd/flow.hpp"
 #include "gfmd/grid.hpp"
 #include "gfmd/topography.hpp"
@@ -211,6 +212,30 @@ TEST(Flow, FallsBackToBoomerAmgWhenOurAmgDoesNotConverge) {
   EXPECT_THROW(gfmd::detail::solve_flow(grid, gap.data(), 0.0, opt, FlowSolver::Amg), gfmd::SolveError);
   opt.amg_iterations_before_fallback = 0;
   EXPECT_THROW(gfmd::solve_flow(grid, gap.data(), 0.0, opt), gfmd::InputError);
+}
+
+TEST(Flow, ResultsDoNotDependOnTheThreadCount) {
+  // 768^2 rough gap: several bands of the connected-component search, blocks of the
+  // coarsening and of the smoother, chunks of the Galerkin products.
+  const Grid grid = make_grid(768, 768, 1.0, 1.0);
+  const std::vector<double> gap = rough_gap(grid, 0.25, 3);
+  const int saved = gfmd::threads();
+  std::vector<FlowResult> r;
+  for (int t : {1, 2, 3}) {
+    gfmd::set_threads(t);
+    r.push_back(gfmd::solve_flow(grid, gap.data(), 30.0));
+  }
+  gfmd::set_threads(saved);
+  for (int k : {1, 2}) {
+    EXPECT_EQ(r[0].iterations, r[k].iterations);
+    EXPECT_EQ(r[0].conductivity, r[k].conductivity);
+    EXPECT_EQ(r[0].conductivity_transverse, r[k].conductivity_transverse);
+    EXPECT_EQ(r[0].residual, r[k].residual);
+    EXPECT_TRUE(r[0].qx == r[k].qx);
+    EXPECT_TRUE(r[0].qy == r[k].qy);
+  }
+  EXPECT_EQ(r[0].solver, "amg");
+  EXPECT_GT(r[0].conductivity, 0.0);
 }
 
 TEST(Flow, SymmetricGapGivesEqualConductancesAlongXAndY) {
