@@ -25,36 +25,37 @@
 //
 // Singularity. The matrix is singular: constants on each connected component of cells
 // joined by open faces (k_f > 0) are in its null space, and cells whose four faces are
-// closed are fully decoupled. Components are found by union-find. A component that
-// wraps around the periodic cell in no direction (trapped pocket, isolated open cell)
-// carries no current (its total pressure is constant): its cells are not unknowns and
-// their currents are set to exactly zero. Each wrapping component has one pinned cell
-// (identity row, P~ = 0, its couplings moved to the right-hand side, where they vanish)
-// and decoupled cells get identity rows. The pinned equation is
-// implied by the others (the sum of a component's equations is identically zero), so the
-// fluxes are unaffected: the pressure gauge is arbitrary per component. The reduced
-// system is symmetric positive definite.
+// closed are fully decoupled. Components are found by union-find (with windings). A
+// component that wraps around the periodic cell in no direction (trapped pocket, isolated
+// open cell) carries no current (its total pressure is constant): its cells are not
+// unknowns and their currents are set to exactly zero. Each wrapping component has one
+// pinned cell (P~ = 0, its couplings moved to the right-hand side, where they vanish):
+// the pinned equation is implied by the others (the sum of a component's equations is
+// identically zero), so the fluxes are unaffected; the pressure gauge is arbitrary per
+// component. The system of the remaining unknowns is symmetric positive definite.
 //
-// Linear solver: HYPRE, PCG to the relative residual ||b - A x||_2 / ||b||_2 <= tolerance.
-// * Struct interface (periodic grid, 5-point stencil) with a PFMG V-cycle (Galerkin
-//   coarse operators, symmetric red/black Gauss-Seidel) as preconditioner: used when
-//   nx and ny are powers of two >= 4 (HYPRE's structured multigrid needs power-of-two
-//   periods) AND every face is open. PFMG's operator-dependent interpolation breaks down
-//   on fields with closed faces (the preconditioner stops being positive definite and
-//   PCG stalls or meets NaNs), so those never go to it.
-// * IJ/ParCSR interface with a BoomerAMG V-cycle (Ruge-Stueben coarsening, classical
-//   interpolation, forward Gauss-Seidel down / backward up, a symmetric cycle) as
-//   preconditioner: everything else, and the fallback when the structured solve fails.
-//   It is robust to closed faces and to conductance contrasts of many decades (13-14 PCG
-//   iterations for a rough gap at 20 % contact, 1024^2 and 2048^2).
+// Linear solver (default): our algebraic multigrid (gfmd/amg.hpp, OpenMP) under PCG, to
+// the relative residual ||b - A x||_2 / ||b||_2 <= tolerance of the system above.
+// * Red-black reduction: when nx and ny are even, a cell with ix + iy odd couples only to
+//   cells with ix + iy even, so the odd ("black") unknowns are eliminated exactly and the
+//   solve runs on the even ones (half the unknowns, nine couplings each: the Schur
+//   complement, formed without cancellation); the black values follow from their own
+//   equations afterwards. Other grids are solved on all unknowns.
+// * Ruge-Stueben AMG (BoomerAMG's classical settings), a symmetric V(1,1)-cycle: 11-12 PCG
+//   iterations at 1e-8 for rough gaps with 5-40 % closed cells at 2048^2, and for
+//   conductances spread over many decades.
+// * Fallback: if it has not converged after FlowOptions::amg_iterations_before_fallback
+//   iterations, the system is solved again with HYPRE's BoomerAMG (IJ/ParCSR interface,
+//   Ruge-Stueben coarsening, classical modified interpolation, forward/backward
+//   Gauss-Seidel) under HYPRE's PCG; FlowResult::solver says which solver answered.
 // The operator does not depend on the direction of the imposed gradient: several
-// directions share one assembly and one preconditioner set-up.
-// The conductances are normalised by max(k) before assembly (the solution does not
-// depend on that scale). HYPRE here is serial (no OpenMP build): the thread count only
-// affects the assembly and post-processing loops, and the result does not depend on it.
-// MPI is initialised lazily on first use (MPI_Init_thread as a singleton; no mpirun
-// needed) unless the program already did, and MPI_Finalize is then registered with
-// atexit; each solve runs on MPI_COMM_SELF, serialised by a mutex.
+// directions share one assembly and one set-up. The conductances are normalised by
+// max(k) before assembly (the solution does not depend on that scale). Results do not
+// depend on the number of threads (fixed blocks and orders everywhere). HYPRE is serial
+// (Debian's build has no OpenMP); MPI is initialised lazily the first time HYPRE is needed
+// (MPI_Init_thread as a singleton; no mpirun needed) unless the program already did, and
+// MPI_Finalize is then registered with atexit; each HYPRE solve runs on MPI_COMM_SELF,
+// serialised by a mutex.
 #pragma once
 
 #include <string>
@@ -91,10 +92,15 @@ struct FlowResult {
   // component with (nearly) zero mean flow is judged relative to the main flow;
   // 0 if there is no flow at all.
   double conservation_error = 0.0;
-  int iterations = 0;     // PCG iterations of the linear solve (0 if nothing to solve)
-  double residual = 0.0;  // final relative residual reported by HYPRE
-  double setup_s = 0.0;   // wall time of the preconditioner set-up (HYPRE)
-  double solve_s = 0.0;   // wall time of the PCG iterations (and of the back-substitution)
+  int iterations = 0;  // PCG iterations of the linear solve (0 if nothing to solve)
+  // Final relative residual: recomputed from the solution of the full system (ours),
+  // reported by HYPRE's PCG (BoomerAMG).
+  double residual = 0.0;
+  // Wall time of the set-up (reduction and multigrid hierarchy, including a failed first
+  // attempt before a fallback) and of the solve of this direction (PCG, recovery of the
+  // eliminated unknowns).
+  double setup_s = 0.0;
+  double solve_s = 0.0;
   // Linear solver that produced the result: "amg" (ours), "boomeramg" (HYPRE, asked for)
   // or "boomeramg (fallback)" (after ours did not converge); "none" if nothing was solved.
   std::string solver = "none";
@@ -106,9 +112,10 @@ struct FlowResult {
 // Solves the flow problem for the gap field gap[grid.size()] (row-major, x fastest) and
 // a unit imposed gradient along angle_deg (degrees from +x).
 // Throws InputError("flow", ...) for an empty grid, a null gap, non-positive cell sizes,
-// non-finite gaps, a non-finite angle, tolerance outside (0, 1) or max_iterations < 1;
-// SolveError if HYPRE fails or the solve does not reach opt.tolerance within
-// opt.max_iterations. Safe to call from several threads (the HYPRE part is serialised).
+// non-finite gaps, a non-finite angle, tolerance outside (0, 1), max_iterations < 1 or
+// amg_iterations_before_fallback < 1; SolveError if neither solver reaches opt.tolerance
+// within opt.max_iterations (or HYPRE fails). Safe to call from several threads (the
+// HYPRE part is serialised).
 FlowResult solve_flow(const Grid& grid, const double* gap, double angle_deg, const FlowOptions& opt = {});
 
 // The same for several directions at once: the operator and its preconditioner are set
@@ -129,11 +136,9 @@ double bruggeman_2d(const std::vector<double>& k);
 bool percolates(const Grid& grid, const double* gap, int axis);
 
 namespace detail {
-// Linear-solver back end, for tests and benchmarks. Auto is what solve_flow uses
-// (Struct PFMG-PCG for power-of-two grids whose faces are all open, else BoomerAMG, and
-// BoomerAMG again if PFMG fails). StructPFMG forces PFMG: InputError("flow", ...) on a
-// grid that is not a power of two >= 4 each way, SolveError if it fails (it usually does
-// once faces are closed). BoomerAMG forces the IJ interface.
+// Linear-solver back end, for tests and benchmarks. Auto is what solve_flow uses (our AMG,
+// BoomerAMG if it does not converge in time). Amg: ours only, up to opt.max_iterations
+// (SolveError if it does not converge). BoomerAMG: HYPRE's only.
 enum class FlowSolver { Auto, Amg, BoomerAMG };
 FlowResult solve_flow(const Grid& grid, const double* gap, double angle_deg, const FlowOptions& opt,
                       FlowSolver solver);
