@@ -750,12 +750,29 @@ void AlgebraicMultigrid::cycle(std::size_t l, const double* b, double* x) const 
   const Level& f = *levels_[l];
   const Level& c = *levels_[l + 1];
   relax(f, b, x, true, true);
-  f.a.multiply(x, f.r.data());
   const std::size_t n = f.n(), nc = c.n();
   const auto rows = static_cast<std::ptrdiff_t>(n), crows = static_cast<std::ptrdiff_t>(nc);
   double* r = f.r.data();
+  {
+    // Residual after the sweep. A row whose couplings all stay in its block satisfied its
+    // equation with the lower couplings when it was relaxed: what is left is minus its
+    // upper couplings (half a product); the other rows are computed in full.
+    const std::size_t* const ap = f.a.ptr.data();
+    const Index* const ac = f.a.col.data();
+    const double* const av = f.a.val.data();
 #pragma omp parallel for schedule(static) if (f.parallel())
-  for (std::ptrdiff_t i = 0; i < rows; ++i) r[i] = b[i] - r[i];
+    for (std::ptrdiff_t ii = 0; ii < rows; ++ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      double s = 0.0;
+      if (f.interior[i]) {
+        for (std::size_t k = ap[i] + 1 + f.lower[i]; k < ap[i + 1]; ++k) s -= av[k] * x[ac[k]];
+      } else {
+        s = b[i];
+        for (std::size_t k = ap[i]; k < ap[i + 1]; ++k) s -= av[k] * x[ac[k]];
+      }
+      r[i] = s;
+    }
+  }
   double* bc = c.b.data();
 #pragma omp parallel for schedule(static) if (c.parallel())
   for (std::ptrdiff_t I = 0; I < crows; ++I) {
