@@ -114,7 +114,7 @@ std::vector<std::uint8_t> strength(const CsrMatrix& a, double theta) {
 }
 
 // Blocks of rows of the coarse/fine splitting (a function of the size only).
-std::size_t split_blocks(std::size_t n) { return std::clamp<std::size_t>(n / 65536, 1, 16); }
+std::size_t split_blocks(std::size_t n) { return std::clamp<std::size_t>((n + 32767) / 65536, 1, 16); }
 
 // Ruge-Stueben first pass on the rows [lo, hi), with the strong couplings inside the
 // block: repeatedly the undecided point on which most undecided points depend strongly
