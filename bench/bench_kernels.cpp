@@ -1,9 +1,16 @@
 // Micro-benchmarks of the per-iteration kernels (Google Benchmark).
 //   ./build/bench_kernels --benchmark_filter=FFT
 // "FFTIteration" is the bare-FFT cost the issue compares against: 3 forward + 3 inverse
-// real 2D transforms of an N x N grid.
+// real 2D transforms of an N x N grid. "Amg*": the algebraic multigrid of the flow solver
+// on an N x N diffusion problem (one PCG iteration = one V-cycle + one product).
 #include <benchmark/benchmark.h>
 
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <vector>
+
+#include "gfmd/amg.hpp"
 #include "gfmd/elastic.hpp"
 #include "gfmd/fft.hpp"
 
@@ -62,6 +69,74 @@ void BM_Compliance(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Compliance)->Arg(512)->Arg(2048)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// N x N cells, face conductances varying smoothly over four decades, a fixed value along
+// the left edge: the kind of operator the flow solver hands to the AMG.
+gfmd::CsrMatrix diffusion(int n) {
+  auto k = [&](double x, double y) {
+    const double t = 2.0 * std::numbers::pi;
+    return std::pow(10.0, -2.0 + std::sin(3 * t * x) * std::cos(2 * t * y) + std::sin(5 * t * (x + y)));
+  };
+  gfmd::CsrMatrix a;
+  a.n = static_cast<std::size_t>(n) * n;
+  a.ptr.push_back(0);
+  for (int iy = 0; iy < n; ++iy)
+    for (int ix = 0; ix < n; ++ix) {
+      const double x = (ix + 0.5) / n, y = (iy + 0.5) / n, h = 0.5 / n;
+      const int i = iy * n + ix;
+      const double kw = ix > 0 ? k(x - h, y) : 0.0, ke = ix + 1 < n ? k(x + h, y) : 0.0;
+      const double ks = iy > 0 ? k(x, y - h) : 0.0, kn = iy + 1 < n ? k(x, y + h) : 0.0;
+      a.col.push_back(i);
+      a.val.push_back(kw + ke + ks + kn + (ix == 0 ? 1.0 : 0.0));
+      const int nb[4] = {i - 1, i + 1, i - n, i + n};
+      const double kk[4] = {kw, ke, ks, kn};
+      for (int q = 0; q < 4; ++q)
+        if (kk[q] > 0.0) {
+          a.col.push_back(nb[q]);
+          a.val.push_back(-kk[q]);
+        }
+      a.ptr.push_back(a.col.size());
+    }
+  return a;
+}
+
+void BM_AmgSetup(benchmark::State& state) {
+  gfmd::set_threads(0);
+  const gfmd::CsrMatrix a = diffusion(static_cast<int>(state.range(0)));
+  double levels = 0.0, complexity = 0.0;
+  for (auto _ : state) {
+    gfmd::AlgebraicMultigrid mg(a);
+    levels = mg.levels();
+    complexity = mg.operator_complexity();
+    benchmark::DoNotOptimize(&mg);
+  }
+  state.counters["levels"] = levels;
+  state.counters["complexity"] = complexity;
+}
+BENCHMARK(BM_AmgSetup)->Arg(1024)->Arg(2048)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_AmgVCycle(benchmark::State& state) {
+  gfmd::set_threads(0);
+  const gfmd::AlgebraicMultigrid mg(diffusion(static_cast<int>(state.range(0))));
+  std::vector<double> r(mg.size(), 1.0), z(mg.size());
+  mg.precondition(r.data(), z.data());  // the first cycle touches the work arrays first
+  for (auto _ : state) {
+    mg.precondition(r.data(), z.data());
+    benchmark::DoNotOptimize(z.data());
+  }
+}
+BENCHMARK(BM_AmgVCycle)->Arg(1024)->Arg(2048)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_AmgMatvec(benchmark::State& state) {
+  gfmd::set_threads(0);
+  const gfmd::CsrMatrix a = diffusion(static_cast<int>(state.range(0)));
+  std::vector<double> x(a.n, 1.0), y(a.n, 0.0);
+  for (auto _ : state) {
+    a.multiply(x.data(), y.data());
+    benchmark::DoNotOptimize(y.data());
+  }
+}
+BENCHMARK(BM_AmgMatvec)->Arg(1024)->Arg(2048)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

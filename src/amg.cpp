@@ -9,6 +9,7 @@
 #include <string>
 
 #include "gfmd/error.hpp"
+#include "gfmd/fft.hpp"
 #include "gfmd/reduce.hpp"
 
 namespace gfmd {
@@ -631,6 +632,9 @@ void relax(const Level& l, const double* b, double* x, bool forward, bool zero_g
 
 AlgebraicMultigrid::AlgebraicMultigrid(CsrMatrix a, const AmgOptions& opt) {
   check_matrix(a);
+  // The set-up makes many short-lived allocations of up to the matrix size: from the heap,
+  // grown once and advised for huge pages (see HeapAllocationScope), not mapped one by one.
+  const HeapAllocationScope heap_only(40 * a.nnz());
   if (!(opt.strength > 0.0 && opt.strength < 1.0))
     throw InputError("amg", "strength threshold must be in (0, 1)");
   if (opt.max_interpolation < 1 || opt.max_interpolation > 64)
