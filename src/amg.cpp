@@ -220,24 +220,22 @@ void first_pass(const CsrMatrix& a, const std::vector<std::uint8_t>& strong, std
 }
 
 // Second pass for the fine point i: every strong fine neighbour k must share a strong
-// coarse neighbour with i; otherwise k becomes coarse.
+// coarse neighbour with i; otherwise k becomes coarse. stamp[j] == i marks the strong
+// coarse neighbours j of i (a scratch array of n entries, initially all -1).
 inline void second_pass_row(const CsrMatrix& a, const std::vector<std::uint8_t>& strong, std::size_t i,
-                            std::vector<std::uint8_t>& state) {
-  constexpr std::size_t kMax = 64;
-  std::array<Index, kMax> ci{};
-  std::size_t nci = 0;
+                            std::vector<std::uint8_t>& state, Index* stamp) {
+  const auto si = static_cast<Index>(i);
   for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1]; ++k)
-    if (strong[k] && state[static_cast<std::size_t>(a.col[k])] == kCoarse && nci < kMax) ci[nci++] = a.col[k];
+    if (strong[k] && state[static_cast<std::size_t>(a.col[k])] == kCoarse) stamp[a.col[k]] = si;
   for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1]; ++k) {
     const Index f = a.col[k];
     if (!strong[k] || state[static_cast<std::size_t>(f)] != kFine) continue;
     bool shared = false;
     for (std::size_t m = a.ptr[f] + 1; m < a.ptr[f + 1] && !shared; ++m)
-      if (strong[m])
-        for (std::size_t q = 0; q < nci && !shared; ++q) shared = ci[q] == a.col[m];
+      shared = strong[m] && stamp[a.col[m]] == si;
     if (!shared) {
       state[static_cast<std::size_t>(f)] = kCoarse;
-      if (nci < kMax) ci[nci++] = f;
+      stamp[f] = si;
     }
   }
 }
@@ -270,15 +268,21 @@ std::vector<std::uint8_t> split(const CsrMatrix& a, const std::vector<std::uint8
     for (std::size_t k = a.ptr[i] + 1; k < a.ptr[i + 1] && !s; ++k) s = strong[k] && boundary[a.col[k]];
     serial[i] = s ? 1 : 0;
   }
-#pragma omp parallel for schedule(dynamic, 1) if (nblk > 1)
-  for (std::ptrdiff_t blk = 0; blk < nb; ++blk) {
-    const std::size_t lo = n * static_cast<std::size_t>(blk) / nblk,
-                      hi = n * static_cast<std::size_t>(blk + 1) / nblk;
-    for (std::size_t i = lo; i < hi; ++i)
-      if (state[i] == kFine && !serial[i]) second_pass_row(a, strong, i, state);
+#pragma omp parallel if (nblk > 1)
+  {
+    Buffer<Index> stamp(n);
+    std::fill(stamp.begin(), stamp.end(), Index{-1});
+#pragma omp for schedule(dynamic, 1)
+    for (std::ptrdiff_t blk = 0; blk < nb; ++blk) {
+      const std::size_t lo = n * static_cast<std::size_t>(blk) / nblk,
+                        hi = n * static_cast<std::size_t>(blk + 1) / nblk;
+      for (std::size_t i = lo; i < hi; ++i)
+        if (state[i] == kFine && !serial[i]) second_pass_row(a, strong, i, state, stamp.data());
+    }
+#pragma omp single
+    for (std::size_t i = 0; i < n; ++i)
+      if (state[i] == kFine && serial[i]) second_pass_row(a, strong, i, state, stamp.data());
   }
-  for (std::size_t i = 0; i < n; ++i)
-    if (state[i] == kFine && serial[i]) second_pass_row(a, strong, i, state);
   return state;
 }
 
