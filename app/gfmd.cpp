@@ -223,7 +223,10 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   return 0;
 }
 
-int cmd_flow(const std::string& dir, const std::string& direction, double tol) {
+int cmd_flow(const std::string& dir, const std::string& direction, double tol, const std::string& solver) {
+  gfmd::FlowSolver which;
+  if (!gfmd::parse_flow_solver(solver, which))
+    throw gfmd::InputError("--solver", "must be auto, amg or boomeramg, got '" + solver + "'");
   namespace fs = std::filesystem;
   const fs::path sp = fs::path(dir) / "summary.json";
   std::ifstream in(sp);
@@ -245,7 +248,7 @@ int cmd_flow(const std::string& dir, const std::string& direction, double tol) {
   if (angles.empty())
     throw gfmd::InputError("--direction",
                            "must be x, y, both or an angle in degrees, got '" + direction + "'");
-  const auto r = gfmd::compute_leakage(g, gap.data(), angles, tol);
+  const auto r = gfmd::compute_leakage(g, gap.data(), angles, tol, which);
   gfmd::write_leakage(g, r, dir, {{"relative_contact_area", s.value("relative_contact_area", 0.0)}});
   std::printf("%s/flow.json:\n%s\n", dir.c_str(), r.json.dump(2).c_str());
   return 0;
@@ -432,10 +435,14 @@ int main(int argc, char** argv) {
 
   std::string flow_dir, direction = "both", seeds = "0..7";
   double flow_tol = 1e-10, area_tol = 0.002;
+  std::string flow_solver = "auto";
   auto* flow = app.add_subcommand("flow", "Reynolds flow through the gap of a solved case directory");
   flow->add_option("dir", flow_dir, "a directory written by gfmd run")->required();
   flow->add_option("--direction", direction, "x, y or both (default)");
   flow->add_option("--tolerance", flow_tol, "relative residual of the linear solve (default 1e-10)");
+  flow->add_option("--solver", flow_solver,
+                   "linear solver: auto (ours, HYPRE's BoomerAMG if ours does not converge; default), amg or "
+                   "boomeramg");
   auto* perc =
       app.add_subcommand("percolation", "critical contact area at which the flow along a direction stops");
   perc->add_option("case", case_path, "case file (TOML)")->required();
@@ -469,7 +476,7 @@ int main(int argc, char** argv) {
   try {
     if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet, verbose, resume, checkpoint_s);
     if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet);
-    if (flow->parsed()) return cmd_flow(flow_dir, direction, flow_tol);
+    if (flow->parsed()) return cmd_flow(flow_dir, direction, flow_tol, flow_solver);
     if (perc->parsed()) return cmd_percolation(case_path, out_dir, sets, direction, area_tol, quiet);
     if (ens->parsed()) return cmd_ensemble(case_path, out_dir, sets, seeds, quiet);
     if (green->parsed()) return cmd_green(green_nu, green_from, green_to, green_points, out_dir);

@@ -2,7 +2,7 @@
 // self-affine surface (H = 0.8, lambda_l = L/4, lambda_s = ls dx) cut at the height that
 // closes a given fraction of the cells, gap = max(c - h, 0).
 //
-//   bench_flow [N=2048] [closed_fraction=0.2] [solver=auto|native|boomeramg] [tolerance=1e-8]
+//   bench_flow [N=2048] [closed_fraction=0.2] [solver=auto|amg|boomeramg] [tolerance=1e-8]
 //              [repeat=1] [ls=4]
 //
 // Each repetition solves one direction (x), then the other (y), then both with one set-up,
@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   const double ls = argc > 6 ? std::atof(argv[6]) : 4.0;
   if (n < 8 || !(closed >= 0.0 && closed < 1.0) || !(tol > 0.0 && tol < 1.0) || !(ls >= 2.0)) {
     std::fprintf(stderr,
-                 "usage: bench_flow [N>=8] [closed_fraction in [0,1)] [auto|native|boomeramg] [tolerance] "
+                 "usage: bench_flow [N>=8] [closed_fraction in [0,1)] [auto|amg|boomeramg] [tolerance] "
                  "[repeat] [ls>=2]\n");
     return 2;
   }
@@ -52,16 +52,17 @@ int main(int argc, char** argv) {
 
   gfmd::FlowOptions opt;
   opt.tolerance = tol;
-  const auto solver = which == "native"      ? gfmd::detail::FlowSolver::Amg
-                      : which == "boomeramg" ? gfmd::detail::FlowSolver::BoomerAMG
-                                             : gfmd::detail::FlowSolver::Auto;
+  if (!gfmd::parse_flow_solver(which, opt.solver)) {
+    std::fprintf(stderr, "solver must be auto, amg or boomeramg\n");
+    return 2;
+  }
   std::printf("N = %d, closed fraction %.3f, lambda_s = %g dx, solver %s, tolerance %.1e\n", n, closed, ls,
               which.c_str(), tol);
   for (int rep = 0; rep < repeat; ++rep) {
     for (const std::vector<double>& angles :
          {std::vector<double>{0.0}, std::vector<double>{90.0}, std::vector<double>{0.0, 90.0}}) {
       const auto t0 = std::chrono::steady_clock::now();
-      const auto rs = gfmd::detail::solve_flow(grid, gap.data(), angles, opt, solver);
+      const auto rs = gfmd::solve_flow(grid, gap.data(), angles, opt);
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::printf("%s (run %d): total %.2f s\n",
                   angles.size() > 1 ? "both directions, one set-up" : "one direction", rep + 1, s);

@@ -1,5 +1,5 @@
 // Steady thin-film Reynolds flow (SPEC §6); see include/gfmd/flow.hpp for the
-// discretisation. Linear solves by HYPRE (Struct PFMG-PCG or IJ BoomerAMG-PCG).
+// discretisation. Linear solves by our algebraic multigrid (gfmd/amg.hpp) under CG, or HYPRE.
 #ifndef OMPI_SKIP_MPICXX
 #define OMPI_SKIP_MPICXX 1
 #endif
@@ -748,8 +748,8 @@ std::vector<LinearSolution> solve_boomeramg(const LinearSystem& sys, std::size_t
 }
 
 std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
-                                        const std::vector<double>& angles, const FlowOptions& opt,
-                                        detail::FlowSolver which) {
+                                        const std::vector<double>& angles, const FlowOptions& opt) {
+  const FlowSolver which = opt.solver;
   check_grid(grid, "flow");
   if (gap == nullptr) throw InputError("flow", "gap field is null");
   if (angles.empty()) throw InputError("flow", "no flow direction given");
@@ -882,8 +882,8 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
   std::vector<LinearSolution> sols;
   std::string failure, solver = "amg";
   double wasted_s = 0.0;  // a failed AMG attempt, counted into the set-up time
-  if (which != detail::FlowSolver::BoomerAMG) {
-    const int budget = which == detail::FlowSolver::Amg
+  if (which != FlowSolver::BoomerAMG) {
+    const int budget = which == FlowSolver::Amg
                            ? opt.max_iterations
                            : std::max(1, std::min(opt.max_iterations, opt.amg_iterations_before_fallback));
     const auto t0 = std::chrono::steady_clock::now();
@@ -896,12 +896,12 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     } catch (const SolveError& e) {
       failure = e.what();
     }
-    if (!failure.empty() && which == detail::FlowSolver::Amg)
+    if (!failure.empty() && which == FlowSolver::Amg)
       throw SolveError("flow: linear solve did not converge to " + std::to_string(opt.tolerance) + ": " +
                        failure);
     wasted_s = failure.empty() ? 0.0 : seconds_since(t0);
   }
-  if (which == detail::FlowSolver::BoomerAMG || !failure.empty()) {
+  if (which == FlowSolver::BoomerAMG || !failure.empty()) {
     solver = failure.empty() ? "boomeramg" : "boomeramg (fallback)";
     ensure_hypre();
     std::lock_guard<std::mutex> lock(g_hypre_mutex);
@@ -989,23 +989,25 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
 }  // namespace
 
 FlowResult solve_flow(const Grid& grid, const double* gap, double angle_deg, const FlowOptions& opt) {
-  return std::move(solve_flow_impl(grid, gap, {angle_deg}, opt, detail::FlowSolver::Auto).front());
+  return std::move(solve_flow_impl(grid, gap, {angle_deg}, opt).front());
 }
 
 std::vector<FlowResult> solve_flow(const Grid& grid, const double* gap, const std::vector<double>& angles_deg,
                                    const FlowOptions& opt) {
-  return solve_flow_impl(grid, gap, angles_deg, opt, detail::FlowSolver::Auto);
+  return solve_flow_impl(grid, gap, angles_deg, opt);
 }
 
-FlowResult detail::solve_flow(const Grid& grid, const double* gap, double angle_deg, const FlowOptions& opt,
-                              FlowSolver solver) {
-  return std::move(solve_flow_impl(grid, gap, {angle_deg}, opt, solver).front());
-}
-
-std::vector<FlowResult> detail::solve_flow(const Grid& grid, const double* gap,
-                                           const std::vector<double>& angles_deg, const FlowOptions& opt,
-                                           FlowSolver solver) {
-  return solve_flow_impl(grid, gap, angles_deg, opt, solver);
+bool parse_flow_solver(const std::string& name, FlowSolver& out) {
+  if (name == "auto") {
+    out = FlowSolver::Auto;
+  } else if (name == "amg") {
+    out = FlowSolver::Amg;
+  } else if (name == "boomeramg") {
+    out = FlowSolver::BoomerAMG;
+  } else {
+    return false;
+  }
+  return true;
 }
 
 double bruggeman_2d(const std::vector<double>& k) {

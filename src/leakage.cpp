@@ -34,14 +34,15 @@ void append_current_fields(const LeakageResult& r, std::vector<NamedField>& fiel
   }
 }
 
-LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vector<double>& angles,
-                              double tol) {
+LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vector<double>& angles, double tol,
+                              FlowSolver solver) {
   LeakageResult r;
   nlohmann::json& j = r.json;
   double cons = 0.0;
   int its = 0;
   FlowOptions fo;
   fo.tolerance = tol;
+  fo.solver = solver;
   r.flows = solve_flow(g, gap, angles, fo);  // one preconditioner set-up for all directions
   for (std::size_t k = 0; k < angles.size(); ++k) {
     const double a = angles[k];

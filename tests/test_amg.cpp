@@ -247,6 +247,23 @@ TEST(Amg, LongRangeCouplingsKeepTheCycleSymmetricAndThreadIndependent) {
   EXPECT_EQ(xs[0], xs[1]);
 }
 
+TEST(Amg, UncoupledRowsAreSolvedOnTheFinestLevel) {
+  // No couplings at all: nothing to coarsen, the finest level is the coarsest, too large for
+  // the dense factorisation (relaxed by Gauss-Seidel instead, exact here).
+  const int n = 5000;
+  std::vector<std::vector<std::pair<int, double>>> rows(n);
+  for (int i = 0; i < n; ++i) rows[static_cast<std::size_t>(i)].emplace_back(i, 1.0 + i % 7);
+  AlgebraicMultigrid mg(from_rows(rows));
+  EXPECT_EQ(mg.levels(), 1);
+  const std::vector<double> b = random_vector(static_cast<std::size_t>(n), 31);
+  std::vector<double> x(static_cast<std::size_t>(n));
+  const gfmd::CgOutcome cg = gfmd::amg_pcg(mg, b.data(), x.data(), 1e-12, 20);
+  EXPECT_TRUE(cg.converged);
+  EXPECT_LE(cg.iterations, 2);
+  for (int i = 0; i < n; ++i)
+    EXPECT_NEAR(x[static_cast<std::size_t>(i)], b[static_cast<std::size_t>(i)] / (1.0 + i % 7), 1e-12);
+}
+
 TEST(Amg, BadMatricesAreRejected) {
   EXPECT_THROW(AlgebraicMultigrid(CsrMatrix{}), gfmd::InputError);
   // Diagonal not first.

@@ -133,6 +133,8 @@ TEST(Cli, BadInputIsRefusedCleanly) {
       {"fft_planner", kGood + "[solver]\nfft_planner = \"patient\"\n", "",
        "solver.fft_planner: must be \"estimate\""},
       {"max_iterations", kGood + "[solver]\nmax_iterations = 0\n", "", "solver.max_iterations"},
+      {"flow_solver", kGood + "[flow]\nsolver = \"petsc\"\n", "",
+       "flow.solver: must be \"auto\", \"amg\" or \"boomeramg\""},
       {"sweep_no_values", kGood + "[sweep]\nparameter = \"load.force\"\n", "", "sweep.values"},
       {"eggcrate_period",
        sub(sub(kGood, "type = \"hertz\"", "type = \"eggcrate\""), "radius = 1.0", "wavelength = 0.7"), "",

@@ -20,7 +20,7 @@ namespace {
 using gfmd::FlowOptions;
 using gfmd::FlowResult;
 using gfmd::Grid;
-using gfmd::detail::FlowSolver;
+using gfmd::FlowSolver;
 constexpr double kPi = std::numbers::pi;
 
 Grid make_grid(int nx, int ny, double lx, double ly) {
@@ -50,6 +50,11 @@ std::vector<double> cosine_gap(const Grid& grid, double offset) {
       g[static_cast<std::size_t>(iy) * grid.nx + ix] = std::max(v, 0.0);
     }
   return g;
+}
+
+FlowOptions with_solver(FlowOptions opt, FlowSolver solver) {
+  opt.solver = solver;
+  return opt;
 }
 
 double closed_fraction(const std::vector<double>& g) {
@@ -174,8 +179,8 @@ TEST(Flow, OurAlgebraicMultigridAndBoomerAmgAgree) {
                         Case{make_grid(6, 4, 1.0, 1.0), 0.4}, Case{make_grid(33, 64, 1.0, 2.0), 0.3}}) {
     const std::vector<double> gap = cosine_gap(c.grid, c.offset);
     for (double angle : {0.0, 25.0, 90.0}) {
-      const FlowResult ours = gfmd::detail::solve_flow(c.grid, gap.data(), angle, opt, FlowSolver::Amg);
-      const FlowResult ref = gfmd::detail::solve_flow(c.grid, gap.data(), angle, opt, FlowSolver::BoomerAMG);
+      const FlowResult ours = gfmd::solve_flow(c.grid, gap.data(), angle, with_solver(opt, FlowSolver::Amg));
+      const FlowResult ref = gfmd::solve_flow(c.grid, gap.data(), angle, with_solver(opt, FlowSolver::BoomerAMG));
       const FlowResult def = gfmd::solve_flow(c.grid, gap.data(), angle, opt);
       SCOPED_TRACE(std::to_string(c.grid.nx) + "x" + std::to_string(c.grid.ny) + " offset " +
                    std::to_string(c.offset) + " angle " + std::to_string(angle));
@@ -201,7 +206,7 @@ TEST(Flow, FallsBackToBoomerAmgWhenOurAmgDoesNotConverge) {
   EXPECT_EQ(ours.solver, "amg");
   opt.amg_iterations_before_fallback = 1;
   const FlowResult fb = gfmd::solve_flow(grid, gap.data(), 0.0, opt);
-  const FlowResult ref = gfmd::detail::solve_flow(grid, gap.data(), 0.0, opt, FlowSolver::BoomerAMG);
+  const FlowResult ref = gfmd::solve_flow(grid, gap.data(), 0.0, with_solver(opt, FlowSolver::BoomerAMG));
   EXPECT_EQ(fb.solver, "boomeramg (fallback)");
   EXPECT_EQ(ref.solver, "boomeramg");
   EXPECT_EQ(fb.conductivity, ref.conductivity);
@@ -209,7 +214,7 @@ TEST(Flow, FallsBackToBoomerAmgWhenOurAmgDoesNotConverge) {
   EXPECT_GT(fb.iterations, 1);
   // Our AMG alone with the same budget fails with a SolveError naming the residual.
   opt.max_iterations = 1;
-  EXPECT_THROW(gfmd::detail::solve_flow(grid, gap.data(), 0.0, opt, FlowSolver::Amg), gfmd::SolveError);
+  EXPECT_THROW(gfmd::solve_flow(grid, gap.data(), 0.0, with_solver(opt, FlowSolver::Amg)), gfmd::SolveError);
   opt.amg_iterations_before_fallback = 0;
   EXPECT_THROW(gfmd::solve_flow(grid, gap.data(), 0.0, opt), gfmd::InputError);
 }

@@ -86,6 +86,25 @@ TEST(Leakage, FlowCommandWritesFlowJson) {
   const auto j2 = nlohmann::json::parse(in2);
   EXPECT_NEAR(j2["flow_factor_x"].get<double>(), j["flow_factor_x"].get<double>(), 1e-9);
   EXPECT_FALSE(j2.contains("flow_factor_y"));
+  // HYPRE's BoomerAMG, asked for on the command line and in the case file: the same flow.
+  ASSERT_EQ(
+      std::system(
+          (exe + " flow " + (d / "out").string() + " --direction x --solver boomeramg > /dev/null").c_str()),
+      0);
+  std::ifstream in4(d / "out" / "flow.json");
+  const auto j4 = nlohmann::json::parse(in4);
+  EXPECT_EQ(j4["linear_solver"].get<std::string>(), "boomeramg");
+  EXPECT_NEAR(j4["flow_factor_x"].get<double>(), j["flow_factor_x"].get<double>(), 1e-9);
+  EXPECT_NE(std::system((exe + " flow " + (d / "out").string() + " --solver petsc > /dev/null 2>&1").c_str()),
+            0);
+  ASSERT_EQ(std::system((exe + " run " + (d / "case.toml").string() + " -o " + (d / "hypre").string() +
+                         " -q --set flow.solver='\"boomeramg\"' > /dev/null")
+                            .c_str()),
+            0);
+  std::ifstream in5(d / "hypre" / "flow.json");
+  const auto j5 = nlohmann::json::parse(in5);
+  EXPECT_EQ(j5["linear_solver"].get<std::string>(), "boomeramg");
+  EXPECT_NEAR(j5["flow_factor_y"].get<double>(), j["flow_factor_y"].get<double>(), 1e-9);
   // Sealed contact: no flow.
   ASSERT_EQ(std::system((exe + " run " + (d / "case.toml").string() + " -o " + (d / "sealed").string() +
                          " -q --set load.pressure=0.06 > /dev/null")

@@ -6,19 +6,21 @@
 // coarsening and classical modified interpolation, which the flow solver used before):
 // * strength: j is a strong neighbour of i if -a_ij >= theta max_k(-a_ik) (theta = 0.25);
 // * coarse points: the Ruge-Stueben first pass (a maximal set of points that many others
-//   depend on strongly, picked greedily), then the second pass that makes sure two
+//   depend on strongly, picked greedily), run in fixed blocks of rows side by side with
+//   the strong couplings inside each block, then the second pass that makes sure two
 //   strongly connected fine points share a coarse point;
 // * interpolation to a fine point i from its strong coarse neighbours C_i: classical
 //   ("modified") weights, strong fine neighbours distributed over C_i by their own negative
 //   couplings, weak and positive couplings lumped into the diagonal; at most
 //   max_interpolation weights per row (the largest, rescaled to keep the row sum);
 // * coarse operators: Galerkin products P^T A P;
-// * V(1,1)-cycle: Gauss-Seidel forward before the coarse correction and backward after it
-//   (in fixed blocks of rows, Jacobi between blocks), a dense Cholesky factorisation on the
-//   coarsest level: a symmetric positive definite preconditioner.
-// Set-up and cycle are shared among the OpenMP threads; the blocks, the orders and the
-// sums do not depend on the thread count, so neither do the results. The Ruge-Stueben
-// passes themselves are serial.
+// * V(1,1)-cycle: Gauss-Seidel forward before the coarse correction and backward after it,
+//   a dense Cholesky factorisation on the coarsest level: a symmetric positive definite
+//   preconditioner. Gauss-Seidel runs in an even number of fixed blocks of rows, the even
+//   blocks side by side, then the odd ones (a level whose blocks of one colour couple to
+//   each other is relaxed in one sequential sweep).
+// Set-up and cycle are shared among the OpenMP threads; the blocks, the chunks, the orders
+// and the sums do not depend on the thread count, so neither do the results.
 #pragma once
 
 #include <cstddef>

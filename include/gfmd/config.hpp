@@ -43,6 +43,7 @@ struct FlowConfig {
   bool enabled = false;                   // [flow] present: flow right after the contact solve
   std::vector<double> angles{0.0, 90.0};  // directions of the mean pressure gradient (deg from +x)
   double tolerance = 1e-10;               // relative residual of the linear solve
+  std::string solver = "auto";            // "auto", "amg" or "boomeramg" (gfmd/flow.hpp)
 };
 
 // Flow directions from "x", "y", "both" or an angle in degrees; empty if the text is none

@@ -66,9 +66,19 @@
 
 namespace gfmd {
 
+// Linear solver of the flow: Auto (ours, BoomerAMG if it does not converge in time), Amg
+// (ours only; SolveError if it does not converge within max_iterations) or BoomerAMG
+// (HYPRE's only).
+enum class FlowSolver { Auto, Amg, BoomerAMG };
+
+// "auto", "amg", "boomeramg" (config key flow.solver, gfmd flow --solver); false if the
+// name is none of these.
+bool parse_flow_solver(const std::string& name, FlowSolver& out);
+
 struct FlowOptions {
   double tolerance = 1e-10;   // relative residual ||b - A x|| / ||b|| of the linear solve
   int max_iterations = 1000;  // PCG iterations
+  FlowSolver solver = FlowSolver::Auto;
   // PCG iterations of our AMG after which the automatic choice gives up and solves with
   // HYPRE's BoomerAMG instead (typical counts are 10-20).
   int amg_iterations_before_fallback = 200;
@@ -134,16 +144,5 @@ double bruggeman_2d(const std::vector<double>& k);
 // periodic cell along axis 0 (x) or 1 (y). Throws InputError("percolates", ...) for a bad
 // axis or grid.
 bool percolates(const Grid& grid, const double* gap, int axis);
-
-namespace detail {
-// Linear-solver back end, for tests and benchmarks. Auto is what solve_flow uses (our AMG,
-// BoomerAMG if it does not converge in time). Amg: ours only, up to opt.max_iterations
-// (SolveError if it does not converge). BoomerAMG: HYPRE's only.
-enum class FlowSolver { Auto, Amg, BoomerAMG };
-FlowResult solve_flow(const Grid& grid, const double* gap, double angle_deg, const FlowOptions& opt,
-                      FlowSolver solver);
-std::vector<FlowResult> solve_flow(const Grid& grid, const double* gap, const std::vector<double>& angles_deg,
-                                   const FlowOptions& opt, FlowSolver solver);
-}  // namespace detail
 
 }  // namespace gfmd

@@ -22,8 +22,8 @@ struct LeakageResult {
   std::vector<RealField> magnitude;  // |current density| of each flow
   nlohmann::json json;
 };
-LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vector<double>& angles,
-                              double tol);
+LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vector<double>& angles, double tol,
+                              FlowSolver solver = FlowSolver::Auto);
 
 // "x" for 0 degrees, "y" for 90, "<angle>deg" otherwise: the suffix of keys, fields and files.
 std::string direction_tag(double angle_deg);
