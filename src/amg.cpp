@@ -47,16 +47,31 @@ void check_matrix(const CsrMatrix& a) {
   if (a.ptr.size() != a.n + 1 || a.ptr.front() != 0 || a.ptr.back() != a.col.size() ||
       a.val.size() != a.col.size())
     throw InputError("amg", "inconsistent compressed-row arrays");
-  for (std::size_t i = 0; i < a.n; ++i) {
-    if (a.ptr[i + 1] <= a.ptr[i] || a.col[a.ptr[i]] != static_cast<Index>(i))
-      throw InputError("amg", "row " + std::to_string(i) + " does not start with its diagonal");
-    if (!(a.val[a.ptr[i]] > 0.0) || !std::isfinite(a.val[a.ptr[i]]))
-      throw SolveError("amg: non-positive or non-finite diagonal in row " + std::to_string(i));
+  // The first bad row (rows checked side by side), then what is wrong with it.
+  auto bad = [&](std::size_t i) {
+    if (a.ptr[i + 1] <= a.ptr[i] || a.col[a.ptr[i]] != static_cast<Index>(i)) return 1;
+    if (!(a.val[a.ptr[i]] > 0.0) || !std::isfinite(a.val[a.ptr[i]])) return 2;
     for (std::size_t k = a.ptr[i]; k < a.ptr[i + 1]; ++k) {
-      if (a.col[k] < 0 || static_cast<std::size_t>(a.col[k]) >= a.n)
-        throw InputError("amg", "column index out of range in row " + std::to_string(i));
-      if (!std::isfinite(a.val[k])) throw SolveError("amg: non-finite entry in row " + std::to_string(i));
+      if (a.col[k] < 0 || static_cast<std::size_t>(a.col[k]) >= a.n) return 3;
+      if (!std::isfinite(a.val[k])) return 4;
     }
+    return 0;
+  };
+  std::size_t first = a.n;
+#pragma omp parallel for schedule(static) reduction(min : first) if (a.n >= kParallelMin)
+  for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(a.n); ++i)
+    if (bad(static_cast<std::size_t>(i)) != 0) first = std::min(first, static_cast<std::size_t>(i));
+  if (first == a.n) return;
+  const std::string row = std::to_string(first);
+  switch (bad(first)) {
+    case 1:
+      throw InputError("amg", "row " + row + " does not start with its diagonal");
+    case 2:
+      throw SolveError("amg: non-positive or non-finite diagonal in row " + row);
+    case 3:
+      throw InputError("amg", "column index out of range in row " + row);
+    default:
+      throw SolveError("amg: non-finite entry in row " + row);
   }
 }
 
