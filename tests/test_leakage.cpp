@@ -63,13 +63,16 @@ TEST(Leakage, FlowCommandWritesFlowJson) {
   const fs::path d = fs::temp_directory_path() / ("gfmd_flow_cli_" + std::to_string(getpid()));
   fs::create_directories(d);
   std::ofstream(d / "case.toml") << kEggcrate << "[flow]\ndirection = \"both\"\n";
-  const std::string exe = GFMD_EXE;
-  ASSERT_EQ(std::system((exe + " run " + (d / "case.toml").string() + " -o " + (d / "out").string() +
-                         " -q > /dev/null")
-                            .c_str()),
-            0);
-  std::ifstream in(d / "out" / "flow.json");
-  const auto j = nlohmann::json::parse(in);
+  const std::string exe = GFMD_EXE, toml = (d / "case.toml").string();
+  const auto gfmd = [&](const std::string& args) {
+    return std::system((exe + " " + args + " > /dev/null 2>&1").c_str());
+  };
+  const auto json_at = [](const fs::path& p) {
+    std::ifstream in(p);
+    return nlohmann::json::parse(in);
+  };
+  ASSERT_EQ(gfmd("run " + toml + " -o " + (d / "out").string() + " -q"), 0);
+  const auto j = json_at(d / "out" / "flow.json");
   for (const char* k :
        {"flow_factor_x", "flow_factor_y", "percolates_x", "percolates_y", "conservation_error"})
     EXPECT_TRUE(j.contains(k)) << k;
@@ -81,37 +84,24 @@ TEST(Leakage, FlowCommandWritesFlowJson) {
   EXPECT_TRUE(fs::exists(d / "out" / "current_x.png"));
   // gfmd flow on the solved directory gives the same numbers.
   fs::remove(d / "out" / "flow.json");
-  ASSERT_EQ(std::system((exe + " flow " + (d / "out").string() + " --direction x > /dev/null").c_str()), 0);
-  std::ifstream in2(d / "out" / "flow.json");
-  const auto j2 = nlohmann::json::parse(in2);
+  ASSERT_EQ(gfmd("flow " + (d / "out").string() + " --direction x"), 0);
+  const auto j2 = json_at(d / "out" / "flow.json");
   EXPECT_NEAR(j2["flow_factor_x"].get<double>(), j["flow_factor_x"].get<double>(), 1e-9);
   EXPECT_FALSE(j2.contains("flow_factor_y"));
   // HYPRE's BoomerAMG, asked for on the command line and in the case file: the same flow.
-  ASSERT_EQ(
-      std::system(
-          (exe + " flow " + (d / "out").string() + " --direction x --solver boomeramg > /dev/null").c_str()),
-      0);
-  std::ifstream in4(d / "out" / "flow.json");
-  const auto j4 = nlohmann::json::parse(in4);
+  ASSERT_EQ(gfmd("flow " + (d / "out").string() + " --direction x --solver boomeramg"), 0);
+  const auto j4 = json_at(d / "out" / "flow.json");
   EXPECT_EQ(j4["linear_solver"].get<std::string>(), "boomeramg");
   EXPECT_NEAR(j4["flow_factor_x"].get<double>(), j["flow_factor_x"].get<double>(), 1e-9);
-  EXPECT_NE(std::system((exe + " flow " + (d / "out").string() + " --solver petsc > /dev/null 2>&1").c_str()),
+  EXPECT_NE(gfmd("flow " + (d / "out").string() + " --solver petsc"), 0);
+  ASSERT_EQ(gfmd("run " + toml + " -o " + (d / "hypre").string() + " -q --set flow.solver='\"boomeramg\"'"),
             0);
-  ASSERT_EQ(std::system((exe + " run " + (d / "case.toml").string() + " -o " + (d / "hypre").string() +
-                         " -q --set flow.solver='\"boomeramg\"' > /dev/null")
-                            .c_str()),
-            0);
-  std::ifstream in5(d / "hypre" / "flow.json");
-  const auto j5 = nlohmann::json::parse(in5);
+  const auto j5 = json_at(d / "hypre" / "flow.json");
   EXPECT_EQ(j5["linear_solver"].get<std::string>(), "boomeramg");
   EXPECT_NEAR(j5["flow_factor_y"].get<double>(), j["flow_factor_y"].get<double>(), 1e-9);
   // Sealed contact: no flow.
-  ASSERT_EQ(std::system((exe + " run " + (d / "case.toml").string() + " -o " + (d / "sealed").string() +
-                         " -q --set load.pressure=0.06 > /dev/null")
-                            .c_str()),
-            0);
-  std::ifstream in3(d / "sealed" / "flow.json");
-  const auto j3 = nlohmann::json::parse(in3);
+  ASSERT_EQ(gfmd("run " + toml + " -o " + (d / "sealed").string() + " -q --set load.pressure=0.06"), 0);
+  const auto j3 = json_at(d / "sealed" / "flow.json");
   EXPECT_FALSE(j3["percolates_x"].get<bool>());
   EXPECT_EQ(j3["flow_factor_x"].get<double>(), 0.0);
   fs::remove_all(d);
