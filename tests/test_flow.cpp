@@ -19,8 +19,8 @@ namespace {
 
 using gfmd::FlowOptions;
 using gfmd::FlowResult;
-using gfmd::Grid;
 using gfmd::FlowSolver;
+using gfmd::Grid;
 constexpr double kPi = std::numbers::pi;
 
 Grid make_grid(int nx, int ny, double lx, double ly) {
@@ -180,7 +180,8 @@ TEST(Flow, OurAlgebraicMultigridAndBoomerAmgAgree) {
     const std::vector<double> gap = cosine_gap(c.grid, c.offset);
     for (double angle : {0.0, 25.0, 90.0}) {
       const FlowResult ours = gfmd::solve_flow(c.grid, gap.data(), angle, with_solver(opt, FlowSolver::Amg));
-      const FlowResult ref = gfmd::solve_flow(c.grid, gap.data(), angle, with_solver(opt, FlowSolver::BoomerAMG));
+      const FlowResult ref =
+          gfmd::solve_flow(c.grid, gap.data(), angle, with_solver(opt, FlowSolver::BoomerAMG));
       const FlowResult def = gfmd::solve_flow(c.grid, gap.data(), angle, opt);
       SCOPED_TRACE(std::to_string(c.grid.nx) + "x" + std::to_string(c.grid.ny) + " offset " +
                    std::to_string(c.offset) + " angle " + std::to_string(angle));
