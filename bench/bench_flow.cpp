@@ -69,9 +69,9 @@ int main(int argc, char** argv) {
       for (const gfmd::FlowResult& r : rs)
         std::printf(
             "  angle %3g: %3d iterations (%s), residual %.2e, set-up %.2f s, PCG %.2f s, K/<g^3> = %.8f, "
-            "conservation %.1e\n",
+            "conservation %.1e, faces cut %zu\n",
             r.angle_deg, r.iterations, r.solver.c_str(), r.residual, r.setup_s, r.solve_s,
-            r.conductivity / r.mean_gap_cubed, r.conservation_error);
+            r.conductivity / r.mean_gap_cubed, r.conservation_error, r.faces_cut);
     }
   }
   return 0;

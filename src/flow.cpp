@@ -33,6 +33,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <functional>
 #include <limits>
@@ -40,6 +41,7 @@
 #include <mutex>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gfmd/amg.hpp"
@@ -225,6 +227,24 @@ void unite_open_faces(WrapUnionFind& uf, const Grid& grid, OpenX&& open_x, OpenY
       if (open_y(static_cast<std::size_t>(i))) uf.unite(i, iyn * nx + ix, 0, 1, path);
     }
   }
+}
+
+// Whether open cells (g > 0) joined through faces between open cells wrap around the
+// periodic cell along x and along y.
+std::pair<bool, bool> open_windings(const Grid& grid, const double* gap) {
+  const int nx = grid.nx, ny = grid.ny;
+  WrapUnionFind uf(grid.size());
+  unite_open_faces(
+      uf, grid,
+      [&](std::size_t i) {
+        const std::size_t ix = i % nx, iy = i / nx;
+        return gap[i] > 0.0 && gap[iy * nx + (ix + 1 == static_cast<std::size_t>(nx) ? 0 : ix + 1)] > 0.0;
+      },
+      [&](std::size_t i) {
+        const std::size_t ix = i % nx, iy = i / nx;
+        return gap[i] > 0.0 && gap[(iy + 1 == static_cast<std::size_t>(ny) ? 0 : iy + 1) * nx + ix] > 0.0;
+      });
+  return {uf.any_wraps(0), uf.any_wraps(1)};
 }
 
 void check_grid(const Grid& grid, const char* where) {
@@ -542,6 +562,13 @@ struct LinearSolution {
   Buffer<double> x;
 };
 
+// A number in scientific notation with three significant digits, for messages.
+std::string sci(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -760,6 +787,8 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
   if (opt.max_iterations < 1) throw InputError("flow", "max_iterations must be >= 1");
   if (opt.amg_iterations_before_fallback < 1)
     throw InputError("flow", "amg_iterations_before_fallback must be >= 1");
+  if (!(opt.closed_face_conductance >= 0.0) || !(opt.closed_face_conductance < 1.0))
+    throw InputError("flow", "closed_face_conductance must be in [0, 1)");
   const int nx = grid.nx, ny = grid.ny;
   const std::size_t n = grid.size();
 
@@ -813,8 +842,10 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     const double g = std::max(gap[i], 0.0) / gmax;
     return g * g * g;
   };
-  auto harmonic = [](double ki, double kj) {
-    return (ki > 0.0 && kj > 0.0) ? 2.0 * ki * kj / (ki + kj) : 0.0;
+  const double kcut = opt.closed_face_conductance;
+  auto harmonic = [kcut](double ki, double kj) {
+    const double kf = (ki > 0.0 && kj > 0.0) ? 2.0 * ki * kj / (ki + kj) : 0.0;
+    return kf >= kcut ? kf : 0.0;
   };
 #pragma omp parallel for schedule(static)
   for (int iy = 0; iy < ny; ++iy) {
@@ -828,7 +859,21 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     }
   }
 
+  // Faces between two open cells that the cut-off (or underflow of (g / g_max)^3) closed.
+  std::size_t faces_cut = 0;
+#pragma omp parallel for schedule(static) reduction(+ : faces_cut)
+  for (int iy = 0; iy < ny; ++iy) {
+    const std::size_t row = static_cast<std::size_t>(iy) * nx;
+    const std::size_t rown = static_cast<std::size_t>(iy + 1 == ny ? 0 : iy + 1) * nx;
+    for (int ix = 0; ix < nx; ++ix) {
+      const std::size_t i = row + ix, ie = row + (ix + 1 == nx ? 0 : ix + 1), in = rown + ix;
+      faces_cut += static_cast<std::size_t>(gap[i] > 0.0 && gap[ie] > 0.0 && sys.kx[i] == 0.0);
+      faces_cut += static_cast<std::size_t>(gap[i] > 0.0 && gap[in] > 0.0 && sys.ky[i] == 0.0);
+    }
+  }
+
   // Connected components over open faces; windings give the percolation flags.
+  // (Geometric flags, g > 0, are recomputed below where faces were cut.)
   // A component that winds around the cell in no direction (a trapped pocket, an isolated
   // cell) carries no flow: its total pressure is constant. Such "still" cells are not
   // unknowns (their currents are zero); neither is one gauge cell (the root, P~ = 0) of
@@ -851,6 +896,13 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
       still[i] = !(uf.wraps(r, 0) || uf.wraps(r, 1));
       pinned[i] = still[i] || r == static_cast<std::int32_t>(i);
     }
+  }
+  // Cutting faces only removes windings: the geometric flags differ only where a direction
+  // lost its winding.
+  if (faces_cut > 0 && !(wraps_x && wraps_y)) {
+    const auto [gx, gy] = open_windings(grid, gap);
+    wraps_x = gx;
+    wraps_y = gy;
   }
 
   // Right-hand side of direction d = (cos a, sin a): the divergence of the imposed current,
@@ -891,14 +943,13 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
       sols = solve_native(sys, angles.size(), make_rhs, opt, budget);
       for (const LinearSolution& sol : sols)
         if (!sol.converged && failure.empty())
-          failure = "AMG-PCG reached relative residual " + std::to_string(sol.residual) + " after " +
+          failure = "AMG-PCG reached relative residual " + sci(sol.residual) + " after " +
                     std::to_string(sol.iterations) + " iterations";
     } catch (const SolveError& e) {
       failure = e.what();
     }
     if (!failure.empty() && which == FlowSolver::Amg)
-      throw SolveError("flow: linear solve did not converge to " + std::to_string(opt.tolerance) + ": " +
-                       failure);
+      throw SolveError("flow: linear solve did not converge to " + sci(opt.tolerance) + ": " + failure);
     wasted_s = failure.empty() ? 0.0 : seconds_since(t0);
   }
   if (which == FlowSolver::BoomerAMG || !failure.empty()) {
@@ -909,10 +960,9 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     for (const LinearSolution& sol : sols)
       if (!sol.converged) {
         if (!failure.empty()) failure += "; then ";
-        failure += "BoomerAMG-PCG reached relative residual " + std::to_string(sol.residual) + " after " +
+        failure += "BoomerAMG-PCG reached relative residual " + sci(sol.residual) + " after " +
                    std::to_string(sol.iterations) + " iterations";
-        throw SolveError("flow: linear solve did not converge to " + std::to_string(opt.tolerance) + ": " +
-                         failure);
+        throw SolveError("flow: linear solve did not converge to " + sci(opt.tolerance) + ": " + failure);
       }
     sols.front().setup_s += wasted_s;
   }
@@ -923,6 +973,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     const double a = angles[k] * std::numbers::pi / 180.0;
     const double dxd = std::cos(a), dyd = std::sin(a);
     res.percolates = std::abs(dxd) >= std::abs(dyd) ? wraps_x : wraps_y;
+    res.faces_cut = faces_cut;
     res.iterations = sols[k].iterations;
     res.residual = sols[k].residual;
     res.setup_s = sols[k].setup_s;
@@ -1066,19 +1117,8 @@ bool percolates(const Grid& grid, const double* gap, int axis) {
   check_grid(grid, "percolates");
   if (gap == nullptr) throw InputError("percolates", "gap field is null");
   if (axis != 0 && axis != 1) throw InputError("percolates", "axis must be 0 (x) or 1 (y)");
-  const int nx = grid.nx, ny = grid.ny;
-  WrapUnionFind uf(grid.size());
-  unite_open_faces(
-      uf, grid,
-      [&](std::size_t i) {
-        const std::size_t ix = i % nx, iy = i / nx;
-        return gap[i] > 0.0 && gap[iy * nx + (ix + 1 == static_cast<std::size_t>(nx) ? 0 : ix + 1)] > 0.0;
-      },
-      [&](std::size_t i) {
-        const std::size_t ix = i % nx, iy = i / nx;
-        return gap[i] > 0.0 && gap[(iy + 1 == static_cast<std::size_t>(ny) ? 0 : iy + 1) * nx + ix] > 0.0;
-      });
-  return uf.any_wraps(axis);
+  const auto [wx, wy] = open_windings(grid, gap);
+  return axis == 0 ? wx : wy;
 }
 
 }  // namespace gfmd

@@ -71,7 +71,10 @@ LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vecto
   }
   j["conservation_error"] = cons;
   j["iterations"] = its;
-  if (!r.flows.empty()) j["linear_solver"] = r.flows.front().solver;
+  if (!r.flows.empty()) {
+    j["linear_solver"] = r.flows.front().solver;
+    j["faces_closed_by_cutoff"] = r.flows.front().faces_cut;
+  }
   j["normalisation"] =
       "conductivity = <current density along d> / |mean pressure gradient| with local conductivity g^3 "
       "(i.e. 12 eta times the flux per unit width and gradient); flow_factor = conductivity / <g>^3, the "

@@ -80,6 +80,8 @@ TEST(Leakage, FlowCommandWritesFlowJson) {
   EXPECT_NEAR(j["flow_factor_x"].get<double>(), j["flow_factor_y"].get<double>(), 1e-9);
   EXPECT_LT(j["conservation_error"].get<double>(), 1e-8);
   EXPECT_EQ(j["linear_solver"].get<std::string>(), "amg");
+  ASSERT_TRUE(j["faces_closed_by_cutoff"].is_number_unsigned());
+  EXPECT_LT(j["faces_closed_by_cutoff"].get<std::size_t>(), 128u * 128u / 100u);
   EXPECT_TRUE(fs::exists(d / "out" / "flow.nc"));
   EXPECT_TRUE(fs::exists(d / "out" / "current_x.png"));
   // gfmd flow on the solved directory gives the same numbers.

@@ -82,6 +82,14 @@ struct FlowOptions {
   // PCG iterations of our AMG after which the automatic choice gives up and solves with
   // HYPRE's BoomerAMG instead (typical counts are 10-20).
   int amg_iterations_before_fallback = 200;
+  // Faces whose conductance is below this fraction of the largest possible one (that of
+  // two cells with the largest gap, g_max^3) count as closed in the linear solve: their
+  // current is below what double precision resolves next to the open channels, and
+  // regions joined to the rest through such faces only make the system too ill-conditioned
+  // for any preconditioned CG (condition numbers beyond 1e15 break it down). 1e-12 is a
+  // gap below about 1e-4 g_max on both sides of the face. 0 keeps every open face. The
+  // percolation flag does not depend on it (it is geometric: g > 0).
+  double closed_face_conductance = 1e-12;
 };
 
 struct FlowResult {
@@ -95,6 +103,10 @@ struct FlowResult {
   // Open cells (g > 0) form a cluster that wraps around the periodic cell along x if
   // |cos a| >= |sin a|, else along y.
   bool percolates = false;
+  // Faces between two open cells treated as closed in the solve (FlowOptions::
+  // closed_face_conductance, or (g / g_max)^3 underflowing): of order 1e-4 of the faces,
+  // next to contact edges on rough contact gaps.
+  std::size_t faces_cut = 0;
   // Discrete flux conservation check: the total current through every column of
   // x-faces (cross-section perpendicular to x) and through every row of y-faces.
   // Reported is max(max_col |F_col - <F_col>| / ly, max_row |F_row - <F_row>| / lx) / S,
