@@ -419,10 +419,9 @@ Config build(const toml::value& root, const std::string& name, const std::string
     c.flow.enabled = fl.boolean("enabled", true);
     c.flow.tolerance = fl.number("tolerance", 1e-10);
     if (!(c.flow.tolerance > 0 && c.flow.tolerance < 1)) fl.error("tolerance", "must be in (0, 1)");
-    c.flow.solver = fl.string("solver", "auto");
-    FlowSolver which;
-    if (!parse_flow_solver(c.flow.solver, which))
-      fl.error("solver", "must be \"auto\", \"amg\" or \"boomeramg\", got \"" + c.flow.solver + "\"");
+    const std::string solver = fl.string("solver", "auto");
+    if (!parse_flow_solver(solver, c.flow.solver))
+      fl.error("solver", "must be \"auto\", \"amg\" or \"boomeramg\", got \"" + solver + "\"");
     const std::string dir = fl.string("direction", "both");
     c.flow.angles = parse_flow_directions(dir);
     if (c.flow.angles.empty())
@@ -605,7 +604,8 @@ nlohmann::json Config::to_json() const {
                  {"depths", stress.depths},
                  {"profiles", stress.profiles}};
   if (flow.enabled)
-    j["flow"] = {{"angles", flow.angles}, {"tolerance", flow.tolerance}, {"solver", flow.solver}};
+    j["flow"] = {
+        {"angles", flow.angles}, {"tolerance", flow.tolerance}, {"solver", flow_solver_name(flow.solver)}};
   if (sweep.active())
     j["sweep"] = {{"parameter", sweep.parameter}, {"values", sweep.values}, {"plot", sweep.plot}};
   return j;

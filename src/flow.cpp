@@ -1061,6 +1061,18 @@ bool parse_flow_solver(const std::string& name, FlowSolver& out) {
   return true;
 }
 
+std::string flow_solver_name(FlowSolver solver) {
+  switch (solver) {
+    case FlowSolver::Amg:
+      return "amg";
+    case FlowSolver::BoomerAMG:
+      return "boomeramg";
+    case FlowSolver::Auto:
+      break;
+  }
+  return "auto";
+}
+
 double bruggeman_2d(const std::vector<double>& k) {
   if (k.empty()) throw InputError("bruggeman_2d", "empty list of conductivities");
   std::size_t zeros = 0;

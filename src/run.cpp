@@ -132,9 +132,8 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   r.observables = compute_observables(fft, r.topography, cfg.friction, r.fields, r.info);
   if (r.info.converged) compute_stresses(r, fft, opts.keep_stress_fields);
   if (r.info.converged && cfg.flow.enabled) {
-    FlowSolver solver = FlowSolver::Auto;
-    parse_flow_solver(cfg.flow.solver, solver);  // validated by the config parser
-    r.leakage = compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance, solver);
+    r.leakage =
+        compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance, cfg.flow.solver);
     r.has_leakage = true;
   }
   return r;

@@ -101,6 +101,9 @@ TEST(Leakage, FlowCommandWritesFlowJson) {
   const auto j5 = json_at(d / "hypre" / "flow.json");
   EXPECT_EQ(j5["linear_solver"].get<std::string>(), "boomeramg");
   EXPECT_NEAR(j5["flow_factor_y"].get<double>(), j["flow_factor_y"].get<double>(), 1e-9);
+  // The summary records the solver asked for by its config name.
+  EXPECT_EQ(json_at(d / "hypre" / "summary.json")["input"]["flow"]["solver"].get<std::string>(), "boomeramg");
+  EXPECT_EQ(json_at(d / "out" / "summary.json")["input"]["flow"]["solver"].get<std::string>(), "auto");
   // Sealed contact: no flow.
   ASSERT_EQ(gfmd("run " + toml + " -o " + (d / "sealed").string() + " -q --set load.pressure=0.06"), 0);
   const auto j3 = json_at(d / "sealed" / "flow.json");

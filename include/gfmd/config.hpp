@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "gfmd/elastic.hpp"
+#include "gfmd/flow.hpp"
 #include "gfmd/grid.hpp"
 #include "gfmd/solver.hpp"
 #include "gfmd/topography.hpp"
@@ -43,7 +44,7 @@ struct FlowConfig {
   bool enabled = false;                   // [flow] present: flow right after the contact solve
   std::vector<double> angles{0.0, 90.0};  // directions of the mean pressure gradient (deg from +x)
   double tolerance = 1e-10;               // relative residual of the linear solve
-  std::string solver = "auto";            // "auto", "amg" or "boomeramg" (gfmd/flow.hpp)
+  FlowSolver solver = FlowSolver::Auto;   // key flow.solver: "auto", "amg" or "boomeramg"
 };
 
 // Flow directions from "x", "y", "both" or an angle in degrees; empty if the text is none

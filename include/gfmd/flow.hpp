@@ -72,8 +72,9 @@ namespace gfmd {
 enum class FlowSolver { Auto, Amg, BoomerAMG };
 
 // "auto", "amg", "boomeramg" (config key flow.solver, gfmd flow --solver); false if the
-// name is none of these.
+// name is none of these. flow_solver_name is the inverse.
 bool parse_flow_solver(const std::string& name, FlowSolver& out);
+std::string flow_solver_name(FlowSolver solver);
 
 struct FlowOptions {
   double tolerance = 1e-10;   // relative residual ||b - A x|| / ||b|| of the linear solve
