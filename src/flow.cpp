@@ -587,14 +587,33 @@ void timed_pcg(bool first, LinearSolution& sol, Setup&& setup, Solve&& solve) {
   sol.solve_s = seconds_since(t1);
 }
 
+// Whether the residual and every value of the solution are finite.
+bool finite(const LinearSolution& sol) {
+  bool ok = std::isfinite(sol.residual);
+  for (double v : sol.x) ok = ok && std::isfinite(v);
+  return ok;
+}
+
+// What a solve that did not converge reached, for messages.
+std::string shortfall(const char* method, const LinearSolution& sol) {
+  return std::string(method) + " reached relative residual " + sci(sol.residual) + " after " +
+         std::to_string(sol.iterations) + " iterations";
+}
+
+// The solutions when no cell is an unknown: zero everywhere.
+std::vector<LinearSolution> no_unknowns(std::size_t ncell, std::size_t nrhs) {
+  LinearSolution sol;
+  sol.x.assign(ncell, 0.0);
+  sol.converged = true;
+  return std::vector<LinearSolution>(nrhs, sol);
+}
+
 // Fills the outcome of a solve whose solution is already in sol.x, from HYPRE's
 // iteration count and final relative residual.
 void finish(LinearSolution& sol, HYPRE_Int its, HYPRE_Real res, const FlowOptions& opt) {
   sol.iterations = its;
   sol.residual = res;
-  bool finite = std::isfinite(res);
-  for (double v : sol.x) finite = finite && std::isfinite(v);
-  sol.converged = finite && res <= opt.tolerance;
+  sol.converged = finite(sol) && res <= opt.tolerance;
 }
 
 // Fills the right-hand side of direction k (on cells, 0 on pinned cells). Built when its
@@ -610,12 +629,7 @@ std::vector<LinearSolution> solve_native(const LinearSystem& sys, std::size_t nr
   std::vector<LinearSolution> out;
   const auto t0 = std::chrono::steady_clock::now();
   ReducedSystem red(sys, true);
-  if (red.size() == 0) {
-    LinearSolution sol;
-    sol.x.assign(sys.size(), 0.0);
-    sol.converged = true;
-    return std::vector<LinearSolution>(nrhs, sol);
-  }
+  if (red.size() == 0) return no_unknowns(sys.size(), nrhs);
   const AlgebraicMultigrid amg(red.take_matrix());
   red.release_index();
   const double setup_s = seconds_since(t0);
@@ -634,9 +648,7 @@ std::vector<LinearSolution> solve_native(const LinearSystem& sys, std::size_t nr
     sol.solve_s = seconds_since(t1);
     sol.iterations = cg.iterations;
     sol.residual = bnorm > 0.0 ? full_residual_norm(sys, b, sol.x) / bnorm : 0.0;
-    bool finite = std::isfinite(sol.residual);
-    for (double v : sol.x) finite = finite && std::isfinite(v);
-    sol.converged = finite && cg.converged && sol.residual <= 10.0 * opt.tolerance;
+    sol.converged = finite(sol) && cg.converged && sol.residual <= 10.0 * opt.tolerance;
     out.push_back(std::move(sol));
   }
   return out;
@@ -650,12 +662,7 @@ std::vector<LinearSolution> solve_boomeramg(const LinearSystem& sys, std::size_t
   // Only the free cells are unknowns: pinned and isolated cells (P~ = 0) are dropped,
   // together with their couplings (which are zero in the reduced system anyway).
   ReducedSystem u(sys, false);
-  if (u.size() == 0) {
-    LinearSolution sol;
-    sol.x.assign(ncell, 0.0);
-    sol.converged = true;
-    return std::vector<LinearSolution>(nrhs, sol);
-  }
+  if (u.size() == 0) return no_unknowns(ncell, nrhs);
   const auto n = static_cast<HYPRE_BigInt>(u.size());
   const CsrMatrix a = u.take_matrix();
 
@@ -847,26 +854,20 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     const double kf = (ki > 0.0 && kj > 0.0) ? 2.0 * ki * kj / (ki + kj) : 0.0;
     return kf >= kcut ? kf : 0.0;
   };
-#pragma omp parallel for schedule(static)
+  // Also counted: faces between two open cells that the cut-off (or underflow of
+  // (g / g_max)^3) closed.
+  std::size_t faces_cut = 0;
+#pragma omp parallel for schedule(static) reduction(+ : faces_cut)
   for (int iy = 0; iy < ny; ++iy) {
     const int iyn = (iy + 1 == ny) ? 0 : iy + 1;
     for (int ix = 0; ix < nx; ++ix) {
       const int ixe = (ix + 1 == nx) ? 0 : ix + 1;
       const std::size_t i = static_cast<std::size_t>(iy) * nx + ix;
+      const std::size_t ie = static_cast<std::size_t>(iy) * nx + ixe,
+                        in = static_cast<std::size_t>(iyn) * nx + ix;
       const double ki = kcell(i);
-      sys.kx[i] = wx * harmonic(ki, kcell(static_cast<std::size_t>(iy) * nx + ixe));
-      sys.ky[i] = wy * harmonic(ki, kcell(static_cast<std::size_t>(iyn) * nx + ix));
-    }
-  }
-
-  // Faces between two open cells that the cut-off (or underflow of (g / g_max)^3) closed.
-  std::size_t faces_cut = 0;
-#pragma omp parallel for schedule(static) reduction(+ : faces_cut)
-  for (int iy = 0; iy < ny; ++iy) {
-    const std::size_t row = static_cast<std::size_t>(iy) * nx;
-    const std::size_t rown = static_cast<std::size_t>(iy + 1 == ny ? 0 : iy + 1) * nx;
-    for (int ix = 0; ix < nx; ++ix) {
-      const std::size_t i = row + ix, ie = row + (ix + 1 == nx ? 0 : ix + 1), in = rown + ix;
+      sys.kx[i] = wx * harmonic(ki, kcell(ie));
+      sys.ky[i] = wy * harmonic(ki, kcell(in));
       faces_cut += static_cast<std::size_t>(gap[i] > 0.0 && gap[ie] > 0.0 && sys.kx[i] == 0.0);
       faces_cut += static_cast<std::size_t>(gap[i] > 0.0 && gap[in] > 0.0 && sys.ky[i] == 0.0);
     }
@@ -937,14 +938,12 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
   if (which != FlowSolver::BoomerAMG) {
     const int budget = which == FlowSolver::Amg
                            ? opt.max_iterations
-                           : std::max(1, std::min(opt.max_iterations, opt.amg_iterations_before_fallback));
+                           : std::min(opt.max_iterations, opt.amg_iterations_before_fallback);
     const auto t0 = std::chrono::steady_clock::now();
     try {
       sols = solve_native(sys, angles.size(), make_rhs, opt, budget);
       for (const LinearSolution& sol : sols)
-        if (!sol.converged && failure.empty())
-          failure = "AMG-PCG reached relative residual " + sci(sol.residual) + " after " +
-                    std::to_string(sol.iterations) + " iterations";
+        if (!sol.converged && failure.empty()) failure = shortfall("AMG-PCG", sol);
     } catch (const SolveError& e) {
       failure = e.what();
     }
@@ -960,8 +959,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     for (const LinearSolution& sol : sols)
       if (!sol.converged) {
         if (!failure.empty()) failure += "; then ";
-        failure += "BoomerAMG-PCG reached relative residual " + sci(sol.residual) + " after " +
-                   std::to_string(sol.iterations) + " iterations";
+        failure += shortfall("BoomerAMG-PCG", sol);
         throw SolveError("flow: linear solve did not converge to " + sci(opt.tolerance) + ": " + failure);
       }
     sols.front().setup_s += wasted_s;
