@@ -301,18 +301,17 @@ std::vector<std::uint8_t> split(const CsrMatrix& a, const std::vector<std::uint8
   return state;
 }
 
-// Classical modified interpolation (see the header), truncated to max_w weights per row.
-// Rows are counted first (a coarse point: 1; a fine point: its strong coarse neighbours,
-// at most max_w), then computed straight into place.
+// Classical modified interpolation (see the header), truncated to max_w weights per row,
+// onto the nc coarse points of state. Rows are counted first (a coarse point: 1; a fine
+// point: its strong coarse neighbours, at most max_w), then computed straight into place.
 void build_interpolation(Level& l, const std::vector<std::uint8_t>& strong,
-                         const std::vector<std::uint8_t>& state, int max_w, std::size_t& nc) {
+                         const std::vector<std::uint8_t>& state, int max_w, std::size_t nc) {
   const CsrMatrix& a = l.a;
   const std::size_t n = a.n;
   const auto rows = static_cast<std::ptrdiff_t>(n);
   std::vector<Index> cidx(n, -1);
-  nc = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    if (state[i] == kCoarse) cidx[i] = static_cast<Index>(nc++);
+  for (std::size_t i = 0, next = 0; i < n; ++i)
+    if (state[i] == kCoarse) cidx[i] = static_cast<Index>(next++);
   const auto width = static_cast<std::size_t>(max_w);
   l.p_ptr.assign(n + 1, 0);
 #pragma omp parallel for schedule(static) if (l.parallel())
@@ -538,6 +537,17 @@ CsrMatrix galerkin(const Level& f, std::size_t nc) {
   return c;
 }
 
+// fine = P coarse (add: fine += P coarse), P the interpolation of level f.
+void prolong(const Level& f, const double* coarse, double* fine, bool add) {
+  const auto rows = static_cast<std::ptrdiff_t>(f.n());
+#pragma omp parallel for schedule(static) if (f.parallel())
+  for (std::ptrdiff_t i = 0; i < rows; ++i) {
+    double s = 0.0;
+    for (std::size_t k = f.p_ptr[i]; k < f.p_ptr[i + 1]; ++k) s += f.p_val[k] * coarse[f.p_col[k]];
+    fine[i] = add ? fine[i] + s : s;
+  }
+}
+
 void finish_level(Level& l) {
   const std::size_t n = l.n();
   const auto rows = static_cast<std::ptrdiff_t>(n);
@@ -679,14 +689,7 @@ AlgebraicMultigrid::AlgebraicMultigrid(CsrMatrix a, const AmgOptions& opt) {
     levels_.push_back(std::move(c));
   }
   for (auto& l : levels_) prepare_relaxation(*l);
-  // The coarsest level loses its (unused) interpolation arrays.
-  Level& cl = *levels_.back();
-  cl.p_ptr.clear();
-  cl.p_col.clear();
-  cl.p_val.clear();
-  cl.r_ptr.clear();
-  cl.r_col.clear();
-  cl.r_val.clear();
+  const Level& cl = *levels_.back();
   const std::size_t m = cl.n();
   if (m <= kMaxDense) {
     // Dense Cholesky; a pivot that rounding made tiny or negative is replaced by a small
@@ -734,12 +737,7 @@ const CsrMatrix& AlgebraicMultigrid::level_matrix(int level) const {
 void AlgebraicMultigrid::interpolate(int level, const double* coarse, double* fine) const {
   if (level < 0 || level + 1 >= levels())
     throw InputError("amg", "no coarser level below " + std::to_string(level));
-  const Level& f = *levels_[static_cast<std::size_t>(level)];
-  for (std::size_t i = 0; i < f.n(); ++i) {
-    double s = 0.0;
-    for (std::size_t k = f.p_ptr[i]; k < f.p_ptr[i + 1]; ++k) s += f.p_val[k] * coarse[f.p_col[k]];
-    fine[i] = s;
-  }
+  prolong(*levels_[static_cast<std::size_t>(level)], coarse, fine, false);
 }
 
 void AlgebraicMultigrid::coarse_solve(const double* b, double* x) const {
@@ -804,13 +802,7 @@ void AlgebraicMultigrid::cycle(std::size_t l, const double* b, double* x) const 
     bc[I] = s;
   }
   cycle(l + 1, bc, c.x.data());
-  const double* xc = c.x.data();
-#pragma omp parallel for schedule(static) if (f.parallel())
-  for (std::ptrdiff_t i = 0; i < rows; ++i) {
-    double s = 0.0;
-    for (std::size_t k = f.p_ptr[i]; k < f.p_ptr[i + 1]; ++k) s += f.p_val[k] * xc[f.p_col[k]];
-    x[i] += s;
-  }
+  prolong(f, c.x.data(), x, true);
   relax(f, b, x, false, false);
 }
 
