@@ -41,6 +41,7 @@
 #include <mutex>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -183,10 +184,12 @@ class WrapUnionFind {
     return i;
   }
   [[nodiscard]] bool wraps(std::int32_t root, int axis) const { return (wrap_[root] >> axis) & 1; }
-  [[nodiscard]] bool any_wraps(int axis) const {
-    for (std::size_t i = 0; i < parent_.size(); ++i)
-      if (parent_[i] == static_cast<std::int32_t>(i) && ((wrap_[i] >> axis) & 1)) return true;
-    return false;
+  // Whether some component wraps along x, and whether some wraps along y.
+  [[nodiscard]] std::pair<bool, bool> windings() const {
+    unsigned char any = 0;
+    for (std::size_t i = 0; i < parent_.size() && any != 3; ++i)
+      if (parent_[i] == static_cast<std::int32_t>(i)) any |= wrap_[i];
+    return {(any & 1) != 0, (any & 2) != 0};
   }
 
  private:
@@ -244,7 +247,7 @@ std::pair<bool, bool> open_windings(const Grid& grid, const double* gap) {
         const std::size_t ix = i % nx, iy = i / nx;
         return gap[i] > 0.0 && gap[(iy + 1 == static_cast<std::size_t>(ny) ? 0 : iy + 1) * nx + ix] > 0.0;
       });
-  return {uf.any_wraps(0), uf.any_wraps(1)};
+  return uf.windings();
 }
 
 void check_grid(const Grid& grid, const char* where) {
@@ -888,8 +891,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     unite_open_faces(
         uf, grid, [&](std::size_t i) { return sys.kx[i] > 0.0; },
         [&](std::size_t i) { return sys.ky[i] > 0.0; });
-    wraps_x = uf.any_wraps(0);
-    wraps_y = uf.any_wraps(1);
+    std::tie(wraps_x, wraps_y) = uf.windings();
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t ii = 0; ii < static_cast<std::ptrdiff_t>(n); ++ii) {
       const auto i = static_cast<std::size_t>(ii);
