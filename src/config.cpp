@@ -313,6 +313,17 @@ Config build(const toml::value& root, const std::string& name, const std::string
   if (!(c.friction.coefficient >= 0) || !std::isfinite(c.friction.coefficient))
     fr.error("coefficient", "must be a non-negative number" + fr.at("coefficient"));
   if (!std::isfinite(c.friction.direction_deg)) fr.error("direction", "must be finite (degrees from +x)");
+  c.friction.creepage = fr.number("creepage", 1.0);
+  if (!(c.friction.creepage > 0) || !std::isfinite(c.friction.creepage))
+    fr.error("creepage",
+             "must be a positive finite number (rigid slip speed / v0; 1 = sliding)" + fr.at("creepage"));
+  else if (c.friction.creepage != 1.0 && !(c.friction.coefficient > 0))
+    fr.error("creepage",
+             "rolling with creepage needs friction: set friction.coefficient > 0" + fr.at("creepage"));
+  c.friction.stick_step = fr.number("stick_step", 0.0);
+  if (!(c.friction.stick_step >= 0) || !std::isfinite(c.friction.stick_step) || c.friction.stick_step > 1e6)
+    fr.error("stick_step",
+             "must be 0 (automatic) or a positive step gamma/E* up to 1e6" + fr.at("stick_step"));
   c.friction_reference = fr.boolean("reference", true);
   fr.finish();
 
@@ -333,6 +344,11 @@ Config build(const toml::value& root, const std::string& name, const std::string
   c.solver.tolerance = so.number("tolerance", 1e-8);
   c.solver.max_iterations = static_cast<int>(so.integer("max_iterations", 20000));
   c.solver.max_outer = static_cast<int>(so.integer("max_outer", 2000));
+  {
+    const auto mt = so.integer("max_tangential", 20000);
+    if (mt < 1 || mt > 100000000) so.error("max_tangential", "must be in [1, 1e8]" + so.at("max_tangential"));
+    c.solver.max_tangential = static_cast<int>(std::clamp<decltype(mt)>(mt, 1, 100000000));
+  }
   c.solver.anderson = static_cast<int>(so.integer("anderson", 10));
   c.solver.mixing = so.number("mixing", 0.5);
   if (!(c.solver.mixing > 0 && c.solver.mixing <= 1)) so.error("mixing", "must be in (0, 1]");
@@ -585,15 +601,15 @@ nlohmann::json Config::to_json() const {
                    : load.mode == LoadMode::Pressure ? "pressure"
                                                      : "approach";
   j["load"] = {{lk, load.value}};
-  j["friction"] = {{"coefficient", friction.coefficient},
-                   {"direction", friction.direction_deg},
-                   {"regularization", friction.regularization},
-                   {"reference", friction_reference}};
+  j["friction"] = {{"coefficient", friction.coefficient},       {"direction", friction.direction_deg},
+                   {"regularization", friction.regularization}, {"creepage", friction.creepage},
+                   {"stick_step", friction.stick_step},         {"reference", friction_reference}};
   j["interaction"] = {{"model", interaction.hard_wall ? "hardwall" : "harmonic"},
                       {"stiffness", interaction.stiffness}};
   j["solver"] = {{"tolerance", solver.tolerance},
                  {"max_iterations", solver.max_iterations},
                  {"max_outer", solver.max_outer},
+                 {"max_tangential", solver.max_tangential},
                  {"anderson", solver.anderson},
                  {"mixing", solver.mixing},
                  {"fft_planner", solver.fft_planner == Planner::Measure ? "measure" : "estimate"},

@@ -198,11 +198,39 @@ void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, 
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
       const ComplianceMode& m = modes_[k];
-      const cplx x = scale * tx[k], y = scale * ty[k], z = scale_z * tz[k];
+      const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
+                 z = tz ? scale_z * tz[k] : cplx(0.0);
       const double d = ex * grid_.qx_deriv(ikx) + dy;
       const auto u = inplane(m, x, y, z);
       dux[k] = times_i(d, u[0]);
       duy[k] = times_i(d, u[1]);
+    }
+  }
+}
+
+void ElasticBody::slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale) const {
+  // M = I - i g d C with C = [[cxx, cxy], [cxy, cyy]] real symmetric and g d real: M is
+  // complex symmetric, det M = 1 - i g d (cxx + cyy) - (g d)^2 (cxx cyy - cxy^2), never 0.
+  const int nxh = grid_.nxh();
+#pragma omp parallel for schedule(static)
+  for (int iky = 0; iky < grid_.ny; ++iky) {
+    const double dy = ey * grid_.qy_deriv(iky);
+    for (int ikx = 0; ikx < nxh; ++ikx) {
+      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
+      const ComplianceMode& m = modes_[k];
+      const double gd = gamma * (ex * grid_.qx_deriv(ikx) + dy);
+      const cplx a = scale * x[k], b = scale * y[k];
+      if (gd == 0.0) {
+        x[k] = a;
+        y[k] = b;
+        continue;
+      }
+      const cplx det(1.0 - gd * gd * (m.cxx * m.cyy - m.cxy * m.cxy), -gd * (m.cxx + m.cyy));
+      const cplx inv = 1.0 / det;
+      // M^-1 = [[1 - i gd cyy, i gd cxy], [i gd cxy, 1 - i gd cxx]] / det
+      const cplx m11(1.0, -gd * m.cyy), m22(1.0, -gd * m.cxx), m12(0.0, gd * m.cxy);
+      x[k] = inv * (m11 * a + m12 * b);
+      y[k] = inv * (m12 * a + m22 * b);
     }
   }
 }

@@ -11,6 +11,7 @@
 namespace gfmd {
 
 namespace {
+bool v_slow(double vx, double vy, double eps) { return eps > 0 && std::hypot(vx, vy) < eps; }
 // out = (e_s . grad) in, spectrally.
 void directional_derivative(const FFT& fft, double ex, double ey, const RealField& in, RealField& out) {
   const Grid& g = fft.grid();
@@ -34,8 +35,9 @@ void slip_velocity(const FFT& fft, const FrictionParams& fric, const RealField& 
   const double ex = std::cos(th), ey = std::sin(th);
   directional_derivative(fft, ex, ey, ux, vx);
   directional_derivative(fft, ex, ey, uy, vy);
-  for (auto& v : vx) v += ex;
-  for (auto& v : vy) v += ey;
+  const double xi = fric.creepage;
+  for (auto& v : vx) v += xi * ex;
+  for (auto& v : vy) v += xi * ey;
 }
 
 Observables compute_observables(const FFT& fft, const Topography& topo, const FrictionParams& fric,
@@ -57,23 +59,35 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     slip_velocity(fft, fric, f.ux, f.uy, vx, vy);
     const double th = fric.direction_deg * std::numbers::pi / 180.0;
     directional_derivative(fft, std::cos(th), std::sin(th), topo.h, dh);
-    // One pass over the slip field. Traction magnitude mu_c p f(|v|) (f = 1 for exact
-    // Coulomb, |v|/eps below the regularisation speed eps), direction v/|v|:
-    // [0] dissipation sum p |v| f, [1] sum p f (downhill form), [2] the work of the driving
-    // force sum p f (v.e_s)/|v|, [3] cells in contact slipping slower than eps.
+    // One pass over the slip field with the solver's tractions tau (exact Coulomb with
+    // stick: |tau| = mu_c p where the point slips, tau inside the disc where it sticks and
+    // v = 0; regularised: mu_c p f(|v|) v/|v|): [0] dissipation sum tau.v, [1] sum |tau|
+    // (= mu_c F_z when every point slips), [2] sum tau.e_s (the tangential force along the
+    // sliding direction), [3] cells in contact slipping slower than eps (regularised law),
+    // [4] cells that stick, [5] cells in contact, [6] sum tau_x, [7] sum tau_y.
     const double ex = std::cos(th), ey = std::sin(th), eps = fric.regularization;
-    const auto s = grid_sums<4>(g, [&](std::size_t i, std::array<double, 4>& acc) {
-      const double v = std::hypot(vx[i], vy[i]), p = f.pressure[i], pf = p * fric.traction_factor(v);
-      acc[0] += pf * v;
-      acc[1] += pf;
-      acc[2] += v > 0 ? pf * (vx[i] * ex + vy[i] * ey) / v : 0.0;
-      acc[3] += (p > 0 && v < eps) ? 1.0 : 0.0;
+    const bool has_stick = f.stick.size() == g.size();
+    const auto s = grid_sums<8>(g, [&](std::size_t i, std::array<double, 8>& acc) {
+      const double p = f.pressure[i], tx = f.tx[i], ty = f.ty[i];
+      acc[0] += tx * vx[i] + ty * vy[i];
+      acc[1] += std::hypot(tx, ty);
+      acc[2] += tx * ex + ty * ey;
+      acc[3] += (p > 0 && v_slow(vx[i], vy[i], eps)) ? 1.0 : 0.0;
+      acc[4] += (has_stick && f.stick[i]) ? 1.0 : 0.0;
+      acc[5] += p > 0 ? 1.0 : 0.0;
+      acc[6] += tx;
+      acc[7] += ty;
     });
     o.downhill_force = -da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * dh[i]; });
-    o.friction_force = mu * da * s[0];
-    o.friction_force_downhill = mu * da * s[1] + o.downhill_force;
-    o.friction_force_drive = mu * da * s[2] + o.downhill_force;
+    o.friction_force = da * s[0];
+    o.friction_force_downhill = da * s[1] + o.downhill_force;
+    o.friction_force_drive = fric.creepage * da * s[2] + o.downhill_force;
+    o.tangential_force = da * s[2];
+    o.tangential_force_x = da * s[6];
+    o.tangential_force_y = da * s[7];
+    o.traction_coefficient = o.tangential_force / o.normal_force;
     o.near_stick_fraction = s[3] / n;
+    o.stick_fraction = s[5] > 0 ? s[4] / s[5] : 0.0;
     o.friction_coefficient = o.friction_force / o.normal_force;
     o.friction_coefficient_downhill = o.friction_force_downhill / o.normal_force;
     o.energy_balance_error = std::abs(o.friction_force - o.friction_force_downhill) / o.friction_force;
@@ -146,10 +160,9 @@ DerivedFields derived_fields(const FFT& fft, const FrictionParams& fric, const C
   d.slip_transverse.resize(n);
   d.dissipation.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    d.slip_longitudinal[i] = vx[i] * ex + vy[i] * ey - 1.0;
+    d.slip_longitudinal[i] = vx[i] * ex + vy[i] * ey - fric.creepage;
     d.slip_transverse[i] = -vx[i] * ey + vy[i] * ex;
-    const double v = std::hypot(vx[i], vy[i]);
-    d.dissipation[i] = fric.coefficient * f.pressure[i] * v * fric.traction_factor(v);
+    d.dissipation[i] = f.tx[i] * vx[i] + f.ty[i] * vy[i];
   }
   return d;
 }
@@ -173,6 +186,11 @@ nlohmann::json to_json(const Observables& o) {
     j["max_slip_velocity"] = o.max_slip_velocity;
     j["min_slip_velocity"] = o.min_slip_velocity;
     j["near_stick_fraction"] = o.near_stick_fraction;
+    j["stick_fraction"] = o.stick_fraction;
+    j["tangential_force"] = o.tangential_force;
+    j["tangential_force_x"] = o.tangential_force_x;
+    j["tangential_force_y"] = o.tangential_force_y;
+    j["traction_coefficient"] = o.traction_coefficient;
   }
   j["centroid_shift"] = o.centroid_shift;
   j["centroid_shift_transverse"] = o.centroid_shift_transverse;

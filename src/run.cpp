@@ -219,6 +219,10 @@ nlohmann::json summary_json(const CaseResult& r) {
   nlohmann::json j = to_json(r.observables);
   j["iterations"] = r.info.iterations;
   j["outer_iterations"] = r.info.outer_iterations;
+  if (r.config.friction.coefficient > 0) {
+    j["tangential_iterations"] = r.info.tangential_iterations;
+    j["friction_law"] = r.config.friction.regularized() ? "regularized" : "coulomb";
+  }
   j["converged"] = r.info.converged;
   j["status"] = r.info.status;
   j["residual"] = r.info.residual;
@@ -380,8 +384,16 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
                         "relative longitudinal slip velocity v_l^rel/v0 - 1 = (e_s.grad) u_s", "1"});
       fields.push_back({"slip_transverse", d.slip_transverse.data(),
                         "transverse slip velocity / v0 = (e_s.grad) u_perp", "1"});
+      fields.push_back({"dissipation", d.dissipation.data(),
+                        "dissipated power density / v0 = tau . v_slip / v0 (mu_c p |v|/v0 where slipping)",
+                        "E*"});
+    }
+    RealField sm;
+    if (r.fields.stick.size() == n) {
+      sm.resize(n);
+      for (std::size_t i = 0; i < n; ++i) sm[i] = r.fields.stick[i] ? 1.0 : 0.0;
       fields.push_back(
-          {"dissipation", d.dissipation.data(), "dissipated power density / v0 = mu_c p |v|/v0", "E*"});
+          {"stick", sm.data(), "stick mask (1 = contact point that sticks: zero slip velocity)", "1"});
     }
     if (!r.principal.s1.empty()) {
       const StressField& st = r.stress;
@@ -445,10 +457,13 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
       PngOptions ps;
       ps.colormap = "coolwarm";
       ps.symmetric = true;
-      ps.mask = mask.data();
-      ps.title = "longitudinal slip excess";
+      // Outline: the stick zone where there is one, else the contact.
+      const bool any_stick =
+          std::any_of(r.fields.stick.begin(), r.fields.stick.end(), [](auto v) { return v != 0; });
+      ps.mask = any_stick ? r.fields.stick.data() : mask.data();
+      ps.title = any_stick ? "longitudinal slip excess (outline: stick)" : "longitudinal slip excess";
       write_png_map((fs::path(dir) / "slip_longitudinal.png").string(), g, vl.data(), ps);
-      ps.title = "transverse slip";
+      ps.title = any_stick ? "transverse slip (outline: stick)" : "transverse slip";
       write_png_map((fs::path(dir) / "slip_transverse.png").string(), g, vt.data(), ps);
       PngOptions pd;
       pd.colormap = "inferno";

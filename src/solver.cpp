@@ -7,6 +7,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "gfmd/anderson.hpp"
 #include "gfmd/error.hpp"
 #include "gfmd/reduce.hpp"
 
@@ -14,6 +15,14 @@ namespace gfmd {
 
 namespace {
 using Clock = std::chrono::steady_clock;
+// Stick-slip (Douglas-Rachford) iteration of the exact law, chosen by measurement (see
+// docs/solver.md): step gamma = 1/rho(A), over-relaxation 1.6, no Anderson mixing (it saved
+// iterations but not time, and holds 20 single-precision fields); each stick-slip solve
+// within a friction step stops at 1e-3 of the friction change.
+constexpr double kStickStepFactor = 1.0;
+constexpr double kTangentialRelaxation = 1.6;
+constexpr int kTangentialAnderson = 0;
+constexpr double kTangentialTolFactor = 1e-3;
 
 void require_finite(double v, const char* what, int it) {
   if (!std::isfinite(v)) {
@@ -21,34 +30,6 @@ void require_finite(double v, const char* what, int it) {
     os << "solve diverged: " << what << " is not finite at iteration " << it;
     throw SolveError(os.str());
   }
-}
-// Solves the small (regularised) normal equations of the Anderson least-squares problem.
-std::vector<double> solve_small_spd(std::vector<double> M, std::vector<double> rhs) {
-  const std::size_t h = rhs.size();
-  double trace = 0;
-  for (std::size_t a = 0; a < h; ++a) trace += M[a * h + a];
-  for (std::size_t a = 0; a < h; ++a) M[a * h + a] += 1e-10 * trace + 1e-300;
-  for (std::size_t c = 0; c < h; ++c) {
-    std::size_t piv = c;
-    for (std::size_t r = c + 1; r < h; ++r)
-      if (std::abs(M[r * h + c]) > std::abs(M[piv * h + c])) piv = r;
-    if (piv != c) {
-      for (std::size_t k = 0; k < h; ++k) std::swap(M[c * h + k], M[piv * h + k]);
-      std::swap(rhs[c], rhs[piv]);
-    }
-    for (std::size_t r = c + 1; r < h; ++r) {
-      const double fct = M[r * h + c] / M[c * h + c];
-      for (std::size_t k = c; k < h; ++k) M[r * h + k] -= fct * M[c * h + k];
-      rhs[r] -= fct * rhs[c];
-    }
-  }
-  std::vector<double> x(h);
-  for (std::size_t c = h; c-- > 0;) {
-    double v = rhs[c];
-    for (std::size_t k = c + 1; k < h; ++k) v -= M[c * h + k] * x[k];
-    x[c] = v / M[c * h + c];
-  }
-  return x;
 }
 // A point joins the Anderson support of the friction iteration when it is not in it yet
 // and the iterate (fx, fy) or its image (x, y) is non-zero there.
@@ -321,12 +302,13 @@ std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, Real
   fft_.backward_unscaled_destroying(s2_.data(), r2_.data());
   const double mu = fric_.coefficient;
   const double eps = fric_.regularization;  // tau = mu p v / max(|v|, eps)
+  const double xi = fric_.creepage;
   // Outside the contact set the new traction is zero; outside the Anderson support the
   // traction and its previous image are zero too (see solve), so nothing there is read.
   return grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
     const double p = f.pressure[i];
     if (p > 0) {
-      const double vx = ex + r1_[i], vy = ey + r2_[i];
+      const double vx = xi * ex + r1_[i], vy = xi * ey + r2_[i];
       const double norm = std::max(std::sqrt(vx * vx + vy * vy), eps);  // |v| = O(1): no hypot needed
       double x = 0.0, y = 0.0;
       if (norm > 0) {
@@ -345,6 +327,145 @@ std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, Real
       acc[0] += std::abs(f.tx[i]) + std::abs(f.ty[i]);
     }
   });
+}
+
+double ContactSolver::default_stick_step() const {
+  // gamma = c / rho(A), rho(A) = max over modes of |e_s.q| times the largest eigenvalue of
+  // C_tt(q): the scale on which the slip operator acts.
+  const double th = fric_.direction_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(th), ey = std::sin(th);
+  const int nxh = grid_.nxh();
+  double rho = 0.0;
+  for (int iky = 0; iky < grid_.ny; ++iky)
+    for (int ikx = 0; ikx < nxh; ++ikx) {
+      const ComplianceMode& m = body_.mode(static_cast<std::size_t>(iky) * nxh + ikx);
+      const double d = std::abs(ex * grid_.qx_deriv(ikx) + ey * grid_.qy_deriv(iky));
+      const double tr = 0.5 * (m.cxx + m.cyy), df = 0.5 * (m.cxx - m.cyy);
+      rho = std::max(rho, d * (tr + std::sqrt(df * df + m.cxy * m.cxy)));
+    }
+  return rho > 0 ? kStickStepFactor / rho : body_.params().contact_modulus;
+}
+
+ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField& p, RealField& tx,
+                                                                RealField& ty, double tol, int max_it) {
+  // Douglas-Rachford on 0 in -v(tau) + N_K(tau), v(tau) = b + A tau with b = xi e_s + b' (b'
+  // the slip the pressure causes through the coupling) and A = (e_s.grad) C_tt skew:
+  //   tau = P_K(z);  y = (I - gamma A)^-1 (2 tau - z + gamma b);  z <- z + y - tau.
+  // At a fixed point y = tau and z = tau + gamma v(tau), the projection form of Coulomb's
+  // law: tau = mu_c p v/|v| where the point slips, |tau| <= mu_c p where v = 0 (stick).
+  // Per step: 2 forward and 2 inverse FFTs and two fused passes over the grid.
+  const std::size_t n = grid_.size();
+  const double th = fric_.direction_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(th), ey = std::sin(th);
+  const double xi = fric_.creepage;
+  const double mu = fric_.coefficient;
+  const double gamma = gamma_;
+  const double scale = 1.0 / static_cast<double>(n);
+  RealField& yx = r1_;
+  RealField& yy = r2_;
+  // b': slip velocity caused by the pressure (zero without coupling), times gamma.
+  for (auto* fld : {&bx_, &by_, &zx_, &zy_})
+    if (fld->size() != n) fld->assign(n, 0.0);
+  fft_.forward(p.data(), s1_.data());
+  body_.inplane_slope(nullptr, nullptr, s1_.data(), ex, ey, s2_.data(), s3_.data(), scale, -scale * gamma);
+  fft_.backward_unscaled_destroying(s2_.data(), bx_.data());
+  fft_.backward_unscaled_destroying(s3_.data(), by_.data());
+  if (!have_z_) {
+    // z = tau + gamma v(tau) for the traction we start from.
+    fft_.forward(tx.data(), s2_.data());
+    fft_.forward(ty.data(), s3_.data());
+    body_.inplane_slope(s2_.data(), s3_.data(), nullptr, ex, ey, s2_.data(), s3_.data(), scale * gamma, 0.0);
+    fft_.backward_unscaled_destroying(s2_.data(), yx.data());
+    fft_.backward_unscaled_destroying(s3_.data(), yy.data());
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      zx_[i] = tx[i] + gamma * xi * ex + bx_[i] + yx[i];
+      zy_[i] = ty[i] + gamma * xi * ey + by_[i] + yy[i];
+    }
+    have_z_ = true;
+  }
+  // Projection onto the disc of radius mu_c p.
+  const auto project = [&](std::size_t i, double zx, double zy, double& x, double& y) {
+    const double r = mu * p[i];
+    if (!(r > 0)) {
+      x = y = 0.0;
+      return;
+    }
+    const double m2 = zx * zx + zy * zy;
+    if (m2 <= r * r) {
+      x = zx;
+      y = zy;
+    } else {
+      const double f = r / std::sqrt(m2);
+      x = f * zx;
+      y = f * zy;
+    }
+  };
+  // First pass: tau = P_K(z), y <- 2 tau - z + gamma b' (the right-hand side, in place).
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    double x, y;
+    project(i, zx_[i], zy_[i], x, y);
+    tx[i] = x;
+    ty[i] = y;
+    yx[i] = 2.0 * x - zx_[i] + bx_[i];
+    yy[i] = 2.0 * y - zy_[i] + by_[i];
+  }
+  TangentialResult res{0, 1.0, false};
+  const double cx = gamma * xi * ex, cy = gamma * xi * ey;
+  // The Douglas-Rachford map T(z) = z + y - tau is firmly non-expansive; Anderson mixing
+  // over z speeds it up, restarted when a step raises the change (a safeguard).
+  AndersonMixer mixer(kTangentialAnderson, kTangentialRelaxation);
+  double last = std::numeric_limits<double>::infinity();
+  for (int it = 0; it < max_it; ++it) {
+    ++res.iterations;
+    fft_.forward(yx.data(), s2_.data());
+    fft_.forward(yy.data(), s3_.data());
+    body_.slip_resolvent(s2_.data(), s3_.data(), ex, ey, gamma, scale);
+    s2_[0] += cx;  // the rigid slip gamma xi e_s: the q = 0 mode, where the resolvent is 1
+    s3_[0] += cy;
+    fft_.backward_unscaled_destroying(s2_.data(), yx.data());
+    fft_.backward_unscaled_destroying(s3_.data(), yy.data());
+    // The change |y - tau| and the size |tau| (L1); y becomes the image T(z) = z + y - tau.
+    const auto sums = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
+      const double dx = yx[i] - tx[i], dy = yy[i] - ty[i];
+      acc[0] += std::abs(dx) + std::abs(dy);
+      acc[1] += std::abs(tx[i]) + std::abs(ty[i]);
+      yx[i] = zx_[i] + dx;
+      yy[i] = zy_[i] + dy;
+    });
+    res.error = sums[1] > 0 ? sums[0] / sums[1] : (sums[0] > 0 ? 1.0 : 0.0);
+    require_finite(res.error, "the stick-slip traction", total_it_);
+    if (res.error < tol) {
+      zx_.swap(yx);
+      zy_.swap(yy);
+      res.converged = true;
+      break;
+    }
+    if (res.error > 2.0 * last) mixer.reset();
+    last = res.error;
+    mixer.step({zx_.data(), zy_.data()}, {yx.data(), yy.data()}, n);
+    // The next projection and right-hand side.
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      double x, y;
+      project(i, zx_[i], zy_[i], x, y);
+      tx[i] = x;
+      ty[i] = y;
+      yx[i] = 2.0 * x - zx_[i] + bx_[i];
+      yy[i] = 2.0 * y - zy_[i] + by_[i];
+    }
+    if (res.iterations % 64 == 0) poll(nullptr);
+  }
+  // tau = P_K(z) for the final z.
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    double x, y;
+    project(i, zx_[i], zy_[i], x, y);
+    tx[i] = x;
+    ty[i] = y;
+  }
+  return res;
 }
 
 void ContactSolver::friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w) {
@@ -405,6 +526,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
   // The displacements and the gap follow from (p, tau) at the end: their memory is given
   // back during the iterations.
   for (auto* fld : {&f.ux, &f.uy, &f.uz, &f.gap}) RealField().swap(*fld);
+  f.stick.clear();
   total_it_ = 0;
   SolveInfo info;
   info.stiffness = k_;
@@ -456,6 +578,17 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     double err = 1.0, best = std::numeric_limits<double>::infinity();
     int since_best = 0;
     bool have_slip = false;  // r1_/r2_ hold (e.grad) u of this solve
+    // The exact law starts with the full-slip map tau = mu_c p v/|v| (fast, and its fixed
+    // point, where every contact point slips, solves the set-valued law too). Where it does
+    // not settle (points near stick) or with creepage (rolling: stick is expected), the
+    // stick-slip solve takes over from the current traction.
+    bool stick_mode = !fric_.regularized() && fric_.creepage != 1.0;
+    bool tangential_ok = !stick_mode;  // the last stick-slip solve met the final tolerance
+    have_z_ = false;
+    if (!fric_.regularized()) {
+      gamma_ =
+          fric_.stick_step > 0 ? fric_.stick_step * body_.params().contact_modulus : default_stick_step();
+    }
     double omega = sp_.mixing;
     // Stall test: the best change must improve by 10 % within 20 steps. Slow but steady
     // progress (stiff slip feedback near stick) is not a stall; a limit cycle is.
@@ -476,14 +609,32 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       // w and the two slip derivatives back.
       // dn[2]: points outside the Anderson support where the iterate or its image is
       // non-zero (they join the support below).
-      const auto dn = slip_tractions(f, tx, ty, in_supp);
-      have_slip = true;
+      std::array<double, 3> dn{};
+      if (!stick_mode) {
+        dn = slip_tractions(f, tx, ty, in_supp);
+        have_slip = true;
+      } else {
+        if (!have_z_) {
+          tx = f.tx;
+          ty = f.ty;
+        }
+        const double ttol = std::max(0.1 * tol, std::min(1e-3, kTangentialTolFactor * err));
+        const auto tr = solve_tangential(f.pressure, tx, ty, ttol, sp_.max_tangential);
+        info.tangential_iterations += tr.iterations;
+        tangential_ok = tr.converged && ttol <= 0.1 * tol;
+        dn = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
+          const double x = tx[i], y = ty[i], fx = f.tx[i], fy = f.ty[i];
+          acc[0] += std::abs(x - fx) + std::abs(y - fy);
+          acc[1] += std::abs(x) + std::abs(y);
+          if (joins_support(in_supp[i], x, y, fx, fy)) acc[2] += 1.0;
+        });
+      }
       err = dn[1] > 0 ? dn[0] / dn[1] : 0.0;
       require_finite(err, "the friction traction", total_it_);
       info.friction_error = err;
       if (progress_) progress_(Progress{total_it_, outer + 1, err});
       poll(&f);
-      if (err < tol && pk.converged && inner_tol <= tol) {
+      if (err < tol && pk.converged && inner_tol <= tol && tangential_ok) {
         f.tx.swap(tx);
         f.ty.swap(ty);
         info.converged = true;
@@ -493,7 +644,17 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       if (err < stall_gain * best) {
         best = err;
         since_best = 0;
-      } else if (++since_best >= stall_steps) {
+      } else if (++since_best >= stall_steps && !fric_.regularized() && !stick_mode) {
+        // The full-slip map does not settle: continue with the set-valued law (stick) from
+        // the current traction, with a fresh mixing history.
+        stick_mode = true;
+        tangential_ok = false;
+        slots.clear();
+        have_prev = false;
+        since_best = 0;
+        best = std::numeric_limits<double>::infinity();
+        continue;
+      } else if (since_best >= stall_steps) {
         // Stalled: damp harder and restart the mixing history; give up once damping
         // no longer helps (a limit cycle of the slip field).
         omega *= 0.5;
@@ -523,12 +684,23 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
           grow(and_dx_[static_cast<std::size_t>(sl)], len);
         }
       }
+      // The exact law's splitting variable follows the mixed traction: z <- z + (tau_mixed -
+      // tau), so the next stick-slip solve starts from the mixed iterate (z - tau = gamma v
+      // is kept).
+      const auto follow = [&] {
+        if (!stick_mode) return;
+        for (const std::uint32_t i : supp) {
+          zx_[i] += f.tx[i] - tx[i];
+          zy_[i] += f.ty[i] - ty[i];
+        }
+      };
       if (m == 0) {
         // Plain relaxation; outside the support both tractions are zero.
         for (const std::uint32_t i : supp) {
           f.tx[i] += omega * (tx[i] - f.tx[i]);
           f.ty[i] += omega * (ty[i] - f.ty[i]);
         }
+        follow();
         continue;
       }
       // Anderson mixing with relaxation (Walker & Ni 2011): with x the traction, f = G(x) - x,
@@ -618,10 +790,11 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         f.tx[i] = xx + omega * fx;
         f.ty[i] = xy + omega * fy;
       }
+      follow();
     }
     and_df_.clear();
     and_dx_.clear();
-    if (!info.converged && have_slip) {
+    if (!info.converged && have_slip && fric_.regularized()) {
       // Near stick the slip direction of the exact Coulomb law is ill-conditioned (the
       // usual cause of a friction fixed point that does not settle): say so. r1_/r2_ hold
       // the last (e.grad) u.
@@ -643,6 +816,19 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
            << " v0), where the exact Coulomb law is ill-conditioned: set friction.regularization (e.g. 0.1)";
         info.status = os.str();
       }
+    }
+    if (!fric_.regularized()) f.stick.assign(n, 0);
+    if (stick_mode && have_z_) {
+      // Stick: the splitting variable inside the friction disc (there z = tau, v = 0).
+      std::size_t ns = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        const double r = mu * f.pressure[i];
+        if (r > 0 && zx_[i] * zx_[i] + zy_[i] * zy_[i] < r * r) {
+          f.stick[i] = 1;
+          ++ns;
+        }
+      }
+      info.stick_points = ns;
     }
     if (!pk.converged && info.converged) {
       info.converged = false;

@@ -80,6 +80,11 @@ class ElasticBody {
   // Nyquist modes of the derivative are dropped. Outputs may alias inputs.
   void inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, double ex, double ey, cplx* dux,
                      cplx* duy, double scale, double scale_z) const;
+  // Resolvent of the slip operator of steady sliding: A = (e.grad) C_tt maps a tangential
+  // traction to the slip velocity it causes; A is skew-adjoint (C_tt Hermitian, e.grad
+  // skew), so I - gamma A is invertible for every gamma. In place, per mode:
+  // (x, y) <- (I - gamma A)^-1 scale (x, y); the q = 0 mode is scaled only.
+  void slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale) const;
 
  private:
   Grid grid_;

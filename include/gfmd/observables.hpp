@@ -17,17 +17,18 @@ struct Observables {
   double max_pressure = 0;
   double mean_gap = 0;  // mean of max(gap, 0) over the cell
   double approach = 0;
-  // Friction (zero without friction). Dissipation: F = P_diss / v0 = sum tau . v dA =
-  // mu_c sum p |e_s + (e_s.grad) u| dA. Downhill: F = mu_c F_z + dF, dF = -sum p (e_s.grad h) dA
-  // (with the regularised law near stick, mu_c F_z becomes sum |tau| dA).
+  // Friction (zero without friction). Dissipation: F = P_diss / v0 = sum tau . v dA with the
+  // slip velocity v = xi e_s + (e_s.grad) u (= mu_c sum p |v| dA where every point slips; stuck
+  // points dissipate nothing). Downhill: F = sum |tau| dA + dF, dF = -sum p (e_s.grad h) dA
+  // (sum |tau| = mu_c F_z where every point slips).
   double friction_force = 0;
   double friction_force_downhill = 0;
   double downhill_force = 0;
   double friction_coefficient = 0;
   double friction_coefficient_downhill = 0;
   double energy_balance_error = 0;  // |F_diss - F_downhill| / F_diss
-  // Work of the driving force, mu_c sum p (s.e_s) dA + dF: equal to F_diss exactly in steady
-  // state (F_downhill replaces s.e_s by 1, a second-order difference in the strains).
+  // Work of the driving force per v0, xi sum tau.e_s dA + dF: equal to F_diss in steady state
+  // (F_downhill replaces tau.e_s by |tau|, a second-order difference in the strains).
   double friction_force_drive = 0;
   double energy_balance_error_exact = 0;  // |F_diss - F_drive| / F_diss
   double mean_tangential_traction_x = 0, mean_tangential_traction_y = 0;
@@ -42,17 +43,25 @@ struct Observables {
   // Fraction of all cells in contact and slipping slower than friction.regularization
   // (where the regularised law applies; 0 without regularisation).
   double near_stick_fraction = 0;
+  // Exact Coulomb law with stick: fraction of the contact cells that stick (zero slip
+  // velocity, traction inside the friction disc).
+  double stick_fraction = 0;
+  // Tangential force the body exerts on the indenter, sum tau dA: along e_s and in lab axes;
+  // its ratio to the normal force (the traction coefficient of rolling; mu_c where every
+  // point slips).
+  double tangential_force = 0, tangential_force_x = 0, tangential_force_y = 0;
+  double traction_coefficient = 0;
 };
 
 // Fields derived from a solved state (all on the grid).
 struct DerivedFields {
-  RealField slip_longitudinal;  // v_l^rel / v0 - 1: relative longitudinal slip excess ((e_s.grad) u_s)
+  RealField slip_longitudinal;  // v_l^rel / v0 - xi: relative longitudinal slip excess ((e_s.grad) u_s)
   RealField slip_transverse;    // transverse slip / v0 ((e_s.grad) u_perp)
-  RealField dissipation;        // mu_c p |v_slip| / v0 (power density per unit v0)
+  RealField dissipation;        // tau . v_slip / v0 (power density per unit v0; 0 where stuck)
 };
 DerivedFields derived_fields(const FFT& fft, const FrictionParams& fric, const ContactFields& f);
 
-// Slip field of the body relative to the indenter in units of v0: v = e_s + (e_s.grad)u
+// Slip field of the body relative to the indenter in units of v0: v = xi e_s + (e_s.grad)u
 // (its sign is that of the indenter's motion seen from the body; |v| is the slip speed).
 void slip_velocity(const FFT& fft, const FrictionParams& fric, const RealField& ux, const RealField& uy,
                    RealField& vx, RealField& vy);

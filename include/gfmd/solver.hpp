@@ -46,6 +46,13 @@ struct FrictionParams {
   // value, the traction is mu_c p v_slip / regularization (it vanishes with the slip
   // instead of jumping); above it the law is exact Coulomb. 0: exact Coulomb everywhere.
   double regularization = 0.0;
+  // Creepage xi: the rigid part of the slip velocity is xi v0 e_s (1 = sliding; small xi =
+  // tractive rolling, with stick where the traction stays inside the friction disc).
+  double creepage = 1.0;
+  // Step gamma / E* of the stick-slip (Douglas-Rachford) iteration of the exact law; 0 picks
+  // it from the body's in-plane compliance.
+  double stick_step = 0.0;
+  [[nodiscard]] bool regularized() const { return regularization > 0; }
   // |tau| / (mu_c p) at slip speed v (in units of v0).
   [[nodiscard]] double traction_factor(double v) const {
     return (regularization > 0 && v < regularization) ? v / regularization : 1.0;
@@ -62,6 +69,7 @@ struct SolverParams {
   double tolerance = 1e-8;                  // gap residual, relative pressure change, relative tau change
   int max_iterations = 20000;               // total inner (conjugate-gradient) iterations
   int max_outer = 2000;                     // friction fixed-point steps
+  int max_tangential = 20000;               // stick-slip steps per friction step (exact law)
   int anderson = 10;                        // Anderson mixing depth of the friction fixed point (0: none)
   double mixing = 0.5;                      // relaxation of the friction fixed point, in (0, 1]
   Planner fft_planner = Planner::Estimate;  // FFTW planner of the solver's transforms
@@ -69,15 +77,20 @@ struct SolverParams {
 
 struct ContactFields {
   RealField pressure, tx, ty, ux, uy, uz, gap;
+  // 1 where a contact point sticks (|tau| < mu_c p, zero slip velocity); filled at the end
+  // of a solve with the exact Coulomb law, empty otherwise.
+  std::vector<unsigned char> stick;
 };
 
 struct SolveInfo {
   bool converged = false;
-  std::string status;        // "converged", "not converged: ...", ...
-  int iterations = 0;        // inner conjugate-gradient iterations in all
-  int outer_iterations = 0;  // friction fixed-point steps
-  double residual = 0.0;     // independent force-balance residual of the final state
-  double pk_error = 0.0;     // last relative pressure change
+  std::string status;             // "converged", "not converged: ...", ...
+  int iterations = 0;             // inner conjugate-gradient iterations in all
+  int outer_iterations = 0;       // friction fixed-point steps
+  int tangential_iterations = 0;  // stick-slip (Douglas-Rachford) steps of the exact law, in all
+  std::size_t stick_points = 0;   // contact points that stick
+  double residual = 0.0;          // independent force-balance residual of the final state
+  double pk_error = 0.0;          // last relative pressure change
   double friction_error = 0.0;
   double approach = 0.0;   // delta
   double stiffness = 0.0;  // k_if used (inf for hard wall)
@@ -135,6 +148,18 @@ class ContactSolver {
   // Anderson support (in_supp == 0) where either traction is non-zero.
   std::array<double, 3> slip_tractions(const ContactFields& f, RealField& tx, RealField& ty,
                                        const std::vector<unsigned char>& in_supp);
+  struct TangentialResult {
+    int iterations;
+    double error;
+    bool converged;
+  };
+  // The set-valued Coulomb law for the pressure p held fixed: tau = P_K(tau + gamma v(tau)),
+  // K the discs |tau| <= mu_c p, v = xi e_s + (e_s.grad) u_t the slip velocity, solved by
+  // Douglas-Rachford splitting between the projection and the (linear, skew) slip operator,
+  // whose resolvent is one spectral pass. The splitting variable z (= tau + gamma v at the
+  // solution) is kept between calls of one solve (warm start); (tx, ty) receives P_K(z).
+  [[nodiscard]] double default_stick_step() const;
+  TangentialResult solve_tangential(const RealField& p, RealField& tx, RealField& ty, double tol, int max_it);
   void friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w);
   double residual(const ContactFields& f, double delta);
 
@@ -156,6 +181,9 @@ class ContactSolver {
   // keep anything in its work arrays between calls, so these share them.
   RealField& r1_ = cg_t_;
   RealField& r2_ = cg_r_;
+  RealField zx_, zy_, bx_, by_;  // splitting variable and pressure-induced slip of solve_tangential
+  bool have_z_ = false;
+  double gamma_ = 0.0;         // its step
   std::vector<double> czz_n_;  // C_zz / (nx ny) per half-spectrum mode, contiguous
   // Anderson history of the friction fixed point (ring buffers, single precision: only
   // the mixing uses them; convergence is always judged on the unaccelerated map).
