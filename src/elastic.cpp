@@ -1,5 +1,6 @@
 #include "gfmd/elastic.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <sstream>
@@ -189,50 +190,64 @@ void ElasticBody::displacement(const cplx* tx, const cplx* ty, const cplx* tz, c
   }
 }
 
-void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, double ex, double ey,
-                                cplx* dux, cplx* duy, double scale, double scale_z) const {
-  const int nxh = grid_.nxh();
+namespace {
+// f(iky, k, m, d) for every mode of the half spectrum, rows in parallel: k its index, m its
+// compliance, d = e.q the wavenumber of the derivative along (ex, ey) (Nyquist modes: 0).
+template <class F>
+void for_each_slope_mode(const Grid& g, const std::vector<ComplianceMode>& modes, double ex, double ey,
+                         F&& f) {
+  const int nxh = g.nxh();
 #pragma omp parallel for schedule(static)
-  for (int iky = 0; iky < grid_.ny; ++iky) {
-    const double dy = ey * grid_.qy_deriv(iky);
+  for (int iky = 0; iky < g.ny; ++iky) {
+    const double dy = ey * g.qy_deriv(iky);
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
-      const ComplianceMode& m = modes_[k];
-      const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
-                 z = tz ? scale_z * tz[k] : cplx(0.0);
-      const double d = ex * grid_.qx_deriv(ikx) + dy;
-      const auto u = inplane(m, x, y, z);
-      dux[k] = times_i(d, u[0]);
-      duy[k] = times_i(d, u[1]);
+      f(iky, k, modes[k], ex * g.qx_deriv(ikx) + dy);
     }
   }
+}
+}  // namespace
+
+void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, double ex, double ey,
+                                cplx* dux, cplx* duy, double scale, double scale_z) const {
+  for_each_slope_mode(grid_, modes_, ex, ey, [&](int, std::size_t k, const ComplianceMode& m, double d) {
+    const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
+               z = tz ? scale_z * tz[k] : cplx(0.0);
+    const auto u = inplane(m, x, y, z);
+    dux[k] = times_i(d, u[0]);
+    duy[k] = times_i(d, u[1]);
+  });
+}
+
+double ElasticBody::slip_operator_norm(double ex, double ey) const {
+  // max over modes of |d| times the largest eigenvalue of C_tt (real symmetric 2x2).
+  std::vector<double> rows(static_cast<std::size_t>(grid_.ny), 0.0);
+  for_each_slope_mode(grid_, modes_, ex, ey, [&](int iky, std::size_t, const ComplianceMode& m, double d) {
+    const double tr = 0.5 * (m.cxx + m.cyy), df = 0.5 * (m.cxx - m.cyy);
+    double& r = rows[static_cast<std::size_t>(iky)];
+    r = std::max(r, std::abs(d) * (tr + std::sqrt(df * df + m.cxy * m.cxy)));
+  });
+  return *std::max_element(rows.begin(), rows.end());
 }
 
 void ElasticBody::slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale) const {
   // M = I - i g d C with C = [[cxx, cxy], [cxy, cyy]] real symmetric and g d real: M is
   // complex symmetric, det M = 1 - i g d (cxx + cyy) - (g d)^2 (cxx cyy - cxy^2), never 0.
-  const int nxh = grid_.nxh();
-#pragma omp parallel for schedule(static)
-  for (int iky = 0; iky < grid_.ny; ++iky) {
-    const double dy = ey * grid_.qy_deriv(iky);
-    for (int ikx = 0; ikx < nxh; ++ikx) {
-      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
-      const ComplianceMode& m = modes_[k];
-      const double gd = gamma * (ex * grid_.qx_deriv(ikx) + dy);
-      const cplx a = scale * x[k], b = scale * y[k];
-      if (gd == 0.0) {
-        x[k] = a;
-        y[k] = b;
-        continue;
-      }
-      const cplx det(1.0 - gd * gd * (m.cxx * m.cyy - m.cxy * m.cxy), -gd * (m.cxx + m.cyy));
-      const cplx inv = 1.0 / det;
-      // M^-1 = [[1 - i gd cyy, i gd cxy], [i gd cxy, 1 - i gd cxx]] / det
-      const cplx m11(1.0, -gd * m.cyy), m22(1.0, -gd * m.cxx), m12(0.0, gd * m.cxy);
-      x[k] = inv * (m11 * a + m12 * b);
-      y[k] = inv * (m12 * a + m22 * b);
+  for_each_slope_mode(grid_, modes_, ex, ey, [&](int, std::size_t k, const ComplianceMode& m, double d) {
+    const double gd = gamma * d;
+    const cplx a = scale * x[k], b = scale * y[k];
+    if (gd == 0.0) {
+      x[k] = a;
+      y[k] = b;
+      return;
     }
-  }
+    const cplx det(1.0 - gd * gd * (m.cxx * m.cyy - m.cxy * m.cxy), -gd * (m.cxx + m.cyy));
+    const cplx inv = 1.0 / det;
+    // M^-1 = [[1 - i gd cyy, i gd cxy], [i gd cxy, 1 - i gd cxx]] / det
+    const cplx m11(1.0, -gd * m.cyy), m22(1.0, -gd * m.cxx), m12(0.0, gd * m.cxy);
+    x[k] = inv * (m11 * a + m12 * b);
+    y[k] = inv * (m12 * a + m22 * b);
+  });
 }
 
 }  // namespace gfmd

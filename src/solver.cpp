@@ -7,7 +7,6 @@
 #include <numbers>
 #include <sstream>
 
-#include "gfmd/anderson.hpp"
 #include "gfmd/error.hpp"
 #include "gfmd/reduce.hpp"
 
@@ -21,7 +20,6 @@ using Clock = std::chrono::steady_clock;
 // within a friction step stops at 1e-3 of the friction change.
 constexpr double kStickStepFactor = 1.0;
 constexpr double kTangentialRelaxation = 1.6;
-constexpr int kTangentialAnderson = 0;
 constexpr double kTangentialTolFactor = 1e-3;
 
 void require_finite(double v, const char* what, int it) {
@@ -30,6 +28,34 @@ void require_finite(double v, const char* what, int it) {
     os << "solve diverged: " << what << " is not finite at iteration " << it;
     throw SolveError(os.str());
   }
+}
+// Solves the small (regularised) normal equations of the Anderson least-squares problem.
+std::vector<double> solve_small_spd(std::vector<double> M, std::vector<double> rhs) {
+  const std::size_t h = rhs.size();
+  double trace = 0;
+  for (std::size_t a = 0; a < h; ++a) trace += M[a * h + a];
+  for (std::size_t a = 0; a < h; ++a) M[a * h + a] += 1e-10 * trace + 1e-300;
+  for (std::size_t c = 0; c < h; ++c) {
+    std::size_t piv = c;
+    for (std::size_t r = c + 1; r < h; ++r)
+      if (std::abs(M[r * h + c]) > std::abs(M[piv * h + c])) piv = r;
+    if (piv != c) {
+      for (std::size_t k = 0; k < h; ++k) std::swap(M[c * h + k], M[piv * h + k]);
+      std::swap(rhs[c], rhs[piv]);
+    }
+    for (std::size_t r = c + 1; r < h; ++r) {
+      const double fct = M[r * h + c] / M[c * h + c];
+      for (std::size_t k = c; k < h; ++k) M[r * h + k] -= fct * M[c * h + k];
+      rhs[r] -= fct * rhs[c];
+    }
+  }
+  std::vector<double> x(h);
+  for (std::size_t c = h; c-- > 0;) {
+    double v = rhs[c];
+    for (std::size_t k = c + 1; k < h; ++k) v -= M[c * h + k] * x[k];
+    x[c] = v / M[c * h + c];
+  }
+  return x;
 }
 // A point joins the Anderson support of the friction iteration when it is not in it yet
 // and the iterate (fx, fy) or its image (x, y) is non-zero there.
@@ -72,6 +98,9 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   czz_n_.resize(body.modes().size());
   for (std::size_t k = 0; k < czz_n_.size(); ++k)
     czz_n_[k] = body.modes()[k].czz / static_cast<double>(grid_.size());
+  // Step of the stick-slip iteration (exact law with friction only).
+  if (fric_.coefficient > 0 && !fric_.regularized())
+    gamma_ = fric_.stick_step > 0 ? fric_.stick_step * body.params().contact_modulus : default_stick_step();
 }
 
 void ContactSolver::apply_compliance(const RealField& in, RealField& out, double scale) {
@@ -330,19 +359,9 @@ std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, Real
 }
 
 double ContactSolver::default_stick_step() const {
-  // gamma = c / rho(A), rho(A) = max over modes of |e_s.q| times the largest eigenvalue of
-  // C_tt(q): the scale on which the slip operator acts.
+  // gamma = c / rho(A): the scale on which the slip operator acts.
   const double th = fric_.direction_deg * std::numbers::pi / 180.0;
-  const double ex = std::cos(th), ey = std::sin(th);
-  const int nxh = grid_.nxh();
-  double rho = 0.0;
-  for (int iky = 0; iky < grid_.ny; ++iky)
-    for (int ikx = 0; ikx < nxh; ++ikx) {
-      const ComplianceMode& m = body_.mode(static_cast<std::size_t>(iky) * nxh + ikx);
-      const double d = std::abs(ex * grid_.qx_deriv(ikx) + ey * grid_.qy_deriv(iky));
-      const double tr = 0.5 * (m.cxx + m.cyy), df = 0.5 * (m.cxx - m.cyy);
-      rho = std::max(rho, d * (tr + std::sqrt(df * df + m.cxy * m.cxy)));
-    }
+  const double rho = body_.slip_operator_norm(std::cos(th), std::sin(th));
   return rho > 0 ? kStickStepFactor / rho : body_.params().contact_modulus;
 }
 
@@ -401,24 +420,26 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
       y = f * zy;
     }
   };
-  // First pass: tau = P_K(z), y <- 2 tau - z + gamma b' (the right-hand side, in place).
+  // tau = P_K(z); with `rhs` also y <- 2 tau - z + gamma b' (the resolvent's argument).
+  const auto project_pass = [&](bool rhs) {
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    double x, y;
-    project(i, zx_[i], zy_[i], x, y);
-    tx[i] = x;
-    ty[i] = y;
-    yx[i] = 2.0 * x - zx_[i] + bx_[i];
-    yy[i] = 2.0 * y - zy_[i] + by_[i];
-  }
+    for (std::size_t i = 0; i < n; ++i) {
+      double x, y;
+      project(i, zx_[i], zy_[i], x, y);
+      tx[i] = x;
+      ty[i] = y;
+      if (rhs) {
+        yx[i] = 2.0 * x - zx_[i] + bx_[i];
+        yy[i] = 2.0 * y - zy_[i] + by_[i];
+      }
+    }
+  };
   TangentialResult res{0, 1.0, false};
   const double cx = gamma * xi * ex, cy = gamma * xi * ey;
-  // The Douglas-Rachford map T(z) = z + y - tau is firmly non-expansive; Anderson mixing
-  // over z speeds it up, restarted when a step raises the change (a safeguard).
-  AndersonMixer mixer(kTangentialAnderson, kTangentialRelaxation);
-  double last = std::numeric_limits<double>::infinity();
+  const double beta = kTangentialRelaxation;
   for (int it = 0; it < max_it; ++it) {
     ++res.iterations;
+    project_pass(true);
     fft_.forward(yx.data(), s2_.data());
     fft_.forward(yy.data(), s3_.data());
     body_.slip_resolvent(s2_.data(), s3_.data(), ex, ey, gamma, scale);
@@ -426,45 +447,23 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
     s3_[0] += cy;
     fft_.backward_unscaled_destroying(s2_.data(), yx.data());
     fft_.backward_unscaled_destroying(s3_.data(), yy.data());
-    // The change |y - tau| and the size |tau| (L1); y becomes the image T(z) = z + y - tau.
+    // The change |y - tau| and the size |tau| (L1); the relaxed step z <- z + beta (y - tau).
     const auto sums = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
       const double dx = yx[i] - tx[i], dy = yy[i] - ty[i];
       acc[0] += std::abs(dx) + std::abs(dy);
       acc[1] += std::abs(tx[i]) + std::abs(ty[i]);
-      yx[i] = zx_[i] + dx;
-      yy[i] = zy_[i] + dy;
+      zx_[i] += beta * dx;
+      zy_[i] += beta * dy;
     });
     res.error = sums[1] > 0 ? sums[0] / sums[1] : (sums[0] > 0 ? 1.0 : 0.0);
     require_finite(res.error, "the stick-slip traction", total_it_);
     if (res.error < tol) {
-      zx_.swap(yx);
-      zy_.swap(yy);
       res.converged = true;
       break;
     }
-    if (res.error > 2.0 * last) mixer.reset();
-    last = res.error;
-    mixer.step({zx_.data(), zy_.data()}, {yx.data(), yy.data()}, n);
-    // The next projection and right-hand side.
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
-      double x, y;
-      project(i, zx_[i], zy_[i], x, y);
-      tx[i] = x;
-      ty[i] = y;
-      yx[i] = 2.0 * x - zx_[i] + bx_[i];
-      yy[i] = 2.0 * y - zy_[i] + by_[i];
-    }
     if (res.iterations % 64 == 0) poll(nullptr);
   }
-  // tau = P_K(z) for the final z.
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    double x, y;
-    project(i, zx_[i], zy_[i], x, y);
-    tx[i] = x;
-    ty[i] = y;
-  }
+  project_pass(false);  // tau = P_K(z) for the final z
   return res;
 }
 
@@ -585,10 +584,6 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     bool stick_mode = !fric_.regularized() && fric_.creepage != 1.0;
     bool tangential_ok = !stick_mode;  // the last stick-slip solve met the final tolerance
     have_z_ = false;
-    if (!fric_.regularized()) {
-      gamma_ =
-          fric_.stick_step > 0 ? fric_.stick_step * body_.params().contact_modulus : default_stick_step();
-    }
     double omega = sp_.mixing;
     // Stall test: the best change must improve by 10 % within 20 steps. Slow but steady
     // progress (stiff slip feedback near stick) is not a stall; a limit cycle is.

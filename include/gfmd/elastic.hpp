@@ -85,6 +85,8 @@ class ElasticBody {
   // skew), so I - gamma A is invertible for every gamma. In place, per mode:
   // (x, y) <- (I - gamma A)^-1 scale (x, y); the q = 0 mode is scaled only.
   void slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale) const;
+  // Spectral radius of A along (ex, ey): the largest |e.q| times eigenvalue of C_tt(q).
+  [[nodiscard]] double slip_operator_norm(double ex, double ey) const;
 
  private:
   Grid grid_;
