@@ -11,7 +11,6 @@
 namespace gfmd {
 
 namespace {
-bool v_slow(double vx, double vy, double eps) { return eps > 0 && std::hypot(vx, vy) < eps; }
 // out = (e_s . grad) in, spectrally.
 void directional_derivative(const FFT& fft, double ex, double ey, const RealField& in, RealField& out) {
   const Grid& g = fft.grid();
@@ -64,36 +63,36 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     // v = 0; regularised: mu_c p f(|v|) v/|v|): [0] dissipation sum tau.v, [1] sum |tau|
     // (= mu_c F_z when every point slips), [2] sum tau.e_s (the tangential force along the
     // sliding direction), [3] cells in contact slipping slower than eps (regularised law),
-    // [4] cells that stick, [5] cells in contact, [6] sum tau_x, [7] sum tau_y.
+    // [4] cells that stick, [5] sum tau_x, [6] sum tau_y.
     const double ex = std::cos(th), ey = std::sin(th), eps = fric.regularization;
     const bool has_stick = f.stick.size() == g.size();
-    const auto s = grid_sums<8>(g, [&](std::size_t i, std::array<double, 8>& acc) {
+    const auto s = grid_sums<7>(g, [&](std::size_t i, std::array<double, 7>& acc) {
       const double p = f.pressure[i], tx = f.tx[i], ty = f.ty[i];
       acc[0] += tx * vx[i] + ty * vy[i];
       acc[1] += std::hypot(tx, ty);
       acc[2] += tx * ex + ty * ey;
-      acc[3] += (p > 0 && v_slow(vx[i], vy[i], eps)) ? 1.0 : 0.0;
+      acc[3] += (p > 0 && std::hypot(vx[i], vy[i]) < eps) ? 1.0 : 0.0;
       acc[4] += (has_stick && f.stick[i]) ? 1.0 : 0.0;
-      acc[5] += p > 0 ? 1.0 : 0.0;
-      acc[6] += tx;
-      acc[7] += ty;
+      acc[5] += tx;
+      acc[6] += ty;
     });
     o.downhill_force = -da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * dh[i]; });
     o.friction_force = da * s[0];
     o.friction_force_downhill = da * s[1] + o.downhill_force;
     o.friction_force_drive = fric.creepage * da * s[2] + o.downhill_force;
     o.tangential_force = da * s[2];
-    o.tangential_force_x = da * s[6];
-    o.tangential_force_y = da * s[7];
+    o.tangential_force_x = da * s[5];
+    o.tangential_force_y = da * s[6];
     o.traction_coefficient = o.tangential_force / o.normal_force;
     o.near_stick_fraction = s[3] / n;
-    o.stick_fraction = s[5] > 0 ? s[4] / s[5] : 0.0;
+    const double contact_cells = o.relative_contact_area * n;
+    o.stick_fraction = contact_cells > 0 ? s[4] / contact_cells : 0.0;
     o.friction_coefficient = o.friction_force / o.normal_force;
     o.friction_coefficient_downhill = o.friction_force_downhill / o.normal_force;
     o.energy_balance_error = std::abs(o.friction_force - o.friction_force_downhill) / o.friction_force;
     o.energy_balance_error_exact = std::abs(o.friction_force - o.friction_force_drive) / o.friction_force;
-    o.mean_tangential_traction_x = grid_sum(g, [&](std::size_t i) { return f.tx[i]; }) / n;
-    o.mean_tangential_traction_y = grid_sum(g, [&](std::size_t i) { return f.ty[i]; }) / n;
+    o.mean_tangential_traction_x = s[5] / n;
+    o.mean_tangential_traction_y = s[6] / n;
     double vmax = 0, vmin = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < g.size(); ++i)
       if (f.pressure[i] > 0) {

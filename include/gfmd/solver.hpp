@@ -53,10 +53,6 @@ struct FrictionParams {
   // it from the body's in-plane compliance.
   double stick_step = 0.0;
   [[nodiscard]] bool regularized() const { return regularization > 0; }
-  // |tau| / (mu_c p) at slip speed v (in units of v0).
-  [[nodiscard]] double traction_factor(double v) const {
-    return (regularization > 0 && v < regularization) ? v / regularization : 1.0;
-  }
 };
 
 enum class LoadMode { Force, Pressure, Approach };
