@@ -63,6 +63,14 @@ bool joins_support(unsigned char in_supp, double x, double y, double fx, double 
   return !in_supp && (x != 0.0 || y != 0.0 || fx != 0.0 || fy != 0.0);
 }
 
+// Sums of a friction step at a point with new traction (x, y) and previous (fx, fy): the
+// change |new - old|_1, the size |new|_1, and whether the point joins the Anderson support.
+void add_change(std::array<double, 3>& acc, unsigned char in_supp, double x, double y, double fx, double fy) {
+  acc[0] += std::abs(x - fx) + std::abs(y - fy);
+  acc[1] += std::abs(x) + std::abs(y);
+  if (joins_support(in_supp, x, y, fx, fy)) acc[2] += 1.0;
+}
+
 }  // namespace
 
 ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, const InteractionParams& inter,
@@ -346,10 +354,7 @@ std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, Real
       }
       tx[i] = x;
       ty[i] = y;
-      const double fx = f.tx[i], fy = f.ty[i];
-      acc[0] += std::abs(x - fx) + std::abs(y - fy);
-      acc[1] += std::abs(x) + std::abs(y);
-      if (joins_support(in_supp[i], x, y, fx, fy)) acc[2] += 1.0;
+      add_change(acc, in_supp[i], x, y, f.tx[i], f.ty[i]);
     } else if (in_supp[i]) {
       tx[i] = 0.0;
       ty[i] = 0.0;
@@ -618,10 +623,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         info.tangential_iterations += tr.iterations;
         tangential_ok = tr.converged && ttol <= 0.1 * tol;
         dn = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
-          const double x = tx[i], y = ty[i], fx = f.tx[i], fy = f.ty[i];
-          acc[0] += std::abs(x - fx) + std::abs(y - fy);
-          acc[1] += std::abs(x) + std::abs(y);
-          if (joins_support(in_supp[i], x, y, fx, fy)) acc[2] += 1.0;
+          add_change(acc, in_supp[i], tx[i], ty[i], f.tx[i], f.ty[i]);
         });
       }
       err = dn[1] > 0 ? dn[0] / dn[1] : 0.0;
