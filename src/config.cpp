@@ -1,5 +1,7 @@
 #include "gfmd/config.hpp"
 
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -15,6 +17,7 @@
 
 #include "gfmd/error.hpp"
 #include "gfmd/flow.hpp"
+#include "gfmd/io.hpp"
 
 namespace gfmd {
 
@@ -77,14 +80,8 @@ class Section {
     if (!has(key)) return nullptr;
     return &tbl_->as_table().at(key);
   }
-  double number(const std::string& key, double def) {
-    const toml::value* v = raw(key);
-    if (!v) return def;
-    if (v->is_floating()) return v->as_floating();
-    if (v->is_integer()) return static_cast<double>(v->as_integer());
-    error(key, "must be a number, got " + type_name(*v) + where(*v));
-    return def;
-  }
+  // A finite number (an integer is converted); nan and inf are refused.
+  double number(const std::string& key, double def) { return number_impl(key, def, false); }
   // A number that may also be "inf"/"infinity" (string or TOML inf).
   double number_or_inf(const std::string& key, double def) {
     const toml::value* v = raw(key);
@@ -96,17 +93,28 @@ class Section {
       error(key, "must be a number or \"inf\", got \"" + std::string(v->as_string()) + "\"" + where(*v));
       return def;
     }
-    return number(key, def);
+    return number_impl(key, def, true);
   }
-  long long integer(const std::string& key, long long def) {
+  // An integer in [lo, hi]: out of range is an error (never a silent truncation).
+  long long integer(const std::string& key, long long def, long long lo, long long hi) {
     const toml::value* v = raw(key);
     if (!v) return def;
-    if (v->is_integer()) return v->as_integer();
-    if (v->is_floating() && std::floor(v->as_floating()) == v->as_floating() &&
-        std::abs(v->as_floating()) < 1e15)
-      return static_cast<long long>(v->as_floating());
-    error(key, "must be an integer, got " + type_name(*v) + where(*v));
-    return def;
+    long long x = def;
+    if (v->is_integer()) {
+      x = v->as_integer();
+    } else if (v->is_floating() && std::floor(v->as_floating()) == v->as_floating() &&
+               std::abs(v->as_floating()) < 1e15) {
+      x = static_cast<long long>(v->as_floating());
+    } else {
+      error(key, "must be an integer, got " + type_name(*v) + where(*v));
+      return def;
+    }
+    if (x < lo || x > hi) {
+      error(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+                     std::to_string(x) + where(*v));
+      return def;
+    }
+    return x;
   }
   bool boolean(const std::string& key, bool def) {
     const toml::value* v = raw(key);
@@ -149,6 +157,24 @@ class Section {
   [[nodiscard]] const std::string& name() const { return name_; }
 
  private:
+  double number_impl(const std::string& key, double def, bool allow_inf) {
+    const toml::value* v = raw(key);
+    if (!v) return def;
+    double x = def;
+    if (v->is_floating()) {
+      x = v->as_floating();
+    } else if (v->is_integer()) {
+      x = static_cast<double>(v->as_integer());
+    } else {
+      error(key, "must be a number, got " + type_name(*v) + where(*v));
+      return def;
+    }
+    if (std::isnan(x) || (std::isinf(x) && !(allow_inf && x > 0))) {
+      error(key, "must be a finite number, got " + std::string(std::isnan(x) ? "nan" : "inf") + where(*v));
+      return def;
+    }
+    return x;
+  }
   static std::string type_name(const toml::value& v) {
     std::ostringstream os;
     os << v.type();
@@ -164,6 +190,8 @@ const std::vector<std::string> kSections = {"grid",     "elastic",     "indenter
                                             "friction", "interaction", "solver",   "output",
                                             "sweep",    "stress",      "flow"};
 
+void require_shallow_nesting(const std::string& s, const std::string& name);
+
 void apply_override(toml::value& root, const std::string& spec) {
   const auto eq = spec.find('=');
   if (eq == std::string::npos || eq == 0) throw InputError("--set " + spec, "expected section.key=value");
@@ -173,6 +201,7 @@ void apply_override(toml::value& root, const std::string& spec) {
     throw InputError("--set " + spec, "expected section.key=value");
   const std::string sec = path.substr(0, dot), key = path.substr(dot + 1);
   toml::value val;
+  require_shallow_nesting("v = " + text, "--set " + path);
   try {
     std::istringstream is("v = " + text);
     val = toml::parse(is, "--set").as_table().at("v");
@@ -206,20 +235,31 @@ Config build(const toml::value& root, const std::string& name, const std::string
         errors.push_back(k + ": unknown section" + did_you_mean(k, kSections) + where(root.as_table().at(k)));
   }
 
+  // A file indenter may leave the grid to the height map: its dimensions and its size
+  // header (text) or attributes (NetCDF).
+  const bool file_indenter = [&root] {
+    if (!root.is_table() || !root.as_table().count("indenter")) return false;
+    const toml::value& t = root.as_table().at("indenter");
+    return t.is_table() && t.as_table().count("type") && t.as_table().at("type").is_string() &&
+           t.as_table().at("type").as_string() == "file";
+  }();
   Section grid(root, "grid", errors);
-  if (!grid.present()) errors.push_back("grid: missing section [grid] (nx, lx at least)");
-  const long long nx = grid.integer("nx", 0);
-  const long long ny = grid.integer("ny", nx);
+  if (!grid.present() && !file_indenter) errors.push_back("grid: missing section [grid] (nx, lx at least)");
+  if (grid.present() && !grid.has("nx") && !file_indenter)
+    grid.error("nx", "missing: the number of grid points along x");
+  const bool grid_nx = grid.has("nx"), grid_ny = grid.has("ny"), grid_lx = grid.has("lx"),
+             grid_ly = grid.has("ly");
+  const long long nx = grid.integer("nx", 0, 2, 1 << 16);
+  const long long ny = grid.integer("ny", nx, 2, 1 << 16);
   c.grid.lx = grid.number("lx", 0.0);
   c.grid.ly = grid.number("ly", c.grid.lx);
-  if (nx < 2 || nx > (1 << 16))
-    grid.error("nx", "must be an integer in [2, 65536], got " + std::to_string(nx));
-  if (ny < 2 || ny > (1 << 16))
-    grid.error("ny", "must be an integer in [2, 65536], got " + std::to_string(ny));
-  c.grid.nx = static_cast<int>(std::clamp<long long>(nx, 0, 1 << 16));
-  c.grid.ny = static_cast<int>(std::clamp<long long>(ny, 0, 1 << 16));
-  if (!(c.grid.lx > 0) || !std::isfinite(c.grid.lx)) grid.error("lx", "must be a positive length");
-  if (!(c.grid.ly > 0) || !std::isfinite(c.grid.ly)) grid.error("ly", "must be a positive length");
+  c.grid.nx = static_cast<int>(nx);
+  c.grid.ny = static_cast<int>(ny);
+  // Lengths are bounded so that areas and volumes stay far from under- and overflow.
+  if ((grid_lx || !file_indenter) && !(c.grid.lx >= kMinLength && c.grid.lx <= kMaxLength))
+    grid.error("lx", "must be a positive length in [1e-30, 1e30]" + grid.at("lx"));
+  if ((grid_ly || grid_lx || !file_indenter) && !(c.grid.ly >= kMinLength && c.grid.ly <= kMaxLength))
+    grid.error("ly", "must be a positive length in [1e-30, 1e30]" + grid.at("ly"));
   grid.finish();
 
   Section el(root, "elastic", errors);
@@ -272,9 +312,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
     s.rms_height = ind.number("rms_height", 0.0);
     s.rms_gradient = ind.number("rms_gradient", 0.0);
     s.lambda_rolloff = ind.number("lambda_rolloff", 0.0);
-    const long long seed = ind.integer("seed", 0);
-    if (seed < 0) ind.error("seed", "must be a non-negative integer");
-    s.seed = static_cast<std::uint64_t>(std::max<long long>(seed, 0));
+    s.seed = static_cast<std::uint64_t>(ind.integer("seed", 0, 0, std::numeric_limits<long long>::max()));
     if ((s.rms_height > 0) == (s.rms_gradient > 0))
       ind.error("rms_height", "give exactly one of rms_height and rms_gradient (positive)");
   } else if (in.type == "file") {
@@ -283,6 +321,27 @@ Config build(const toml::value& root, const std::string& name, const std::string
       ind.error("path", "a file indenter needs path = \"heights.txt\" (text matrix or NetCDF)");
     } else if (!std::filesystem::path(in.path).is_absolute()) {
       in.path = (std::filesystem::path(base_dir) / in.path).lexically_normal().string();
+    }
+    if (!in.path.empty() && (!grid_nx || !grid_ny || !grid_lx || !grid_ly)) {
+      // The grid keys not given come from the map (read once here; the solve reads it again).
+      try {
+        const Topography t = read_topography(in.path, grid_lx ? c.grid.lx : 0.0,
+                                             grid_ly ? c.grid.ly : (grid_lx ? c.grid.lx : 0.0));
+        if (!grid_nx) c.grid.nx = t.grid.nx;
+        if (!grid_ny) c.grid.ny = grid_nx ? c.grid.nx : t.grid.ny;  // ny defaults to a given nx
+        if (c.grid.nx < 2 || c.grid.ny < 2 || c.grid.nx > (1 << 16) || c.grid.ny > (1 << 16))
+          ind.error("path", "the height map must have 2 to 65536 points along x and y");
+        if (!grid_lx) c.grid.lx = t.grid.lx;
+        if (!grid_ly) c.grid.ly = grid_lx ? c.grid.lx : t.grid.ly;
+        if (!(c.grid.lx >= kMinLength && c.grid.lx <= kMaxLength && c.grid.ly >= kMinLength &&
+              c.grid.ly <= kMaxLength))
+          ind.error("path", "the size of the height map must lie in [1e-30, 1e30]");
+      } catch (const InputError& e) {
+        const std::string why = e.what();
+        ind.error("path",
+                  why + (why.find("no physical size") != std::string::npos ? " (or give grid.lx and grid.ly)"
+                                                                           : ""));
+      }
     }
   }
   ind.finish(extra);
@@ -302,6 +361,14 @@ Config build(const toml::value& root, const std::string& name, const std::string
     c.load = {LoadMode::Approach, load.number("approach", 0.0)};
     if (!(c.load.value >= 0)) load.error("approach", "must be zero or positive" + load.at("approach"));
   }
+  if (hf && c.load.value > 0 && c.elastic.contact_modulus > 0 && c.grid.lx > 0 && c.grid.ly > 0 &&
+      c.load.value / (c.elastic.contact_modulus * c.grid.lx * c.grid.ly) > kMaxPressureOverModulus)
+    load.error("force",
+               "the mean pressure force / (lx ly) exceeds 1000 E*: not a contact problem" + load.at("force"));
+  if (hp && c.load.value / c.elastic.contact_modulus > kMaxPressureOverModulus)
+    load.error("pressure", "exceeds 1000 E*: not a contact problem" + load.at("pressure"));
+  if (ha && c.load.value > kMaxLength)
+    load.error("approach", "must be at most 1e30 (a length)" + load.at("approach"));
   load.finish();
 
   Section fr(root, "friction", errors);
@@ -337,23 +404,18 @@ Config build(const toml::value& root, const std::string& name, const std::string
     ia.error("model", "unknown model \"" + model + "\"; one of harmonic, hardwall" + ia.at("model"));
   }
   c.interaction.stiffness = ia.number("stiffness", 0.0);
-  if (c.interaction.stiffness < 0) ia.error("stiffness", "must be positive (0 = default 2 E*/dx)");
+  if (!(c.interaction.stiffness >= 0)) ia.error("stiffness", "must be positive (0 = default 2 E*/dx)");
   ia.finish();
 
   Section so(root, "solver", errors);
   c.solver.tolerance = so.number("tolerance", 1e-8);
-  c.solver.max_iterations = static_cast<int>(so.integer("max_iterations", 20000));
-  c.solver.max_outer = static_cast<int>(so.integer("max_outer", 2000));
-  {
-    const auto mt = so.integer("max_tangential", 20000);
-    if (mt < 1 || mt > 100000000) so.error("max_tangential", "must be in [1, 1e8]" + so.at("max_tangential"));
-    c.solver.max_tangential = static_cast<int>(std::clamp<decltype(mt)>(mt, 1, 100000000));
-  }
-  c.solver.anderson = static_cast<int>(so.integer("anderson", 10));
+  c.solver.max_iterations = static_cast<int>(so.integer("max_iterations", 20000, 1, 1000000000));
+  c.solver.max_outer = static_cast<int>(so.integer("max_outer", 2000, 1, 1000000000));
+  c.solver.max_tangential = static_cast<int>(so.integer("max_tangential", 20000, 1, 100000000));
+  c.solver.anderson = static_cast<int>(so.integer("anderson", 10, 0, 50));
   c.solver.mixing = so.number("mixing", 0.5);
   if (!(c.solver.mixing > 0 && c.solver.mixing <= 1)) so.error("mixing", "must be in (0, 1]");
-  if (c.solver.anderson < 0 || c.solver.anderson > 50) so.error("anderson", "must be in [0, 50]");
-  c.threads = static_cast<int>(so.integer("threads", 0));
+  c.threads = static_cast<int>(so.integer("threads", 0, 0, kMaxThreads));
   {
     const std::string planner = so.string("fft_planner", "estimate");
     if (planner == "estimate") {
@@ -365,9 +427,6 @@ Config build(const toml::value& root, const std::string& name, const std::string
     }
   }
   if (!(c.solver.tolerance > 0 && c.solver.tolerance < 1)) so.error("tolerance", "must be in (0, 1)");
-  if (c.solver.max_iterations < 1) so.error("max_iterations", "must be at least 1");
-  if (c.solver.max_outer < 1) so.error("max_outer", "must be at least 1");
-  if (c.threads < 0) so.error("threads", "must be >= 0 (0 = all cores)");
   so.finish();
 
   Section sw(root, "sweep", errors);
@@ -377,19 +436,22 @@ Config build(const toml::value& root, const std::string& name, const std::string
     if (const toml::value* v = sw.raw("values")) {
       if (!v->is_array()) {
         sw.error("values", "must be an array of numbers" + where(*v));
+      } else if (v->as_array().size() > static_cast<std::size_t>(kMaxSweepPoints)) {
+        sw.error("values", "at most " + std::to_string(kMaxSweepPoints) + " values, got " +
+                               std::to_string(v->as_array().size()) + where(*v));
       } else {
         for (const auto& e : v->as_array()) {
-          if (e.is_floating())
+          if (e.is_floating() && std::isfinite(e.as_floating()))
             c.sweep.values.push_back(e.as_floating());
           else if (e.is_integer())
             c.sweep.values.push_back(static_cast<double>(e.as_integer()));
           else
-            sw.error("values", "must be an array of numbers" + where(e));
+            sw.error("values", "must be an array of finite numbers" + where(e));
         }
       }
     }
     const double from = sw.number("from", 0.0), to = sw.number("to", 0.0);
-    const long long points = sw.integer("points", 0);
+    const long long points = sw.integer("points", 0, 0, kMaxSweepPoints);
     const std::string spacing = sw.string("spacing", "log");
     if (points > 0) {
       if (!c.sweep.values.empty()) sw.error("points", "give either values or from/to/points, not both");
@@ -416,12 +478,15 @@ Config build(const toml::value& root, const std::string& name, const std::string
   if (const toml::value* v = st.raw("depths")) {
     if (!v->is_array()) {
       st.error("depths", "must be an array of depths below the surface" + where(*v));
+    } else if (v->as_array().size() > kMaxStressDepths) {
+      st.error("depths", "at most " + std::to_string(kMaxStressDepths) + " depths, got " +
+                             std::to_string(v->as_array().size()) + where(*v));
     } else {
       for (const auto& e : v->as_array()) {
         const double d = e.is_floating()  ? e.as_floating()
                          : e.is_integer() ? static_cast<double>(e.as_integer())
                                           : -1.0;
-        if (!(d >= 0) || (!c.elastic.half_space() && d > c.elastic.thickness))
+        if (!(d >= 0) || !std::isfinite(d) || (!c.elastic.half_space() && d > c.elastic.thickness))
           st.error("depths", "each depth must be a number in [0, thickness]" + where(e));
         else
           c.stress.depths.push_back(d);
@@ -469,12 +534,11 @@ Config build(const toml::value& root, const std::string& name, const std::string
       }
     }
     const double mem = estimated_memory_bytes(c.grid);
-    const double phys =
-        static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
-    if (phys > 0 && mem > 0.8 * phys) {
+    const MemoryLimit lim = memory_limit();
+    if (lim.bytes > 0 && mem > lim.bytes) {
       std::ostringstream os;
       os << "a " << c.grid.nx << " x " << c.grid.ny << " grid needs about " << mem / 1e9
-         << " GB, more than 80% of this machine's " << phys / 1e9 << " GB";
+         << " GB, more than the " << lim.bytes / 1e9 << " GB allowed here (" << lim.source << ")";
       errors.push_back("grid.nx: " + os.str());
     }
   }
@@ -498,6 +562,47 @@ std::vector<double> parse_flow_directions(const std::string& text) {
   const double a = std::strtod(text.c_str(), &end);
   if (end == text.c_str() || *end != '\0' || !std::isfinite(a)) return {};
   return {a};
+}
+
+namespace {
+// A number from a one-line file such as cgroup's memory.max ("max": no limit, 0).
+double read_limit_file(const char* path) {
+  std::ifstream f(path);
+  std::string w;
+  if (!(f >> w) || w == "max") return 0;
+  char* end = nullptr;
+  const double v = std::strtod(w.c_str(), &end);
+  return (end != w.c_str() && v > 0 && v < 1e18) ? v : 0;
+}
+}  // namespace
+
+MemoryLimit memory_limit() {
+  MemoryLimit best;
+  const auto consider = [&best](double bytes, const std::string& what) {
+    if (bytes > 0 && (best.bytes <= 0 || bytes < best.bytes)) best = {bytes, what};
+  };
+  const double phys =
+      static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+  consider(0.8 * phys, "80% of the physical memory");
+  {
+    std::ifstream mi("/proc/meminfo");
+    std::string key, unit;
+    double kb = 0;
+    while (mi >> key >> kb) {
+      std::getline(mi, unit);
+      if (key == "MemAvailable:") consider(kb * 1024.0, "the memory available now (MemAvailable)");
+    }
+  }
+  consider(0.8 * read_limit_file("/sys/fs/cgroup/memory.max"), "80% of the cgroup limit memory.max");
+  consider(0.8 * read_limit_file("/sys/fs/cgroup/memory/memory.limit_in_bytes"),
+           "80% of the cgroup limit memory.limit_in_bytes");
+  for (const auto& [res, name] :
+       {std::pair{RLIMIT_AS, "RLIMIT_AS (ulimit -v)"}, std::pair{RLIMIT_DATA, "RLIMIT_DATA (ulimit -d)"}}) {
+    rlimit rl{};
+    if (getrlimit(res, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY)
+      consider(0.8 * static_cast<double>(rl.rlim_cur), std::string("80% of ") + name);
+  }
+  return best;
 }
 
 double estimated_memory_bytes(const Grid& grid) {
@@ -539,11 +644,69 @@ void require_utf8(const std::string& s, const std::string& name) {
     i += len;
   }
 }
+
+// toml11 parses arrays, inline tables and dotted keys recursively: a file nested thousands
+// deep overflows the stack. This scan (strings and comments skipped) refuses such files first.
+void require_shallow_nesting(const std::string& s, const std::string& name) {
+  int depth = 0, dots = 0, line = 1;
+  bool in_key = true;  // at a position where a key (and so dotted-key nesting) may be written
+  const auto fail = [&](const std::string& what) {
+    throw InputError(name + ":" + std::to_string(line),
+                     what + " nested deeper than " + std::to_string(kMaxTomlNesting) + " levels");
+  };
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const char c = s[i];
+    if (c == '\n') {
+      ++line;
+      if (depth == 0) {
+        in_key = true;
+        dots = 0;
+      }
+      continue;
+    }
+    if (c == '#') {
+      while (i + 1 < s.size() && s[i + 1] != '\n') ++i;
+      continue;
+    }
+    if (c == '"' || c == '\'') {
+      const bool multi = s.compare(i, 3, std::string(3, c)) == 0;
+      i += multi ? 3 : 1;
+      while (i < s.size()) {
+        if (s[i] == '\n') ++line;
+        if (c == '"' && s[i] == '\\') {
+          i += 2;
+          continue;
+        }
+        if (multi ? s.compare(i, 3, std::string(3, c)) == 0 : s[i] == c) break;
+        ++i;
+      }
+      if (multi) i += 2;
+      continue;
+    }
+    if (c == '[' || c == '{') {
+      if (++depth > kMaxTomlNesting) fail("arrays or inline tables");
+      if (c == '{') {
+        in_key = true;
+        dots = 0;
+      }
+    } else if (c == ']' || c == '}') {
+      depth = std::max(depth - 1, 0);
+    } else if (c == '=') {
+      in_key = false;
+    } else if (c == ',') {
+      in_key = true;
+      dots = 0;
+    } else if (c == '.' && in_key) {
+      if (++dots > kMaxTomlNesting) fail("dotted keys");
+    }
+  }
+}
 }  // namespace
 
 Config parse_config(const std::string& text, const std::string& name,
                     const std::vector<std::string>& overrides, const std::string& base_dir) {
   require_utf8(text, name);
+  require_shallow_nesting(text, name);
   toml::value root;
   try {
     std::istringstream is(text);
@@ -558,12 +721,9 @@ Config parse_config(const std::string& text, const std::string& name,
 }
 
 Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw InputError(path, "cannot open the case file");
-  std::stringstream ss;
-  ss << f.rdbuf();
+  const std::string text = read_regular_file(path, kMaxCaseFileBytes, "case file");
   const std::string base = std::filesystem::path(path).parent_path().string();
-  return parse_config(ss.str(), path, overrides, base.empty() ? "." : base);
+  return parse_config(text, path, overrides, base.empty() ? "." : base);
 }
 
 nlohmann::json Config::to_json() const {

@@ -103,6 +103,54 @@ void write_bytes_atomic(const std::string& path, const void* data, std::size_t s
   target.commit();
 }
 
+}  // namespace
+
+void require_regular_file(const std::string& path, const std::string& what) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw InputError(path, "cannot open the " + what + ": " + errno_message(errno));
+  if (S_ISDIR(st.st_mode)) throw InputError(path, "is a directory, not a " + what);
+  if (!S_ISREG(st.st_mode))
+    throw InputError(path, "not a regular file (a device, FIFO or socket); the " + what + " must be a file");
+}
+
+std::string read_regular_file(const std::string& path, std::size_t max_bytes, const std::string& what) {
+  // O_NONBLOCK: opening a FIFO must not wait for a writer; fstat then refuses it.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw InputError(path, "cannot open the " + what + ": " + errno_message(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    const bool dir = S_ISDIR(st.st_mode);
+    ::close(fd);
+    throw InputError(path,
+                     dir ? "is a directory, not a " + what
+                         : "not a regular file (a device, FIFO or socket); the " + what + " must be a file");
+  }
+  if (static_cast<std::uint64_t>(st.st_size) > max_bytes) {
+    ::close(fd);
+    throw InputError(path, "the " + what + " is " + std::to_string(st.st_size) + " bytes, more than the " +
+                               std::to_string(max_bytes) + " bytes allowed");
+  }
+  std::string out(static_cast<std::size_t>(st.st_size), '\0');
+  std::size_t got = 0;
+  while (got < out.size()) {
+    const ssize_t n = ::read(fd, out.data() + got, out.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const int err = errno;
+      ::close(fd);
+      throw InputError(path, "cannot read the " + what + ": " + errno_message(err));
+    }
+    if (n == 0) break;  // shrank while reading
+    got += static_cast<std::size_t>(n);
+  }
+  ::close(fd);
+  out.resize(got);
+  return out;
+}
+
+namespace {
+
 // ---------------------------------------------------------------------------------------------
 // NetCDF
 

@@ -226,6 +226,7 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["converged"] = r.info.converged;
   j["status"] = r.info.status;
   j["residual"] = r.info.residual;
+  j["residual_bound"] = r.info.residual_bound;
   j["pressure_change"] = r.info.pk_error;
   if (r.config.friction.coefficient > 0) j["friction_change"] = r.info.friction_error;
   j["wall_time_s"] = r.info.wall_time_s;

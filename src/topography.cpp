@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "gfmd/error.hpp"
+#include "gfmd/io.hpp"
 #include "gfmd/reduce.hpp"
 #include "gfmd/rng.hpp"
 
@@ -346,7 +347,7 @@ void check_readable(const std::string& path) {
   const auto st = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(st))
     throw InputError(path, "cannot open the topography file: no such file");
-  if (std::filesystem::is_directory(st)) throw InputError(path, "is a directory, not a topography file");
+  require_regular_file(path, "topography file");
 }
 
 double choose_size(const std::string& path, const char* name, double arg, std::optional<double> from_file,
@@ -377,17 +378,25 @@ char header_key(std::string_view rest, std::string_view& value) {
   return c1;
 }
 
+// A token as quoted in an error: at most 40 characters.
+std::string excerpt(std::string_view tok) {
+  return tok.size() <= 40 ? std::string(tok) : std::string(tok.substr(0, 37)) + "...";
+}
+
 Topography read_text(const std::string& path, double lx_arg, double ly_arg) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, std::string("cannot open the topography file: ") + std::strerror(errno));
+  // A text map is at most ~25 bytes per value; 1 GiB holds 2^25 values at ~30 B.
+  const std::string text = read_regular_file(path, std::size_t{1} << 30, "topography file");
   std::vector<double> data;
   int nx = 0, ny = 0;
   long first_row_line = 0;
   std::optional<double> hdr[2];
   long hdr_line[2] = {0, 0};
-  std::string line;
   long lineno = 0;
-  while (std::getline(in, line)) {
+  std::size_t next = 0;
+  while (next < text.size()) {
+    const std::size_t eol = std::min(text.find('\n', next), text.size());
+    const std::string_view line(text.data() + next, eol - next);
+    next = eol + 1;
     ++lineno;
     const std::string_view s = trim(line);
     if (s.empty()) continue;
@@ -403,31 +412,47 @@ Topography read_text(const std::string& path, double lx_arg, double ly_arg) {
       double v = 0.0;
       if (parse_double(value, v) != ParseStatus::Ok || !positive_finite(v))
         throw InputError(path, "line " + std::to_string(lineno) + ": invalid " + name + " header value '" +
-                                   std::string(value) + "' (expected a positive number)");
+                                   excerpt(value) + "' (expected a positive number)");
       hdr[k] = v;
       hdr_line[k] = lineno;
       continue;
     }
-    // Data row.
+    // Data row: values separated by blanks, or by commas or semicolons (CSV; blanks around
+    // them allowed). A row uses one separator.
+    const char sep = s.find(',') != std::string_view::npos   ? ','
+                     : s.find(';') != std::string_view::npos ? ';'
+                                                             : ' ';
     int count = 0;
     std::size_t pos = 0;
-    while (pos < s.size()) {
-      while (pos < s.size() && is_blank(s[pos])) ++pos;
-      if (pos >= s.size()) break;
-      std::size_t end = pos;
-      while (end < s.size() && !is_blank(s[end])) ++end;
-      const std::string_view tok = s.substr(pos, end - pos);
+    while (pos <= s.size()) {
+      std::string_view tok;
+      if (sep == ' ') {
+        while (pos < s.size() && is_blank(s[pos])) ++pos;
+        if (pos >= s.size()) break;
+        std::size_t end = pos;
+        while (end < s.size() && !is_blank(s[end])) ++end;
+        tok = s.substr(pos, end - pos);
+        pos = end;
+      } else {
+        const std::size_t end = std::min(s.find(sep, pos), s.size());
+        tok = trim(s.substr(pos, end - pos));
+        pos = end + 1;
+        if (tok.empty() && end == s.size() && count > 0) break;  // one trailing separator
+        if (tok.empty())
+          throw InputError(path, "line " + std::to_string(lineno) + ": empty value " +
+                                     std::to_string(count + 1) + " between '" + std::string(1, sep) +
+                                     "' separators");
+      }
       ++count;
       double v = 0.0;
       const ParseStatus st = parse_double(tok, v);
       if (st == ParseStatus::NotNumber)
-        throw InputError(path, "line " + std::to_string(lineno) + ": non-numeric value '" + std::string(tok) +
+        throw InputError(path, "line " + std::to_string(lineno) + ": non-numeric value '" + excerpt(tok) +
                                    "' (value " + std::to_string(count) + ")");
       if (st == ParseStatus::OutOfRange || !std::isfinite(v))
-        throw InputError(path, "line " + std::to_string(lineno) + ": non-finite value '" + std::string(tok) +
+        throw InputError(path, "line " + std::to_string(lineno) + ": non-finite value '" + excerpt(tok) +
                                    "' (value " + std::to_string(count) + "); NaN and Inf are not allowed");
       data.push_back(v);
-      pos = end;
     }
     if (ny == 0) {
       nx = count;
@@ -439,7 +464,6 @@ Topography read_text(const std::string& path, double lx_arg, double ly_arg) {
     }
     ++ny;
   }
-  if (in.bad()) throw InputError(path, "read error while reading the topography file");
   if (ny == 0)
     throw InputError(path, lineno == 0 ? "the file is empty (no data)"
                                        : "no data rows in the file (only comments or blank lines)");

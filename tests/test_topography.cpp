@@ -1,6 +1,7 @@
 // Tests of the portable RNG, the indenter topographies, their statistics and the readers.
 #include <gtest/gtest.h>
 #include <netcdf.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -595,13 +596,51 @@ TEST_F(TopographyFile, TextSizeFromArgumentsWithoutHeader) {
   EXPECT_EQ(r.h[1], 2.0);
 }
 
+// CSV exports: comma, semicolon or tab separated, blanks around separators, CRLF line ends
+// and one trailing separator; the size from the header lines.
+TEST_F(TopographyFile, ReadsCsvWithAnySeparator) {
+  for (const std::string& text : {std::string("# lx = 2\n# ly = 3\n1,2,3\n4, 5 ,6\n"),
+                                  std::string("# lx = 2\n# ly = 3\n1;2;3\r\n4;5;6;\r\n"),
+                                  std::string("# lx = 2\n# ly = 3\n1\t2\t3\n4\t5\t6\n")}) {
+    const std::string p = write_text("map.csv", text);
+    const gfmd::Topography t = gfmd::read_topography(p, 0.0, 0.0);
+    ASSERT_EQ(t.grid.nx, 3) << text;
+    ASSERT_EQ(t.grid.ny, 2) << text;
+    EXPECT_EQ(t.grid.lx, 2.0);
+    EXPECT_EQ(t.grid.ly, 3.0);
+    EXPECT_EQ(t.h[4], 5.0) << text;
+  }
+}
+
+// Only regular files are read: a device or a FIFO is refused at once (no endless read, no
+// hang waiting for a writer).
+TEST_F(TopographyFile, RefusesDevicesAndFifos) {
+  expect_input_error([] { (void)gfmd::read_topography("/dev/zero", 1, 1); }, "/dev/zero",
+                     "not a regular file");
+  const std::string fifo = write_text("placeholder", "");
+  std::filesystem::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  expect_input_error([&] { (void)gfmd::read_topography(fifo, 1, 1); }, fifo, "not a regular file");
+}
+
 TEST_F(TopographyFile, TextErrors) {
   std::string p = write_text("ragged.txt", "# lx = 1\n# ly = 1\n1 2 3\n4 5\n");
   expect_input_error([&] { (void)gfmd::read_topography(p, 0, 0); }, p, "ragged rows: line 4 has 2 values");
   p = write_text("word.txt", "# lx = 1\n# ly = 1\n1 2 3\n4 five 6\n");
   expect_input_error([&] { (void)gfmd::read_topography(p, 0, 0); }, p, "line 4: non-numeric value 'five'");
-  p = write_text("comma.txt", "1,2\n");
-  expect_input_error([&] { (void)gfmd::read_topography(p, 1, 1); }, p, "line 1: non-numeric");
+  p = write_text("comma.txt", "1,,2\n");
+  expect_input_error([&] { (void)gfmd::read_topography(p, 1, 1); }, p, "line 1: empty value 2");
+  p = write_text("mixed.txt", "1;2\n3,x\n");
+  expect_input_error([&] { (void)gfmd::read_topography(p, 1, 1); }, p, "line 2: non-numeric value 'x'");
+  // A long unparseable line is quoted as a short excerpt, not whole.
+  p = write_text("long.txt", "1 " + std::string(5000, 'a') + "\n");
+  try {
+    (void)gfmd::read_topography(p, 1, 1);
+    ADD_FAILURE() << "a non-numeric line was accepted";
+  } catch (const gfmd::InputError& e) {
+    EXPECT_LT(std::string(e.what()).size(), 300u) << e.what();
+    EXPECT_NE(std::string(e.what()).find("aaa..."), std::string::npos) << e.what();
+  }
   p = write_text("nan.txt", "1 2\n\n3 nan\n");
   expect_input_error([&] { (void)gfmd::read_topography(p, 1, 1); }, p, "line 3: non-finite value 'nan'");
   p = write_text("inf.txt", "1 -inf\n3 4\n");

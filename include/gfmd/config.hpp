@@ -13,6 +13,16 @@
 
 namespace gfmd {
 
+// Limits checked while reading a case, before anything is allocated (docs in README).
+inline constexpr long long kMaxThreads = 1024;       // solver.threads
+inline constexpr long long kMaxSweepPoints = 10000;  // [sweep] points or values
+inline constexpr std::size_t kMaxStressDepths = 64;  // stress.depths
+inline constexpr int kMaxTomlNesting = 64;           // arrays, inline tables and dotted keys
+inline constexpr std::size_t kMaxCaseFileBytes = 16u << 20;
+inline constexpr double kMinLength = 1e-30, kMaxLength = 1e30;  // grid.lx, grid.ly
+// The largest mean pressure / E* a load may ask for (force / (E* lx ly) likewise).
+inline constexpr double kMaxPressureOverModulus = 1e3;
+
 struct IndenterConfig {
   std::string type = "hertz";  // hertz | eggcrate | selfaffine | file
   double radius = 0.0, radius_x = 0.0, radius_y = 0.0;
@@ -85,5 +95,13 @@ Topography make_topography(const Config& cfg);
 
 // Estimated peak memory of a solve in bytes.
 double estimated_memory_bytes(const Grid& grid);
+
+// The memory a solve may use here: the smallest of 80% of the physical memory, MemAvailable,
+// 80% of a cgroup limit and 80% of RLIMIT_AS / RLIMIT_DATA (bytes 0: none known), and which.
+struct MemoryLimit {
+  double bytes = 0.0;
+  std::string source;
+};
+MemoryLimit memory_limit();
 
 }  // namespace gfmd

@@ -86,6 +86,7 @@ struct SolveInfo {
   int tangential_iterations = 0;  // stick-slip (Douglas-Rachford) steps of the exact law, in all
   std::size_t stick_points = 0;   // contact points that stick
   double residual = 0.0;          // independent force-balance residual of the final state
+  double residual_bound = 0.0;    // converged needs residual <= max(1e-5, 1e3 * tolerance)
   double pk_error = 0.0;          // last relative pressure change
   double friction_error = 0.0;
   double approach = 0.0;   // delta
