@@ -1,4 +1,7 @@
 // gfmd command line: thin front end over the library.
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -6,9 +9,12 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <new>
 #include <sstream>
 
 #include "gfmd/error.hpp"
@@ -17,15 +23,84 @@
 #include "gfmd/run.hpp"
 #include "gfmd/version.hpp"
 
+extern char** environ;
+
 namespace {
 
 volatile std::sig_atomic_t g_stop = 0;
 extern "C" void on_signal(int) { g_stop = 1; }
+// SIGINT/SIGTERM set a flag that every solve polls (no SA_RESTART: a wait returns early).
 void install_signal_handlers() {
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
 }
 bool stop_requested() { return g_stop != 0; }
+
+// This program's own path (for helper scripts next to it and for study.py to call back).
+std::filesystem::path self_exe() {
+  std::error_code ec;
+  const auto p = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::filesystem::path("gfmd") : p;
+}
+
+// The Python interpreter for the plotting helpers: $GFMD_PYTHON, else the one chosen at build
+// time (Debian's, which has numpy and matplotlib).
+std::string python_interpreter() {
+  const char* env = std::getenv("GFMD_PYTHON");
+  return env && *env ? env : GFMD_PYTHON;
+}
+
+// A helper script installed beside the program: <prefix>/share/gfmd/scripts next to
+// <prefix>/bin/gfmd, or share/gfmd/scripts in the build tree. Empty if not found.
+std::string find_script(const std::string& name) {
+  const auto dir = self_exe().parent_path();
+  for (const auto& cand :
+       {dir / ".." / "share" / "gfmd" / "scripts" / name, dir / "share" / "gfmd" / "scripts" / name}) {
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(cand, ec)) return cand.lexically_normal().string();
+  }
+  return "";
+}
+
+// Runs a program with an argument vector (never through a shell) and waits for it. Its
+// standard output (and error, if quiet) go to /dev/null. Returns its exit status, or -1 if
+// it could not be started or was killed. GFMD in its environment names this program.
+int run_child(const std::vector<std::string>& args, bool quiet) {
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  std::vector<std::string> env_store;
+  for (char** e = environ; *e != nullptr; ++e)
+    if (std::strncmp(*e, "GFMD=", 5) != 0) env_store.emplace_back(*e);
+  env_store.push_back("GFMD=" + self_exe().string());
+  std::vector<char*> envp;
+  for (auto& e : env_store) envp.push_back(e.data());
+  envp.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  if (quiet) posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), envp.data());
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) return -1;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Runs a plotting helper; false (with nothing else done) if it is missing or fails.
+bool run_script(const std::string& script, const std::vector<std::string>& args, bool quiet) {
+  const std::string path = find_script(script);
+  if (path.empty()) return false;
+  std::vector<std::string> argv = {python_interpreter(), path};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return run_child(argv, quiet) == 0;
+}
 
 struct ProgressPrinter {
   bool tty = isatty(STDERR_FILENO) != 0;
@@ -57,13 +132,17 @@ struct ProgressPrinter {
 };
 
 int cmd_run(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
-            bool quiet, bool verbose, bool resume, double checkpoint_s) {
+            bool quiet, bool verbose, bool resume, double checkpoint_s, bool wait) {
   const gfmd::Config cfg = gfmd::load_config(case_path, sets);
   if (out_dir.empty())
     out_dir = (std::filesystem::path("out") / std::filesystem::path(case_path).stem()).string();
   namespace fs = std::filesystem;
+  // Validates the topography before anything is written.
+  (void)gfmd::make_topography(cfg);
+  const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
   const std::string ckpt = (fs::path(out_dir) / "checkpoint.bin").string();
   gfmd::ContactFields warm;
+  gfmd::CheckpointProgress done;
   bool have_warm = false;
   if (resume) {
     if (gfmd::finished_summary(out_dir, cfg)) {
@@ -71,14 +150,19 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
                   out_dir.c_str());
       return 0;
     }
-    have_warm = gfmd::read_checkpoint(ckpt, cfg, warm);
-    if (!quiet)
+    const std::string before = gfmd::read_status(out_dir);
+    have_warm = gfmd::read_checkpoint(ckpt, cfg, warm, &done);
+    if (!quiet) {
+      // We hold the lock, so a "running" status was left by a process that died.
+      if (before == "running")
+        std::fprintf(stderr, "the previous run in %s/ did not finish (it crashed or was killed)\n",
+                     out_dir.c_str());
       std::fprintf(stderr, "%s\n",
                    have_warm ? "resuming from the checkpoint" : "no usable checkpoint: starting afresh");
+    }
   }
-  // Validates the topography before anything is written.
-  (void)gfmd::make_topography(cfg);
-  fs::create_directories(out_dir);
+  // The run owns its directory: what an earlier run wrote there goes first.
+  gfmd::clear_run_outputs(out_dir, have_warm);
   gfmd::write_status(out_dir, "running");
   ProgressPrinter pp;
   pp.quiet = quiet;
@@ -89,7 +173,19 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   opts.checkpoint_path = ckpt;
   opts.checkpoint_interval_s = checkpoint_s;
   opts.keep_stress_fields = gfmd::outputs_need_stress_fields(cfg);
-  if (have_warm) opts.warm_start = &warm;
+  if (have_warm) {
+    opts.warm_start = &warm;
+    opts.resumed = done;
+  }
+  // Every error from here on leaves status.json "failed" with the reason.
+  const auto failed = [&](const std::string& why) {
+    pp.done();
+    try {
+      gfmd::write_status(out_dir, "failed", why);
+    } catch (const std::exception&) {
+      // The status cannot be written either (disk full): the message on stderr remains.
+    }
+  };
   gfmd::CaseResult r;
   try {
     r = gfmd::run_case(cfg, opts);
@@ -99,8 +195,11 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
     std::fprintf(stderr, "gfmd: %s: %s; state saved in %s, continue with --resume\n", case_path.c_str(),
                  e.what(), ckpt.c_str());
     return 4;
+  } catch (const std::bad_alloc&) {
+    failed("out of memory during the solve");
+    throw;
   } catch (const std::exception& e) {
-    gfmd::write_status(out_dir, "failed", e.what());
+    failed(e.what());
     std::error_code ec;
     fs::remove(ckpt, ec);
     throw;
@@ -112,19 +211,24 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
                   "%s after %d iterations (pressure change %.3e, friction change %.3e, tolerance %.1e)",
                   r.info.status.c_str(), r.info.iterations, r.info.pk_error, r.info.friction_error,
                   cfg.solver.tolerance);
-    gfmd::write_status(out_dir, "failed", why);
+    failed(why);
     std::error_code ec;
     fs::remove(ckpt, ec);
     std::fprintf(stderr, "gfmd: error: %s: %s; no results written\n", case_path.c_str(), why);
     return 3;
   }
-  gfmd::write_outputs(r, out_dir);
-  gfmd::write_status(out_dir, "converged");
-  if (cfg.output.png && cfg.stress.profiles) {
-    const std::string cmd = std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR +
-                            "/plot_profiles.py\" \"" + out_dir + "/profiles.csv\" > /dev/null 2>&1";
-    if (std::system(cmd.c_str()) != 0 && !quiet)
-      std::fprintf(stderr, "gfmd: note: profiles.png not drawn (needs %s with matplotlib)\n", GFMD_PYTHON);
+  try {
+    gfmd::write_outputs(r, out_dir);
+    if (cfg.output.png && cfg.stress.profiles &&
+        !run_script("plot_profiles.py", {(fs::path(out_dir) / "profiles.csv").string()}, true) && !quiet)
+      std::fprintf(stderr, "gfmd: note: profiles.png not drawn (needs %s with matplotlib)\n",
+                   python_interpreter().c_str());
+    gfmd::write_status(out_dir, "converged");
+  } catch (const std::exception& e) {
+    // No half-written set: a complete directory is marked by summary.json, written last.
+    gfmd::clear_run_outputs(out_dir);
+    failed(std::string("writing the outputs: ") + e.what());
+    throw;
   }
   std::error_code ec;
   fs::remove(ckpt, ec);
@@ -144,7 +248,7 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
 }
 
 int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets_in,
-              std::string plot, bool quiet) {
+              std::string plot, bool quiet, bool wait) {
   std::vector<std::string> sets;
   std::string param;
   std::vector<double> values;
@@ -172,7 +276,7 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   gfmd::Config cfg = gfmd::load_config(
       case_path, param.empty() ? sets : [&] {
         auto v = sets;
-        v.push_back(param + "=" + std::to_string(values.front()));
+        v.push_back(param + "=" + gfmd::format_number(values.front()));
         return v;
       }());
   if (!param.empty()) {
@@ -185,6 +289,7 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   if (out_dir.empty())
     out_dir = (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_sweep"))
                   .string();
+  const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
   ProgressPrinter pp;
   pp.quiet = quiet;
   gfmd::SweepOptions so;
@@ -213,17 +318,17 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   }
   std::printf("sweep of %s over %zu values: tables in %s/sweep.csv and sweep.json\n",
               cfg.sweep.parameter.c_str(), cfg.sweep.values.size(), out_dir.c_str());
-  const std::string cmd = std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR +
-                          "/plot_sweep.py\" \"" + out_dir + "/sweep.csv\" --y \"" + plot + "\" > /dev/null";
-  if (std::system(cmd.c_str()) != 0)
+  if (!run_script("plot_sweep.py", {(std::filesystem::path(out_dir) / "sweep.csv").string(), "--y", plot},
+                  false))
     std::fprintf(stderr, "gfmd: warning: could not draw %s with matplotlib (%s)\n", plot.c_str(),
-                 GFMD_PYTHON);
+                 python_interpreter().c_str());
   else
     std::printf("  plot: %s/sweep_%s.png\n", out_dir.c_str(), plot.c_str());
   return 0;
 }
 
-int cmd_flow(const std::string& dir, const std::string& direction, double tol, const std::string& solver) {
+int cmd_flow(const std::string& dir, const std::string& direction, double tol, const std::string& solver,
+             bool wait) {
   gfmd::FlowSolver which;
   if (!gfmd::parse_flow_solver(solver, which))
     throw gfmd::InputError("--solver", "must be auto, amg or boomeramg, got '" + solver + "'");
@@ -248,14 +353,15 @@ int cmd_flow(const std::string& dir, const std::string& direction, double tol, c
   if (angles.empty())
     throw gfmd::InputError("--direction",
                            "must be x, y, both or an angle in degrees, got '" + direction + "'");
-  const auto r = gfmd::compute_leakage(g, gap.data(), angles, tol, which);
+  const gfmd::DirectoryLock lock(dir, wait, stop_requested);
+  const auto r = gfmd::compute_leakage(g, gap.data(), angles, tol, which, stop_requested);
   gfmd::write_leakage(g, r, dir, {{"relative_contact_area", s.value("relative_contact_area", 0.0)}});
   std::printf("%s/flow.json:\n%s\n", dir.c_str(), r.json.dump(2).c_str());
   return 0;
 }
 
 int cmd_percolation(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
-                    const std::string& direction, double area_tol, bool quiet) {
+                    const std::string& direction, double area_tol, bool quiet, bool wait) {
   const gfmd::Config cfg = gfmd::load_config(case_path, sets);
   if (direction != "x" && direction != "y") throw gfmd::InputError("--direction", "must be x or y");
   if (out_dir.empty())
@@ -266,8 +372,9 @@ int cmd_percolation(const std::string& case_path, std::string out_dir, const std
   po.axis = direction == "x" ? 0 : 1;
   po.area_tolerance = area_tol;
   if (!quiet) po.log = [](const std::string& m) { std::fprintf(stderr, "  %s\n", m.c_str()); };
+  po.stop_request = stop_requested;
+  const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
   const nlohmann::json j = gfmd::find_percolation(cfg, po);
-  std::filesystem::create_directories(out_dir);
   gfmd::write_text_atomic((std::filesystem::path(out_dir) / "percolation.json").string(), j.dump(2) + "\n");
   std::printf(
       "critical relative contact area along %s: %.4f (pressure %.6g) after %d solves -> "
@@ -278,10 +385,12 @@ int cmd_percolation(const std::string& case_path, std::string out_dir, const std
 }
 
 int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
-                 const std::string& seeds, bool quiet) {
-  int s0 = 0, s1 = 7;
-  if (std::sscanf(seeds.c_str(), "%d..%d", &s0, &s1) != 2 || s0 < 0 || s1 < s0)
+                 const std::string& seeds, bool quiet, bool wait) {
+  int s0 = 0, s1 = 7, used = 0;
+  if (std::sscanf(seeds.c_str(), "%d..%d%n", &s0, &s1, &used) != 2 ||
+      used != static_cast<int>(seeds.size()) || s0 < 0 || s1 < s0)
     throw gfmd::InputError("--seeds", "expected FIRST..LAST, e.g. 0..7, got '" + seeds + "'");
+  if (s1 - s0 >= 10000) throw gfmd::InputError("--seeds", "at most 10000 seeds per ensemble");
   const gfmd::Config probe = gfmd::load_config(case_path, sets);
   if (probe.indenter.type != "selfaffine")
     throw gfmd::InputError(case_path, "an ensemble needs a selfaffine indenter");
@@ -289,6 +398,7 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
     out_dir =
         (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_ensemble"))
             .string();
+  const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
   const bool pairs = probe.friction.coefficient > 0;
   nlohmann::json j;
   j["seeds"] = nlohmann::json::array();
@@ -300,26 +410,48 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
       ss.push_back("flow.direction=\"both\"");
       if (variant == 1) ss.push_back("friction.coefficient=0");
       const gfmd::Config c = gfmd::load_config(case_path, ss);
-      gfmd::RunOptions ro;
-      ro.keep_stress_fields = gfmd::outputs_need_stress_fields(c);
-      const gfmd::CaseResult r = gfmd::run_case(c, ro);
-      if (!r.info.converged) throw gfmd::SolveError("seed " + std::to_string(seed) + ": " + r.info.status);
       const std::string d = (std::filesystem::path(out_dir) /
                              ((variant ? "frictionless_seed_" : "seed_") + std::to_string(seed)))
                                 .string();
-      gfmd::write_outputs(r, d);
-      const double x = r.leakage.json["conductivity_x"], y = r.leakage.json["conductivity_y"];
+      double x = 0, y = 0, a = 0;
+      bool reused = false;
+      // A seed finished earlier with the same input is read back (as sweep points are).
+      if (const auto old = gfmd::finished_summary(d, c)) {
+        std::ifstream fj(std::filesystem::path(d) / "flow.json");
+        try {
+          const nlohmann::json fl = nlohmann::json::parse(fj);
+          x = fl.at("conductivity_x").get<double>();
+          y = fl.at("conductivity_y").get<double>();
+          a = old->at("relative_contact_area").get<double>();
+          reused = true;
+        } catch (const std::exception&) {
+          reused = false;  // incomplete: solve again
+        }
+      }
+      if (!reused) {
+        gfmd::RunOptions ro;
+        ro.keep_stress_fields = gfmd::outputs_need_stress_fields(c);
+        ro.stop_request = stop_requested;
+        const gfmd::CaseResult r = gfmd::run_case(c, ro);
+        if (!r.info.converged) throw gfmd::SolveError("seed " + std::to_string(seed) + ": " + r.info.status);
+        std::filesystem::create_directories(d);
+        gfmd::clear_run_outputs(d);
+        gfmd::write_outputs(r, d);
+        x = r.leakage.json["conductivity_x"];
+        y = r.leakage.json["conductivity_y"];
+        a = r.observables.relative_contact_area;
+      }
       (variant ? kx0 : kx).push_back(x);
       (variant ? ky0 : ky).push_back(y);
-      (variant ? ac0 : ac).push_back(r.observables.relative_contact_area);
+      (variant ? ac0 : ac).push_back(a);
       j["seeds"].push_back({{"seed", seed},
                             {"friction_coefficient", c.friction.coefficient},
-                            {"relative_contact_area", r.observables.relative_contact_area},
+                            {"relative_contact_area", a},
                             {"conductivity_x", x},
                             {"conductivity_y", y}});
       if (!quiet)
-        std::fprintf(stderr, "  seed %d%s: a_c = %.4f, K_x = %.4e, K_y = %.4e\n", seed,
-                     variant ? " (frictionless)" : "", r.observables.relative_contact_area, x, y);
+        std::fprintf(stderr, "  seed %d%s: a_c = %.4f, K_x = %.4e, K_y = %.4e%s\n", seed,
+                     variant ? " (frictionless)" : "", a, x, y, reused ? " (finished earlier)" : "");
     }
   }
   // Mean and sample standard deviation; with the Bruggeman combination for conductivities.
@@ -410,7 +542,18 @@ int main(int argc, char** argv) {
   run->add_flag("-v,--verbose", verbose, "print every friction fixed-point step");
   run->add_flag("--resume", resume,
                 "continue from DIR/checkpoint.bin (or do nothing if DIR holds the result)");
-  run->add_option("--checkpoint-interval", checkpoint_s, "seconds between checkpoints (default 60)");
+  run->add_option("--checkpoint-interval", checkpoint_s, "seconds between checkpoints (default 60)")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            char* end = nullptr;
+            const double x = std::strtod(v.c_str(), &end);
+            if (end == v.c_str() || *end != '\0' || !(x >= 0.1 && x <= 1e9))
+              return "must be a number of seconds in [0.1, 1e9], got '" + v + "'";
+            return "";
+          },
+          "SECONDS"));
+  bool wait = false;
+  run->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
 
   std::string plot;
   auto* sweep =
@@ -421,6 +564,7 @@ int main(int argc, char** argv) {
   sweep->add_option("--plot", plot,
                     "summary key to plot against the swept value (default friction_coefficient)");
   sweep->add_flag("-q,--quiet", quiet, "no progress display");
+  sweep->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
 
   install_signal_handlers();
   std::vector<double> green_nu{0.0, 0.25, 0.49};
@@ -443,6 +587,7 @@ int main(int argc, char** argv) {
   flow->add_option("--solver", flow_solver,
                    "linear solver: auto (ours, HYPRE's BoomerAMG if ours does not converge; default), amg or "
                    "boomeramg");
+  flow->add_flag("--wait", wait, "if another gfmd run writes to the directory, wait for it");
   auto* perc =
       app.add_subcommand("percolation", "critical contact area at which the flow along a direction stops");
   perc->add_option("case", case_path, "case file (TOML)")->required();
@@ -452,6 +597,7 @@ int main(int argc, char** argv) {
   perc->add_option("--area-tolerance", area_tol,
                    "stop when the bracket's contact areas differ by less (default 0.002)");
   perc->add_flag("-q,--quiet", quiet, "no log lines");
+  perc->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
   auto* ens =
       app.add_subcommand("ensemble", "flow over roughness seeds, Bruggeman average, friction on/off pairs");
   ens->add_option("case", case_path, "case file (TOML) with a selfaffine indenter")->required();
@@ -459,6 +605,7 @@ int main(int argc, char** argv) {
   ens->add_option("-o,--output", out_dir, "output directory");
   ens->add_option("--set", sets, "override a key (repeatable)");
   ens->add_flag("-q,--quiet", quiet, "no log lines");
+  ens->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
 
   std::string study_path;
   bool study_quick = false;
@@ -473,29 +620,50 @@ int main(int argc, char** argv) {
     const int rc = app.exit(e);  // prints help/version or the usage error
     return rc == 0 ? 0 : 2;
   }
+  // Errors of a run with --set values name them: the case file alone does not say what ran.
+  const auto with_sets = [&sets]() {
+    if (sets.empty()) return std::string();
+    std::string t = " [with --set";
+    for (const auto& v : sets) t += " " + v;
+    return t + "]";
+  };
   try {
-    if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet, verbose, resume, checkpoint_s);
-    if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet);
-    if (flow->parsed()) return cmd_flow(flow_dir, direction, flow_tol, flow_solver);
-    if (perc->parsed()) return cmd_percolation(case_path, out_dir, sets, direction, area_tol, quiet);
-    if (ens->parsed()) return cmd_ensemble(case_path, out_dir, sets, seeds, quiet);
+    if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet, verbose, resume, checkpoint_s, wait);
+    if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet, wait);
+    if (flow->parsed()) return cmd_flow(flow_dir, direction, flow_tol, flow_solver, wait);
+    if (perc->parsed()) return cmd_percolation(case_path, out_dir, sets, direction, area_tol, quiet, wait);
+    if (ens->parsed()) return cmd_ensemble(case_path, out_dir, sets, seeds, quiet, wait);
     if (green->parsed()) return cmd_green(green_nu, green_from, green_to, green_points, out_dir);
     if (study->parsed()) {
-      std::string cmd =
-          std::string("\"") + GFMD_PYTHON + "\" \"" + GFMD_SCRIPTS_DIR + "/study.py\" \"" + study_path + "\"";
-      if (study_quick) cmd += " --quick";
-      if (!out_dir.empty()) cmd += " -o \"" + out_dir + "\"";
-      const int rc = std::system(cmd.c_str());
-      return (rc == 0) ? 0 : 1;
+      const std::string script = find_script("study.py");
+      if (script.empty())
+        throw gfmd::InputError("gfmd study", "study.py is not installed next to this program");
+      std::vector<std::string> args = {python_interpreter(), script, study_path};
+      if (study_quick) args.emplace_back("--quick");
+      if (!out_dir.empty()) {
+        args.emplace_back("-o");
+        args.push_back(out_dir);
+      }
+      return run_child(args, false) == 0 ? 0 : 1;
     }
   } catch (const gfmd::InputError& e) {
-    std::fprintf(stderr, "gfmd: error: %s\n", e.what());
+    std::fprintf(stderr, "gfmd: error: %s%s\n", e.what(), with_sets().c_str());
     return 2;
+  } catch (const gfmd::Interrupted& e) {
+    std::fprintf(stderr, "gfmd: %s; stopped on request%s\n", e.what(), with_sets().c_str());
+    return 4;
   } catch (const gfmd::SolveError& e) {
-    std::fprintf(stderr, "gfmd: error: %s: %s; no results written\n", case_path.c_str(), e.what());
+    std::fprintf(stderr, "gfmd: error: %s: %s%s; no results written\n", case_path.c_str(), e.what(),
+                 with_sets().c_str());
     return 3;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr,
+                 "gfmd: error: out of memory%s (the memory check before the solve estimated less than was "
+                 "available; lower grid.nx or free memory)\n",
+                 with_sets().c_str());
+    return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "gfmd: error: %s\n", e.what());
+    std::fprintf(stderr, "gfmd: error: %s%s\n", e.what(), with_sets().c_str());
     return 1;
   }
   return 0;

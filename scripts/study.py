@@ -25,7 +25,11 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from figure_io import save, write_csv  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# `gfmd study` names itself in GFMD; run from the source tree, the build's binary.
 GFMD = os.environ.get("GFMD", os.path.join(ROOT, "build", "gfmd"))
+# Case paths in a study are relative to the folder above the study file's (the repository
+# root for studies/*.toml); set in main().
+CASE_ROOT = ROOT
 
 
 def log(msg):
@@ -60,7 +64,7 @@ def run_series(study, mode_sets, out, quick, incomplete):
     t0 = time.time()
     for i, s in enumerate(study["series"]):
         d = series_dir(out, i)
-        case = os.path.join(ROOT, s["case"])
+        case = os.path.join(CASE_ROOT, s["case"])
         sets = list(s.get("set", [])) + list(mode_sets) + list(s.get("quick_set" if quick else "full_set", []))
         args = []
         for kv in sets:
@@ -100,7 +104,7 @@ def run_percolation_series(s, sets, d):
     """Egg-crate constriction (paper Fig. 3 i-m): the frictionless threshold a_c* along x, the
     contact with and without friction at that pressure, and the thresholds with friction
     along and across sliding."""
-    case = os.path.join(ROOT, s["case"])
+    case = os.path.join(CASE_ROOT, s["case"])
     args = []
     for kv in sets:
         args += ["--set", kv]
@@ -214,8 +218,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("study")
     ap.add_argument("--quick", action="store_true", help="reduced resolution that runs in minutes")
-    ap.add_argument("-o", "--output", default=os.path.join(ROOT, "out", "studies"))
+    ap.add_argument("-o", "--output", default=os.path.join("out", "studies"))
     args = ap.parse_args()
+    global CASE_ROOT
+    CASE_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(args.study)))
     with open(args.study, "rb") as f:
         study = tomllib.load(f)
     name = os.path.splitext(os.path.basename(args.study))[0]

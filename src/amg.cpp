@@ -809,7 +809,7 @@ void AlgebraicMultigrid::cycle(std::size_t l, const double* b, double* x) const 
 void AlgebraicMultigrid::precondition(const double* r, double* z) const { cycle(0, r, z); }
 
 CgOutcome amg_pcg(const AlgebraicMultigrid& mg, const double* b, double* x, double tolerance,
-                  int max_iterations, double reference_norm) {
+                  int max_iterations, double reference_norm, const std::function<bool()>& stop_request) {
   const std::size_t n = mg.size();
   const CsrMatrix& a = mg.matrix();
   auto dot = [n](auto&& f) { return range_sums(n, 1, [&](std::size_t i, double* s) { s[0] += f(i); })[0]; };
@@ -833,6 +833,8 @@ CgOutcome amg_pcg(const AlgebraicMultigrid& mg, const double* b, double* x, doub
   double rz = dot([&](std::size_t i) { return r[i] * z[i]; });
   const auto rows = static_cast<std::ptrdiff_t>(n);
   for (int it = 1; it <= max_iterations; ++it) {
+    if (stop_request && stop_request())
+      throw Interrupted("flow solve interrupted at PCG iteration " + std::to_string(it));
     a.multiply(p.data(), q.data());
     const double pq = dot([&](std::size_t i) { return p[i] * q[i]; });
     if (!(pq > 0.0) || !std::isfinite(pq) || !(rz > 0.0)) break;  // breakdown

@@ -636,6 +636,8 @@ std::vector<LinearSolution> solve_native(const LinearSystem& sys, std::size_t nr
   const AlgebraicMultigrid amg(red.take_matrix());
   red.release_index();
   const double setup_s = seconds_since(t0);
+  if (opt.stop_request && opt.stop_request())
+    throw Interrupted("flow solve interrupted after the AMG set-up");
   Buffer<double> b, br, xr;
   for (std::size_t k = 0; k < nrhs; ++k) {
     LinearSolution sol;
@@ -646,7 +648,8 @@ std::vector<LinearSolution> solve_native(const LinearSystem& sys, std::size_t nr
         std::sqrt(range_sums(b.size(), 1, [&](std::size_t i, double* acc) { acc[0] += b[i] * b[i]; })[0]);
     red.reduce(b, br);
     xr.resize(br.size());
-    const CgOutcome cg = amg_pcg(amg, br.data(), xr.data(), opt.tolerance, max_iterations, bnorm);
+    const CgOutcome cg =
+        amg_pcg(amg, br.data(), xr.data(), opt.tolerance, max_iterations, bnorm, opt.stop_request);
     red.expand(b, xr, sol.x);
     sol.solve_s = seconds_since(t1);
     sol.iterations = cg.iterations;
@@ -946,6 +949,8 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
       sols = solve_native(sys, angles.size(), make_rhs, opt, budget);
       for (const LinearSolution& sol : sols)
         if (!sol.converged && failure.empty()) failure = shortfall("AMG-PCG", sol);
+    } catch (const Interrupted&) {
+      throw;
     } catch (const SolveError& e) {
       failure = e.what();
     }
@@ -955,6 +960,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
   }
   if (which == FlowSolver::BoomerAMG || !failure.empty()) {
     solver = failure.empty() ? "boomeramg" : "boomeramg (fallback)";
+    if (opt.stop_request && opt.stop_request()) throw Interrupted("flow solve interrupted before BoomerAMG");
     ensure_hypre();
     std::lock_guard<std::mutex> lock(g_hypre_mutex);
     sols = solve_boomeramg(sys, angles.size(), make_rhs, opt);

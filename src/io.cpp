@@ -2,6 +2,7 @@
 #include "gfmd/io.hpp"
 
 #include <fcntl.h>
+#include <hdf5.h>
 #include <netcdf.h>
 #include <png.h>
 #include <sys/stat.h>
@@ -153,6 +154,16 @@ namespace {
 
 // ---------------------------------------------------------------------------------------------
 // NetCDF
+
+// When a NetCDF-4 file cannot be written (disk full, I/O error), nc_close fails and HDF5
+// keeps a half-closed file that its exit handler then dereferences: the process segfaults
+// at exit (seen with Debian's HDF5 1.10; the Python interpreter too). Files are always
+// closed explicitly here, so HDF5's exit-time clean-up is not needed: switch it off before
+// the library starts (a no-op if something else started HDF5 first).
+const bool kHdf5NoAtexit = [] {
+  H5dont_atexit();
+  return true;
+}();
 
 struct NcHandle {
   int id = -1;
@@ -365,8 +376,14 @@ void write_fields_netcdf(const std::string& path, const Grid& grid, const std::v
 
   AtomicTarget target(path);
   NcHandle nc;
+  // errno after a failed call tells "HDF error" apart: disk full, quota, I/O error, ...
   auto check = [&](int st, const std::string& what) {
-    if (st != NC_NOERR) target.fail(what + ": " + nc_strerror(st));
+    if (st == NC_NOERR) return;
+    const int err = errno;
+    std::string why = what + ": " + nc_strerror(st);
+    if (err == ENOSPC || err == EDQUOT || err == EFBIG || err == EIO || err == EROFS || err == EACCES)
+      why += " (" + errno_message(err) + ")";
+    target.fail(why);
   };
 
   bool nc4 = true;

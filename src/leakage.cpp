@@ -35,7 +35,7 @@ void append_current_fields(const LeakageResult& r, std::vector<NamedField>& fiel
 }
 
 LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vector<double>& angles, double tol,
-                              FlowSolver solver) {
+                              FlowSolver solver, const std::function<bool()>& stop_request) {
   LeakageResult r;
   nlohmann::json& j = r.json;
   double cons = 0.0;
@@ -43,6 +43,7 @@ LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vecto
   FlowOptions fo;
   fo.tolerance = tol;
   fo.solver = solver;
+  fo.stop_request = stop_request;
   r.flows = solve_flow(g, gap, angles, fo);  // one preconditioner set-up for all directions
   for (std::size_t k = 0; k < angles.size(); ++k) {
     const double a = angles[k];
@@ -119,10 +120,11 @@ nlohmann::json find_percolation(const Config& base, const PercolationOptions& op
     c.stress.depths.clear();
     RunOptions ro;
     ro.keep_stress_fields = false;
+    ro.stop_request = opt.stop_request;
     if (have) ro.warm_start = &warm;
     CaseResult r = run_case(c, ro);
     if (!r.info.converged)
-      throw SolveError("percolation: solve at pressure " + std::to_string(p) + ": " + r.info.status);
+      throw SolveError("percolation: solve at pressure " + format_number(p) + ": " + r.info.status);
     const bool perc = percolates(c.grid, r.fields.gap.data(), opt.axis);
     hist.push_back({p, r.observables.relative_contact_area, perc});
     warm = std::move(r.fields);

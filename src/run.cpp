@@ -1,8 +1,11 @@
 #include "gfmd/run.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -11,6 +14,7 @@
 #include <iterator>
 #include <limits>
 #include <numbers>
+#include <set>
 #include <sstream>
 
 #include "gfmd/error.hpp"
@@ -82,12 +86,25 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   // (stresses, flow) gets the memory back.
   auto body = std::make_unique<ElasticBody>(cfg.grid, cfg.elastic);
   if (opts.warm_start && opts.warm_start->pressure.size() == cfg.grid.size()) r.fields = *opts.warm_start;
+  // Work counted into checkpoints: earlier sessions, the finished reference solve and the
+  // solver running now.
+  const auto t_start = std::chrono::steady_clock::now();
+  const ContactSolver* running = nullptr;
+  std::int64_t finished_iterations = 0;
+  const auto progress_now = [&] {
+    CheckpointProgress p = opts.resumed;
+    p.iterations += finished_iterations + (running ? running->iterations_done() : 0);
+    p.wall_time_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    return p;
+  };
+  const auto save = [&](const ContactFields& f) {
+    if (!opts.checkpoint_path.empty()) write_checkpoint(opts.checkpoint_path, cfg, f, progress_now());
+  };
   const auto hook = [&](ContactSolver& s) {
+    running = &s;
     if (opts.progress) s.set_progress(opts.progress);
     if (opts.stop_request) s.set_stop_request(opts.stop_request);
-    if (!opts.checkpoint_path.empty())
-      s.set_checkpoint([&](const ContactFields& f) { write_checkpoint(opts.checkpoint_path, cfg, f); },
-                       opts.checkpoint_interval_s);
+    if (!opts.checkpoint_path.empty()) s.set_checkpoint(save, opts.checkpoint_interval_s);
   };
   if (cfg.friction.coefficient > 0 && cfg.friction_reference) {
     // Frictionless reference at the same load; it also warm-starts the sliding solve.
@@ -99,9 +116,11 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     try {
       r.reference_info = ref.solve(cfg.load, rf);
     } catch (const Interrupted&) {
-      if (!opts.checkpoint_path.empty()) write_checkpoint(opts.checkpoint_path, cfg, rf);
+      save(rf);
       throw;
     }
+    running = nullptr;
+    finished_iterations = r.reference_info.iterations;
     if (!r.reference_info.converged) {
       r.info = r.reference_info;
       r.info.status += " (frictionless reference)";
@@ -118,32 +137,39 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     try {
       r.info = solver.solve(cfg.load, r.fields);
     } catch (const Interrupted&) {
-      if (!opts.checkpoint_path.empty()) write_checkpoint(opts.checkpoint_path, cfg, r.fields);
+      save(r.fields);
       throw;
     }
+    running = nullptr;
     if (r.has_reference) {
       r.info.wall_time_s += r.reference_info.wall_time_s;
       r.info.transforms += r.reference_info.transforms;
       r.info.fft_seconds += r.reference_info.fft_seconds;
     }
+    // A resumed run reports the totals of all its sessions.
+    r.info.iterations += static_cast<int>(opts.resumed.iterations);
+    r.info.wall_time_s += opts.resumed.wall_time_s;
+    r.resumed = opts.resumed;
   }
   body.reset();
   const FFT fft(cfg.grid, cfg.solver.fft_planner);
   r.observables = compute_observables(fft, r.topography, cfg.friction, r.fields, r.info);
   if (r.info.converged) compute_stresses(r, fft, opts.keep_stress_fields);
   if (r.info.converged && cfg.flow.enabled) {
-    r.leakage =
-        compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance, cfg.flow.solver);
+    r.leakage = compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance,
+                                cfg.flow.solver, opts.stop_request);
     r.has_leakage = true;
   }
   return r;
 }
 
 namespace {
-constexpr char kCheckpointMagic[8] = {'G', 'F', 'M', 'D', 'C', 'K', 'P', '1'};
-}
+// Version 2 adds the iterations and wall time done so far (a resumed run reports totals).
+constexpr char kCheckpointMagic[8] = {'G', 'F', 'M', 'D', 'C', 'K', 'P', '2'};
+}  // namespace
 
-void write_checkpoint(const std::string& path, const Config& cfg, const ContactFields& f) {
+void write_checkpoint(const std::string& path, const Config& cfg, const ContactFields& f,
+                      const CheckpointProgress& progress) {
   const std::string input = cfg.to_json().dump();
   std::string buf(kCheckpointMagic, 8);
   const auto put = [&buf](const void* p, std::size_t n) { buf.append(static_cast<const char*>(p), n); };
@@ -153,6 +179,8 @@ void write_checkpoint(const std::string& path, const Config& cfg, const ContactF
   put(&ny, 4);
   put(&len, 8);
   buf += input;
+  put(&progress.iterations, 8);
+  put(&progress.wall_time_s, 8);
   const std::size_t n = cfg.grid.size();
   for (const RealField* fld : {&f.pressure, &f.tx, &f.ty}) {
     if (fld->size() == n)
@@ -163,7 +191,8 @@ void write_checkpoint(const std::string& path, const Config& cfg, const ContactF
   write_text_atomic(path, buf);
 }
 
-bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& f) {
+bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& f,
+                     CheckpointProgress* progress) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
   std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -183,6 +212,9 @@ bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& 
   const std::string input = data.substr(pos, len);
   pos += len;
   if (input != cfg.to_json().dump()) return false;
+  CheckpointProgress done;
+  if (!get(&done.iterations, 8) || !get(&done.wall_time_s, 8)) return false;
+  if (done.iterations < 0 || !(done.wall_time_s >= 0) || !std::isfinite(done.wall_time_s)) return false;
   const std::size_t n = cfg.grid.size();
   if (data.size() != pos + 3 * n * sizeof(double)) return false;
   for (RealField* fld : {&f.pressure, &f.tx, &f.ty}) {
@@ -191,6 +223,7 @@ bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& 
     for (double v : *fld)
       if (!std::isfinite(v)) return false;
   }
+  if (progress) *progress = done;
   return true;
 }
 
@@ -210,9 +243,100 @@ std::optional<nlohmann::json> finished_summary(const std::string& dir, const Con
 }
 
 void write_status(const std::string& dir, const std::string& status, const std::string& reason) {
-  nlohmann::json j = {{"status", status}, {"version", kVersion}, {"git_commit", kGitCommit}};
+  nlohmann::json j = {{"status", status},
+                      {"version", kVersion},
+                      {"git_commit", kGitCommit},
+                      {"pid", static_cast<long>(::getpid())}};
   if (!reason.empty()) j["reason"] = reason;
   write_text_atomic((fs::path(dir) / "status.json").string(), j.dump(2) + "\n");
+}
+
+std::string read_status(const std::string& dir) {
+  std::ifstream in(fs::path(dir) / "status.json");
+  if (!in) return "";
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    return j.is_object() && j.contains("status") && j["status"].is_string() ? j["status"].get<std::string>()
+                                                                            : "";
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+DirectoryLock::DirectoryLock(const std::string& dir, bool wait, const std::function<bool()>& stop_request) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError(dir, "cannot create the output directory: " + ec.message());
+  const std::string path = (fs::path(dir) / ".gfmd.lock").string();
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+  if (fd_ < 0)
+    throw InputError(dir, "cannot create the lock file .gfmd.lock: " + std::string(std::strerror(errno)));
+  bool told = false;
+  while (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    if (errno != EWOULDBLOCK && errno != EINTR) {
+      const int err = errno;
+      ::close(fd_);
+      throw InputError(dir, "cannot lock the output directory: " + std::string(std::strerror(err)));
+    }
+    char buf[32] = {0};
+    const ssize_t n = ::pread(fd_, buf, sizeof buf - 1, 0);
+    const std::string holder = n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : std::string("?");
+    if (!wait) {
+      ::close(fd_);
+      throw InputError(dir, "the output directory is in use by another gfmd run (process " + holder +
+                                "); wait for it, use another -o directory, or pass --wait");
+    }
+    if (!told) {
+      std::fprintf(stderr, "gfmd: waiting for process %s to finish writing %s\n", holder.c_str(),
+                   dir.c_str());
+      told = true;
+    }
+    if (stop_request && stop_request()) {
+      ::close(fd_);
+      throw Interrupted("interrupted while waiting for the output directory " + dir);
+    }
+    ::usleep(200000);
+  }
+  const std::string pid = std::to_string(static_cast<long>(::getpid()));
+  if (::ftruncate(fd_, 0) == 0 && ::pwrite(fd_, pid.data(), pid.size(), 0) < 0) {
+    // The pid is only informative.
+  }
+}
+
+DirectoryLock::~DirectoryLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the lock
+}
+
+std::vector<std::string> clear_run_outputs(const std::string& dir, bool keep_checkpoint) {
+  static const std::set<std::string> kNames = {"summary.json",
+                                               "status.json",
+                                               "fields.nc",
+                                               "flow.json",
+                                               "flow.nc",
+                                               "profiles.csv",
+                                               "profiles.png",
+                                               "pressure.png",
+                                               "gap.png",
+                                               "slip_longitudinal.png",
+                                               "slip_transverse.png",
+                                               "dissipation.png",
+                                               "max_principal_stress.png",
+                                               "von_mises.png",
+                                               "checkpoint.bin"};
+  std::vector<std::string> removed;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    if (!e.is_regular_file(ec)) continue;
+    const std::string name = e.path().filename().string();
+    const bool ours = kNames.count(name) != 0 ||
+                      (name.rfind("current_", 0) == 0 && name.size() > 12 &&
+                       name.compare(name.size() - 4, 4, ".png") == 0) ||
+                      name.find(".tmp.") != std::string::npos;
+    if (!ours || (keep_checkpoint && name == "checkpoint.bin")) continue;
+    if (fs::remove(e.path(), ec)) removed.push_back(name);
+  }
+  std::sort(removed.begin(), removed.end());
+  return removed;
 }
 
 nlohmann::json summary_json(const CaseResult& r) {
@@ -227,6 +351,9 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["status"] = r.info.status;
   j["residual"] = r.info.residual;
   j["residual_bound"] = r.info.residual_bound;
+  if (r.resumed.iterations > 0 || r.resumed.wall_time_s > 0)
+    j["resumed"] = {{"iterations_before", r.resumed.iterations},
+                    {"wall_time_s_before", r.resumed.wall_time_s}};
   j["pressure_change"] = r.info.pk_error;
   if (r.config.friction.coefficient > 0) j["friction_change"] = r.info.friction_error;
   j["wall_time_s"] = r.info.wall_time_s;

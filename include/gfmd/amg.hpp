@@ -25,6 +25,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -97,8 +98,10 @@ struct CgOutcome {
 // V-cycle per iteration, from x = 0, until the recursively updated residual satisfies
 // ||r||_2 <= tolerance * reference_norm (reference_norm <= 0: ||b||_2) or max_iterations
 // are done. A zero b gives x = 0. A breakdown (non-positive curvature, non-finite numbers)
-// ends the iteration unconverged. Deterministic for any thread count.
+// ends the iteration unconverged. Deterministic for any thread count. stop_request (may be
+// empty) is polled every iteration; true throws gfmd::Interrupted.
 CgOutcome amg_pcg(const AlgebraicMultigrid& mg, const double* b, double* x, double tolerance,
-                  int max_iterations, double reference_norm = 0.0);
+                  int max_iterations, double reference_norm = 0.0,
+                  const std::function<bool()>& stop_request = {});
 
 }  // namespace gfmd

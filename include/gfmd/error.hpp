@@ -1,6 +1,7 @@
 // Error types. Every user-facing error names what is wrong (config key, file) and why.
 #pragma once
 
+#include <charconv>
 #include <stdexcept>
 #include <string>
 
@@ -29,5 +30,13 @@ class Interrupted : public SolveError {
  public:
   using SolveError::SolveError;
 };
+
+// The shortest text that reads back as exactly v (std::to_chars): for messages and for
+// values passed on as text (sweep points), where six fixed decimals would lose 1e-7.
+inline std::string format_number(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
 
 }  // namespace gfmd

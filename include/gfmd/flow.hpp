@@ -58,6 +58,7 @@
 // serialised by a mutex.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -91,6 +92,9 @@ struct FlowOptions {
   // gap below about 1e-4 g_max on both sides of the face. 0 keeps every open face. The
   // percolation flag does not depend on it (it is geometric: g > 0).
   double closed_face_conductance = 1e-12;
+  // Polled between set-up and solve stages and every PCG iteration of our AMG (HYPRE's solve
+  // runs to its end); true throws gfmd::Interrupted.
+  std::function<bool()> stop_request;
 };
 
 struct FlowResult {

@@ -22,8 +22,11 @@ struct LeakageResult {
   std::vector<RealField> magnitude;  // |current density| of each flow
   nlohmann::json json;
 };
+// stop_request (optional) is polled between the stages and PCG iterations of the linear
+// solves; true throws gfmd::Interrupted.
 LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vector<double>& angles, double tol,
-                              FlowSolver solver = FlowSolver::Auto);
+                              FlowSolver solver = FlowSolver::Auto,
+                              const std::function<bool()>& stop_request = {});
 
 // "x" for 0 degrees, "y" for 90, "<angle>deg" otherwise: the suffix of keys, fields and files.
 std::string direction_tag(double angle_deg);
@@ -45,6 +48,7 @@ struct PercolationOptions {
   double area_tolerance = 0.002;
   int max_solves = 40;
   std::function<void(const std::string&)> log;
+  std::function<bool()> stop_request;  // polled by every solve; true throws gfmd::Interrupted
 };
 nlohmann::json find_percolation(const Config& cfg, const PercolationOptions& opt);
 

@@ -2,6 +2,7 @@
 // fields -> observables -> summary.json, fields.nc, PNG maps.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -14,6 +15,12 @@
 #include "gfmd/stress.hpp"
 
 namespace gfmd {
+
+// Work done before a checkpoint: a resumed run reports cumulative counts.
+struct CheckpointProgress {
+  std::int64_t iterations = 0;
+  double wall_time_s = 0.0;
+};
 
 struct CaseResult {
   Config config;
@@ -44,7 +51,8 @@ struct CaseResult {
   };
   std::vector<Subsurface> subsurface;
   bool has_leakage = false;
-  LeakageResult leakage;  // [flow]
+  LeakageResult leakage;       // [flow]
+  CheckpointProgress resumed;  // earlier sessions' work, included in info (RunOptions::resumed)
 };
 
 struct RunOptions {
@@ -56,6 +64,9 @@ struct RunOptions {
   // false: the stress fields are reduced to their summaries (less memory); the CLI sets
   // it from outputs_need_stress_fields.
   bool keep_stress_fields = true;
+  // Counts of the earlier sessions of a resumed run (from read_checkpoint): added to the
+  // result's iterations and wall time, and carried into the next checkpoint.
+  CheckpointProgress resumed;
 };
 
 // Whether the configured outputs show stress fields (fields.nc, PNG maps).
@@ -64,14 +75,39 @@ bool outputs_need_stress_fields(const Config& cfg);
 // Checkpoints: the solver state (pressure and friction traction) with the input it
 // belongs to, written atomically. read_checkpoint returns false if the file is missing,
 // unreadable or belongs to another input or grid.
-void write_checkpoint(const std::string& path, const Config& cfg, const ContactFields& f);
-bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& f);
+void write_checkpoint(const std::string& path, const Config& cfg, const ContactFields& f,
+                      const CheckpointProgress& progress = {});
+bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& f,
+                     CheckpointProgress* progress = nullptr);
 
 // The summary.json in dir if it holds a converged solve of exactly this input.
 std::optional<nlohmann::json> finished_summary(const std::string& dir, const Config& cfg);
 
-// DIR/status.json: {"status": running|converged|failed|interrupted, "reason": ...}.
+// DIR/status.json: {"status": running|converged|failed|interrupted, "reason": ..., "pid": ...}.
 void write_status(const std::string& dir, const std::string& status, const std::string& reason = "");
+// DIR/status.json's status ("" when missing or unreadable).
+std::string read_status(const std::string& dir);
+
+// One writer per output directory: an advisory lock (flock) on DIR/.gfmd.lock, held while
+// the object lives (and released by the kernel if the process dies). Creates DIR. Another
+// holder makes the constructor throw InputError(DIR, "... in use by process N ...") or, with
+// wait, poll until it is free (stop_request true: Interrupted).
+class DirectoryLock {
+ public:
+  explicit DirectoryLock(const std::string& dir, bool wait = false,
+                         const std::function<bool()>& stop_request = {});
+  ~DirectoryLock();
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
+// Removes what an earlier run wrote into dir (summary.json, fields.nc, flow.json, maps,
+// tables, status, checkpoint, staged temporaries) so that a new run's outputs never mix with
+// stale ones; other files are left alone. Returns the names removed.
+std::vector<std::string> clear_run_outputs(const std::string& dir, bool keep_checkpoint = false);
 
 // Solves a case. Throws InputError for bad input and SolveError for a failed solve.
 CaseResult run_case(const Config& cfg, const RunOptions& opts = {});

@@ -117,6 +117,8 @@ class ContactSolver {
   // Polled every iteration: returning true stops the solve with gfmd::Interrupted, the
   // fields holding the last pressure and tractions (a valid warm start).
   void set_stop_request(std::function<bool()> cb) { stop_ = std::move(cb); }
+  // Iterations done so far by the running (or last) solve.
+  [[nodiscard]] int iterations_done() const { return total_it_; }
   // Called with the current state every `interval_s` seconds (checkpoints).
   void set_checkpoint(std::function<void(const ContactFields&)> cb, double interval_s) {
     checkpoint_ = std::move(cb);
