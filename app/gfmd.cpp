@@ -131,6 +131,14 @@ struct ProgressPrinter {
   }
 };
 
+// " [with --set a=1 b=2]": errors name the overrides, the case file alone does not say what ran.
+std::string sets_note(const std::vector<std::string>& sets) {
+  if (sets.empty()) return "";
+  std::string t = " [with --set";
+  for (const auto& v : sets) t += " " + v;
+  return t + "]";
+}
+
 int cmd_run(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
             bool quiet, bool verbose, bool resume, double checkpoint_s, bool wait) {
   const gfmd::Config cfg = gfmd::load_config(case_path, sets);
@@ -214,7 +222,8 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
     failed(why);
     std::error_code ec;
     fs::remove(ckpt, ec);
-    std::fprintf(stderr, "gfmd: error: %s: %s; no results written\n", case_path.c_str(), why);
+    std::fprintf(stderr, "gfmd: error: %s: %s%s; no results written\n", case_path.c_str(), why,
+                 sets_note(sets).c_str());
     return 3;
   }
   try {
@@ -306,6 +315,10 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   };
   // The sweep re-reads the case for every point; [sweep] given on the command line is
   // passed on through the overrides-free config copy.
+  const auto draw = [&] {
+    return run_script("plot_sweep.py", {(std::filesystem::path(out_dir) / "sweep.csv").string(), "--y", plot},
+                      false);
+  };
   try {
     gfmd::run_sweep(case_path, cfg, out_dir, so);
   } catch (const gfmd::Interrupted& e) {
@@ -315,11 +328,17 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
                  "same command again to continue\n",
                  e.what(), out_dir.c_str());
     return 4;
+  } catch (const gfmd::SolveError&) {
+    // The finished points are kept: draw them before reporting the failure.
+    pp.done();
+    if (std::filesystem::exists(std::filesystem::path(out_dir) / "sweep.csv") && draw())
+      std::fprintf(stderr, "gfmd: the finished points are drawn in %s/sweep_%s.png\n", out_dir.c_str(),
+                   plot.c_str());
+    throw;
   }
   std::printf("sweep of %s over %zu values: tables in %s/sweep.csv and sweep.json\n",
               cfg.sweep.parameter.c_str(), cfg.sweep.values.size(), out_dir.c_str());
-  if (!run_script("plot_sweep.py", {(std::filesystem::path(out_dir) / "sweep.csv").string(), "--y", plot},
-                  false))
+  if (!draw())
     std::fprintf(stderr, "gfmd: warning: could not draw %s with matplotlib (%s)\n", plot.c_str(),
                  python_interpreter().c_str());
   else
@@ -620,13 +639,7 @@ int main(int argc, char** argv) {
     const int rc = app.exit(e);  // prints help/version or the usage error
     return rc == 0 ? 0 : 2;
   }
-  // Errors of a run with --set values name them: the case file alone does not say what ran.
-  const auto with_sets = [&sets]() {
-    if (sets.empty()) return std::string();
-    std::string t = " [with --set";
-    for (const auto& v : sets) t += " " + v;
-    return t + "]";
-  };
+  const auto with_sets = [&sets]() { return sets_note(sets); };
   try {
     if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet, verbose, resume, checkpoint_s, wait);
     if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet, wait);
@@ -653,8 +666,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "gfmd: %s; stopped on request%s\n", e.what(), with_sets().c_str());
     return 4;
   } catch (const gfmd::SolveError& e) {
-    std::fprintf(stderr, "gfmd: error: %s: %s%s; no results written\n", case_path.c_str(), e.what(),
-                 with_sets().c_str());
+    std::fprintf(stderr, "gfmd: error: %s: %s%s%s\n", case_path.c_str(), e.what(), with_sets().c_str(),
+                 run->parsed() ? "; no results written" : "");
     return 3;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr,

@@ -8,6 +8,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <atomic>
+#include <csignal>
+
 #include "gfmd/config.hpp"
 #include "gfmd/error.hpp"
 #include "gfmd/run.hpp"
@@ -46,14 +49,83 @@ py::dict result(const gfmd::CaseResult& r) {
   return out;
 }
 
+// Ctrl-C during a solve: while the solve runs without the GIL, Python's own SIGINT handler
+// cannot run, so a C handler sets a flag that the solver polls; the solve then stops within
+// an iteration and KeyboardInterrupt is raised. Installed only on the main thread (where
+// Python receives signals), and the previous handler is restored afterwards.
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_sigint(int) { g_interrupted.store(true); }
+
+class SigintToFlag {
+ public:
+  SigintToFlag() {
+    const py::module_ threading = py::module_::import("threading");
+    if (!threading.attr("current_thread")().is(threading.attr("main_thread")())) return;
+    g_interrupted.store(false);
+    struct sigaction sa {};
+    sa.sa_handler = on_sigint;
+    sigemptyset(&sa.sa_mask);
+    active_ = sigaction(SIGINT, &sa, &old_) == 0;
+  }
+  ~SigintToFlag() {
+    if (active_) sigaction(SIGINT, &old_, nullptr);
+  }
+  SigintToFlag(const SigintToFlag&) = delete;
+  SigintToFlag& operator=(const SigintToFlag&) = delete;
+
+ private:
+  struct sigaction old_ {};
+  bool active_ = false;
+};
+
+[[noreturn]] void raise_keyboard_interrupt() {
+  PyErr_SetNone(PyExc_KeyboardInterrupt);
+  throw py::error_already_set();
+}
+
 gfmd::CaseResult solve(const gfmd::Config& cfg) {
   gfmd::CaseResult r;
   {
-    py::gil_scoped_release release;
-    r = gfmd::run_case(cfg);
+    SigintToFlag guard;
+    gfmd::RunOptions ro;
+    ro.stop_request = [] { return g_interrupted.load(); };
+    try {
+      py::gil_scoped_release release;
+      r = gfmd::run_case(cfg, ro);
+    } catch (const gfmd::Interrupted&) {
+      g_interrupted.store(false);
+      raise_keyboard_interrupt();
+    }
   }
   if (!r.info.converged) throw gfmd::SolveError(r.info.status);
   return r;
+}
+
+// Writes a run directory as `gfmd run -o` does: one writer (the lock), no stale files of an
+// earlier run, status.json; a write error (disk full, permissions) raises OSError naming the
+// file and leaves no half-written set.
+void write_run(const gfmd::CaseResult& r, const std::string& dir) {
+  try {
+    py::gil_scoped_release release;
+    const gfmd::DirectoryLock lock(dir);
+    gfmd::clear_run_outputs(dir);
+    try {
+      gfmd::write_outputs(r, dir);
+      gfmd::write_status(dir, "converged");
+    } catch (const std::exception& e) {
+      gfmd::clear_run_outputs(dir);
+      try {
+        gfmd::write_status(dir, "failed", std::string("writing the outputs: ") + e.what());
+      } catch (const std::exception&) {
+      }
+      throw;
+    }
+  } catch (const gfmd::InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    PyErr_SetString(PyExc_OSError, e.what());
+    throw py::error_already_set();
+  }
 }
 
 }  // namespace
@@ -68,7 +140,7 @@ PYBIND11_MODULE(gfmd, m) {
       [](const std::string& path, const std::vector<std::string>& set, const std::string& output) {
         const gfmd::Config cfg = gfmd::load_config(path, set);
         const gfmd::CaseResult r = solve(cfg);
-        if (!output.empty()) gfmd::write_outputs(r, output);
+        if (!output.empty()) write_run(r, output);
         return result(r);
       },
       py::arg("case"), py::arg("set") = std::vector<std::string>{}, py::arg("output") = "",

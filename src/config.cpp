@@ -649,7 +649,8 @@ void require_utf8(const std::string& s, const std::string& name) {
 // deep overflows the stack. This scan (strings and comments skipped) refuses such files first.
 void require_shallow_nesting(const std::string& s, const std::string& name) {
   int depth = 0, dots = 0, line = 1;
-  bool in_key = true;  // at a position where a key (and so dotted-key nesting) may be written
+  std::vector<long> elements;  // commas seen in each open array / inline table
+  bool in_key = true;          // at a position where a key (and so dotted-key nesting) may be written
   const auto fail = [&](const std::string& what) {
     throw InputError(name + ":" + std::to_string(line),
                      what + " nested deeper than " + std::to_string(kMaxTomlNesting) + " levels");
@@ -685,15 +686,22 @@ void require_shallow_nesting(const std::string& s, const std::string& name) {
     }
     if (c == '[' || c == '{') {
       if (++depth > kMaxTomlNesting) fail("arrays or inline tables");
+      elements.push_back(0);
       if (c == '{') {
         in_key = true;
         dots = 0;
       }
     } else if (c == ']' || c == '}') {
       depth = std::max(depth - 1, 0);
+      if (!elements.empty()) elements.pop_back();
     } else if (c == '=') {
       in_key = false;
     } else if (c == ',') {
+      // toml11's arrays grow quadratically (200 000 numbers: 50 s): bounded like sweeps.
+      if (!elements.empty() && ++elements.back() >= kMaxSweepPoints)
+        throw InputError(
+            name + ":" + std::to_string(line),
+            "an array or inline table with more than " + std::to_string(kMaxSweepPoints) + " elements");
       in_key = true;
       dots = 0;
     } else if (c == '.' && in_key) {

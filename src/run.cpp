@@ -753,8 +753,9 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     std::error_code ec;
     fs::remove(ro.checkpoint_path, ec);
     if (!r.info.converged) {
+      fs::remove(pdir, ec);  // only if empty: no bare point directory is left behind
       write_sweep_tables(dir, sw.parameter, sw.values, summaries);
-      throw SolveError(std::string(name) + " (" + sw.parameter + " = " + format_value(sw.values[i]) +
+      throw SolveError(std::string(name) + " (" + sw.parameter + " = " + format_number(sw.values[i]) +
                        "): " + r.info.status + "; the " + std::to_string(i) + " finished points are kept");
     }
     write_outputs(r, pdir);

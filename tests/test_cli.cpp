@@ -1,8 +1,10 @@
 // The gfmd executable: bad input gives a clear message, a non-zero exit and no output.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -153,11 +155,79 @@ TEST(Cli, BadInputIsRefusedCleanly) {
        "", "indenter.hurst"},
       {"negative_radius", sub(kGood, "radius = 1.0", "radius = -1.0"), "", "indenter.radius"},
       {"grid_not_table", "grid = 3\n" + kGood.substr(kGood.find("[elastic]")), "", "grid: must be a table"},
+      // Limits (issue 22): each once crashed, hung, ran for minutes or was silently truncated.
+      {"deep_array", kGood + "[solver]\nx = " + std::string(10000, '[') + std::string(10000, ']') + "\n", "",
+       "nested deeper than 64 levels"},
+      {"deep_table",
+       kGood + "[solver]\nx = " +
+           [] {
+             std::string t;
+             for (int i = 0; i < 10000; ++i) t += "{a=";
+             return t + "1" + std::string(10000, '}');
+           }() +
+           "\n",
+       "", "nested deeper than 64 levels"},
+      {"deep_dotted",
+       kGood +
+           [] {
+             std::string t = "[a";
+             for (int i = 0; i < 100000; ++i) t += ".a";
+             return t + "]\n";
+           }(),
+       "", "dotted keys nested deeper than 64 levels"},
+      {"deep_set", kGood, "--set solver.x=" + std::string(5000, '[') + std::string(5000, ']'),
+       "nested deeper"},
+      {"threads_huge", kGood + "[solver]\nthreads = 100000\n", "",
+       "solver.threads: must be an integer in [0, 1024]"},
+      {"sweep_points",
+       kGood + "[sweep]\nparameter = \"load.force\"\nfrom = 0.001\nto = 0.01\npoints = 1000000000\n", "",
+       "sweep.points: must be an integer in [0, 10000]"},
+      {"long_array",
+       kGood + "[stress]\ndepths = [" +
+           [] {
+             std::string t = "0.1";
+             for (int i = 0; i < 200000; ++i) t += ",0.1";
+             return t;
+           }() +
+           "]\n",
+       "", "more than 10000 elements"},
+      {"depths",
+       kGood + "[stress]\ndepths = [" +
+           [] {
+             std::string t = "0.1";
+             for (int i = 0; i < 100; ++i) t += ",0.1";
+             return t;
+           }() +
+           "]\n",
+       "", "stress.depths: at most 64 depths"},
+      {"dev_zero",
+       sub(sub(kGood, "type = \"hertz\"", "type = \"file\""), "radius = 1.0", "path = \"/dev/zero\""), "",
+       "not a regular file"},
+      {"fifo", sub(sub(kGood, "type = \"hertz\"", "type = \"file\""), "radius = 1.0", "path = \"fifo.txt\""),
+       "", "not a regular file"},
+      {"stiffness_nan", kGood + "[interaction]\nstiffness = nan\n", "",
+       "interaction.stiffness: must be a finite"},
+      {"lx_tiny", sub(kGood, "lx = 4.0", "lx = 1e-300"), "",
+       "grid.lx: must be a positive length in [1e-30, 1e30]"},
+      {"force_inf", sub(kGood, "force = 0.01", "force = inf"), "", "load.force: must be a finite number"},
+      {"force_huge", sub(kGood, "force = 0.01", "force = 1e300"), "", "load.force: the mean pressure"},
+      {"pressure_huge", sub(kGood, "force = 0.01", "pressure = 1e5"), "", "load.pressure: exceeds 1000 E*"},
+      {"max_iterations_wrap", kGood + "[solver]\nmax_iterations = 4294967297\n", "",
+       "solver.max_iterations: must be an integer in [1, 1000000000], got 4294967297"},
+      {"seed_negative",
+       sub(sub(kGood, "type = \"hertz\"", "type = \"selfaffine\""), "radius = 1.0",
+           "rms_height = 0.01\nseed = -3"),
+       "", "indenter.seed"},
+      {"case_is_fifo", "", "", "not a regular file"},
   };
+  ASSERT_EQ(::mkfifo((d / "fifo.txt").c_str(), 0600), 0);
   for (const auto& c : cases) {
     const fs::path tomlp = d / (std::string(c.name) + ".toml");
     const fs::path out = d / (std::string(c.name) + "_out");
-    write(tomlp, c.toml);
+    if (std::string(c.name) == "case_is_fifo")
+      ASSERT_EQ(::mkfifo(tomlp.c_str(), 0600), 0);  // the case file itself: must not hang
+    else
+      write(tomlp, c.toml);
     const auto r = run_gfmd("run " + tomlp.string() + " -o " + out.string() + " -q " + c.extra);
     EXPECT_NE(r.code, 0) << c.name;
     EXPECT_NE(r.output.find(c.fragment), std::string::npos) << c.name << ": " << r.output;
@@ -224,6 +294,35 @@ TEST(Cli, BadTopographyFilesAreRefusedCleanly) {
   const auto r = run_gfmd("run " + (d / "case.toml").string() + " -o " + (d / "dir_out").string() + " -q");
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.output.find("adir.txt"), std::string::npos) << r.output;
+}
+
+// A text height map with its size header needs no [grid]: dimensions and size come from it
+// (as the README says).
+TEST(Cli, HeightMapHeaderGivesTheGrid) {
+  const fs::path d = scratch("header");
+  std::string map = "# lx = 2\n# ly = 1\n";
+  for (int iy = 0; iy < 16; ++iy) {
+    for (int ix = 0; ix < 32; ++ix)
+      map += std::to_string(0.01 * std::cos(2 * 3.141592653589793 * ix / 32.0)) + (ix < 31 ? "," : "\n");
+  }
+  write(d / "map.csv", map);
+  write(d / "case.toml",
+        "[indenter]\ntype = \"file\"\npath = \"map.csv\"\n[load]\npressure = 0.001\n[output]\npng = false\n");
+  const auto r = run_gfmd("run " + (d / "case.toml").string() + " -o " + (d / "out").string() + " -q");
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream in(d / "out" / "summary.json");
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["input"]["grid"]["nx"], 32);
+  EXPECT_EQ(j["input"]["grid"]["ny"], 16);
+  EXPECT_EQ(j["input"]["grid"]["lx"].get<double>(), 2.0);
+  EXPECT_EQ(j["input"]["grid"]["ly"].get<double>(), 1.0);
+  // Without a header and without [grid] the error says what is missing.
+  write(d / "bare.txt", "1 2\n3 4\n");
+  write(d / "bare.toml", "[indenter]\ntype = \"file\"\npath = \"bare.txt\"\n[load]\npressure = 0.001\n");
+  const auto b = run_gfmd("run " + (d / "bare.toml").string() + " -o " + (d / "bout").string() + " -q");
+  EXPECT_EQ(b.code, 2);
+  EXPECT_NE(b.output.find("no physical size lx"), std::string::npos) << b.output;
+  EXPECT_NE(b.output.find("grid.lx"), std::string::npos) << b.output;
 }
 
 TEST(Cli, UnconvergedSolveWritesNothing) {

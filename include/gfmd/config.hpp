@@ -14,11 +14,11 @@
 namespace gfmd {
 
 // Limits checked while reading a case, before anything is allocated (docs in README).
-inline constexpr long long kMaxThreads = 1024;       // solver.threads
-inline constexpr long long kMaxSweepPoints = 10000;  // [sweep] points or values
-inline constexpr std::size_t kMaxStressDepths = 64;  // stress.depths
-inline constexpr int kMaxTomlNesting = 64;           // arrays, inline tables and dotted keys
-inline constexpr std::size_t kMaxCaseFileBytes = 16u << 20;
+inline constexpr long long kMaxThreads = 1024;                  // solver.threads
+inline constexpr long long kMaxSweepPoints = 10000;             // [sweep] points or values; any TOML array
+inline constexpr std::size_t kMaxStressDepths = 64;             // stress.depths
+inline constexpr int kMaxTomlNesting = 64;                      // arrays, inline tables and dotted keys
+inline constexpr std::size_t kMaxCaseFileBytes = 1u << 20;      // and arrays of <= kMaxSweepPoints
 inline constexpr double kMinLength = 1e-30, kMaxLength = 1e30;  // grid.lx, grid.ly
 // The largest mean pressure / E* a load may ask for (force / (E* lx ly) likewise).
 inline constexpr double kMaxPressureOverModulus = 1e3;

@@ -53,3 +53,53 @@ def test_friction_fields_and_errors():
         gfmd.run_toml(HERTZ, set=["elastic.poisson=0.7"])
     with pytest.raises(gfmd.SolveError, match="not converged"):
         gfmd.run_toml(HERTZ, set=["solver.max_iterations=2"])
+
+
+def test_ctrl_c_interrupts_a_solve_within_a_second():
+    """SIGINT during a solve raises KeyboardInterrupt promptly (not after the solve) and the
+    interpreter goes on. The case (thin nu = 0.49 layer, p = 0.3 E*, 512^2, stick) takes 20 s
+    or more; the signal comes after 0.5 s."""
+    import signal
+    import threading
+    import time
+
+    case = os.path.join(ROOT, "examples", "fig2e_rough_layer_sweep.toml")
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    t0 = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        gfmd.run(case, set=["grid.nx=512", "indenter.lambda_short=0.03125", "elastic.thickness=0.05",
+                            "load.pressure=0.3", "output.png=false"])
+    elapsed = time.monotonic() - t0
+    timer.cancel()
+    assert elapsed < 3.0, f"KeyboardInterrupt came {elapsed:.1f} s after the start (signal at 0.5 s)"
+    # Python's own handler is back: a later solve runs normally.
+    assert gfmd.run_toml(HERTZ)["summary"]["converged"]
+
+
+def test_write_error_raises_and_leaves_no_partial_outputs(tmp_path):
+    """A file-size limit makes every write beyond 64 kB fail (EFBIG), as a full disk would:
+    OSError naming the file, no summary.json, status failed, and the interpreter (and HDF5)
+    still work afterwards."""
+    import json
+    import resource
+    import signal
+
+    old_limit = resource.getrlimit(resource.RLIMIT_FSIZE)
+    old_handler = signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    out = tmp_path / "out"
+    case = tmp_path / "case.toml"
+    case.write_text(HERTZ)
+    try:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (64 * 1024, old_limit[1]))
+        with pytest.raises(OSError, match="fields.nc"):
+            gfmd.run(str(case), output=str(out))
+    finally:
+        resource.setrlimit(resource.RLIMIT_FSIZE, old_limit)
+        signal.signal(signal.SIGXFSZ, old_handler)
+    assert not (out / "summary.json").exists()
+    assert not any(p.name.startswith("fields.nc") for p in out.iterdir())
+    assert json.loads((out / "status.json").read_text())["status"] == "failed"
+    # Writing works again once space is back.
+    gfmd.run(str(tmp_path / "case.toml"), output=str(out))
+    assert (out / "summary.json").exists() and (out / "fields.nc").exists()
