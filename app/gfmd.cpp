@@ -353,17 +353,23 @@ int cmd_flow(const std::string& dir, const std::string& direction, double tol, c
     throw gfmd::InputError("--solver", "must be auto, amg or boomeramg, got '" + solver + "'");
   namespace fs = std::filesystem;
   const fs::path sp = fs::path(dir) / "summary.json";
-  std::ifstream in(sp);
-  if (!in) throw gfmd::InputError(sp.string(), "no solved case here (run gfmd run first)");
+  if (!fs::exists(sp)) throw gfmd::InputError(sp.string(), "no solved case here (run gfmd run first)");
+  const std::string text = gfmd::read_regular_file(sp.string(), 64u << 20, "summary file");
+  gfmd::require_regular_file((fs::path(dir) / "fields.nc").string(), "fields file");
   nlohmann::json s;
   try {
-    s = nlohmann::json::parse(in);
+    s = nlohmann::json::parse(text);
   } catch (const std::exception& e) {
     throw gfmd::InputError(sp.string(), std::string("unreadable: ") + e.what());
   }
-  const auto& gi = s.at("input").at("grid");
-  gfmd::Grid g{gi.at("nx").get<int>(), gi.at("ny").get<int>(), gi.at("lx").get<double>(),
-               gi.at("ly").get<double>()};
+  gfmd::Grid g;
+  try {
+    const auto& gi = s.at("input").at("grid");
+    g = gfmd::Grid{gi.at("nx").get<int>(), gi.at("ny").get<int>(), gi.at("lx").get<double>(),
+                   gi.at("ly").get<double>()};
+  } catch (const nlohmann::json::exception& e) {
+    throw gfmd::InputError(sp.string(), std::string("not a gfmd summary (input.grid): ") + e.what());
+  }
   int nx = 0, ny = 0;
   const std::vector<double> gap =
       gfmd::read_netcdf_field((fs::path(dir) / "fields.nc").string(), "gap", nx, ny);

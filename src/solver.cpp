@@ -810,7 +810,8 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         std::ostringstream os;
         os << info.status << "; " << nslow << " contact points slip slower than " << slow << " v0 (minimum "
            << vmin
-           << " v0), where the exact Coulomb law is ill-conditioned: set friction.regularization (e.g. 0.1)";
+           << " v0): near stick the friction step converges slowly; raise solver.max_outer or "
+              "solver.max_tangential, or set friction.stick_step";
         info.status = os.str();
       }
     }

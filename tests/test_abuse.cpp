@@ -51,9 +51,10 @@ std::string status_of(const fs::path& dir) {
 
 // What a child process may be given before it runs gfmd.
 struct ChildSetup {
-  fs::path cwd;               // working directory ("" = unchanged)
-  long file_size_limit = -1;  // RLIMIT_FSIZE in bytes (SIGXFSZ ignored: writes fail with EFBIG)
-  fs::path tmpfs;             // mount a private tmpfs of tmpfs_kb here first (namespace)
+  fs::path cwd;                   // working directory ("" = unchanged)
+  long file_size_limit = -1;      // RLIMIT_FSIZE in bytes (SIGXFSZ ignored: writes fail with EFBIG)
+  long address_space_limit = -1;  // RLIMIT_AS in bytes (ulimit -v)
+  fs::path tmpfs;                 // mount a private tmpfs of tmpfs_kb here first (namespace)
   int tmpfs_kb = 0;
 };
 
@@ -80,6 +81,10 @@ class Gfmd {
         ::signal(SIGXFSZ, SIG_IGN);
         rlimit rl{static_cast<rlim_t>(s.file_size_limit), static_cast<rlim_t>(s.file_size_limit)};
         setrlimit(RLIMIT_FSIZE, &rl);
+      }
+      if (s.address_space_limit >= 0) {
+        rlimit rl{static_cast<rlim_t>(s.address_space_limit), static_cast<rlim_t>(s.address_space_limit)};
+        setrlimit(RLIMIT_AS, &rl);
       }
       std::vector<char*> argv;
       std::string exe = GFMD_EXE;
@@ -299,6 +304,22 @@ TEST(Abuse, FullDiskExitsCleanly) {
   EXPECT_EQ(listing.find("summary.json"), std::string::npos) << listing;
   EXPECT_EQ(listing.find(".tmp."), std::string::npos) << listing;
   EXPECT_NE(listing.find("\"failed\""), std::string::npos) << listing;
+}
+
+// nx = 8192 under `ulimit -v 8000000` once died with a bare "std::bad_alloc": the memory
+// check now reads RLIMIT_AS (and cgroup limits, MemAvailable) before allocating.
+TEST(Abuse, MemoryLimitIsCheckedBeforeAllocating) {
+  const fs::path d = scratch("rlimit_as");
+  write(d / "case.toml", kHertz);
+  ChildSetup s;
+  s.address_space_limit = 1L << 30;
+  const int code =
+      run({"run", (d / "case.toml").string(), "-o", (d / "out").string(), "-q", "--set", "grid.nx=4096"},
+          d / "log", s);
+  const std::string log = slurp(d / "log");
+  EXPECT_EQ(code, 2) << log;
+  EXPECT_NE(log.find("RLIMIT_AS"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(d / "out"));
 }
 
 // percolation, ensemble and sweep once ran on for minutes after SIGINT and exited 0.
