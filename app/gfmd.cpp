@@ -663,7 +663,13 @@ int main(int argc, char** argv) {
         args.emplace_back("-o");
         args.push_back(out_dir);
       }
-      return run_child(args, false) == 0 ? 0 : 1;
+      const int rc = run_child(args, false);
+      if (stop_requested()) {
+        // Ctrl-C reaches the driver and its runs too; finished runs are reused next time.
+        std::fprintf(stderr, "gfmd: study interrupted; run the same command again to continue\n");
+        return 4;
+      }
+      return rc == 0 ? 0 : 1;
     }
   } catch (const gfmd::InputError& e) {
     std::fprintf(stderr, "gfmd: error: %s%s\n", e.what(), with_sets().c_str());

@@ -470,7 +470,27 @@ Config build(const toml::value& root, const std::string& name, const std::string
   sw.finish();
 
   Section st(root, "stress", errors);
-  c.stress.post_analysis = st.boolean("post_analysis", false);
+  if (const toml::value* v = st.raw("post_analysis")) {
+    // false | true (= "consistent") | "paper" | "consistent" | a list of those.
+    const auto kind = [&](const toml::value& e) {
+      if (e.is_string() && (e.as_string() == "paper" || e.as_string() == "consistent")) {
+        const std::string k = e.as_string();
+        if (std::find(c.stress.post_analysis.begin(), c.stress.post_analysis.end(), k) ==
+            c.stress.post_analysis.end())
+          c.stress.post_analysis.push_back(k);
+      } else {
+        st.error("post_analysis",
+                 "must be false, true, \"paper\", \"consistent\" or a list of those" + where(e));
+      }
+    };
+    if (v->is_boolean()) {
+      if (v->as_boolean()) c.stress.post_analysis = {"consistent"};
+    } else if (v->is_array()) {
+      for (const auto& e : v->as_array()) kind(e);
+    } else {
+      kind(*v);
+    }
+  }
   c.stress.high_tension_fraction = st.number("high_tension_fraction", 0.9);
   c.stress.profiles = st.boolean("profiles", true);
   if (!(c.stress.high_tension_fraction > 0 && c.stress.high_tension_fraction <= 1))
@@ -783,7 +803,10 @@ nlohmann::json Config::to_json() const {
                  {"fft_planner", solver.fft_planner == Planner::Measure ? "measure" : "estimate"},
                  {"threads", threads}};
   j["output"] = {{"fields", output.fields}, {"png", output.png}};
-  j["stress"] = {{"post_analysis", stress.post_analysis},
+  nlohmann::json pa = false;
+  if (stress.post_analysis.size() == 1) pa = stress.post_analysis.front();
+  if (stress.post_analysis.size() > 1) pa = stress.post_analysis;
+  j["stress"] = {{"post_analysis", pa},
                  {"high_tension_fraction", stress.high_tension_fraction},
                  {"depths", stress.depths},
                  {"profiles", stress.profiles}};

@@ -116,7 +116,7 @@ nlohmann::json find_percolation(const Config& base, const PercolationOptions& op
   const auto eval = [&](double p) {
     Config c = base;
     c.load = LoadParams{LoadMode::Pressure, p};
-    c.stress.post_analysis = false;
+    c.stress.post_analysis.clear();
     c.stress.depths.clear();
     RunOptions ro;
     ro.keep_stress_fields = false;

@@ -36,34 +36,58 @@ void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
   r.principal = principal(r.stress, keep_fields ? PrincipalParts::All : PrincipalParts::SummaryOnly);
   r.stress_summary = summarize(cfg.grid, r.principal, cfg.stress.high_tension_fraction);
   r.has_stress = true;
+  const RealField full_s1 = cfg.stress.post_analysis.empty() ? RealField{} : r.principal.s1;
   if (cfg.stress.profiles) r.profiles_csv = profiles_table(r, fft);
   if (!keep_fields) {
     r.stress = StressField{};
     r.principal = PrincipalField{};
   }
-  if (cfg.stress.post_analysis) {
-    // Frictionless pressure: the reference solve, or the solution itself without friction.
-    RealField p = r.reference_pressure;
-    if (p.empty() && cfg.friction.coefficient == 0) p = r.fields.pressure;
+  if (!cfg.stress.post_analysis.empty()) {
+    // The frictionless solution: the reference solve, or the solution itself without
+    // friction, or (no reference kept) a frictionless solve now.
+    ContactFields rf;
+    if (!r.reference_pressure.empty()) {
+      rf.pressure = r.reference_pressure;
+      rf.ux = r.reference_ux;
+      rf.uy = r.reference_uy;
+    } else if (cfg.friction.coefficient == 0) {
+      rf.pressure = r.fields.pressure;
+      rf.ux = r.fields.ux;
+      rf.uy = r.fields.uy;
+    }
     const ElasticBody body(cfg.grid, cfg.elastic);
-    if (p.empty()) {
+    if (rf.pressure.empty()) {
       FrictionParams none = cfg.friction;
       none.coefficient = 0.0;
       ContactSolver ref(body, r.topography, cfg.interaction, none, cfg.solver);
-      ContactFields rf;
       const SolveInfo info = ref.solve(cfg.load, rf);
       if (!info.converged) throw SolveError("post-analysis reference: " + info.status);
-      p = rf.pressure;
     }
-    PrincipalField pp;
-    {
-      const StressField ps =
-          post_analysis_stress(fft, body, p, cfg.friction.coefficient, cfg.friction.direction_deg);
-      pp = principal(ps, PrincipalParts::SummaryOnly);
+    const double mu = cfg.friction.coefficient, angle = cfg.friction.direction_deg;
+    const auto above_half = [&cfg](const RealField& s1, double max) {
+      if (!(max > 0)) return 0.0;
+      std::size_t k = 0;
+      for (double v : s1) k += v >= 0.5 * max ? 1 : 0;
+      return static_cast<double>(k) / static_cast<double>(cfg.grid.size());
+    };
+    for (const std::string& kind : cfg.stress.post_analysis) {
+      PrincipalField pp;
+      {
+        const StressField ps = kind == "paper" ? paper_post_analysis_stress(fft, cfg.elastic, rf, mu, angle)
+                                               : post_analysis_stress(fft, body, rf.pressure, mu, angle);
+        pp = principal(ps, PrincipalParts::SummaryOnly);
+      }
+      CaseResult::PostAnalysis pa;
+      pa.kind = kind;
+      pa.summary = summarize(cfg.grid, pp, cfg.stress.high_tension_fraction);
+      pa.area_above_half_max = above_half(pp.s1, pa.summary.max_tensile_stress);
+      pa.s1 = std::move(pp.s1);
+      r.post_analyses.push_back(std::move(pa));
     }
-    r.post_analysis = summarize(cfg.grid, pp, cfg.stress.high_tension_fraction);
-    r.post_analysis_s1 = std::move(pp.s1);
+    r.post_analysis = r.post_analyses.front().summary;
+    r.post_analysis_s1 = r.post_analyses.front().s1;
     r.has_post_analysis = true;
+    r.area_above_half_max = above_half(full_s1, r.stress_summary.max_tensile_stress);
   }
   for (double d : cfg.stress.depths) {
     const PrincipalField pf =
@@ -128,7 +152,11 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     }
     r.reference = compute_observables(ref.fft(), r.topography, none, rf, r.reference_info);
     r.has_reference = true;
-    if (cfg.stress.post_analysis) r.reference_pressure = rf.pressure;
+    if (!cfg.stress.post_analysis.empty()) {
+      r.reference_pressure = rf.pressure;
+      r.reference_ux = rf.ux;
+      r.reference_uy = rf.uy;
+    }
     if (!opts.warm_start) r.fields.pressure = std::move(rf.pressure);
   }
   {
@@ -367,7 +395,24 @@ nlohmann::json summary_json(const CaseResult& r) {
                           {"high_tension_fraction_of", s.high_tension_fraction_of}};
   };
   if (r.has_stress) j.update(stress_json(r.stress_summary));
-  if (r.has_post_analysis) j["post_analysis"] = stress_json(r.post_analysis);
+  if (r.has_post_analysis) {
+    // The first kind as "post_analysis" (its keys as before, plus kind, the area above half
+    // the maximum and the full/post ratios), every kind as "post_analysis_<kind>".
+    const auto pa_json = [&](const CaseResult::PostAnalysis& pa) {
+      nlohmann::json e = stress_json(pa.summary);
+      e["kind"] = pa.kind;
+      e["area_fraction_above_half_max"] = pa.area_above_half_max;
+      const auto ratio = [](double a, double b) { return b > 0 ? nlohmann::json(a / b) : nlohmann::json(); };
+      e["ratio_max_tensile_stress"] =
+          ratio(r.stress_summary.max_tensile_stress, pa.summary.max_tensile_stress);
+      e["ratio_max_von_mises"] = ratio(r.stress_summary.max_von_mises, pa.summary.max_von_mises);
+      e["ratio_area_above_half_max"] = ratio(r.area_above_half_max, pa.area_above_half_max);
+      return e;
+    };
+    j["post_analysis"] = pa_json(r.post_analyses.front());
+    for (const auto& pa : r.post_analyses) j["post_analysis_" + pa.kind] = pa_json(pa);
+    j["area_fraction_above_half_max"] = r.area_above_half_max;
+  }
   if (r.has_leakage) j["flow"] = r.leakage.json;
   if (r.has_post_analysis && r.post_analysis.max_tensile_stress > 0)
     j["tensile_stress_ratio_to_post_analysis"] =
@@ -541,9 +586,19 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
                {"e1_z", pr.e1z.data(), "eigenvector of sigma_I, z", "1"},
                {"von_mises", pr.von_mises.data(), "von Mises surface stress", "E*"}})
         fields.push_back(nf);
-      if (r.has_post_analysis)
+      if (r.has_post_analysis) {
         fields.push_back({"post_analysis_sigma_1", r.post_analysis_s1.data(),
-                          "sigma_I of the post-analysis reference (frictionless p + uniform mu p)", "E*"});
+                          "sigma_I of the post-analysis reference (" + r.post_analyses.front().kind +
+                              "; the first of [stress] post_analysis)",
+                          "E*"});
+        for (const auto& pa : r.post_analyses)
+          fields.push_back(
+              {"post_analysis_" + pa.kind + "_sigma_1", pa.s1.data(),
+               pa.kind == "paper"
+                   ? "sigma_I of the paper's post-analysis (frictionless fields, sigma_az = mu p)"
+                   : "sigma_I of the consistent post-analysis (frictionless p + mu p with its strain)",
+               "E*"});
+      }
       for (std::size_t k = 0; k < r.subsurface.size(); ++k) {
         const std::string depth = std::to_string(r.subsurface[k].depth);
         fields.push_back({"von_mises_depth_" + std::to_string(k), r.subsurface[k].von_mises.data(),

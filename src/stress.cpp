@@ -356,6 +356,27 @@ StressField surface_stress(const FFT& fft, const ElasticParams& el, const Contac
   return s;
 }
 
+StressField paper_post_analysis_stress(const FFT& fft, const ElasticParams& el,
+                                       const ContactFields& frictionless, double mu, double angle_deg) {
+  const std::size_t n = fft.grid().size();
+  require_size(frictionless.pressure, n, "pressure");
+  require_size(frictionless.ux, n, "ux");
+  require_size(frictionless.uy, n, "uy");
+  const double a = angle_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(a), ey = std::sin(a);
+  ContactFields st;
+  st.pressure = frictionless.pressure;
+  st.ux = frictionless.ux;
+  st.uy = frictionless.uy;
+  st.tx.resize(n);
+  st.ty.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    st.tx[k] = mu * st.pressure[k] * ex;
+    st.ty[k] = mu * st.pressure[k] * ey;
+  }
+  return surface_stress(fft, el, st);
+}
+
 StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const RealField& pressure,
                                  double mu, double angle_deg) {
   const Grid& g = fft.grid();

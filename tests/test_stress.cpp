@@ -11,9 +11,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <cstdint>
 #include <cstdio>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
 
@@ -355,6 +357,125 @@ TEST(StressPostAnalysis, HamiltonTrailingEdge) {
       EXPECT_LT(std::abs(v[1] / ex - 1), std::abs(v[0] / ex - 1));  // converging
       EXPECT_LT(std::abs(v[1] / ex - 1), 0.08);
     }
+}
+
+// The paper's post-analysis ([stress] post_analysis = "paper") against an independent
+// recomputation: the frictionless solution (a separate mu = 0 solve of the same case) is
+// differentiated by a plain O(N^2) DFT (Nyquist derivative dropped), Hooke's law of SPEC §5
+// gives the in-plane stresses, sigma_az = mu p e_s and sigma_zz = -p are written in, and
+// sigma_I follows per point. The run's field must agree to 1e-10 of the largest stress. The
+// consistent kind of the same run differs (it includes the strain of mu p).
+TEST(StressPostAnalysis, PaperKindEqualsIndependentRecomputation) {
+  const OneThread one_thread;
+  const std::string base = R"([grid]
+nx = 32
+ny = 24
+lx = 1.0
+ly = 0.75
+[elastic]
+poisson = 0.3
+thickness = 0.3
+[indenter]
+type = "selfaffine"
+lambda_long = 0.5
+lambda_short = 0.125
+rms_gradient = 0.2
+seed = 3
+[load]
+pressure = 0.05
+[friction]
+direction = 30.0
+[solver]
+tolerance = 1e-11
+threads = 1
+[stress]
+post_analysis = ["paper", "consistent"]
+)";
+  const double mu = 0.6, a = 30.0 * kPi / 180.0, nu = 0.3;
+  const CaseResult r = run_case(parse_config(base, "t.toml", {"friction.coefficient=0.6"}));
+  ASSERT_TRUE(r.info.converged) << r.info.status;
+  ASSERT_EQ(r.post_analyses.size(), 2u);
+  ASSERT_EQ(r.post_analyses[0].kind, "paper");
+  ASSERT_EQ(r.post_analyses[1].kind, "consistent");
+  const CaseResult f0 = run_case(parse_config(base, "t.toml", {"friction.coefficient=0"}));
+  ASSERT_TRUE(f0.info.converged);
+  const Grid& g = r.config.grid;
+  const int nx = g.nx, ny = g.ny;
+  // d/dx and d/dy of a real field by the DFT sum, Nyquist wave numbers dropped.
+  const auto derivative = [&](const RealField& u, int axis) {
+    std::vector<std::complex<double>> U(g.size());
+    for (int ky = 0; ky < ny; ++ky)
+      for (int kx = 0; kx < nx; ++kx) {
+        std::complex<double> sum = 0;
+        for (int iy = 0; iy < ny; ++iy)
+          for (int ix = 0; ix < nx; ++ix)
+            sum +=
+                u[static_cast<std::size_t>(iy) * nx + ix] *
+                std::polar(
+                    1.0, -2 * kPi * (static_cast<double>(kx) * ix / nx + static_cast<double>(ky) * iy / ny));
+        U[static_cast<std::size_t>(ky) * nx + kx] = sum / static_cast<double>(g.size());
+      }
+    RealField d(g.size());
+    for (int iy = 0; iy < ny; ++iy)
+      for (int ix = 0; ix < nx; ++ix) {
+        std::complex<double> sum = 0;
+        for (int ky = 0; ky < ny; ++ky)
+          for (int kx = 0; kx < nx; ++kx) {
+            const int mx = kx <= nx / 2 ? kx : kx - nx, my = ky <= ny / 2 ? ky : ky - ny;
+            if ((axis == 0 && 2 * kx == nx) || (axis == 1 && 2 * ky == ny)) continue;
+            const double q = axis == 0 ? 2 * kPi * mx / g.lx : 2 * kPi * my / g.ly;
+            sum +=
+                std::complex<double>(0, q) * U[static_cast<std::size_t>(ky) * nx + kx] *
+                std::polar(1.0,
+                           2 * kPi * (static_cast<double>(kx) * ix / nx + static_cast<double>(ky) * iy / ny));
+          }
+        d[static_cast<std::size_t>(iy) * nx + ix] = sum.real();
+      }
+    return d;
+  };
+  const RealField uxx = derivative(f0.fields.ux, 0), uxy = derivative(f0.fields.ux, 1),
+                  uyx = derivative(f0.fields.uy, 0), uyy = derivative(f0.fields.uy, 1);
+  const double es = r.config.elastic.contact_modulus, gmod = es * (1 - nu) / 2;
+  double err = 0, scale = 0, differs = 0;
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    const double p = f0.fields.pressure[k], zz = -p;
+    const double xx = es * (uxx[k] + nu * uyy[k]) + nu / (1 - nu) * zz;
+    const double yy = es * (uyy[k] + nu * uxx[k]) + nu / (1 - nu) * zz;
+    const double xy = gmod * (uxy[k] + uyx[k]);
+    const Principal3 pr = principal(xx, yy, zz, xy, mu * p * std::cos(a), mu * p * std::sin(a));
+    err = std::max(err, std::abs(pr.s1 - r.post_analyses[0].s1[k]));
+    scale = std::max({scale, std::abs(xx), std::abs(yy), std::abs(zz)});
+    differs = std::max(differs, std::abs(r.post_analyses[1].s1[k] - r.post_analyses[0].s1[k]));
+  }
+  std::printf("paper post-analysis: max |sigma_I - independent| = %.2e of max |sigma| %.3e\n", err / scale,
+              scale);
+  EXPECT_LT(err, 1e-10 * scale);
+  EXPECT_GT(differs, 1e-3 * scale);  // the consistent kind includes the friction's strain
+  // Summary: both kinds with their ratios; the first is also "post_analysis".
+  const nlohmann::json j = summary_json(r);
+  EXPECT_EQ(j["post_analysis"]["kind"], "paper");
+  EXPECT_EQ(j["post_analysis_consistent"]["kind"], "consistent");
+  EXPECT_DOUBLE_EQ(j["post_analysis_paper"]["ratio_max_tensile_stress"].get<double>(),
+                   r.stress_summary.max_tensile_stress / r.post_analyses[0].summary.max_tensile_stress);
+  EXPECT_GT(j["post_analysis_paper"]["area_fraction_above_half_max"].get<double>(), 0.0);
+}
+
+TEST(StressPostAnalysis, KindsParsedAndRecorded) {
+  const std::string base =
+      "[grid]\nnx = 16\nlx = 1\n[indenter]\ntype = \"eggcrate\"\n[load]\npressure = 0.01\n";
+  const auto kinds = [&](const std::string& v) {
+    return parse_config(base + "[stress]\npost_analysis = " + v + "\n", "t.toml").stress.post_analysis;
+  };
+  EXPECT_TRUE(kinds("false").empty());
+  EXPECT_EQ(kinds("true"), std::vector<std::string>{"consistent"});  // the earlier meaning
+  EXPECT_EQ(kinds("\"paper\""), std::vector<std::string>{"paper"});
+  EXPECT_EQ(kinds("[\"consistent\", \"paper\"]"), (std::vector<std::string>{"consistent", "paper"}));
+  EXPECT_THROW((void)kinds("\"hamilton\""), InputError);
+  EXPECT_THROW((void)kinds("[\"paper\", 3]"), InputError);
+  // Recorded in the input, read back the same.
+  const Config c = parse_config(base + "[stress]\npost_analysis = [\"paper\", \"consistent\"]\n", "t.toml");
+  EXPECT_EQ(parse_config(c.to_toml(), "again.toml").stress.post_analysis, c.stress.post_analysis);
+  EXPECT_EQ(c.to_json()["stress"]["post_analysis"], nlohmann::json({"paper", "consistent"}));
 }
 
 TEST(StressPostAnalysis, RotatingSlidingDirectionWithIndenterRotatesField) {

@@ -44,7 +44,10 @@ struct SweepConfig {
 };
 
 struct StressConfig {
-  bool post_analysis = false;          // also the frictionless + mu p reference (paper Fig. 3a,c)
+  // Post-analysis references of the frictional stress (paper Fig. 3a,c), in order:
+  // "paper" (the frictionless solution as it is plus sigma_az = mu p e_s, no strain from the
+  // friction: what the paper computed) and/or "consistent" (the strain of mu p e_s included).
+  std::vector<std::string> post_analysis;
   double high_tension_fraction = 0.9;  // "zone of high tension": s1 >= fraction * max s1
   std::vector<double> depths;          // planes below the surface for subsurface stresses
   bool profiles = true;                // profiles.csv (+ png) through the pressure maximum

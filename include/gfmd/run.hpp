@@ -33,7 +33,8 @@ struct CaseResult {
   bool has_reference = false;
   Observables reference;
   SolveInfo reference_info;
-  RealField reference_pressure;  // frictionless pressure (with friction_reference)
+  RealField reference_pressure;          // frictionless pressure (with friction_reference)
+  RealField reference_ux, reference_uy;  // and its in-plane displacements (post_analysis "paper")
   // Stresses (SPEC §5): summaries when has_stress (a converged solve); the fields only if
   // RunOptions::keep_stress_fields.
   bool has_stress = false;
@@ -41,9 +42,19 @@ struct CaseResult {
   StressField stress;
   PrincipalField principal;
   StressSummary stress_summary;
+  // Post-analysis references, one per kind of [stress] post_analysis, in its order; the
+  // first is also post_analysis / post_analysis_s1 (the names of earlier versions).
+  struct PostAnalysis {
+    std::string kind;  // "paper" or "consistent"
+    StressSummary summary;
+    double area_above_half_max = 0;  // fraction of cells with s1 >= 0.5 max s1 of this field
+    RealField s1;                    // sigma_I (empty unless the fields are kept)
+  };
+  std::vector<PostAnalysis> post_analyses;
   bool has_post_analysis = false;
   StressSummary post_analysis;
-  RealField post_analysis_s1;  // sigma_I of the post-analysis reference
+  RealField post_analysis_s1;      // sigma_I of the first post-analysis reference
+  double area_above_half_max = 0;  // the full solution's, as PostAnalysis::area_above_half_max
   struct Subsurface {
     double depth;
     StressSummary summary;

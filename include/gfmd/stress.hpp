@@ -47,13 +47,21 @@ struct DisplacementField {
 // displacements), so the mean in-plane stress is nu/(1-nu) times the mean sigma_zz.
 StressField surface_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f);
 
-// Post-analysis reference (paper Fig. 3a,c): the given (frictionless) pressure p plus the
+// Consistent post-analysis reference ("consistent"): the given (frictionless) pressure p plus the
 // traction mu p e_s of uniform slip on the body, e_s = (cos a, sin a) the sliding
 // direction of the indenter (a = angle_deg); the displacements are recomputed from
 // (mu p e_s, -p) with the body's compliance (its coupling setting included), then the
 // stress is surface_stress of that state.
 StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const RealField& pressure,
                                  double mu, double angle_deg);
+
+// The paper's post-analysis (Fig. 3a,c; "paper" in [stress] post_analysis): the frictionless
+// solution as it is -- its pressure p and in-plane displacements ux, uy -- with the
+// friction only written into the shear tractions, sigma_az = mu p e_s (sigma_zz = -p); the
+// in-plane stresses are those of the frictionless strains (Hooke's law as surface_stress).
+// No in-plane strain is caused by the added friction. `frictionless` needs pressure, ux, uy.
+StressField paper_post_analysis_stress(const FFT& fft, const ElasticParams& el,
+                                       const ContactFields& frictionless, double mu, double angle_deg);
 
 // Eigen-decomposition of one symmetric 3x3 tensor in closed form: the best-separated
 // eigenvalue by the trigonometric formula and its eigenvector from cross products of the
