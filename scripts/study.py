@@ -164,30 +164,45 @@ def col(rows, key):
 
 
 def plot_sweeps(study, results, fig_base):
+    """One panel of y against x per series. With a [published] table (divide_by = a summary
+    column, e.g. the realised rms gradient) a first panel draws x and y divided by that
+    column, the way a published panel was drawn, and the plain axes follow as a second panel."""
     x, y = study["x"], study["y"]
     xs = float(study.get("x_scale", 1.0))
     ys = float(study.get("y_scale", 1.0))
-    fig, ax = plt.subplots(figsize=(4.6, 3.4), dpi=150)
+    pub = study.get("published")
+    panels = ([("published", pub)] if pub else []) + [("plain", None)]
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.6 * len(panels), 3.4 + (0.4 if pub else 0)), dpi=150,
+                             squeeze=False)
     data = {}
-    for s, rows in results:
-        xv = col(rows, x) * xs * float(s.get("x_scale", 1.0))
-        yv = col(rows, y) * ys
-        ax.plot(xv, yv, s.get("style", "o-"), label=s["label"])
-        data[s["label"]] = (xv, yv)
-    ax.set_xlabel(study.get("xlabel", x))
-    ax.set_ylabel(study.get("ylabel", y))
-    if study.get("xscale"):
-        ax.set_xscale(study["xscale"])
-    if study.get("yscale"):
-        ax.set_yscale(study["yscale"])
-    ax.axhline(0.0, color="0.6", lw=0.6)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
-    ax.set_title(study.get("title", ""), fontsize=8)
-    fig.tight_layout()
+    for (kind, spec), ax in zip(panels, axes[0]):
+        for s, rows in results:
+            xv = col(rows, x) * xs * float(s.get("x_scale", 1.0))
+            yv = col(rows, y) * ys
+            if spec:
+                g = col(rows, spec["divide_by"])
+                xv, yv = xv / g, yv / g
+            ax.plot(xv, yv, s.get("style", "o-"), label=s["label"])
+            data[(kind, s["label"])] = (xv, yv)
+        ax.set_xlabel(spec.get("xlabel", x) if spec else study.get("xlabel", x))
+        ax.set_ylabel(spec.get("ylabel", y) if spec else study.get("ylabel", y))
+        if study.get("xscale"):
+            ax.set_xscale(study["xscale"])
+        if study.get("yscale"):
+            ax.set_yscale(study["yscale"])
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+        ax.set_title((spec or {}).get("title", study.get("title", "")), fontsize=8)
+    if pub and pub.get("caption"):
+        fig.text(0.5, 0.01, pub["caption"], ha="center", va="bottom", fontsize=6.5)
+        fig.tight_layout(rect=(0, 0.07, 1, 1))
+    else:
+        fig.tight_layout()
     save(fig, fig_base)
-    write_csv(fig_base + ".csv", ["series", study.get("xlabel", x), study.get("ylabel", y)],
-              [[label, repr(float(a)), repr(float(b))] for label, (xv, yv) in data.items() for a, b in zip(xv, yv)])
+    write_csv(fig_base + ".csv", ["panel", "series", "x", "y"],
+              [[kind, label, repr(float(a)), repr(float(b))] for (kind, label), (xv, yv) in data.items()
+               for a, b in zip(xv, yv)])
 
 
 def plot_green(study, results, fig_base):

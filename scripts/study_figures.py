@@ -1,7 +1,9 @@
 """Figures drawn from the fields of single runs (studies with kind = "runs"): a grid of
 maps (rows = fields, columns = series) or of line profiles along and across the sliding
 direction through the pressure maximum."""
+import json
 import os
+import textwrap
 
 import matplotlib.pyplot as plt
 import netCDF4
@@ -51,6 +53,10 @@ def draw(study, results, out, fig_base):
 
 
 def draw_maps(study, series, fig_base):
+    """One row per [[maps]] entry, one column per series. A map with scale_to = "<field>" is
+    multiplied by max(<field>) / max(own) over the whole cell (the paper's scaling of its
+    post-analysis panels), drawn with the colour limits of <field> and labelled with the
+    factor. Post-analysis summaries go to <fig_base>_ratios.csv."""
     rows = study["maps"]
     fig, axes = plt.subplots(len(rows), len(series), figsize=(2.3 * len(series), 2.1 * len(rows)), dpi=150,
                              squeeze=False)
@@ -59,23 +65,52 @@ def draw_maps(study, series, fig_base):
         f = load_fields(d)
         idx, ext = window(f, study.get("crop"))
         for r, spec in enumerate(rows):
-            v = field(f, spec)[idx]
+            v = field(f, spec)
+            factor = None
+            if spec.get("scale_to"):
+                ref = field(f, {"var": spec["scale_to"]})
+                if np.nanmax(v) > 0:
+                    factor = float(np.nanmax(ref) / np.nanmax(v))
+                    v = v * factor
+                lim = float(np.nanmax(np.abs(ref[idx])))
+            else:
+                lim = np.nanmax(np.abs(v[idx])) if spec.get("symmetric") else None
+            v = v[idx]
             ax = axes[r][c]
-            lim = np.nanmax(np.abs(v)) if spec.get("symmetric") else None
             im = ax.imshow(v, origin="lower", extent=ext, cmap=spec.get("cmap", "viridis"),
                            vmin=-lim if lim else spec.get("vmin"), vmax=lim if lim else spec.get("vmax"))
+            if factor is not None:
+                ax.text(0.03, 0.95, f"× {factor:.3g}", transform=ax.transAxes, fontsize=7, va="top",
+                        bbox={"facecolor": "white", "alpha": 0.7, "lw": 0})
             fig.colorbar(im, ax=ax, shrink=0.8)
             ax.set_xticks([])
             ax.set_yticks([])
             if r == 0:
-                ax.set_title(s["label"], fontsize=7)
+                ax.set_title(textwrap.fill(s["label"], 30), fontsize=7)
             if c == 0:
                 ax.set_ylabel(spec.get("label", spec["var"]), fontsize=7)
             table.append([s["label"], spec["var"], float(np.nanmin(v)), float(np.nanmax(v))])
-    fig.suptitle(study.get("title", ""), fontsize=8)
-    fig.tight_layout()
+    fig.suptitle(textwrap.fill(study.get("title", ""), 30 * len(series)), fontsize=8)
+    if study.get("caption"):
+        fig.text(0.5, 0.005, study["caption"], ha="center", va="bottom", fontsize=6, wrap=True)
+    fig.tight_layout(rect=(0, 0.04 if study.get("caption") else 0, 1, 1))
     save(fig, fig_base)
     write_csv(fig_base + ".csv", ["series", "field", "min", "max"], table)
+    ratios = []
+    for s, d in series:
+        with open(os.path.join(d, "summary.json")) as fh:
+            j = json.load(fh)
+        for key, pa in j.items():
+            if key.startswith("post_analysis_") and isinstance(pa, dict):
+                ratios.append([s["label"], pa["kind"], j["max_tensile_stress"], pa["max_tensile_stress"],
+                               pa["ratio_max_tensile_stress"], pa["ratio_max_von_mises"],
+                               j.get("area_fraction_above_half_max"), pa["area_fraction_above_half_max"],
+                               pa["ratio_area_above_half_max"]])
+    if ratios:
+        write_csv(fig_base + "_ratios.csv",
+                  ["series", "post_analysis", "full_sigma_I_max", "post_sigma_I_max", "full_over_post_sigma_I_max",
+                   "full_over_post_von_mises_max", "full_area_above_half_max", "post_area_above_half_max",
+                   "full_over_post_area"], ratios)
 
 
 def draw_cross_section(study, series, fig_base):

@@ -32,8 +32,8 @@ def out(tmp_path_factory):
 def test_fig2d_quick_signs_and_cube_root_law(out):
     first = run_study("fig2d", out)
     table = rows(out / "fig2d" / "quick" / "fig2d.csv")[1:]
-    comp = [(float(x), float(y)) for s, x, y in table if s.startswith("ν = 0.25")]
-    conf = [(float(x), float(y)) for s, x, y in table if s.startswith("ν = 0.49")]
+    comp = [(float(x), float(y)) for _, s, x, y in table if s.startswith("ν = 0.25")]
+    conf = [(float(x), float(y)) for _, s, x, y in table if s.startswith("ν = 0.49")]
     assert len(comp) == 5 and len(conf) == 5
     # Paper Fig. 2(d): compressible coupling lowers friction, confinement raises it.
     assert all(y < 0 for _, y in comp)
@@ -90,10 +90,28 @@ def test_sweep_series_that_stops_early_is_drawn_and_reported(tmp_path):
     assert "stopped early" in p.stderr
     d = tmp_path / "out" / "partial" / "quick"
     table = rows(d / "partial.csv")[1:]
-    assert [r[0] for r in table] == ["s (stopped: not converged)"]
-    assert 0.0 < float(table[0][2]) < 1.0
+    assert [r[1] for r in table] == ["s (stopped: not converged)"]
+    assert 0.0 < float(table[0][3]) < 1.0
     assert (d / "partial.png").exists()
     import json
     report = json.load(open(d / "study.json"))
     assert report["incomplete_series"][0]["series"] == "s"
     assert "not converged" in report["incomplete_series"][0]["reason"]
+
+
+def test_fig3ad_quick_paper_post_analysis_ratios(out):
+    """Paper Fig. 3(a-d): against the paper's post-analysis (the frictionless solution with
+    sigma_xz = mu_c p written in) the full solution's sigma_I^max is larger by factors
+    "easily surpassing two to four" (paper); against the consistent post-analysis (the
+    friction's strain included) it is not. Quick resolution: 256^2, lambda_s = lambda_l/16."""
+    run_study("fig3ad", out)
+    d = out / "fig3ad" / "quick"
+    table = rows(d / "fig3ad_ratios.csv")
+    head, body = table[0], table[1:]
+    ratio = {(r[0].split(":")[0], r[1]): float(r[head.index("full_over_post_sigma_I_max")]) for r in body}
+    assert set(ratio) == {(b, k) for b in ("compressible", "confined") for k in ("paper", "consistent")}
+    assert ratio[("compressible", "paper")] > 4.0
+    assert ratio[("confined", "paper")] > 2.0
+    assert 0.7 < ratio[("compressible", "consistent")] < 1.4
+    assert 0.7 < ratio[("confined", "consistent")] < 1.4
+    assert (d / "fig3ad.png").stat().st_size > 10000
