@@ -73,6 +73,55 @@ void add_change(std::array<double, 3>& acc, unsigned char in_supp, double x, dou
 
 }  // namespace
 
+std::string friction_history_evidence(const std::vector<double>& change, const std::vector<double>& force) {
+  const std::size_t n = std::min(change.size(), force.size());
+  const std::size_t w = std::min<std::size_t>(n, 60);
+  if (w < 8) return "too few friction steps to tell a limit cycle";
+  const std::size_t s = n - w;  // the last w steps
+  double fmin = force[s], fmax = force[s], fmean = 0, cmin = change[s], cmax = change[s];
+  for (std::size_t t = s; t < n; ++t) {
+    fmin = std::min(fmin, force[t]);
+    fmax = std::max(fmax, force[t]);
+    fmean += force[t] / static_cast<double>(w);
+    cmin = std::min(cmin, change[t]);
+    cmax = std::max(cmax, change[t]);
+  }
+  const double range = fmax - fmin;
+  char buf[320];
+  // The period whose shifted copy matches the force history best (mean mismatch relative to
+  // the range), tried up to a third of the window so that at least three periods are seen.
+  std::size_t best_p = 0;
+  double best_d = std::numeric_limits<double>::infinity();
+  if (range > 0)
+    for (std::size_t p = 1; p <= w / 3; ++p) {
+      double d = 0;
+      for (std::size_t t = s + p; t < n; ++t) d += std::abs(force[t] - force[t - p]);
+      d /= static_cast<double>(w - p) * range;
+      if (d < best_d - 1e-12) {
+        best_d = d;
+        best_p = p;
+      }
+    }
+  const double rel = std::abs(fmean) > 0 ? 0.5 * range / std::abs(fmean) : 0.5 * range;
+  if (best_p >= 2 && best_d < 0.1) {
+    std::snprintf(buf, sizeof buf,
+                  "a limit cycle over the last %zu friction steps: period %zu steps, tangential force "
+                  "oscillating by +-%.2e (relative), traction change per step %.2e to %.2e",
+                  w, best_p, rel, cmin, cmax);
+  } else if (best_p == 1 && best_d < 0.1) {
+    std::snprintf(buf, sizeof buf,
+                  "no limit cycle: over the last %zu friction steps the tangential force drifts slowly "
+                  "(range %.2e relative), traction change per step %.2e to %.2e: give it more steps",
+                  w, 2 * rel, cmin, cmax);
+  } else {
+    std::snprintf(buf, sizeof buf,
+                  "no periodic pattern over the last %zu friction steps: tangential force varies by +-%.2e "
+                  "(relative), traction change per step %.2e to %.2e",
+                  w, rel, cmin, cmax);
+  }
+  return buf;
+}
+
 ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, const InteractionParams& inter,
                              const FrictionParams& fric, const SolverParams& solver)
     : body_(body),
@@ -581,6 +630,11 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     bool have_prev = false;
     double err = 1.0, best = std::numeric_limits<double>::infinity();
     int since_best = 0;
+    // Per friction step: the traction change and the tangential force (sum of tau_x and of
+    // tau_y), the evidence a failure message gives (friction_history_evidence).
+    std::vector<double> hist_change, hist_force;
+    const double dir_x = std::cos(fric_.direction_deg * std::numbers::pi / 180.0),
+                 dir_y = std::sin(fric_.direction_deg * std::numbers::pi / 180.0);
     bool have_slip = false;  // r1_/r2_ hold (e.grad) u of this solve
     // The exact law starts with the full-slip map tau = mu_c p v/|v| (fast, and its fixed
     // point, where every contact point slips, solves the set-valued law too). Where it does
@@ -629,6 +683,8 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       err = dn[1] > 0 ? dn[0] / dn[1] : 0.0;
       require_finite(err, "the friction traction", total_it_);
       info.friction_error = err;
+      hist_change.push_back(err);
+      hist_force.push_back(grid_sum(grid_, [&](std::size_t i) { return dir_x * tx[i] + dir_y * ty[i]; }));
       if (progress_) progress_(Progress{total_it_, outer + 1, err});
       poll(&f);
       if (err < tol && pk.converged && inner_tol <= tol && tangential_ok) {
@@ -791,6 +847,8 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     }
     and_df_.clear();
     and_dx_.clear();
+    if (!info.converged && info.status.rfind("not converged: iteration limit", 0) != 0)
+      info.status += "; " + friction_history_evidence(hist_change, hist_force);
     if (!info.converged && have_slip && fric_.regularized()) {
       // Near stick the slip direction of the exact Coulomb law is ill-conditioned (the
       // usual cause of a friction fixed point that does not settle): say so. r1_/r2_ hold

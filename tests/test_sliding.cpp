@@ -368,3 +368,30 @@ TEST(Sliding, PlainRelaxationReachesTheAcceleratedFixedPoint) {
   EXPECT_EQ(b.observables.relative_contact_area, a.observables.relative_contact_area);
   EXPECT_EQ(traction_outside_contact(b.fields), 0.0);
 }
+
+// A failed friction iteration says what its history shows: the period and amplitude of a
+// limit cycle, a slow drift, or no pattern.
+TEST(Sliding, FailureMessageNamesLimitCycleOrDrift) {
+  std::vector<double> change, force;
+  for (int t = 0; t < 90; ++t) {  // period 3 around 0.5 with amplitude 0.01
+    force.push_back(0.5 + 0.01 * std::sin(2 * std::numbers::pi * t / 3.0));
+    change.push_back(2e-6 + 1e-7 * (t % 3));
+  }
+  std::string m = gfmd::friction_history_evidence(change, force);
+  EXPECT_NE(m.find("a limit cycle"), std::string::npos) << m;
+  EXPECT_NE(m.find("period 3 steps"), std::string::npos) << m;
+  EXPECT_NE(m.find("+-1.7"), std::string::npos) << m;  // 0.01 sin(2 pi t/3) peaks at 0.00866: 1.73e-2 of 0.5
+  force.clear();
+  for (int t = 0; t < 90; ++t) force.push_back(0.5 + 1e-4 * t);
+  m = gfmd::friction_history_evidence(change, force);
+  EXPECT_NE(m.find("drifts slowly"), std::string::npos) << m;
+  force.clear();
+  std::uint64_t x = 12345;
+  for (int t = 0; t < 90; ++t) {
+    x = x * 6364136223846793005ULL + 1442695040888963407ULL;
+    force.push_back(0.5 + 1e-3 * static_cast<double>(x >> 11) / 9007199254740992.0);
+  }
+  m = gfmd::friction_history_evidence(change, force);
+  EXPECT_NE(m.find("no periodic pattern"), std::string::npos) << m;
+  EXPECT_NE(gfmd::friction_history_evidence({1, 2}, {1, 2}).find("too few"), std::string::npos);
+}

@@ -96,6 +96,12 @@ struct SolveInfo {
   double fft_seconds = 0.0;      // wall time of those transforms alone
 };
 
+// What the friction steps of a failed solve show, for its message: a limit cycle (its period
+// in friction steps and the relative amplitude of the tangential force), a slow drift, or no
+// pattern, judged from the last 60 steps of the traction change and of the tangential force
+// along the sliding direction (one value per step).
+std::string friction_history_evidence(const std::vector<double>& change, const std::vector<double>& force);
+
 struct Progress {
   int iteration;
   int outer;
