@@ -29,6 +29,14 @@ CASES = {
     "rough": ("examples/selfaffine.toml",
               lambda n: [f"indenter.lambda_short={16.0 / n:.10g}",
                          "friction.coefficient=1", "load.pressure=0.01"]),
+    # Stick-slip: the paper's Fig. 2(e) thin layer (nu = 0.49, h = 0.05 lambda_l, mu_c = 1),
+    # lambda_s = 8 dx, at a load without stick (0.01 E*) and one with stick (0.1 E*).
+    "thin_p0.01": ("examples/fig2e_rough_layer_sweep.toml",
+                   lambda n: [f"indenter.lambda_short={16.0 / n:.10g}", "elastic.thickness=0.05",
+                              "load.pressure=0.01"]),
+    "thin_p0.1": ("examples/fig2e_rough_layer_sweep.toml",
+                  lambda n: [f"indenter.lambda_short={16.0 / n:.10g}", "elastic.thickness=0.05",
+                             "load.pressure=0.1"]),
     "hertz_frictionless": ("examples/hertz_nu025.toml", lambda n: []),
     "rough_frictionless": ("examples/selfaffine.toml",
                            lambda n: [f"indenter.lambda_short={16.0 / n:.10g}", "load.pressure=0.01"]),
@@ -110,7 +118,10 @@ def main():
             t = s["wall_time_s"]
             rng = f" ({lo:.2f}–{hi:.2f})" if len(rows) > 1 else ""
             rng_in = f" ({ins[0]:.2f}–{ins[-1]:.2f})" if len(rows) > 1 else ""
-            print(f"| {case} | {n} | {it} | {s.get('outer_iterations', 0)} | {s.get('fft_count', 0)} | {t:.3f} "
+            steps = f"{s.get('outer_iterations', 0)}"
+            if s.get("tangential_iterations"):
+                steps += f" (+{s['tangential_iterations']} splitting, stick {100 * s.get('stick_fraction', 0):.2f} %)"
+            print(f"| {case} | {n} | {it} | {steps} | {s.get('fft_count', 0)} | {t:.3f} "
                   f"| {t / max(it, 1) * 1e3:.2f} | {f0 * 1e3:.1f}/{f1 * 1e3:.1f} | {ratio:.2f}{rng} "
                   f"| {ratio_in:.2f}{rng_in} "
                   f"| {s['peak_rss_bytes'] / 2**20:.0f} | {s['peak_rss_bytes'] / n / n:.0f} |")
