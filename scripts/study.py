@@ -182,8 +182,9 @@ def plot_sweeps(study, results, fig_base):
             if spec:
                 g = col(rows, spec["divide_by"])
                 xv, yv = xv / g, yv / g
-            ax.plot(xv, yv, s.get("style", "o-"), label=s["label"])
-            data[(kind, s["label"])] = (xv, yv)
+            ax.plot(xv, yv, s.get("style", "o-"), label=s["label"], color=s.get("color"))
+            extra = [col(rows, c) for c in study.get("table_columns", [])]
+            data[(kind, s["label"])] = (xv, yv, extra)
         ax.set_xlabel(spec.get("xlabel", x) if spec else study.get("xlabel", x))
         ax.set_ylabel(spec.get("ylabel", y) if spec else study.get("ylabel", y))
         if study.get("xscale"):
@@ -200,9 +201,10 @@ def plot_sweeps(study, results, fig_base):
     else:
         fig.tight_layout()
     save(fig, fig_base)
-    write_csv(fig_base + ".csv", ["panel", "series", "x", "y"],
-              [[kind, label, repr(float(a)), repr(float(b))] for (kind, label), (xv, yv) in data.items()
-               for a, b in zip(xv, yv)])
+    # Extra summary columns (e.g. stick_fraction) per point, as listed in table_columns.
+    write_csv(fig_base + ".csv", ["panel", "series", "x", "y"] + list(study.get("table_columns", [])),
+              [[kind, label, repr(float(a)), repr(float(b))] + [repr(float(e[k])) for e in extra]
+               for (kind, label), (xv, yv, extra) in data.items() for k, (a, b) in enumerate(zip(xv, yv))])
 
 
 def plot_green(study, results, fig_base):

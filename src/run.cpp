@@ -764,6 +764,20 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   if (!sw.active())
     throw InputError(case_path, "no sweep: give [sweep] parameter and values, or --set key=v1,v2,...");
   fs::create_directories(dir);
+  {
+    // What an earlier, longer or differently plotted sweep left: points beyond this sweep's
+    // last and its plots (the tables are rewritten below).
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+      const std::string name = e.path().filename().string();
+      int k = -1;
+      if (name.size() == 9 && name.rfind("point_", 0) == 0 && std::sscanf(name.c_str() + 6, "%3d", &k) == 1 &&
+          k >= static_cast<int>(sw.values.size()))
+        fs::remove_all(e.path(), ec);
+      else if (name.rfind("sweep_", 0) == 0 && e.path().extension() == ".png")
+        fs::remove(e.path(), ec);
+    }
+  }
   std::vector<nlohmann::json> summaries;
   ContactFields warm;
   bool have_warm = false;
@@ -813,6 +827,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       throw SolveError(std::string(name) + " (" + sw.parameter + " = " + format_number(sw.values[i]) +
                        "): " + r.info.status + "; the " + std::to_string(i) + " finished points are kept");
     }
+    clear_run_outputs(pdir);  // a point recomputed owns its directory, as a run does
     write_outputs(r, pdir);
     summaries.push_back(summary_json(r));
     write_sweep_tables(dir, sw.parameter, sw.values, summaries);

@@ -266,6 +266,22 @@ TEST(Abuse, RerunRemovesStaleOutputs) {
     EXPECT_FALSE(fs::exists(out / f)) << f << " of the earlier run is still there";
   EXPECT_TRUE(fs::exists(out / "summary.json"));
   EXPECT_EQ(slurp(out / "notes.txt"), "mine") << "a file gfmd did not write was touched";
+  // A shorter sweep into a longer one's directory: the extra point and the old plot go.
+  const fs::path sw = d / "sweep";
+  ASSERT_EQ(run({"sweep", (d / "plain.toml").string(), "-o", sw.string(), "-q", "--set",
+                 "load.force=0.004,0.006,0.008", "--plot", "relative_contact_area"},
+                d / "log"),
+            0)
+      << slurp(d / "log");
+  ASSERT_TRUE(fs::exists(sw / "point_002" / "summary.json"));
+  ASSERT_EQ(run({"sweep", (d / "plain.toml").string(), "-o", sw.string(), "-q", "--set",
+                 "load.force=0.004,0.006", "--plot", "mean_gap"},
+                d / "log"),
+            0)
+      << slurp(d / "log");
+  EXPECT_FALSE(fs::exists(sw / "point_002"));
+  EXPECT_FALSE(fs::exists(sw / "sweep_relative_contact_area.png"));
+  EXPECT_TRUE(fs::exists(sw / "point_001" / "summary.json"));
 }
 
 // A write that fails (here: beyond RLIMIT_FSIZE, EFBIG) once segfaulted in HDF5's exit
@@ -335,7 +351,7 @@ TEST(Abuse, SigintStopsEverySubcommand) {
   for (int sig : {SIGINT, SIGTERM})
     for (const auto& args : commands) {
       Gfmd g(args, d / "log");
-      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      std::this_thread::sleep_for(std::chrono::milliseconds(600));
       g.signal(sig);
       ASSERT_TRUE(g.exits_within(5.0)) << args[0] << " ran on after signal " << sig;
       EXPECT_EQ(g.wait(), 4) << args[0] << ": " << g.output();

@@ -96,6 +96,12 @@ TEST(Cli, BadInputIsRefusedCleanly) {
     EXPECT_NE(pos, std::string::npos) << from;
     return s.replace(pos, from.size(), to);
   };
+  // [stress] depths with n entries of 0.1.
+  const auto depths = [](int n) {
+    std::string t = "[stress]\ndepths = [0.1";
+    for (int i = 1; i < n; ++i) t += ",0.1";
+    return t + "]\n";
+  };
   const std::vector<BadCase> cases = {
       {"unknown_key", sub(kGood, "poisson = 0.25", "poison = 0.25"), "",
        "elastic.poison: unknown key (did you mean 'poisson'?)"},
@@ -182,24 +188,8 @@ TEST(Cli, BadInputIsRefusedCleanly) {
       {"sweep_points",
        kGood + "[sweep]\nparameter = \"load.force\"\nfrom = 0.001\nto = 0.01\npoints = 1000000000\n", "",
        "sweep.points: must be an integer in [0, 10000]"},
-      {"long_array",
-       kGood + "[stress]\ndepths = [" +
-           [] {
-             std::string t = "0.1";
-             for (int i = 0; i < 200000; ++i) t += ",0.1";
-             return t;
-           }() +
-           "]\n",
-       "", "more than 10000 elements"},
-      {"depths",
-       kGood + "[stress]\ndepths = [" +
-           [] {
-             std::string t = "0.1";
-             for (int i = 0; i < 100; ++i) t += ",0.1";
-             return t;
-           }() +
-           "]\n",
-       "", "stress.depths: at most 64 depths"},
+      {"long_array", kGood + depths(200001), "", "more than 10000 elements"},
+      {"depths", kGood + depths(101), "", "stress.depths: at most 64 depths"},
       {"dev_zero",
        sub(sub(kGood, "type = \"hertz\"", "type = \"file\""), "radius = 1.0", "path = \"/dev/zero\""), "",
        "not a regular file"},
