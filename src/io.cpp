@@ -5,7 +5,9 @@
 #include <hdf5.h>
 #include <netcdf.h>
 #include <png.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -375,6 +377,34 @@ void write_fields_netcdf(const std::string& path, const Grid& grid, const std::v
   }
 
   AtomicTarget target(path);
+  {
+    // A NetCDF-4 write that fails half-way leaves HDF5 with a half-closed file, which it may
+    // dereference later (at exit, when another library started HDF5 before us, as
+    // python3-netcdf4 does). So the space the file may need -- its uncompressed size -- is
+    // checked first against the free space of its file system and the file-size limit.
+    std::size_t attrs = 0;
+    for (const auto& a : global_attrs) attrs += a.first.size() + a.second.size();
+    for (const auto& f : fields) attrs += f.name.size() + f.long_name.size() + f.units.size() + 64;
+    const double need =
+        8.0 * (static_cast<double>(fields.size()) * static_cast<double>(grid.size()) + grid.nx + grid.ny) +
+        static_cast<double>(attrs) + 65536.0 * (1.0 + static_cast<double>(fields.size()) / 8.0);
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    struct statvfs fs {};
+    if (::statvfs(parent.empty() ? "." : parent.c_str(), &fs) == 0) {
+      const double avail = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
+      if (avail < need)
+        target.fail("not enough space for the fields: up to " + std::to_string(static_cast<long long>(need)) +
+                    " bytes needed, " + std::to_string(static_cast<long long>(avail)) + " free (" +
+                    errno_message(ENOSPC) + ")");
+    }
+    rlimit rl{};
+    if (::getrlimit(RLIMIT_FSIZE, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY &&
+        static_cast<double>(rl.rlim_cur) < need)
+      target.fail("the fields need up to " + std::to_string(static_cast<long long>(need)) +
+                  " bytes, more than the file-size limit of " +
+                  std::to_string(static_cast<long long>(rl.rlim_cur)) + " (ulimit -f; " +
+                  errno_message(EFBIG) + ")");
+  }
   NcHandle nc;
   // errno after a failed call tells "HDF error" apart: disk full, quota, I/O error, ...
   auto check = [&](int st, const std::string& what) {
