@@ -20,6 +20,7 @@
 #include "gfmd/error.hpp"
 #include "gfmd/io.hpp"
 #include "gfmd/leakage.hpp"
+#include "gfmd/percolation.hpp"
 #include "gfmd/run.hpp"
 #include "gfmd/version.hpp"
 

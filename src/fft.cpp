@@ -17,7 +17,7 @@
 #include <string>
 #include <system_error>
 
-#include "gfmd/io.hpp"
+#include "gfmd/files.hpp"
 
 namespace gfmd {
 

@@ -22,135 +22,9 @@
 #include <system_error>
 
 #include "gfmd/error.hpp"
+#include "gfmd/files.hpp"
 
 namespace gfmd {
-
-namespace {
-
-std::string errno_message(int err) { return std::error_code(err, std::generic_category()).message(); }
-
-// The temporary next to `path`; removed on destruction unless it was renamed into place.
-class AtomicTarget {
- public:
-  explicit AtomicTarget(std::string path)
-      : path_(std::move(path)), tmp_(path_ + ".tmp." + std::to_string(static_cast<long>(::getpid()))) {}
-  AtomicTarget(const AtomicTarget&) = delete;
-  AtomicTarget& operator=(const AtomicTarget&) = delete;
-  ~AtomicTarget() {
-    if (!committed_) ::unlink(tmp_.c_str());
-  }
-
-  [[nodiscard]] const std::string& tmp() const { return tmp_; }
-
-  [[noreturn]] void fail(const std::string& why) const { throw std::runtime_error(path_ + ": " + why); }
-
-  // Writes the whole buffer to the temporary and fsyncs it.
-  void write_bytes(const void* data, std::size_t size) {
-    const int fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-    if (fd < 0) fail("cannot create temporary file '" + tmp_ + "': " + errno_message(errno));
-    const auto* p = static_cast<const char*>(data);
-    std::size_t left = size;
-    while (left > 0) {
-      const ssize_t n = ::write(fd, p, left);
-      if (n < 0) {
-        if (errno == EINTR) continue;
-        const int err = errno;
-        ::close(fd);
-        fail("cannot write temporary file '" + tmp_ + "': " + errno_message(err));
-      }
-      p += n;
-      left -= static_cast<std::size_t>(n);
-    }
-    if (::fsync(fd) != 0) {
-      const int err = errno;
-      ::close(fd);
-      fail("cannot fsync temporary file '" + tmp_ + "': " + errno_message(err));
-    }
-    if (::close(fd) != 0) fail("cannot close temporary file '" + tmp_ + "': " + errno_message(errno));
-  }
-
-  // fsyncs a temporary written by someone else (e.g. the NetCDF library).
-  void sync_tmp() const {
-    const int fd = ::open(tmp_.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) fail("cannot reopen temporary file '" + tmp_ + "': " + errno_message(errno));
-    if (::fsync(fd) != 0) {
-      const int err = errno;
-      ::close(fd);
-      fail("cannot fsync temporary file '" + tmp_ + "': " + errno_message(err));
-    }
-    ::close(fd);
-  }
-
-  // Renames the (synced) temporary over the path and syncs the directory (best effort).
-  void commit() {
-    if (std::rename(tmp_.c_str(), path_.c_str()) != 0)
-      fail("cannot rename '" + tmp_ + "' to the output file: " + errno_message(errno));
-    committed_ = true;
-    const std::filesystem::path parent = std::filesystem::path(path_).parent_path();
-    const std::filesystem::path dir = parent.empty() ? std::filesystem::path(".") : parent;
-    const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dfd >= 0) {
-      ::fsync(dfd);
-      ::close(dfd);
-    }
-  }
-
- private:
-  std::string path_, tmp_;
-  bool committed_ = false;
-};
-
-void write_bytes_atomic(const std::string& path, const void* data, std::size_t size) {
-  AtomicTarget target(path);
-  target.write_bytes(data, size);
-  target.commit();
-}
-
-}  // namespace
-
-void require_regular_file(const std::string& path, const std::string& what) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0)
-    throw InputError(path, "cannot open the " + what + ": " + errno_message(errno));
-  if (S_ISDIR(st.st_mode)) throw InputError(path, "is a directory, not a " + what);
-  if (!S_ISREG(st.st_mode))
-    throw InputError(path, "not a regular file (a device, FIFO or socket); the " + what + " must be a file");
-}
-
-std::string read_regular_file(const std::string& path, std::size_t max_bytes, const std::string& what) {
-  // O_NONBLOCK: opening a FIFO must not wait for a writer; fstat then refuses it.
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) throw InputError(path, "cannot open the " + what + ": " + errno_message(errno));
-  struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    const bool dir = S_ISDIR(st.st_mode);
-    ::close(fd);
-    throw InputError(path,
-                     dir ? "is a directory, not a " + what
-                         : "not a regular file (a device, FIFO or socket); the " + what + " must be a file");
-  }
-  if (static_cast<std::uint64_t>(st.st_size) > max_bytes) {
-    ::close(fd);
-    throw InputError(path, "the " + what + " is " + std::to_string(st.st_size) + " bytes, more than the " +
-                               std::to_string(max_bytes) + " bytes allowed");
-  }
-  std::string out(static_cast<std::size_t>(st.st_size), '\0');
-  std::size_t got = 0;
-  while (got < out.size()) {
-    const ssize_t n = ::read(fd, out.data() + got, out.size() - got);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      const int err = errno;
-      ::close(fd);
-      throw InputError(path, "cannot read the " + what + ": " + errno_message(err));
-    }
-    if (n == 0) break;  // shrank while reading
-    got += static_cast<std::size_t>(n);
-  }
-  ::close(fd);
-  out.resize(got);
-  return out;
-}
 
 namespace {
 
@@ -177,7 +51,7 @@ struct NcHandle {
   }
 };
 
-void put_text_att(const AtomicTarget& t, int ncid, int varid, const std::string& name,
+void put_text_att(const AtomicFile& t, int ncid, int varid, const std::string& name,
                   const std::string& value) {
   const int st = nc_put_att_text(ncid, varid, name.c_str(), value.size(), value.data());
   if (st != NC_NOERR) t.fail("cannot write attribute '" + name + "': " + nc_strerror(st));
@@ -354,10 +228,6 @@ std::string format_label(double v) {
 
 // ---------------------------------------------------------------------------------------------
 
-void write_text_atomic(const std::string& path, const std::string& content) {
-  write_bytes_atomic(path, content.data(), content.size());
-}
-
 void write_fields_netcdf(const std::string& path, const Grid& grid, const std::vector<NamedField>& fields,
                          const std::vector<std::pair<std::string, std::string>>& global_attrs,
                          const std::string& length_unit) {
@@ -376,7 +246,7 @@ void write_fields_netcdf(const std::string& path, const Grid& grid, const std::v
         throw InputError(path, "duplicate or reserved global attribute '" + a.first + "'");
   }
 
-  AtomicTarget target(path);
+  AtomicFile target(path);
   {
     // A NetCDF-4 write that fails half-way leaves HDF5 with a half-closed file, which it may
     // dereference later (at exit, when another library started HDF5 before us, as

@@ -8,6 +8,7 @@
 
 #include "gfmd/config.hpp"
 #include "gfmd/leakage.hpp"
+#include "gfmd/percolation.hpp"
 
 using namespace gfmd;
 namespace fs = std::filesystem;

@@ -14,21 +14,10 @@
 #include <utility>
 #include <vector>
 
+#include "gfmd/files.hpp"  // write_text_atomic, read_regular_file (also used through io.hpp)
 #include "gfmd/grid.hpp"
 
 namespace gfmd {
-
-// Reads a whole input file. Only regular files are read (a device, FIFO, socket or
-// directory is refused without blocking) and only up to max_bytes (checked before reading).
-// Throws InputError(path, "<what>: <reason>").
-std::string read_regular_file(const std::string& path, std::size_t max_bytes, const std::string& what);
-
-// Throws InputError(path, ...) unless path names an existing regular file (links followed).
-void require_regular_file(const std::string& path, const std::string& what);
-
-// Writes `content` to `path` atomically (tmp + fsync + rename + fsync of the directory).
-// Throws std::runtime_error("<path>: <reason>") on failure.
-void write_text_atomic(const std::string& path, const std::string& content);
 
 // One field to store in a NetCDF file. `data` points to grid.size() doubles.
 struct NamedField {

@@ -1,5 +1,5 @@
 // Leakage through the deformed gap of a solved case (SPEC §6): flow along requested
-// directions, percolation thresholds by nested intervals on the load, seed ensembles.
+// directions, the flow fields and flow.json. Percolation thresholds: percolation.hpp.
 #pragma once
 
 #include <functional>
@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-#include "gfmd/config.hpp"
 #include "gfmd/flow.hpp"
 #include "gfmd/grid.hpp"
 #include "gfmd/io.hpp"
@@ -38,18 +37,5 @@ void append_current_fields(const LeakageResult& r, std::vector<NamedField>& fiel
 // current_<x|y|angle>.png into dir.
 void write_leakage(const Grid& g, const LeakageResult& r, const std::string& dir,
                    const nlohmann::json& extra);
-
-// Critical relative contact area a_c* along a direction (angle 0: x, 90: y): nested
-// intervals on the mean pressure until the open (gap > 0) region stops wrapping around the
-// cell along that direction, i.e. until the flow along it vanishes. Stops when the contact
-// areas of the bracket differ by less than area_tolerance.
-struct PercolationOptions {
-  int axis = 0;  // 0: x, 1: y
-  double area_tolerance = 0.002;
-  int max_solves = 40;
-  std::function<void(const std::string&)> log;
-  std::function<bool()> stop_request;  // polled by every solve; true throws gfmd::Interrupted
-};
-nlohmann::json find_percolation(const Config& cfg, const PercolationOptions& opt);
 
 }  // namespace gfmd

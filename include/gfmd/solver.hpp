@@ -30,6 +30,7 @@
 
 #include "gfmd/elastic.hpp"
 #include "gfmd/fft.hpp"
+#include "gfmd/fields.hpp"
 #include "gfmd/topography.hpp"
 
 namespace gfmd {
@@ -69,13 +70,6 @@ struct SolverParams {
   int anderson = 10;                        // Anderson mixing depth of the friction fixed point (0: none)
   double mixing = 0.5;                      // relaxation of the friction fixed point, in (0, 1]
   Planner fft_planner = Planner::Estimate;  // FFTW planner of the solver's transforms
-};
-
-struct ContactFields {
-  RealField pressure, tx, ty, ux, uy, uz, gap;
-  // 1 where a contact point sticks (|tau| < mu_c p, zero slip velocity); filled at the end
-  // of a solve with the exact Coulomb law, empty otherwise.
-  std::vector<unsigned char> stick;
 };
 
 struct SolveInfo {

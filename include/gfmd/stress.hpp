@@ -12,8 +12,8 @@
 
 #include "gfmd/elastic.hpp"
 #include "gfmd/fft.hpp"
+#include "gfmd/fields.hpp"
 #include "gfmd/grid.hpp"
-#include "gfmd/solver.hpp"
 
 namespace gfmd {
 
