@@ -394,7 +394,7 @@ TEST(Abuse, ResumeReportsCumulativeWork) {
   ASSERT_TRUE(gfmd::read_checkpoint((out / "checkpoint.bin").string(),
                                     gfmd::load_config((d / "slow.toml").string()), f, &before));
   EXPECT_GT(before.iterations, 0);
-  EXPECT_GT(before.wall_time_s, 0.5);
+  EXPECT_GT(before.wall_time_s, 0.2);
   ASSERT_EQ(run({"run", (d / "slow.toml").string(), "-o", out.string(), "-q", "--resume"}, d / "log2"), 0)
       << slurp(d / "log2");
   std::ifstream in(out / "summary.json");
