@@ -36,20 +36,29 @@ void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
   r.principal = principal(r.stress, keep_fields ? PrincipalParts::All : PrincipalParts::SummaryOnly);
   r.stress_summary = summarize(cfg.grid, r.principal, cfg.stress.high_tension_fraction);
   r.has_stress = true;
-  const RealField full_s1 = cfg.stress.post_analysis.empty() ? RealField{} : r.principal.s1;
+  // Fraction of the cells with s1 >= half its maximum (the full solution's here, while its
+  // field is still there; each post-analysis's below).
+  const auto above_half = [&cfg](const RealField& s1, double max) {
+    if (!(max > 0)) return 0.0;
+    std::size_t k = 0;
+    for (double v : s1) k += v >= 0.5 * max ? 1 : 0;
+    return static_cast<double>(k) / static_cast<double>(cfg.grid.size());
+  };
+  if (!cfg.stress.post_analysis.empty())
+    r.area_above_half_max = above_half(r.principal.s1, r.stress_summary.max_tensile_stress);
   if (cfg.stress.profiles) r.profiles_csv = profiles_table(r, fft);
   if (!keep_fields) {
     r.stress = StressField{};
     r.principal = PrincipalField{};
   }
   if (!cfg.stress.post_analysis.empty()) {
-    // The frictionless solution: the reference solve, or the solution itself without
-    // friction, or (no reference kept) a frictionless solve now.
+    // The frictionless solution: the reference solve (kept for this alone), or the solution
+    // itself without friction, or (no reference kept) a frictionless solve now.
     ContactFields rf;
     if (!r.reference_pressure.empty()) {
-      rf.pressure = r.reference_pressure;
-      rf.ux = r.reference_ux;
-      rf.uy = r.reference_uy;
+      rf.pressure = std::move(r.reference_pressure);
+      rf.ux = std::move(r.reference_ux);
+      rf.uy = std::move(r.reference_uy);
     } else if (cfg.friction.coefficient == 0) {
       rf.pressure = r.fields.pressure;
       rf.ux = r.fields.ux;
@@ -64,12 +73,6 @@ void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
       if (!info.converged) throw SolveError("post-analysis reference: " + info.status);
     }
     const double mu = cfg.friction.coefficient, angle = cfg.friction.direction_deg;
-    const auto above_half = [&cfg](const RealField& s1, double max) {
-      if (!(max > 0)) return 0.0;
-      std::size_t k = 0;
-      for (double v : s1) k += v >= 0.5 * max ? 1 : 0;
-      return static_cast<double>(k) / static_cast<double>(cfg.grid.size());
-    };
     for (const std::string& kind : cfg.stress.post_analysis) {
       PrincipalField pp;
       {
@@ -84,10 +87,6 @@ void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
       pa.s1 = std::move(pp.s1);
       r.post_analyses.push_back(std::move(pa));
     }
-    r.post_analysis = r.post_analyses.front().summary;
-    r.post_analysis_s1 = r.post_analyses.front().s1;
-    r.has_post_analysis = true;
-    r.area_above_half_max = above_half(full_s1, r.stress_summary.max_tensile_stress);
   }
   for (double d : cfg.stress.depths) {
     const PrincipalField pf =
@@ -154,8 +153,8 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     r.has_reference = true;
     if (!cfg.stress.post_analysis.empty()) {
       r.reference_pressure = rf.pressure;
-      r.reference_ux = rf.ux;
-      r.reference_uy = rf.uy;
+      r.reference_ux = std::move(rf.ux);
+      r.reference_uy = std::move(rf.uy);
     }
     if (!opts.warm_start) r.fields.pressure = std::move(rf.pressure);
   }
@@ -395,7 +394,7 @@ nlohmann::json summary_json(const CaseResult& r) {
                           {"high_tension_fraction_of", s.high_tension_fraction_of}};
   };
   if (r.has_stress) j.update(stress_json(r.stress_summary));
-  if (r.has_post_analysis) {
+  if (!r.post_analyses.empty()) {
     // The first kind as "post_analysis" (its keys as before, plus kind, the area above half
     // the maximum and the full/post ratios), every kind as "post_analysis_<kind>".
     const auto pa_json = [&](const CaseResult::PostAnalysis& pa) {
@@ -414,9 +413,9 @@ nlohmann::json summary_json(const CaseResult& r) {
     j["area_fraction_above_half_max"] = r.area_above_half_max;
   }
   if (r.has_leakage) j["flow"] = r.leakage.json;
-  if (r.has_post_analysis && r.post_analysis.max_tensile_stress > 0)
+  if (!r.post_analyses.empty() && r.post_analyses.front().summary.max_tensile_stress > 0)
     j["tensile_stress_ratio_to_post_analysis"] =
-        r.stress_summary.max_tensile_stress / r.post_analysis.max_tensile_stress;
+        r.stress_summary.max_tensile_stress / r.post_analyses.front().summary.max_tensile_stress;
   if (!r.subsurface.empty()) {
     j["subsurface"] = nlohmann::json::array();
     for (const auto& ss : r.subsurface) {
@@ -586,8 +585,8 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
                {"e1_z", pr.e1z.data(), "eigenvector of sigma_I, z", "1"},
                {"von_mises", pr.von_mises.data(), "von Mises surface stress", "E*"}})
         fields.push_back(nf);
-      if (r.has_post_analysis) {
-        fields.push_back({"post_analysis_sigma_1", r.post_analysis_s1.data(),
+      if (!r.post_analyses.empty()) {
+        fields.push_back({"post_analysis_sigma_1", r.post_analyses.front().s1.data(),
                           "sigma_I of the post-analysis reference (" + r.post_analyses.front().kind +
                               "; the first of [stress] post_analysis)",
                           "E*"});

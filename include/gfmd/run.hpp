@@ -42,18 +42,15 @@ struct CaseResult {
   StressField stress;
   PrincipalField principal;
   StressSummary stress_summary;
-  // Post-analysis references, one per kind of [stress] post_analysis, in its order; the
-  // first is also post_analysis / post_analysis_s1 (the names of earlier versions).
+  // Post-analysis references, one per kind of [stress] post_analysis, in its order (empty:
+  // none asked for); the outputs show the first also under the names of earlier versions.
   struct PostAnalysis {
     std::string kind;  // "paper" or "consistent"
     StressSummary summary;
     double area_above_half_max = 0;  // fraction of cells with s1 >= 0.5 max s1 of this field
-    RealField s1;                    // sigma_I (empty unless the fields are kept)
+    RealField s1;                    // sigma_I
   };
   std::vector<PostAnalysis> post_analyses;
-  bool has_post_analysis = false;
-  StressSummary post_analysis;
-  RealField post_analysis_s1;      // sigma_I of the first post-analysis reference
   double area_above_half_max = 0;  // the full solution's, as PostAnalysis::area_above_half_max
   struct Subsurface {
     double depth;
