@@ -377,18 +377,18 @@ Config build(const toml::value& root, const std::string& name, const std::string
   c.friction.regularization = fr.number("regularization", 0.0);
   if (!(c.friction.regularization >= 0 && c.friction.regularization < 1))
     fr.error("regularization", "must be in [0, 1) (slip speed / v0 below which the traction is regularised)");
-  if (!(c.friction.coefficient >= 0) || !std::isfinite(c.friction.coefficient))
+  // Section::number has refused nan and inf already (they come back as the default).
+  if (!(c.friction.coefficient >= 0))
     fr.error("coefficient", "must be a non-negative number" + fr.at("coefficient"));
-  if (!std::isfinite(c.friction.direction_deg)) fr.error("direction", "must be finite (degrees from +x)");
   c.friction.creepage = fr.number("creepage", 1.0);
-  if (!(c.friction.creepage > 0) || !std::isfinite(c.friction.creepage))
+  if (!(c.friction.creepage > 0))
     fr.error("creepage",
              "must be a positive finite number (rigid slip speed / v0; 1 = sliding)" + fr.at("creepage"));
   else if (c.friction.creepage != 1.0 && !(c.friction.coefficient > 0))
     fr.error("creepage",
              "rolling with creepage needs friction: set friction.coefficient > 0" + fr.at("creepage"));
   c.friction.stick_step = fr.number("stick_step", 0.0);
-  if (!(c.friction.stick_step >= 0) || !std::isfinite(c.friction.stick_step) || c.friction.stick_step > 1e6)
+  if (!(c.friction.stick_step >= 0) || c.friction.stick_step > 1e6)
     fr.error("stick_step",
              "must be 0 (automatic) or a positive step gamma/E* up to 1e6" + fr.at("stick_step"));
   c.friction_reference = fr.boolean("reference", true);
