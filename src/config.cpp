@@ -668,8 +668,8 @@ void require_utf8(const std::string& s, const std::string& name) {
 // toml11 parses arrays, inline tables and dotted keys recursively: a file nested thousands
 // deep overflows the stack. This scan (strings and comments skipped) refuses such files first.
 void require_shallow_nesting(const std::string& s, const std::string& name) {
-  int depth = 0, dots = 0, line = 1;
-  std::vector<long> elements;  // commas seen in each open array / inline table
+  int dots = 0, line = 1;
+  std::vector<long> elements;  // per open array / inline table (the nesting depth): its commas
   bool in_key = true;          // at a position where a key (and so dotted-key nesting) may be written
   const auto fail = [&](const std::string& what) {
     throw InputError(name + ":" + std::to_string(line),
@@ -679,7 +679,7 @@ void require_shallow_nesting(const std::string& s, const std::string& name) {
     const char c = s[i];
     if (c == '\n') {
       ++line;
-      if (depth == 0) {
+      if (elements.empty()) {
         in_key = true;
         dots = 0;
       }
@@ -705,14 +705,13 @@ void require_shallow_nesting(const std::string& s, const std::string& name) {
       continue;
     }
     if (c == '[' || c == '{') {
-      if (++depth > kMaxTomlNesting) fail("arrays or inline tables");
       elements.push_back(0);
+      if (static_cast<int>(elements.size()) > kMaxTomlNesting) fail("arrays or inline tables");
       if (c == '{') {
         in_key = true;
         dots = 0;
       }
     } else if (c == ']' || c == '}') {
-      depth = std::max(depth - 1, 0);
       if (!elements.empty()) elements.pop_back();
     } else if (c == '=') {
       in_key = false;
