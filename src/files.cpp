@@ -87,13 +87,20 @@ void write_text_atomic(const std::string& path, const std::string& content) {
   write_bytes_atomic(path, content.data(), content.size());
 }
 
+namespace {
+// Throws unless st describes a regular file: a directory, device, FIFO or socket is named.
+void require_regular_mode(const std::string& path, const struct stat& st, const std::string& what) {
+  if (S_ISDIR(st.st_mode)) throw InputError(path, "is a directory, not a " + what);
+  if (!S_ISREG(st.st_mode))
+    throw InputError(path, "not a regular file (a device, FIFO or socket); the " + what + " must be a file");
+}
+}  // namespace
+
 void require_regular_file(const std::string& path, const std::string& what) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0)
     throw InputError(path, "cannot open the " + what + ": " + errno_message(errno));
-  if (S_ISDIR(st.st_mode)) throw InputError(path, "is a directory, not a " + what);
-  if (!S_ISREG(st.st_mode))
-    throw InputError(path, "not a regular file (a device, FIFO or socket); the " + what + " must be a file");
+  require_regular_mode(path, st, what);
 }
 
 std::string read_regular_file(const std::string& path, std::size_t max_bytes, const std::string& what) {
@@ -101,12 +108,14 @@ std::string read_regular_file(const std::string& path, std::size_t max_bytes, co
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) throw InputError(path, "cannot open the " + what + ": " + errno_message(errno));
   struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    const bool dir = S_ISDIR(st.st_mode);
+  if (::fstat(fd, &st) != 0) {
+    const int err = errno;
     ::close(fd);
-    throw InputError(path,
-                     dir ? "is a directory, not a " + what
-                         : "not a regular file (a device, FIFO or socket); the " + what + " must be a file");
+    throw InputError(path, "cannot open the " + what + ": " + errno_message(err));
+  }
+  if (!S_ISREG(st.st_mode)) {
+    ::close(fd);
+    require_regular_mode(path, st, what);
   }
   if (static_cast<std::uint64_t>(st.st_size) > max_bytes) {
     ::close(fd);
