@@ -227,19 +227,12 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
                  sets_note(sets).c_str());
     return 3;
   }
-  try {
-    gfmd::write_outputs(r, out_dir);
+  gfmd::publish_outputs(r, out_dir, [&] {
     if (cfg.output.png && cfg.stress.profiles &&
         !run_script("plot_profiles.py", {(fs::path(out_dir) / "profiles.csv").string()}, true) && !quiet)
       std::fprintf(stderr, "gfmd: note: profiles.png not drawn (needs %s with matplotlib)\n",
                    python_interpreter().c_str());
-    gfmd::write_status(out_dir, "converged");
-  } catch (const std::exception& e) {
-    // No half-written set: a complete directory is marked by summary.json, written last.
-    gfmd::clear_run_outputs(out_dir);
-    failed(std::string("writing the outputs: ") + e.what());
-    throw;
-  }
+  });
   std::error_code ec;
   fs::remove(ckpt, ec);
   const auto& o = r.observables;

@@ -109,17 +109,7 @@ void write_run(const gfmd::CaseResult& r, const std::string& dir) {
     py::gil_scoped_release release;
     const gfmd::DirectoryLock lock(dir);
     gfmd::clear_run_outputs(dir);
-    try {
-      gfmd::write_outputs(r, dir);
-      gfmd::write_status(dir, "converged");
-    } catch (const std::exception& e) {
-      gfmd::clear_run_outputs(dir);
-      try {
-        gfmd::write_status(dir, "failed", std::string("writing the outputs: ") + e.what());
-      } catch (const std::exception&) {
-      }
-      throw;
-    }
+    gfmd::publish_outputs(r, dir);
   } catch (const gfmd::InputError&) {
     throw;
   } catch (const std::exception& e) {

@@ -366,6 +366,22 @@ std::vector<std::string> clear_run_outputs(const std::string& dir, bool keep_che
   return removed;
 }
 
+void publish_outputs(const CaseResult& r, const std::string& dir, const std::function<void()>& extra) {
+  try {
+    write_outputs(r, dir);
+    if (extra) extra();
+    write_status(dir, "converged");
+  } catch (const std::exception& e) {
+    clear_run_outputs(dir);
+    try {
+      write_status(dir, "failed", std::string("writing the outputs: ") + e.what());
+    } catch (const std::exception&) {
+      // The status cannot be written either (disk full): the error itself still goes up.
+    }
+    throw;
+  }
+}
+
 nlohmann::json summary_json(const CaseResult& r) {
   nlohmann::json j = to_json(r.observables);
   j["iterations"] = r.info.iterations;

@@ -127,6 +127,13 @@ nlohmann::json summary_json(const CaseResult& r);
 // staged and renamed into place, so a crash leaves complete files only.
 void write_outputs(const CaseResult& r, const std::string& dir);
 
+// A run directory's last stage, for the CLI and Python alike (the caller holds its
+// DirectoryLock): write_outputs, then `extra` (e.g. a plot drawn from them), then
+// status.json "converged". On any error the partial set is removed (clear_run_outputs),
+// status.json says "failed" with the reason (if it can still be written) and the error is
+// rethrown.
+void publish_outputs(const CaseResult& r, const std::string& dir, const std::function<void()>& extra = {});
+
 // Load sweeps: solves cfg.sweep.values of cfg.sweep.parameter in order, each warm-started
 // from the previous point, into dir/point_NNN/, and after every point rewrites
 // dir/sweep.csv and dir/sweep.json (one row of every scalar summary key per point).
