@@ -24,24 +24,15 @@
 #include "gfmd/error.hpp"
 #include "gfmd/leakage.hpp"
 #include "gfmd/run.hpp"
+#include "test_util.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("gfmd_abuse_" + std::to_string(getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+fs::path scratch(const std::string& name) { return gfmd::testing::scratch_dir("abuse", name); }
+using gfmd::testing::read_file;
+using gfmd::testing::write_file;
 
 std::string status_of(const fs::path& dir) {
   std::ifstream in(dir / "status.json");
@@ -140,7 +131,7 @@ class Gfmd {
     }
     return false;
   }
-  [[nodiscard]] std::string output() const { return slurp(log_); }
+  [[nodiscard]] std::string output() const { return read_file(log_); }
   ~Gfmd() {
     if (!done_) {
       kill(pid_, SIGKILL);
@@ -166,15 +157,7 @@ int run(const std::vector<std::string>& args, const fs::path& log, const ChildSe
   return g.wait();
 }
 
-const std::string kHertz = R"([grid]
-nx = 64
-lx = 4.0
-[indenter]
-type = "hertz"
-radius = 1.0
-[load]
-force = 0.01
-)";
+const std::string& kHertz = gfmd::testing::kSmallHertz;
 
 // Rough thin-layer sliding (the paper's Fig. 2e case) on 512^2: seconds per solve, so a
 // signal after a fraction of a second always arrives during a solve.
@@ -202,10 +185,10 @@ png = false
 // `-o '/tmp/x$(touch PWNED)"q'` once ran the command in a shell and lost profiles.png.
 TEST(Abuse, ShellMetacharactersInPathsAreData) {
   const fs::path d = scratch("shell");
-  write(d / "case.toml", kHertz + "[friction]\ncoefficient = 1.0\n");
+  write_file(d / "case.toml", kHertz + "[friction]\ncoefficient = 1.0\n");
   const std::string out = (d / "x$(touch PWNED)\"q;`touch PWNED2`").string();
   ASSERT_EQ(run({"run", (d / "case.toml").string(), "-o", out, "-q"}, d / "log", in_dir(d)), 0)
-      << slurp(d / "log");
+      << read_file(d / "log");
   EXPECT_FALSE(fs::exists(d / "PWNED"));
   EXPECT_FALSE(fs::exists(d / "PWNED2"));
   EXPECT_TRUE(fs::exists(fs::path(out) / "summary.json"));
@@ -216,7 +199,7 @@ TEST(Abuse, ShellMetacharactersInPathsAreData) {
                  "--plot", "relative_contact_area\"$(touch PWNED4)"},
                 d / "log2", in_dir(d)),
             0)
-      << slurp(d / "log2");
+      << read_file(d / "log2");
   for (const char* f : {"PWNED3", "PWNED4"}) EXPECT_FALSE(fs::exists(d / f)) << f;
 }
 
@@ -224,13 +207,13 @@ TEST(Abuse, ShellMetacharactersInPathsAreData) {
 // from the other. Now the directory has one writer.
 TEST(Abuse, SecondWriterIsRefusedAndWaitWaits) {
   const fs::path d = scratch("lock");
-  write(d / "case.toml", kHertz);
+  write_file(d / "case.toml", kHertz);
   const fs::path out = d / "out";
   auto lock = std::make_unique<gfmd::DirectoryLock>(out.string());  // another writer holds it
   ASSERT_EQ(run({"run", (d / "case.toml").string(), "-o", out.string(), "-q"}, d / "log"), 2);
-  EXPECT_NE(slurp(d / "log").find("in use by another gfmd run (process " + std::to_string(getpid())),
+  EXPECT_NE(read_file(d / "log").find("in use by another gfmd run (process " + std::to_string(getpid())),
             std::string::npos)
-      << slurp(d / "log");
+      << read_file(d / "log");
   EXPECT_FALSE(fs::exists(out / "summary.json"));
   EXPECT_FALSE(fs::exists(out / "status.json"));
   // With --wait it waits for the holder, then runs.
@@ -242,8 +225,8 @@ TEST(Abuse, SecondWriterIsRefusedAndWaitWaits) {
   EXPECT_EQ(status_of(out), "converged");
   // Sweeps and flow runs take the same lock.
   lock = std::make_unique<gfmd::DirectoryLock>(out.string());
-  EXPECT_EQ(run({"flow", out.string()}, d / "log3"), 2) << slurp(d / "log3");
-  EXPECT_NE(slurp(d / "log3").find("in use by another gfmd run"), std::string::npos);
+  EXPECT_EQ(run({"flow", out.string()}, d / "log3"), 2) << read_file(d / "log3");
+  EXPECT_NE(read_file(d / "log3").find("in use by another gfmd run"), std::string::npos);
   EXPECT_EQ(
       run({"sweep", (d / "case.toml").string(), "-o", out.string(), "-q", "--set", "load.force=0.005,0.01"},
           d / "log4"),
@@ -253,32 +236,32 @@ TEST(Abuse, SecondWriterIsRefusedAndWaitWaits) {
 // Re-running into an old directory once kept its flow.json and slip maps.
 TEST(Abuse, RerunRemovesStaleOutputs) {
   const fs::path d = scratch("stale");
-  write(d / "friction.toml", kHertz + "[friction]\ncoefficient = 1.0\n[flow]\ndirection = \"both\"\n");
-  write(d / "plain.toml", kHertz);
+  write_file(d / "friction.toml", kHertz + "[friction]\ncoefficient = 1.0\n[flow]\ndirection = \"both\"\n");
+  write_file(d / "plain.toml", kHertz);
   const fs::path out = d / "out";
   ASSERT_EQ(run({"run", (d / "friction.toml").string(), "-o", out.string(), "-q"}, d / "log"), 0)
-      << slurp(d / "log");
+      << read_file(d / "log");
   for (const char* f : {"flow.json", "slip_longitudinal.png", "current_x.png", "dissipation.png"})
     ASSERT_TRUE(fs::exists(out / f)) << f;
-  write(out / "notes.txt", "mine");
+  write_file(out / "notes.txt", "mine");
   ASSERT_EQ(run({"run", (d / "plain.toml").string(), "-o", out.string(), "-q"}, d / "log"), 0);
   for (const char* f : {"flow.json", "flow.nc", "slip_longitudinal.png", "current_x.png", "dissipation.png"})
     EXPECT_FALSE(fs::exists(out / f)) << f << " of the earlier run is still there";
   EXPECT_TRUE(fs::exists(out / "summary.json"));
-  EXPECT_EQ(slurp(out / "notes.txt"), "mine") << "a file gfmd did not write was touched";
+  EXPECT_EQ(read_file(out / "notes.txt"), "mine") << "a file gfmd did not write was touched";
   // A shorter sweep into a longer one's directory: the extra point and the old plot go.
   const fs::path sw = d / "sweep";
   ASSERT_EQ(run({"sweep", (d / "plain.toml").string(), "-o", sw.string(), "-q", "--set",
                  "load.force=0.004,0.006,0.008", "--plot", "relative_contact_area"},
                 d / "log"),
             0)
-      << slurp(d / "log");
+      << read_file(d / "log");
   ASSERT_TRUE(fs::exists(sw / "point_002" / "summary.json"));
   ASSERT_EQ(run({"sweep", (d / "plain.toml").string(), "-o", sw.string(), "-q", "--set",
                  "load.force=0.004,0.006", "--plot", "mean_gap"},
                 d / "log"),
             0)
-      << slurp(d / "log");
+      << read_file(d / "log");
   EXPECT_FALSE(fs::exists(sw / "point_002"));
   EXPECT_FALSE(fs::exists(sw / "sweep_relative_contact_area.png"));
   EXPECT_TRUE(fs::exists(sw / "point_001" / "summary.json"));
@@ -288,12 +271,12 @@ TEST(Abuse, RerunRemovesStaleOutputs) {
 // handler with status.json left "running".
 TEST(Abuse, WriteFailureExitsCleanly) {
   const fs::path d = scratch("fsize");
-  write(d / "case.toml", kHertz + "[friction]\ncoefficient = 1.0\n");
+  write_file(d / "case.toml", kHertz + "[friction]\ncoefficient = 1.0\n");
   const fs::path out = d / "out";
   ChildSetup s;
   s.file_size_limit = 64 * 1024;
   const int code = run({"run", (d / "case.toml").string(), "-o", out.string(), "-q"}, d / "log", s);
-  const std::string log = slurp(d / "log");
+  const std::string log = read_file(d / "log");
   EXPECT_EQ(code, 1) << log;
   EXPECT_NE(log.find("fields.nc"), std::string::npos) << log;
   EXPECT_NE(log.find("File too large"), std::string::npos) << log;
@@ -306,7 +289,7 @@ TEST(Abuse, WriteFailureExitsCleanly) {
 // The same with a real full disk: a 300 kB tmpfs in a private mount namespace.
 TEST(Abuse, FullDiskExitsCleanly) {
   const fs::path d = scratch("fulldisk");
-  write(d / "case.toml", kHertz + "[friction]\ncoefficient = 1.0\n");
+  write_file(d / "case.toml", kHertz + "[friction]\ncoefficient = 1.0\n");
   fs::create_directories(d / "tfs");
   ChildSetup s;
   s.tmpfs = d / "tfs";
@@ -314,7 +297,7 @@ TEST(Abuse, FullDiskExitsCleanly) {
   const int code =
       run({"run", (d / "case.toml").string(), "-o", (d / "tfs" / "out").string(), "-q"}, d / "log", s);
   if (code == 77) GTEST_SKIP() << "no private mount namespace here (needs root or user namespaces)";
-  const std::string log = slurp(d / "log"), listing = slurp(d.string() + "/log.listing");
+  const std::string log = read_file(d / "log"), listing = read_file(d.string() + "/log.listing");
   EXPECT_EQ(code, 1) << log;
   EXPECT_NE(log.find("No space left on device"), std::string::npos) << log;
   EXPECT_EQ(listing.find("summary.json"), std::string::npos) << listing;
@@ -326,13 +309,13 @@ TEST(Abuse, FullDiskExitsCleanly) {
 // check now reads RLIMIT_AS (and cgroup limits, MemAvailable) before allocating.
 TEST(Abuse, MemoryLimitIsCheckedBeforeAllocating) {
   const fs::path d = scratch("rlimit_as");
-  write(d / "case.toml", kHertz);
+  write_file(d / "case.toml", kHertz);
   ChildSetup s;
   s.address_space_limit = 1L << 30;
   const int code =
       run({"run", (d / "case.toml").string(), "-o", (d / "out").string(), "-q", "--set", "grid.nx=4096"},
           d / "log", s);
-  const std::string log = slurp(d / "log");
+  const std::string log = read_file(d / "log");
   EXPECT_EQ(code, 2) << log;
   EXPECT_NE(log.find("RLIMIT_AS"), std::string::npos) << log;
   EXPECT_FALSE(fs::exists(d / "out"));
@@ -341,7 +324,7 @@ TEST(Abuse, MemoryLimitIsCheckedBeforeAllocating) {
 // percolation, ensemble and sweep once ran on for minutes after SIGINT and exited 0.
 TEST(Abuse, SigintStopsEverySubcommand) {
   const fs::path d = scratch("sigint");
-  write(d / "slow.toml", kSlow);
+  write_file(d / "slow.toml", kSlow);
   const std::string c = (d / "slow.toml").string();
   const std::vector<std::vector<std::string>> commands = {
       {"run", c, "-o", (d / "run").string(), "-q"},
@@ -379,7 +362,7 @@ TEST(Abuse, ResumeReportsCumulativeWork) {
   const fs::path d = scratch("resume");
   std::string slow = kSlow;
   slow.replace(slow.find("nx = 512"), 8, "nx = 1024");  // a few seconds: stopped after one
-  write(d / "slow.toml", slow);
+  write_file(d / "slow.toml", slow);
   const fs::path out = d / "out";
   {
     Gfmd g({"run", (d / "slow.toml").string(), "-o", out.string(), "-q", "--checkpoint-interval", "0.2"},
@@ -396,7 +379,7 @@ TEST(Abuse, ResumeReportsCumulativeWork) {
   EXPECT_GT(before.iterations, 0);
   EXPECT_GT(before.wall_time_s, 0.2);
   ASSERT_EQ(run({"run", (d / "slow.toml").string(), "-o", out.string(), "-q", "--resume"}, d / "log2"), 0)
-      << slurp(d / "log2");
+      << read_file(d / "log2");
   std::ifstream in(out / "summary.json");
   const auto j = nlohmann::json::parse(in);
   ASSERT_TRUE(j.contains("resumed"));
@@ -408,17 +391,17 @@ TEST(Abuse, ResumeReportsCumulativeWork) {
 // Command-line values out of range are refused before anything runs.
 TEST(Abuse, BadCommandLineValuesAreRefused) {
   const fs::path d = scratch("cli");
-  write(d / "case.toml", kHertz);
-  write(d / "ens.toml", kSlow);
+  write_file(d / "case.toml", kHertz);
+  write_file(d / "ens.toml", kSlow);
   const std::string c = (d / "case.toml").string();
   for (const char* v : {"-1", "0", "nan", "inf", "abc", "1e99"}) {
     EXPECT_EQ(run({"run", c, "-o", (d / "o").string(), "--checkpoint-interval", v}, d / "log"), 2) << v;
-    EXPECT_NE(slurp(d / "log").find("--checkpoint-interval"), std::string::npos) << v;
+    EXPECT_NE(read_file(d / "log").find("--checkpoint-interval"), std::string::npos) << v;
   }
   for (const char* v : {"0..7x", "5..2", "-1..3", "0..100000", "a..b"})
     EXPECT_EQ(run({"ensemble", (d / "ens.toml").string(), "--seeds", v, "-o", (d / "e").string()}, d / "log"),
               2)
-        << v << ": " << slurp(d / "log");
+        << v << ": " << read_file(d / "log");
   EXPECT_FALSE(fs::exists(d / "o"));
   EXPECT_FALSE(fs::exists(d / "e"));
 }
@@ -426,7 +409,7 @@ TEST(Abuse, BadCommandLineValuesAreRefused) {
 // --set values: passed on exactly (a sweep once turned 1e-7 into 0) and named in errors.
 TEST(Abuse, SetValuesKeepTheirDigitsAndAppearInErrors) {
   const fs::path d = scratch("set");
-  write(d / "egg.toml", R"([grid]
+  write_file(d / "egg.toml", R"([grid]
 nx = 32
 lx = 1.0
 [indenter]
@@ -441,7 +424,7 @@ png = false
                  "load.pressure=1e-7,2.5e-7"},
                 d / "log"),
             0)
-      << slurp(d / "log");
+      << read_file(d / "log");
   std::ifstream in(d / "s" / "point_000" / "summary.json");
   const auto j = nlohmann::json::parse(in);
   EXPECT_EQ(j["input"]["load"]["pressure"].get<double>(), 1e-7);
@@ -453,7 +436,7 @@ png = false
                  "load.pressure=0.001,0.1", "--set", "solver.max_iterations=20"},
                 d / "log"),
             3);
-  const std::string log = slurp(d / "log");
+  const std::string log = read_file(d / "log");
   EXPECT_NE(log.find("[with --set load.pressure=0.001,0.1 solver.max_iterations=20]"), std::string::npos)
       << log;
   EXPECT_NE(log.find("point_001 (load.pressure = 0.1)"), std::string::npos) << log;
@@ -463,14 +446,14 @@ png = false
                  "solver.max_iterations=2"},
                 d / "log"),
             3);
-  EXPECT_NE(slurp(d / "log").find("[with --set solver.max_iterations=2]"), std::string::npos)
-      << slurp(d / "log");
+  EXPECT_NE(read_file(d / "log").find("[with --set solver.max_iterations=2]"), std::string::npos)
+      << read_file(d / "log");
 }
 
 // An ensemble run again reuses its finished seeds (as a sweep reuses its points).
 TEST(Abuse, EnsembleReusesFinishedSeeds) {
   const fs::path d = scratch("ensemble");
-  write(d / "ens.toml", R"([grid]
+  write_file(d / "ens.toml", R"([grid]
 nx = 64
 lx = 2.0
 [indenter]
@@ -487,12 +470,13 @@ png = false
 )");
   const std::vector<std::string> args = {"ensemble", (d / "ens.toml").string(), "--seeds", "0..1",
                                          "-o",       (d / "e").string()};
-  ASSERT_EQ(run(args, d / "log"), 0) << slurp(d / "log");
+  ASSERT_EQ(run(args, d / "log"), 0) << read_file(d / "log");
   const auto stamp = fs::last_write_time(d / "e" / "seed_1" / "summary.json");
-  const std::string first = slurp(d / "e" / "ensemble.json");
-  ASSERT_EQ(run(args, d / "log"), 0) << slurp(d / "log");
-  EXPECT_NE(slurp(d / "log").find("(finished earlier)"), std::string::npos) << slurp(d / "log");
+  const std::string first = read_file(d / "e" / "ensemble.json");
+  ASSERT_EQ(run(args, d / "log"), 0) << read_file(d / "log");
+  EXPECT_NE(read_file(d / "log").find("(finished earlier)"), std::string::npos) << read_file(d / "log");
   EXPECT_EQ(fs::last_write_time(d / "e" / "seed_1" / "summary.json"), stamp);
-  const auto a = nlohmann::json::parse(first), b = nlohmann::json::parse(slurp(d / "e" / "ensemble.json"));
+  const auto a = nlohmann::json::parse(first),
+             b = nlohmann::json::parse(read_file(d / "e" / "ensemble.json"));
   EXPECT_EQ(a["conductivity_x"], b["conductivity_x"]);
 }

@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "test_util.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -31,25 +33,9 @@ Outcome run_gfmd(const std::string& args) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("gfmd_cli_test_" + std::to_string(getpid())) / name;
-  fs::create_directories(d);
-  return d;
-}
-
-void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
-
-const std::string kGood = R"([grid]
-nx = 64
-lx = 4.0
-[elastic]
-poisson = 0.25
-[indenter]
-type = "hertz"
-radius = 1.0
-[load]
-force = 0.01
-)";
+fs::path scratch(const std::string& name) { return gfmd::testing::scratch_dir("cli_test", name); }
+using gfmd::testing::write_file;
+const std::string& kGood = gfmd::testing::kSmallHertz;
 
 struct BadCase {
   const char* name;
@@ -62,7 +48,7 @@ struct BadCase {
 
 TEST(Cli, RunWritesSummaryFieldsAndMaps) {
   const fs::path d = scratch("good");
-  write(d / "case.toml", kGood);
+  write_file(d / "case.toml", kGood);
   const auto r = run_gfmd((d / "case.toml").string() + " -o " + (d / "out").string() + " -q");
   ASSERT_EQ(r.code, 2) << "a bare case path is not a command: " << r.output;  // 'run' is required
   const auto ok = run_gfmd("run " + (d / "case.toml").string() + " -o " + (d / "out").string() + " -q");
@@ -90,7 +76,7 @@ TEST(Cli, RunWritesSummaryFieldsAndMaps) {
 
 TEST(Cli, BadInputIsRefusedCleanly) {
   const fs::path d = scratch("bad");
-  write(d / "nan.txt", "# lx = 4\n# ly = 4\n1 2\nnan 4\n");
+  write_file(d / "nan.txt", "# lx = 4\n# ly = 4\n1 2\nnan 4\n");
   const auto sub = [](std::string s, const std::string& from, const std::string& to) {
     const auto pos = s.find(from);
     EXPECT_NE(pos, std::string::npos) << from;
@@ -217,7 +203,7 @@ TEST(Cli, BadInputIsRefusedCleanly) {
     if (std::string(c.name) == "case_is_fifo")
       ASSERT_EQ(::mkfifo(tomlp.c_str(), 0600), 0);  // the case file itself: must not hang
     else
-      write(tomlp, c.toml);
+      write_file(tomlp, c.toml);
     const auto r = run_gfmd("run " + tomlp.string() + " -o " + out.string() + " -q " + c.extra);
     EXPECT_NE(r.code, 0) << c.name;
     EXPECT_NE(r.output.find(c.fragment), std::string::npos) << c.name << ": " << r.output;
@@ -239,7 +225,7 @@ TEST(Cli, BadTopographyFilesAreRefusedCleanly) {
   std::string truncated_nc;
   {
     // A valid NetCDF written by gfmd, cut short.
-    write(d / "src.toml", kGood + "[output]\npng = false\n");
+    write_file(d / "src.toml", kGood + "[output]\npng = false\n");
     const auto r = run_gfmd("run " + (d / "src.toml").string() + " -o " + (d / "src").string() + " -q");
     ASSERT_EQ(r.code, 0) << r.output;
     std::ifstream in(d / "src" / "fields.nc", std::ios::binary);
@@ -267,7 +253,7 @@ TEST(Cli, BadTopographyFilesAreRefusedCleanly) {
     std::string toml = kGood;
     toml.replace(toml.find("type = \"hertz\""), 14, "type = \"file\"");
     toml.replace(toml.find("radius = 1.0"), 12, std::string("path = \"") + f.name + "\"");
-    write(d / "case.toml", toml);
+    write_file(d / "case.toml", toml);
     const fs::path out = d / (std::string(f.name) + "_out");
     const auto r = run_gfmd("run " + (d / "case.toml").string() + " -o " + out.string() + " -q");
     EXPECT_NE(r.code, 0) << f.name;
@@ -280,7 +266,7 @@ TEST(Cli, BadTopographyFilesAreRefusedCleanly) {
   std::string toml = kGood;
   toml.replace(toml.find("type = \"hertz\""), 14, "type = \"file\"");
   toml.replace(toml.find("radius = 1.0"), 12, "path = \"adir.txt\"");
-  write(d / "case.toml", toml);
+  write_file(d / "case.toml", toml);
   const auto r = run_gfmd("run " + (d / "case.toml").string() + " -o " + (d / "dir_out").string() + " -q");
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.output.find("adir.txt"), std::string::npos) << r.output;
@@ -295,9 +281,10 @@ TEST(Cli, HeightMapHeaderGivesTheGrid) {
     for (int ix = 0; ix < 32; ++ix)
       map += std::to_string(0.01 * std::cos(2 * 3.141592653589793 * ix / 32.0)) + (ix < 31 ? "," : "\n");
   }
-  write(d / "map.csv", map);
-  write(d / "case.toml",
-        "[indenter]\ntype = \"file\"\npath = \"map.csv\"\n[load]\npressure = 0.001\n[output]\npng = false\n");
+  write_file(d / "map.csv", map);
+  write_file(
+      d / "case.toml",
+      "[indenter]\ntype = \"file\"\npath = \"map.csv\"\n[load]\npressure = 0.001\n[output]\npng = false\n");
   const auto r = run_gfmd("run " + (d / "case.toml").string() + " -o " + (d / "out").string() + " -q");
   ASSERT_EQ(r.code, 0) << r.output;
   std::ifstream in(d / "out" / "summary.json");
@@ -307,8 +294,8 @@ TEST(Cli, HeightMapHeaderGivesTheGrid) {
   EXPECT_EQ(j["input"]["grid"]["lx"].get<double>(), 2.0);
   EXPECT_EQ(j["input"]["grid"]["ly"].get<double>(), 1.0);
   // Without a header and without [grid] the error says what is missing.
-  write(d / "bare.txt", "1 2\n3 4\n");
-  write(d / "bare.toml", "[indenter]\ntype = \"file\"\npath = \"bare.txt\"\n[load]\npressure = 0.001\n");
+  write_file(d / "bare.txt", "1 2\n3 4\n");
+  write_file(d / "bare.toml", "[indenter]\ntype = \"file\"\npath = \"bare.txt\"\n[load]\npressure = 0.001\n");
   const auto b = run_gfmd("run " + (d / "bare.toml").string() + " -o " + (d / "bout").string() + " -q");
   EXPECT_EQ(b.code, 2);
   EXPECT_NE(b.output.find("no physical size lx"), std::string::npos) << b.output;
@@ -317,7 +304,7 @@ TEST(Cli, HeightMapHeaderGivesTheGrid) {
 
 TEST(Cli, UnconvergedSolveWritesNothing) {
   const fs::path d = scratch("unconverged");
-  write(d / "case.toml", kGood + "[solver]\nmax_iterations = 3\n");
+  write_file(d / "case.toml", kGood + "[solver]\nmax_iterations = 3\n");
   const auto r = run_gfmd("run " + (d / "case.toml").string() + " -o " + (d / "out").string() + " -q");
   EXPECT_EQ(r.code, 3);
   EXPECT_NE(r.output.find("not converged"), std::string::npos) << r.output;
