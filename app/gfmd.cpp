@@ -17,11 +17,13 @@
 #include <new>
 #include <sstream>
 
-#include "gfmd/error.hpp"
-#include "gfmd/io.hpp"
-#include "gfmd/leakage.hpp"
-#include "gfmd/percolation.hpp"
-#include "gfmd/run.hpp"
+#include "gfmd/case/leakage.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
+#include "gfmd/io/netcdf.hpp"
+#include "gfmd/io/png.hpp"
+#include "gfmd/studies/percolation.hpp"
 #include "gfmd/version.hpp"
 
 extern char** environ;

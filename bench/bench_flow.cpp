@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "gfmd/flow.hpp"
-#include "gfmd/topography.hpp"
+#include "gfmd/flow/flow.hpp"
+#include "gfmd/surface/topography.hpp"
 
 int main(int argc, char** argv) {
   const int n = argc > 1 ? std::atoi(argv[1]) : 2048;

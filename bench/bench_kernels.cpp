@@ -10,9 +10,9 @@
 #include <numbers>
 #include <vector>
 
-#include "gfmd/amg.hpp"
-#include "gfmd/elastic.hpp"
-#include "gfmd/fft.hpp"
+#include "gfmd/core/fft.hpp"
+#include "gfmd/elastic/elastic.hpp"
+#include "gfmd/flow/amg.hpp"
 
 namespace {
 

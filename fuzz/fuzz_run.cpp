@@ -9,9 +9,9 @@
 #include <filesystem>
 #include <string>
 
-#include "gfmd/config.hpp"
-#include "gfmd/error.hpp"
-#include "gfmd/run.hpp"
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/core/error.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

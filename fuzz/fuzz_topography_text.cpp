@@ -8,8 +8,8 @@
 #include <cstdio>
 #include <string>
 
-#include "gfmd/error.hpp"
-#include "gfmd/topography.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/surface/topography.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const std::string path = "/tmp/gfmd_fuzz_topo_" + std::to_string(getpid()) + ".txt";

@@ -11,9 +11,9 @@
 #include <atomic>
 #include <csignal>
 
-#include "gfmd/config.hpp"
-#include "gfmd/error.hpp"
-#include "gfmd/run.hpp"
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/core/error.hpp"
 #include "gfmd/version.hpp"
 
 namespace py = pybind11;

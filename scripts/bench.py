@@ -8,7 +8,7 @@ solve, so that the ratio compares the two at the same moment. Prints a Markdown 
                                       [--repeat 3]
 
 With --planner measure the solver's FFTW plans are measured (solver.fft_planner) and kept
-as wisdom (see include/gfmd/fft.hpp); a first, untimed solve per size makes the wisdom so
+as wisdom (see include/gfmd/core/fft.hpp); a first, untimed solve per size makes the wisdom so
 that the timed solve does not include planning.
 """
 import argparse

@@ -6,7 +6,7 @@ PKGS=(
   build-essential cmake pkg-config
   libfftw3-dev            # FFTs (with the threads library)
   libnetcdf-dev           # fields.nc and NetCDF topographies
-  libhdf5-dev             # H5dont_atexit (NetCDF-4 storage; see src/io.cpp)
+  libhdf5-dev             # H5dont_atexit (NetCDF-4 storage; see src/io/netcdf.cpp)
   libpng-dev              # PNG maps
   nlohmann-json3-dev      # summary.json
   libcli11-dev            # command line

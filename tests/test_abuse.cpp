@@ -20,10 +20,10 @@
 #include <thread>
 #include <vector>
 
-#include "gfmd/config.hpp"
-#include "gfmd/error.hpp"
-#include "gfmd/leakage.hpp"
-#include "gfmd/run.hpp"
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/leakage.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/core/error.hpp"
 #include "test_util.hpp"
 
 namespace fs = std::filesystem;

@@ -8,9 +8,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "gfmd/amg.hpp"
-#include "gfmd/error.hpp"
-#include "gfmd/rng.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/rng.hpp"
+#include "gfmd/flow/amg.hpp"
 
 namespace {
 

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <numbers>
 
-#include "gfmd/config.hpp"
-#include "gfmd/run.hpp"
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/run.hpp"
 #include "test_util.hpp"
 
 using namespace gfmd;

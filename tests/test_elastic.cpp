@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "gfmd/elastic.hpp"
-#include "gfmd/error.hpp"
-#include "gfmd/fft.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/fft.hpp"
+#include "gfmd/elastic/elastic.hpp"
 
 using namespace gfmd;
 

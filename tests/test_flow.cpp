@@ -9,11 +9,11 @@
 #include <numbers>
 #include <vector>
 
-#include "gfmd/error.hpp"
-#include "gfmd/fft.hpp"
-#include "gfmd/flow.hpp"
-#include "gfmd/grid.hpp"
-#include "gfmd/topography.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/fft.hpp"
+#include "gfmd/core/grid.hpp"
+#include "gfmd/flow/flow.hpp"
+#include "gfmd/surface/topography.hpp"
 
 namespace {
 

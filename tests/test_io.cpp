@@ -1,4 +1,4 @@
-// Tests for atomic writes, NetCDF field files and PNG maps (include/gfmd/io.hpp).
+// Tests for atomic writes, NetCDF field files and PNG maps (include/gfmd/io/netcdf.hpp).
 #include <gtest/gtest.h>
 #include <netcdf.h>
 #include <unistd.h>
@@ -12,8 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "gfmd/error.hpp"
-#include "gfmd/io.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
+#include "gfmd/io/netcdf.hpp"
+#include "gfmd/io/png.hpp"
 
 namespace fs = std::filesystem;
 using gfmd::Grid;

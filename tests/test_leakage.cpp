@@ -6,9 +6,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "gfmd/config.hpp"
-#include "gfmd/leakage.hpp"
-#include "gfmd/percolation.hpp"
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/leakage.hpp"
+#include "gfmd/studies/percolation.hpp"
 
 using namespace gfmd;
 namespace fs = std::filesystem;

@@ -11,10 +11,10 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "gfmd/config.hpp"
-#include "gfmd/error.hpp"
-#include "gfmd/reduce.hpp"
-#include "gfmd/run.hpp"
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/reduce.hpp"
 
 using namespace gfmd;
 namespace fs = std::filesystem;
@@ -217,7 +217,7 @@ static double rss_mib() {
 
 TEST(Robustness, FreedGridFieldsGoBackToTheSystem) {
   // SuperLU_DIST, loaded with HYPRE, turns off glibc's mapping of large blocks and heap
-  // trimming; src/fft.cpp restores both. Without that, a freed field stays resident.
+  // trimming; src/core/fft.cpp restores both. Without that, a freed field stays resident.
   double during = 0;
   {
     RealField big(std::size_t{24} << 20, 1.0);  // 192 MiB, every page touched

@@ -8,8 +8,8 @@
 #include <numbers>
 #include <sstream>
 
-#include "gfmd/config.hpp"
-#include "gfmd/run.hpp"
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/run.hpp"
 #include "test_util.hpp"
 
 using namespace gfmd;

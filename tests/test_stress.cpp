@@ -19,11 +19,11 @@
 #include <numbers>
 #include <string>
 
-#include "gfmd/config.hpp"
-#include "gfmd/elastic.hpp"
-#include "gfmd/error.hpp"
-#include "gfmd/run.hpp"
-#include "gfmd/stress.hpp"
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/elastic/elastic.hpp"
+#include "gfmd/elastic/stress.hpp"
 
 using namespace gfmd;
 

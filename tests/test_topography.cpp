@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "gfmd/error.hpp"
-#include "gfmd/fft.hpp"
-#include "gfmd/rng.hpp"
-#include "gfmd/topography.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/fft.hpp"
+#include "gfmd/core/rng.hpp"
+#include "gfmd/surface/topography.hpp"
 
 namespace {
 

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "gfmd/config.hpp"
-#include "gfmd/run.hpp"
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/run.hpp"
 
 namespace gfmd::testing {
 

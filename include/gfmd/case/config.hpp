@@ -1,0 +1,110 @@
+// Case files (TOML): one file per case, every key checked, defaults filled in.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "gfmd/contact/solver.hpp"
+#include "gfmd/core/grid.hpp"
+#include "gfmd/elastic/elastic.hpp"
+#include "gfmd/flow/flow.hpp"
+#include "gfmd/surface/topography.hpp"
+
+namespace gfmd {
+
+// Limits checked while reading a case, before anything is allocated (docs in README).
+inline constexpr long long kMaxThreads = 1024;                  // solver.threads
+inline constexpr long long kMaxSweepPoints = 10000;             // [sweep] points or values; any TOML array
+inline constexpr std::size_t kMaxStressDepths = 64;             // stress.depths
+inline constexpr int kMaxTomlNesting = 64;                      // arrays, inline tables and dotted keys
+inline constexpr std::size_t kMaxCaseFileBytes = 1u << 20;      // and arrays of <= kMaxSweepPoints
+inline constexpr double kMinLength = 1e-30, kMaxLength = 1e30;  // grid.lx, grid.ly
+// The largest mean pressure / E* a load may ask for (force / (E* lx ly) likewise).
+inline constexpr double kMaxPressureOverModulus = 1e3;
+
+struct IndenterConfig {
+  std::string type = "hertz";  // hertz | eggcrate | selfaffine | file
+  double radius = 0.0, radius_x = 0.0, radius_y = 0.0;
+  double wavelength = 0.0, amplitude = 0.0;
+  SelfAffineParams selfaffine;
+  std::string path;  // file: resolved against the case file's folder
+};
+
+struct OutputConfig {
+  bool fields = true;  // fields.nc
+  bool png = true;     // PNG maps
+};
+
+struct SweepConfig {
+  std::string parameter;                      // "section.key", e.g. "load.force"
+  std::vector<double> values;                 // the values, in order
+  std::string plot = "friction_coefficient";  // summary key drawn against the parameter
+  [[nodiscard]] bool active() const { return !parameter.empty(); }
+};
+
+struct StressConfig {
+  // Post-analysis references of the frictional stress (paper Fig. 3a,c), in order:
+  // "paper" (the frictionless solution as it is plus sigma_az = mu p e_s, no strain from the
+  // friction: what the paper computed) and/or "consistent" (the strain of mu p e_s included).
+  std::vector<std::string> post_analysis;
+  double high_tension_fraction = 0.9;  // "zone of high tension": s1 >= fraction * max s1
+  std::vector<double> depths;          // planes below the surface for subsurface stresses
+  bool profiles = true;                // profiles.csv (+ png) through the pressure maximum
+};
+
+struct FlowConfig {
+  bool enabled = false;                   // [flow] present: flow right after the contact solve
+  std::vector<double> angles{0.0, 90.0};  // directions of the mean pressure gradient (deg from +x)
+  double tolerance = 1e-10;               // relative residual of the linear solve
+  FlowSolver solver = FlowSolver::Auto;   // key flow.solver: "auto", "amg" or "boomeramg"
+};
+
+// Flow directions from "x", "y", "both" or an angle in degrees; empty if the text is none
+// of these.
+std::vector<double> parse_flow_directions(const std::string& text);
+
+struct Config {
+  Grid grid;
+  ElasticParams elastic;
+  IndenterConfig indenter;
+  LoadParams load;
+  FrictionParams friction;
+  InteractionParams interaction;
+  SolverParams solver;
+  int threads = 0;
+  OutputConfig output;
+  bool friction_reference = true;  // with friction: also solve frictionless at the same load
+  StressConfig stress;
+  FlowConfig flow;
+  SweepConfig sweep;
+  std::string source;  // the case file's path ("" for a string)
+
+  // The full input with defaults filled in (recorded in summary.json).
+  [[nodiscard]] nlohmann::json to_json() const;
+  // TOML text that reproduces this configuration.
+  [[nodiscard]] std::string to_toml() const;
+};
+
+// Parses a case file and applies "section.key=value" overrides (values in TOML syntax;
+// a bare word is taken as a string). Throws InputError listing every problem found,
+// each with the key and, where known, file:line.
+Config load_config(const std::string& path, const std::vector<std::string>& overrides = {});
+Config parse_config(const std::string& toml_text, const std::string& name,
+                    const std::vector<std::string>& overrides = {}, const std::string& base_dir = ".");
+
+// Builds the indenter's topography of a configuration.
+Topography make_topography(const Config& cfg);
+
+// Estimated peak memory of a solve in bytes.
+double estimated_memory_bytes(const Grid& grid);
+
+// The memory a solve may use here: the smallest of 80% of the physical memory, MemAvailable,
+// 80% of a cgroup limit and 80% of RLIMIT_AS / RLIMIT_DATA (bytes 0: none known), and which.
+struct MemoryLimit {
+  double bytes = 0.0;
+  std::string source;
+};
+MemoryLimit memory_limit();
+
+}  // namespace gfmd

@@ -1,0 +1,74 @@
+// Scalar observables of a solved contact (SPEC §5).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "gfmd/contact/solver.hpp"
+#include "gfmd/core/fft.hpp"
+#include "gfmd/elastic/elastic.hpp"
+#include "gfmd/surface/topography.hpp"
+
+namespace gfmd {
+
+struct Observables {
+  double relative_contact_area = 0;  // fraction of cells with p > 0
+  double normal_force = 0;           // sum p dA
+  double mean_pressure = 0;          // normal_force / (lx ly)
+  double max_pressure = 0;
+  double mean_gap = 0;  // mean of max(gap, 0) over the cell
+  double approach = 0;
+  // Friction (zero without friction). Dissipation: F = P_diss / v0 = sum tau . v dA with the
+  // slip velocity v = xi e_s + (e_s.grad) u (= mu_c sum p |v| dA where every point slips; stuck
+  // points dissipate nothing). Downhill: F = sum |tau| dA + dF, dF = -sum p (e_s.grad h) dA
+  // (sum |tau| = mu_c F_z where every point slips).
+  double friction_force = 0;
+  double friction_force_downhill = 0;
+  double downhill_force = 0;
+  double friction_coefficient = 0;
+  double friction_coefficient_downhill = 0;
+  double energy_balance_error = 0;  // |F_diss - F_downhill| / F_diss
+  // Work of the driving force per v0, xi sum tau.e_s dA + dF: equal to F_diss in steady state
+  // (F_downhill replaces tau.e_s by |tau|, a second-order difference in the strains).
+  double friction_force_drive = 0;
+  double energy_balance_error_exact = 0;  // |F_diss - F_drive| / F_diss
+  double mean_tangential_traction_x = 0, mean_tangential_traction_y = 0;
+  // Geometry relative to the indenter's highest point (the Hertz apex), along the
+  // sliding direction e_s ("longitudinal") and across it ("transverse"), minimum image.
+  double centroid_shift = 0;  // pressure-weighted mean position . e_s
+  double centroid_shift_transverse = 0;
+  double pressure_max_shift = 0;           // position of max p . e_s
+  double contact_extent_longitudinal = 0;  // (max - min) of contact cells . e_s, + dx
+  double contact_extent_transverse = 0;
+  double max_slip_velocity = 0, min_slip_velocity = 0;  // |v_slip|/v0 over the contact
+  // Fraction of all cells in contact and slipping slower than friction.regularization
+  // (where the regularised law applies; 0 without regularisation).
+  double near_stick_fraction = 0;
+  // Exact Coulomb law with stick: fraction of the contact cells that stick (zero slip
+  // velocity, traction inside the friction disc).
+  double stick_fraction = 0;
+  // Tangential force the body exerts on the indenter, sum tau dA: along e_s and in lab axes;
+  // its ratio to the normal force (the traction coefficient of rolling; mu_c where every
+  // point slips).
+  double tangential_force = 0, tangential_force_x = 0, tangential_force_y = 0;
+  double traction_coefficient = 0;
+};
+
+// Fields derived from a solved state (all on the grid).
+struct DerivedFields {
+  RealField slip_longitudinal;  // v_l^rel / v0 - xi: relative longitudinal slip excess ((e_s.grad) u_s)
+  RealField slip_transverse;    // transverse slip / v0 ((e_s.grad) u_perp)
+  RealField dissipation;        // tau . v_slip / v0 (power density per unit v0; 0 where stuck)
+};
+DerivedFields derived_fields(const FFT& fft, const FrictionParams& fric, const ContactFields& f);
+
+// Slip field of the body relative to the indenter in units of v0: v = xi e_s + (e_s.grad)u
+// (its sign is that of the indenter's motion seen from the body; |v| is the slip speed).
+void slip_velocity(const FFT& fft, const FrictionParams& fric, const RealField& ux, const RealField& uy,
+                   RealField& vx, RealField& vy);
+
+Observables compute_observables(const FFT& fft, const Topography& topo, const FrictionParams& fric,
+                                const ContactFields& f, const SolveInfo& info);
+
+nlohmann::json to_json(const Observables& o);
+
+}  // namespace gfmd

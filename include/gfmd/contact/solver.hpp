@@ -1,0 +1,202 @@
+// Steady-state contact solve between a rigid indenter and the elastic body.
+//
+// Unknowns: the pressure p(r) >= 0 the indenter exerts on the body and, when sliding
+// with friction, the tangential traction tau(r) = mu_c p(r) s(r) on the body, where
+// s is the unit slip direction of the body under the indenter (see friction below).
+// Displacements follow from the compliance: u = C * (tau_x, tau_y, -p).
+//
+// Interaction (SPEC §4): harmonic overlap repulsion p = k max(0, -g), with gap
+// g = g0 - delta - u_z, g0 = max(h) - h the separation at first touch and delta the
+// approach of the indenter. Written as a complementarity problem with the augmented
+// compliance C_zz + 1/k, it is solved by the Polonsky-Keer constrained conjugate
+// gradient method (load or approach control); k = inf is the hard wall.
+//
+// Friction (SPEC §4-5): the slip velocity of the body relative to the indenter is
+// -v0 (e_s + (e_s.grad) u) (the indenter moves along +e_s over the body); the Coulomb
+// traction on the body opposes it: tau = mu_c p s, s = (e_s + (e_s.grad)u)/|...|, or
+// regularised near stick (FrictionParams::regularization: tau = mu_c p v / eps where the
+// slip speed |v| < eps), where the exact law makes the slip direction ill-conditioned.
+// The non-conservative traction enters as a fixed point: for a given tau the normal
+// problem is the same convex problem with g0 replaced by g0 - w, w = C_z. tau (the
+// normal displacement friction causes); then tau is rebuilt from the new p and u.
+// Every outer step solves the normal problem to a tolerance tied to the outer residual.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <string>
+
+#include "gfmd/core/fft.hpp"
+#include "gfmd/core/fields.hpp"
+#include "gfmd/elastic/elastic.hpp"
+#include "gfmd/surface/topography.hpp"
+
+namespace gfmd {
+
+struct InteractionParams {
+  bool hard_wall = false;
+  double stiffness = 0.0;  // k_if; 0 means the default 2 E* / dx
+};
+
+struct FrictionParams {
+  double coefficient = 0.0;    // mu_c
+  double direction_deg = 0.0;  // sliding direction of the indenter, degrees from +x
+  // Regularised Coulomb law near stick: where the slip speed |v_slip|/v0 falls below this
+  // value, the traction is mu_c p v_slip / regularization (it vanishes with the slip
+  // instead of jumping); above it the law is exact Coulomb. 0: exact Coulomb everywhere.
+  double regularization = 0.0;
+  // Creepage xi: the rigid part of the slip velocity is xi v0 e_s (1 = sliding; small xi =
+  // tractive rolling, with stick where the traction stays inside the friction disc).
+  double creepage = 1.0;
+  // Step gamma / E* of the stick-slip (Douglas-Rachford) iteration of the exact law; 0 picks
+  // it from the body's in-plane compliance.
+  double stick_step = 0.0;
+  [[nodiscard]] bool regularized() const { return regularization > 0; }
+};
+
+enum class LoadMode { Force, Pressure, Approach };
+struct LoadParams {
+  LoadMode mode = LoadMode::Force;
+  double value = 0.0;  // force, mean pressure, or approach
+};
+
+struct SolverParams {
+  double tolerance = 1e-8;                  // gap residual, relative pressure change, relative tau change
+  int max_iterations = 20000;               // total inner (conjugate-gradient) iterations
+  int max_outer = 2000;                     // friction fixed-point steps
+  int max_tangential = 20000;               // stick-slip steps per friction step (exact law)
+  int anderson = 10;                        // Anderson mixing depth of the friction fixed point (0: none)
+  double mixing = 0.5;                      // relaxation of the friction fixed point, in (0, 1]
+  Planner fft_planner = Planner::Estimate;  // FFTW planner of the solver's transforms
+};
+
+struct SolveInfo {
+  bool converged = false;
+  std::string status;             // "converged", "not converged: ...", ...
+  int iterations = 0;             // inner conjugate-gradient iterations in all
+  int outer_iterations = 0;       // friction fixed-point steps
+  int tangential_iterations = 0;  // stick-slip (Douglas-Rachford) steps of the exact law, in all
+  std::size_t stick_points = 0;   // contact points that stick
+  double residual = 0.0;          // independent force-balance residual of the final state
+  double residual_bound = 0.0;    // converged needs residual <= max(1e-5, 1e3 * tolerance)
+  double pk_error = 0.0;          // last relative pressure change
+  double friction_error = 0.0;
+  double approach = 0.0;   // delta
+  double stiffness = 0.0;  // k_if used (inf for hard wall)
+  double wall_time_s = 0.0;
+  std::uint64_t transforms = 0;  // real 2D FFTs (forward + inverse) the solve executed
+  double fft_seconds = 0.0;      // wall time of those transforms alone
+};
+
+// What the friction steps of a failed solve show, for its message: a limit cycle (its period
+// in friction steps and the relative amplitude of the tangential force), a slow drift, or no
+// pattern, judged from the last 60 steps of the traction change and of the tangential force
+// along the sliding direction (one value per step).
+std::string friction_history_evidence(const std::vector<double>& change, const std::vector<double>& force);
+
+struct Progress {
+  int iteration;
+  int outer;
+  double error;
+};
+
+class ContactSolver {
+ public:
+  ContactSolver(const ElasticBody& body, const Topography& topo, const InteractionParams& inter,
+                const FrictionParams& fric, const SolverParams& solver);
+
+  // Solves for the given load. `fields` may hold a previous solution of the same grid
+  // (warm start: pressure and tractions are used); it is overwritten with the new one.
+  // While the solve runs (progress, checkpoints, an exception) only pressure, tx and ty
+  // are valid; ux, uy, uz and gap are empty until the end.
+  SolveInfo solve(const LoadParams& load, ContactFields& fields);
+
+  void set_progress(std::function<void(const Progress&)> cb) { progress_ = std::move(cb); }
+  // Polled every iteration: returning true stops the solve with gfmd::Interrupted, the
+  // fields holding the last pressure and tractions (a valid warm start).
+  void set_stop_request(std::function<bool()> cb) { stop_ = std::move(cb); }
+  // Iterations done so far by the running (or last) solve.
+  [[nodiscard]] int iterations_done() const { return total_it_; }
+  // Called with the current state every `interval_s` seconds (checkpoints).
+  void set_checkpoint(std::function<void(const ContactFields&)> cb, double interval_s) {
+    checkpoint_ = std::move(cb);
+    checkpoint_interval_s_ = interval_s;
+  }
+
+  [[nodiscard]] const FFT& fft() const { return fft_; }
+  [[nodiscard]] const RealField& initial_gap() const { return g0_; }
+  [[nodiscard]] double stiffness() const { return k_; }
+  [[nodiscard]] double sliding_angle() const { return fric_.direction_deg; }
+
+ private:
+  struct PKResult {
+    int iterations;
+    double error;
+    double delta;
+    bool converged;
+  };
+  // w_zero: w is zero everywhere (not read then).
+  PKResult solve_normal(const LoadParams& load, const RealField& w, bool w_zero, RealField& p, double tol,
+                        int max_it);
+  void apply_compliance(const RealField& in, RealField& out, double scale = 1.0);  // scale C_zz in
+  void update_displacements(ContactFields& f);                                     // u from (tau, -p)
+  // Coulomb tractions of the current slip into (tx, ty); returns, over the grid,
+  // sum |(tx, ty) - (f.tx, f.ty)|_1, sum |(tx, ty)|_1 and the number of points outside the
+  // Anderson support (in_supp == 0) where either traction is non-zero.
+  std::array<double, 3> slip_tractions(const ContactFields& f, RealField& tx, RealField& ty,
+                                       const std::vector<unsigned char>& in_supp);
+  struct TangentialResult {
+    int iterations;
+    double error;
+    bool converged;
+  };
+  // The set-valued Coulomb law for the pressure p held fixed: tau = P_K(tau + gamma v(tau)),
+  // K the discs |tau| <= mu_c p, v = xi e_s + (e_s.grad) u_t the slip velocity, solved by
+  // Douglas-Rachford splitting between the projection and the (linear, skew) slip operator,
+  // whose resolvent is one spectral pass. The splitting variable z (= tau + gamma v at the
+  // solution) is kept between calls of one solve (warm start); (tx, ty) receives P_K(z).
+  [[nodiscard]] double default_stick_step() const;
+  TangentialResult solve_tangential(const RealField& p, RealField& tx, RealField& ty, double tol, int max_it);
+  void friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w);
+  double residual(const ContactFields& f, double delta);
+
+  const ElasticBody& body_;
+  Grid grid_;
+  FFT fft_;
+  InteractionParams inter_;
+  FrictionParams fric_;
+  SolverParams sp_;
+  double k_;      // interaction stiffness (inf: hard wall)
+  double inv_k_;  // 1/k
+  RealField g0_;
+  double g0_rms_ = 0.0;
+  double gw_mean_ref_ = 0.0;      // solve_normal: last mean of g0 - w on the contact set
+  double g_mean_ref_ = 0.0;       // solve_normal: last mean of the separation there (load control)
+  SpecField s1_, s2_, s3_;        // half-spectrum scratch
+  RealField cg_g_, cg_t_, cg_r_;  // work arrays of solve_normal
+  // Real scratch of the friction step and the displacement update; solve_normal does not
+  // keep anything in its work arrays between calls, so these share them.
+  RealField& r1_ = cg_t_;
+  RealField& r2_ = cg_r_;
+  RealField zx_, zy_, bx_, by_;  // splitting variable and pressure-induced slip of solve_tangential
+  bool have_z_ = false;
+  double gamma_ = 0.0;         // its step
+  std::vector<double> czz_n_;  // C_zz / (nx ny) per half-spectrum mode, contiguous
+  // Anderson history of the friction fixed point (ring buffers, single precision: only
+  // the mixing uses them; convergence is always judged on the unaccelerated map).
+  std::vector<std::vector<float>> and_df_, and_dx_;
+  // Stop requests and checkpoints; `settle` runs first when either is due (it brings the
+  // state up to date).
+  void poll(const ContactFields* f, const std::function<void()>& settle = {});
+  std::function<void(const Progress&)> progress_;
+  std::function<bool()> stop_;
+  std::function<void(const ContactFields&)> checkpoint_;
+  double checkpoint_interval_s_ = 0.0;
+  double last_checkpoint_ = 0.0;
+  ContactFields* current_ = nullptr;
+  int total_it_ = 0;
+};
+
+}  // namespace gfmd

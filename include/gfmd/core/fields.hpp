@@ -1,0 +1,18 @@
+// The state of a contact on the grid: pressure, tangential tractions, surface displacements,
+// gap and the stick mask. Shared by the solver (which fills it), the stresses and the outputs.
+#pragma once
+
+#include <vector>
+
+#include "gfmd/core/fft.hpp"
+
+namespace gfmd {
+
+struct ContactFields {
+  RealField pressure, tx, ty, ux, uy, uz, gap;
+  // 1 where a contact point sticks (|tau| < mu_c p, zero slip velocity); filled at the end
+  // of a solve with the exact Coulomb law, empty otherwise.
+  std::vector<unsigned char> stick;
+};
+
+}  // namespace gfmd

@@ -1,0 +1,98 @@
+// Elastic response of an isotropic body of thickness h (h = inf: half-space; finite h:
+// bonded to a rigid base) to surface tractions: the 3x3 Green's tensor of SPEC §2.
+//
+// Stiffness: t~_a(q) = q E* Phi_ab(q) u~_b(q) is the traction that must act on the
+// surface to hold displacement u. Compliance: u~ = C(q) t~ with C = (q E* Phi)^-1.
+// z points out of the body; a pressure p pushing on the body is t_z = -p.
+#pragma once
+
+#include <array>
+#include <limits>
+#include <vector>
+
+#include "gfmd/core/fft.hpp"
+#include "gfmd/core/grid.hpp"
+
+namespace gfmd {
+
+struct ElasticParams {
+  double contact_modulus = 1.0;                                // E* = E/(1-nu^2)
+  double poisson = 0.25;                                       // nu in (-1, 0.5]
+  double thickness = std::numeric_limits<double>::infinity();  // h
+  // false: the uncoupled reference. The cross-compliance (normal displacement from
+  // tangential traction and in-plane displacement from pressure) is dropped; the direct
+  // compliances stay those of the real body, so frictionless results do not change.
+  bool coupling = true;
+
+  [[nodiscard]] bool half_space() const { return thickness == std::numeric_limits<double>::infinity(); }
+  [[nodiscard]] double shear_modulus() const { return contact_modulus * (1.0 - poisson) / 2.0; }
+  // Throws InputError naming elastic.poisson / elastic.thickness / elastic.contact_modulus.
+  void validate() const;
+};
+
+// Dimensionless Phi in the frame where q points along axis 1 (SPEC §2):
+// Phi'11 = p11, Phi'22 = p22, Phi'33 = p33, Phi'13 = i*p13, Phi'31 = -i*p13.
+struct PhiRotated {
+  double p11, p22, p33, p13;
+};
+
+// qh = |q| h; qh = inf gives the half-space values. Stable for qh in [1e-8, inf).
+PhiRotated phi_rotated(double qh, double nu);
+
+// Per-mode compliance of the body on the r2c half spectrum, in lab axes.
+// u~ = C t~ with C Hermitian: C_xx, C_yy, C_xy, C_zz real; C_xz = i*cxz, C_yz = i*cyz.
+struct ComplianceMode {
+  double cxx, cyy, cxy, czz, cxz, cyz;
+};
+
+class ElasticBody {
+ public:
+  ElasticBody(const Grid& grid, const ElasticParams& params);
+
+  [[nodiscard]] const Grid& grid() const { return grid_; }
+  [[nodiscard]] const ElasticParams& params() const { return params_; }
+  [[nodiscard]] const ComplianceMode& mode(std::size_t k) const { return modes_[k]; }
+  [[nodiscard]] const std::vector<ComplianceMode>& modes() const { return modes_; }
+
+  // Compliance of the q = 0 mode: zero for a half-space (the mean in-plane displacement
+  // is pinned; the mean normal displacement is set by the load or the approach),
+  // h(1-2nu)/((1-nu)^2 E*) normal and h/G in-plane for a layer.
+  [[nodiscard]] double mean_normal_compliance() const { return c0_zz_; }
+  [[nodiscard]] double mean_inplane_compliance() const { return c0_t_; }
+
+  // Full 3x3 lab-frame stiffness q E* Phi at a mode (row-major, complex) for tests.
+  [[nodiscard]] std::array<cplx, 9> stiffness(int ikx, int iky) const;
+  [[nodiscard]] std::array<cplx, 9> compliance(int ikx, int iky) const;
+
+  // Displacement spectra from traction spectra, times `scale` (any of tx, ty, tz may be
+  // null = zero; any of ux, uy, uz null = not wanted). Outputs may alias inputs (each mode
+  // is read before it is written), e.g. ux = tx, uy = ty, uz = tz in place.
+  void displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
+                    double scale = 1.0) const {
+    displacement(tx, ty, tz, ux, uy, uz, scale, scale);
+  }
+  // The same with the normal traction scaled by scale_z instead: e.g. -scale turns the
+  // spectrum of a pressure p into that of t_z = -p without a pass over the grid.
+  void displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
+                    double scale, double scale_z) const;
+  // Spectra of the slopes (e.grad) u_x and (e.grad) u_y along the unit vector (ex, ey) of
+  // the in-plane displacement caused by the tractions (scale tx, scale ty, scale_z tz); the
+  // Nyquist modes of the derivative are dropped. Outputs may alias inputs.
+  void inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, double ex, double ey, cplx* dux,
+                     cplx* duy, double scale, double scale_z) const;
+  // Resolvent of the slip operator of steady sliding: A = (e.grad) C_tt maps a tangential
+  // traction to the slip velocity it causes; A is skew-adjoint (C_tt Hermitian, e.grad
+  // skew), so I - gamma A is invertible for every gamma. In place, per mode:
+  // (x, y) <- (I - gamma A)^-1 scale (x, y); the q = 0 mode is scaled only.
+  void slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale) const;
+  // Spectral radius of A along (ex, ey): the largest |e.q| times eigenvalue of C_tt(q).
+  [[nodiscard]] double slip_operator_norm(double ex, double ey) const;
+
+ private:
+  Grid grid_;
+  ElasticParams params_;
+  std::vector<ComplianceMode> modes_;
+  double c0_zz_ = 0.0, c0_t_ = 0.0;
+};
+
+}  // namespace gfmd

@@ -1,0 +1,104 @@
+// Surface profiles of the rigid indenter (SPEC §3).
+//
+// Convention: h(r) is the height of the indenter surface measured TOWARDS the elastic
+// body, i.e. a larger h protrudes further into the body (asperity peaks are maxima and
+// touch first). The solver uses the initial gap g0(r) = max(h) - h(r).
+// Fields are row-major with x fastest: h[iy * nx + ix] at x = ix*dx, y = iy*dy.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "gfmd/core/fft.hpp"
+#include "gfmd/core/grid.hpp"
+
+namespace gfmd {
+
+struct Topography {
+  Grid grid;
+  RealField h;       // grid.size() heights
+  std::string kind;  // "hertz", "eggcrate", "selfaffine" or "file"
+};
+
+// Realised statistics. rms_height is about the mean. rms_gradient = sqrt(<|grad h|^2>) and
+// rms_curvature = sqrt(<(lap h / 2)^2>) are computed spectrally from the FFT of h with
+// the multipliers i*qx_deriv, i*qy_deriv of Grid (the Nyquist column/row derivative is
+// dropped; the Laplacian is the divergence of that gradient, -(qx_deriv^2 + qy_deriv^2)).
+struct TopographyStats {
+  double mean = 0.0, rms_height = 0.0, rms_gradient = 0.0, rms_curvature = 0.0, min = 0.0, max = 0.0;
+};
+
+// Paraboloid (Hertz) with radii of curvature rx, ry > 0, apex on the node
+// (nx/2, ny/2): h = -(x-xc)^2/(2 rx) - (y-yc)^2/(2 ry), xc = (nx/2)*dx, yc = (ny/2)*dy,
+// computed from integer offsets so that h(xc+d) == h(xc-d) bit for bit. max(h) = 0.
+// Throws InputError("indenter.radius_x"/"indenter.radius_y", ...) and ("grid", ...).
+Topography make_hertz(const Grid& grid, double rx, double ry);
+
+// Egg-crate h = h0 [cos(2 pi x / lambda) + cos(2 pi y / lambda)], peaks (h = 2 h0) at the
+// origin. lambda must divide lx and ly (relative tolerance 1e-9) so that the surface is
+// periodic: InputError("indenter.wavelength", ...); h0 > 0: ("indenter.amplitude", ...).
+// SPEC §3: h0 = lambda/(2 pi)^2 gives a peak radius of curvature R = lambda.
+Topography make_eggcrate(const Grid& grid, double wavelength, double amplitude);
+
+// Self-affine random surface, see make_selfaffine below.
+struct SelfAffineParams {
+  double hurst = 0.8;         // 0 < H < 1
+  double lambda_long = 0.0;   // long-wavelength cut-off (<= min(lx, ly))
+  double lambda_short = 0.0;  // short-wavelength cut-off (>= 2 * max(dx, dy))
+  double rms_height = 0.0;    // exactly one of rms_height / rms_gradient must be > 0
+  double rms_gradient = 0.0;
+  double lambda_rolloff = 0.0;  // 0: none; else > lambda_long and <= max(lx, ly)
+  std::uint64_t seed = 0;
+};
+
+// Spectrum: |h~(q)|^2 = C q^(-2-2H) for q_l <= |q| <= q_s (q_l = 2 pi/lambda_long,
+// q_s = 2 pi/lambda_short); with a roll-off (lambda_rolloff > 0, q_r = 2 pi/lambda_rolloff)
+// the modes with q_r <= |q| < q_l get the plateau value C q_l^(-2-2H); every other mode,
+// q = 0 included, is zero. Band edges are inclusive with a relative tolerance of 1e-12
+// (so that modes exactly on a cut-off are kept independently of rounding).
+//
+// Phases: h~(q) = A(q) exp(2 pi i U). One U = Rng(seed).uniform() is drawn for EVERY mode
+// of the r2c half spectrum, in the order iky = 0..ny-1 (outer), ikx = 0..nx/2 (inner),
+// whether or not the mode is in the band, so that the phase of a mode does not depend
+// on the band parameters. Hermitian symmetry is then imposed on the kx = 0 and (nx even)
+// kx = nx/2 columns: for ky < 0 the entry is the conjugate of the ky > 0 entry (those
+// draws are unused), and self-conjugate modes (ky = 0 or ky = ny/2) are set to
+// A * sign(cos(2 pi U)) (real, same magnitude). The field is synthesised with
+// FFT::backward and rescaled once so that its realised rms height (about the mean, in
+// real space) equals rms_height, or, if rms_gradient > 0 instead, so that its realised
+// spectral rms gradient (as in statistics()) equals rms_gradient.
+// The result does not depend on the number of threads.
+// Throws InputError naming indenter.hurst, indenter.lambda_long, indenter.lambda_short
+// (also when 2 * grid spacing > lambda_short: the grid is too coarse),
+// indenter.lambda_rolloff, indenter.rms_height (not exactly one of rms_height /
+// rms_gradient > 0; a negative rms_gradient names indenter.rms_gradient), grid.
+Topography make_selfaffine(const Grid& grid, const SelfAffineParams& params);
+
+// Realised statistics (see TopographyStats). Throws std::invalid_argument if h does not
+// match the grid.
+TopographyStats statistics(const Topography& topo);
+
+// Reads a height map. Files whose name ends in ".nc" (any case) or that start with a
+// NetCDF/HDF5 signature are read as NetCDF, everything else as text.
+//
+// Text format: one data row per line, row iy (the y index, iy = 0 first) holding nx
+// whitespace-separated numbers for ix = 0..nx-1; every data row must have the same count.
+// Blank lines are ignored. A line whose first non-blank character is '#' is a comment,
+// except header lines "# lx = <number>" and "# ly = <number>" (':' may replace '=')
+// that give the physical size of the cell; they may appear anywhere, at most once each.
+// Values are heights in the convention above (larger = towards the body), used as is.
+//
+// NetCDF: a 2-D numeric variable named "topography" (else "height", else "heights") with
+// dimensions (y, x); CF packing attributes scale_factor/add_offset are applied; values
+// equal to the variable's fill value are rejected. Size: attribute "lx"/"ly" of the
+// variable, else global attribute, else 1-D coordinate variables (named like the
+// dimension, else "x"/"y") of uniform increasing spacing: L = spacing * count.
+//
+// lx, ly > 0 given here win over the file (a mismatch with the file is not an error);
+// lx, ly <= 0 take the size from the file, and it is an error if the file has none.
+// Every problem throws InputError(path, reason): missing/unreadable file, empty file,
+// ragged rows (line number and counts), non-numeric token (line number), NaN/Inf
+// (line number, or index for NetCDF), missing size, NetCDF errors (netcdf's message).
+Topography read_topography(const std::string& path, double lx, double ly);
+
+}  // namespace gfmd

@@ -1,0 +1,859 @@
+#include "gfmd/case/config.hpp"
+
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+#include <toml.hpp>
+
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
+#include "gfmd/flow/flow.hpp"
+
+namespace gfmd {
+
+namespace {
+
+using Table = toml::value;
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+std::string did_you_mean(const std::string& key, const std::vector<std::string>& allowed) {
+  std::string best;
+  std::size_t bd = 3;
+  for (const auto& a : allowed) {
+    const std::size_t d = edit_distance(key, a);
+    if (d < bd) {
+      bd = d;
+      best = a;
+    }
+  }
+  return best.empty() ? "" : " (did you mean '" + best + "'?)";
+}
+
+std::string where(const toml::value& v) {
+  const auto loc = v.location();
+  if (loc.file_name() == "unknown file" || loc.line() == 0) return "";
+  return " [" + loc.file_name() + ":" + std::to_string(loc.line()) + "]";
+}
+
+// One [section] of the case file: typed getters that record problems instead of
+// throwing, and a check that every key present was understood.
+class Section {
+ public:
+  Section(const toml::value& root, std::string name, std::vector<std::string>& errors)
+      : name_(std::move(name)), errors_(errors) {
+    if (root.is_table() && root.as_table().count(name_)) {
+      const toml::value& v = root.as_table().at(name_);
+      if (!v.is_table()) {
+        errors_.push_back(name_ + ": must be a table [" + name_ + "]" + where(v));
+      } else {
+        tbl_ = &v;
+      }
+    }
+  }
+  [[nodiscard]] bool present() const { return tbl_ != nullptr; }
+  bool has(const std::string& key) {
+    allowed_.push_back(key);
+    return tbl_ && tbl_->as_table().count(key);
+  }
+  const toml::value* raw(const std::string& key) {
+    if (!has(key)) return nullptr;
+    return &tbl_->as_table().at(key);
+  }
+  // A finite number (an integer is converted); nan and inf are refused.
+  double number(const std::string& key, double def) { return number_impl(key, def, false); }
+  // A number that may also be "inf"/"infinity" (string or TOML inf).
+  double number_or_inf(const std::string& key, double def) {
+    const toml::value* v = raw(key);
+    if (!v) return def;
+    if (v->is_string()) {
+      std::string s = v->as_string();
+      std::transform(s.begin(), s.end(), s.begin(), ::tolower);
+      if (s == "inf" || s == "infinity" || s == "infinite") return std::numeric_limits<double>::infinity();
+      error(key, "must be a number or \"inf\", got \"" + std::string(v->as_string()) + "\"" + where(*v));
+      return def;
+    }
+    return number_impl(key, def, true);
+  }
+  // An integer in [lo, hi]: out of range is an error (never a silent truncation).
+  long long integer(const std::string& key, long long def, long long lo, long long hi) {
+    const toml::value* v = raw(key);
+    if (!v) return def;
+    long long x = def;
+    if (v->is_integer()) {
+      x = v->as_integer();
+    } else if (v->is_floating() && std::floor(v->as_floating()) == v->as_floating() &&
+               std::abs(v->as_floating()) < 1e15) {
+      x = static_cast<long long>(v->as_floating());
+    } else {
+      error(key, "must be an integer, got " + type_name(*v) + where(*v));
+      return def;
+    }
+    if (x < lo || x > hi) {
+      error(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+                     std::to_string(x) + where(*v));
+      return def;
+    }
+    return x;
+  }
+  bool boolean(const std::string& key, bool def) {
+    const toml::value* v = raw(key);
+    if (!v) return def;
+    if (v->is_boolean()) return v->as_boolean();
+    error(key, "must be true or false, got " + type_name(*v) + where(*v));
+    return def;
+  }
+  std::string string(const std::string& key, const std::string& def) {
+    const toml::value* v = raw(key);
+    if (!v) return def;
+    if (v->is_string()) return v->as_string();
+    error(key, "must be a string, got " + type_name(*v) + where(*v));
+    return def;
+  }
+  int line(const std::string& key) const {
+    if (!tbl_ || !tbl_->as_table().count(key)) return 0;
+    return static_cast<int>(tbl_->as_table().at(key).location().line());
+  }
+  std::string at(const std::string& key) const {
+    if (!tbl_ || !tbl_->as_table().count(key)) return "";
+    return where(tbl_->as_table().at(key));
+  }
+  void error(const std::string& key, const std::string& why) {
+    errors_.push_back(name_ + "." + key + ": " + why);
+  }
+  // Keys in the file that no getter asked for.
+  void finish(const std::vector<std::string>& also_allowed = {}) {
+    if (!tbl_) return;
+    std::vector<std::string> allowed = allowed_;
+    allowed.insert(allowed.end(), also_allowed.begin(), also_allowed.end());
+    std::vector<std::string> keys;
+    for (const auto& kv : tbl_->as_table()) keys.push_back(kv.first);
+    std::sort(keys.begin(), keys.end());
+    for (const auto& k : keys)
+      if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
+        errors_.push_back(name_ + "." + k + ": unknown key" + did_you_mean(k, allowed) +
+                          where(tbl_->as_table().at(k)));
+  }
+  [[nodiscard]] const std::string& name() const { return name_; }
+
+ private:
+  double number_impl(const std::string& key, double def, bool allow_inf) {
+    const toml::value* v = raw(key);
+    if (!v) return def;
+    double x = def;
+    if (v->is_floating()) {
+      x = v->as_floating();
+    } else if (v->is_integer()) {
+      x = static_cast<double>(v->as_integer());
+    } else {
+      error(key, "must be a number, got " + type_name(*v) + where(*v));
+      return def;
+    }
+    if (std::isnan(x) || (std::isinf(x) && !(allow_inf && x > 0))) {
+      error(key, "must be a finite number, got " + std::string(std::isnan(x) ? "nan" : "inf") + where(*v));
+      return def;
+    }
+    return x;
+  }
+  static std::string type_name(const toml::value& v) {
+    std::ostringstream os;
+    os << v.type();
+    return os.str();
+  }
+  std::string name_;
+  std::vector<std::string>& errors_;
+  const toml::value* tbl_ = nullptr;
+  std::vector<std::string> allowed_;
+};
+
+const std::vector<std::string> kSections = {"grid",     "elastic",     "indenter", "load",
+                                            "friction", "interaction", "solver",   "output",
+                                            "sweep",    "stress",      "flow"};
+
+void require_shallow_nesting(const std::string& s, const std::string& name);
+
+void apply_override(toml::value& root, const std::string& spec) {
+  const auto eq = spec.find('=');
+  if (eq == std::string::npos || eq == 0) throw InputError("--set " + spec, "expected section.key=value");
+  const std::string path = spec.substr(0, eq), text = spec.substr(eq + 1);
+  const auto dot = path.find('.');
+  if (dot == std::string::npos || dot == 0 || dot + 1 == path.size())
+    throw InputError("--set " + spec, "expected section.key=value");
+  const std::string sec = path.substr(0, dot), key = path.substr(dot + 1);
+  toml::value val;
+  require_shallow_nesting("v = " + text, "--set " + path);
+  try {
+    std::istringstream is("v = " + text);
+    val = toml::parse(is, "--set").as_table().at("v");
+  } catch (const std::exception&) {
+    val = toml::value(text);  // a bare word: a string
+  }
+  if (!root.is_table()) root = toml::table{};
+  auto& tbl = root.as_table();
+  if (!tbl.count(sec)) tbl[sec] = toml::table{};
+  if (!tbl[sec].is_table()) throw InputError("--set " + spec, "'" + sec + "' is not a table");
+  auto& st = tbl[sec].as_table();
+  // The load keys exclude each other: setting one replaces the others.
+  if (sec == "load" && (key == "force" || key == "pressure" || key == "approach")) {
+    st.erase("force");
+    st.erase("pressure");
+    st.erase("approach");
+  }
+  st[key] = val;
+}
+
+Config build(const toml::value& root, const std::string& name, const std::string& base_dir) {
+  std::vector<std::string> errors;
+  Config c;
+  c.source = name;
+  if (root.is_table()) {
+    std::vector<std::string> keys;
+    for (const auto& kv : root.as_table()) keys.push_back(kv.first);
+    std::sort(keys.begin(), keys.end());
+    for (const auto& k : keys)
+      if (std::find(kSections.begin(), kSections.end(), k) == kSections.end())
+        errors.push_back(k + ": unknown section" + did_you_mean(k, kSections) + where(root.as_table().at(k)));
+  }
+
+  // A file indenter may leave the grid to the height map: its dimensions and its size
+  // header (text) or attributes (NetCDF).
+  const bool file_indenter = [&root] {
+    if (!root.is_table() || !root.as_table().count("indenter")) return false;
+    const toml::value& t = root.as_table().at("indenter");
+    return t.is_table() && t.as_table().count("type") && t.as_table().at("type").is_string() &&
+           t.as_table().at("type").as_string() == "file";
+  }();
+  Section grid(root, "grid", errors);
+  if (!grid.present() && !file_indenter) errors.push_back("grid: missing section [grid] (nx, lx at least)");
+  if (grid.present() && !grid.has("nx") && !file_indenter)
+    grid.error("nx", "missing: the number of grid points along x");
+  const bool grid_nx = grid.has("nx"), grid_ny = grid.has("ny"), grid_lx = grid.has("lx"),
+             grid_ly = grid.has("ly");
+  const long long nx = grid.integer("nx", 0, 2, 1 << 16);
+  const long long ny = grid.integer("ny", nx, 2, 1 << 16);
+  c.grid.lx = grid.number("lx", 0.0);
+  c.grid.ly = grid.number("ly", c.grid.lx);
+  c.grid.nx = static_cast<int>(nx);
+  c.grid.ny = static_cast<int>(ny);
+  // Lengths are bounded so that areas and volumes stay far from under- and overflow.
+  if ((grid_lx || !file_indenter) && !(c.grid.lx >= kMinLength && c.grid.lx <= kMaxLength))
+    grid.error("lx", "must be a positive length in [1e-30, 1e30]" + grid.at("lx"));
+  if ((grid_ly || grid_lx || !file_indenter) && !(c.grid.ly >= kMinLength && c.grid.ly <= kMaxLength))
+    grid.error("ly", "must be a positive length in [1e-30, 1e30]" + grid.at("ly"));
+  grid.finish();
+
+  Section el(root, "elastic", errors);
+  c.elastic.contact_modulus = el.number("contact_modulus", 1.0);
+  c.elastic.poisson = el.number("poisson", 0.25);
+  c.elastic.thickness = el.number_or_inf("thickness", std::numeric_limits<double>::infinity());
+  c.elastic.coupling = el.boolean("coupling", true);
+  el.finish();
+  try {
+    c.elastic.validate();
+  } catch (const InputError& e) {
+    const std::string key = e.where().substr(e.where().find('.') + 1);
+    errors.push_back(e.where() + ": " + e.why() + el.at(key));
+  }
+
+  Section ind(root, "indenter", errors);
+  if (!ind.present()) errors.push_back("indenter: missing section [indenter] (type = \"hertz\", ...)");
+  IndenterConfig& in = c.indenter;
+  in.type = ind.string("type", "hertz");
+  const std::vector<std::string> types = {"hertz", "eggcrate", "selfaffine", "file"};
+  std::vector<std::string> extra;
+  if (std::find(types.begin(), types.end(), in.type) == types.end()) {
+    ind.error("type", "unknown indenter type \"" + in.type + "\"" + did_you_mean(in.type, types) +
+                          "; one of hertz, eggcrate, selfaffine, file" + ind.at("type"));
+    extra = {"radius", "radius_x",       "radius_y",     "wavelength", "amplitude",
+             "hurst",  "lambda_long",    "lambda_short", "rms_height", "rms_gradient",
+             "seed",   "lambda_rolloff", "path",         "lx",         "ly"};
+  } else if (in.type == "hertz") {
+    in.radius = ind.number("radius", 0.0);
+    in.radius_x = ind.number("radius_x", in.radius);
+    in.radius_y = ind.number("radius_y", in.radius);
+    if (!(in.radius_x > 0) || !(in.radius_y > 0))
+      ind.error(ind.has("radius") || !ind.has("radius_x") ? "radius" : "radius_x",
+                "a Hertz indenter needs a positive radius (or radius_x and radius_y)");
+  } else if (in.type == "eggcrate") {
+    in.wavelength = ind.number("wavelength", c.grid.lx);
+    in.amplitude = ind.number("amplitude", in.wavelength / (4 * std::numbers::pi * std::numbers::pi));
+    if (!(in.wavelength > 0)) ind.error("wavelength", "must be positive");
+    if (!(in.amplitude > 0)) ind.error("amplitude", "must be positive");
+    if (in.wavelength > 0 && c.grid.lx > 0) {
+      const double rx = c.grid.lx / in.wavelength, ry = c.grid.ly / in.wavelength;
+      if (std::abs(rx - std::round(rx)) > 1e-9 * rx || std::abs(ry - std::round(ry)) > 1e-9 * ry)
+        ind.error("wavelength", "the cell (grid.lx, grid.ly) must hold a whole number of wavelengths");
+    }
+  } else if (in.type == "selfaffine") {
+    SelfAffineParams& s = in.selfaffine;
+    s.hurst = ind.number("hurst", 0.8);
+    s.lambda_long = ind.number("lambda_long", c.grid.lx / 2);
+    s.lambda_short = ind.number("lambda_short", s.lambda_long / 128);
+    s.rms_height = ind.number("rms_height", 0.0);
+    s.rms_gradient = ind.number("rms_gradient", 0.0);
+    s.lambda_rolloff = ind.number("lambda_rolloff", 0.0);
+    s.seed = static_cast<std::uint64_t>(ind.integer("seed", 0, 0, std::numeric_limits<long long>::max()));
+    if ((s.rms_height > 0) == (s.rms_gradient > 0))
+      ind.error("rms_height", "give exactly one of rms_height and rms_gradient (positive)");
+  } else if (in.type == "file") {
+    in.path = ind.string("path", "");
+    if (in.path.empty()) {
+      ind.error("path", "a file indenter needs path = \"heights.txt\" (text matrix or NetCDF)");
+    } else if (!std::filesystem::path(in.path).is_absolute()) {
+      in.path = (std::filesystem::path(base_dir) / in.path).lexically_normal().string();
+    }
+    if (!in.path.empty() && (!grid_nx || !grid_ny || !grid_lx || !grid_ly)) {
+      // The grid keys not given come from the map (read once here; the solve reads it again).
+      try {
+        const Topography t = read_topography(in.path, grid_lx ? c.grid.lx : 0.0,
+                                             grid_ly ? c.grid.ly : (grid_lx ? c.grid.lx : 0.0));
+        if (!grid_nx) c.grid.nx = t.grid.nx;
+        if (!grid_ny) c.grid.ny = grid_nx ? c.grid.nx : t.grid.ny;  // ny defaults to a given nx
+        if (c.grid.nx < 2 || c.grid.ny < 2 || c.grid.nx > (1 << 16) || c.grid.ny > (1 << 16))
+          ind.error("path", "the height map must have 2 to 65536 points along x and y");
+        if (!grid_lx) c.grid.lx = t.grid.lx;
+        if (!grid_ly) c.grid.ly = grid_lx ? c.grid.lx : t.grid.ly;
+        if (!(c.grid.lx >= kMinLength && c.grid.lx <= kMaxLength && c.grid.ly >= kMinLength &&
+              c.grid.ly <= kMaxLength))
+          ind.error("path", "the size of the height map must lie in [1e-30, 1e30]");
+      } catch (const InputError& e) {
+        const std::string why = e.what();
+        ind.error("path",
+                  why + (why.find("no physical size") != std::string::npos ? " (or give grid.lx and grid.ly)"
+                                                                           : ""));
+      }
+    }
+  }
+  ind.finish(extra);
+
+  Section load(root, "load", errors);
+  const bool hf = load.has("force"), hp = load.has("pressure"), ha = load.has("approach");
+  if (int(hf) + int(hp) + int(ha) != 1) {
+    errors.push_back("load: give exactly one of force, pressure, approach");
+  }
+  if (hf) {
+    c.load = {LoadMode::Force, load.number("force", 0.0)};
+    if (!(c.load.value > 0)) load.error("force", "must be positive" + load.at("force"));
+  } else if (hp) {
+    c.load = {LoadMode::Pressure, load.number("pressure", 0.0)};
+    if (!(c.load.value > 0)) load.error("pressure", "must be positive" + load.at("pressure"));
+  } else if (ha) {
+    c.load = {LoadMode::Approach, load.number("approach", 0.0)};
+    if (!(c.load.value >= 0)) load.error("approach", "must be zero or positive" + load.at("approach"));
+  }
+  if (hf && c.load.value > 0 && c.elastic.contact_modulus > 0 && c.grid.lx > 0 && c.grid.ly > 0 &&
+      c.load.value / (c.elastic.contact_modulus * c.grid.lx * c.grid.ly) > kMaxPressureOverModulus)
+    load.error("force",
+               "the mean pressure force / (lx ly) exceeds 1000 E*: not a contact problem" + load.at("force"));
+  if (hp && c.load.value / c.elastic.contact_modulus > kMaxPressureOverModulus)
+    load.error("pressure", "exceeds 1000 E*: not a contact problem" + load.at("pressure"));
+  if (ha && c.load.value > kMaxLength)
+    load.error("approach", "must be at most 1e30 (a length)" + load.at("approach"));
+  load.finish();
+
+  Section fr(root, "friction", errors);
+  c.friction.coefficient = fr.number("coefficient", 0.0);
+  c.friction.direction_deg = fr.number("direction", 0.0);
+  c.friction.regularization = fr.number("regularization", 0.0);
+  if (!(c.friction.regularization >= 0 && c.friction.regularization < 1))
+    fr.error("regularization", "must be in [0, 1) (slip speed / v0 below which the traction is regularised)");
+  // Section::number has refused nan and inf already (they come back as the default).
+  if (!(c.friction.coefficient >= 0))
+    fr.error("coefficient", "must be a non-negative number" + fr.at("coefficient"));
+  c.friction.creepage = fr.number("creepage", 1.0);
+  if (!(c.friction.creepage > 0))
+    fr.error("creepage",
+             "must be a positive finite number (rigid slip speed / v0; 1 = sliding)" + fr.at("creepage"));
+  else if (c.friction.creepage != 1.0 && !(c.friction.coefficient > 0))
+    fr.error("creepage",
+             "rolling with creepage needs friction: set friction.coefficient > 0" + fr.at("creepage"));
+  c.friction.stick_step = fr.number("stick_step", 0.0);
+  if (!(c.friction.stick_step >= 0) || c.friction.stick_step > 1e6)
+    fr.error("stick_step",
+             "must be 0 (automatic) or a positive step gamma/E* up to 1e6" + fr.at("stick_step"));
+  c.friction_reference = fr.boolean("reference", true);
+  fr.finish();
+
+  Section ia(root, "interaction", errors);
+  const std::string model = ia.string("model", "harmonic");
+  if (model == "harmonic") {
+    c.interaction.hard_wall = false;
+  } else if (model == "hardwall" || model == "hard_wall") {
+    c.interaction.hard_wall = true;
+  } else {
+    ia.error("model", "unknown model \"" + model + "\"; one of harmonic, hardwall" + ia.at("model"));
+  }
+  c.interaction.stiffness = ia.number("stiffness", 0.0);
+  if (!(c.interaction.stiffness >= 0)) ia.error("stiffness", "must be positive (0 = default 2 E*/dx)");
+  ia.finish();
+
+  Section so(root, "solver", errors);
+  c.solver.tolerance = so.number("tolerance", 1e-8);
+  c.solver.max_iterations = static_cast<int>(so.integer("max_iterations", 20000, 1, 1000000000));
+  c.solver.max_outer = static_cast<int>(so.integer("max_outer", 2000, 1, 1000000000));
+  c.solver.max_tangential = static_cast<int>(so.integer("max_tangential", 20000, 1, 100000000));
+  c.solver.anderson = static_cast<int>(so.integer("anderson", 10, 0, 50));
+  c.solver.mixing = so.number("mixing", 0.5);
+  if (!(c.solver.mixing > 0 && c.solver.mixing <= 1)) so.error("mixing", "must be in (0, 1]");
+  c.threads = static_cast<int>(so.integer("threads", 0, 0, kMaxThreads));
+  {
+    const std::string planner = so.string("fft_planner", "estimate");
+    if (planner == "estimate") {
+      c.solver.fft_planner = Planner::Estimate;
+    } else if (planner == "measure") {
+      c.solver.fft_planner = Planner::Measure;
+    } else {
+      so.error("fft_planner", "must be \"estimate\" or \"measure\" (got \"" + planner + "\")");
+    }
+  }
+  if (!(c.solver.tolerance > 0 && c.solver.tolerance < 1)) so.error("tolerance", "must be in (0, 1)");
+  so.finish();
+
+  Section sw(root, "sweep", errors);
+  if (sw.present()) {
+    c.sweep.parameter = sw.string("parameter", "");
+    c.sweep.plot = sw.string("plot", c.sweep.plot);
+    if (const toml::value* v = sw.raw("values")) {
+      if (!v->is_array()) {
+        sw.error("values", "must be an array of numbers" + where(*v));
+      } else if (v->as_array().size() > static_cast<std::size_t>(kMaxSweepPoints)) {
+        sw.error("values", "at most " + std::to_string(kMaxSweepPoints) + " values, got " +
+                               std::to_string(v->as_array().size()) + where(*v));
+      } else {
+        for (const auto& e : v->as_array()) {
+          if (e.is_floating() && std::isfinite(e.as_floating()))
+            c.sweep.values.push_back(e.as_floating());
+          else if (e.is_integer())
+            c.sweep.values.push_back(static_cast<double>(e.as_integer()));
+          else
+            sw.error("values", "must be an array of finite numbers" + where(e));
+        }
+      }
+    }
+    const double from = sw.number("from", 0.0), to = sw.number("to", 0.0);
+    const long long points = sw.integer("points", 0, 0, kMaxSweepPoints);
+    const std::string spacing = sw.string("spacing", "log");
+    if (points > 0) {
+      if (!c.sweep.values.empty()) sw.error("points", "give either values or from/to/points, not both");
+      if (spacing != "log" && spacing != "linear") sw.error("spacing", "must be \"log\" or \"linear\"");
+      if (spacing == "log" && !(from > 0 && to > 0))
+        sw.error("from", "log spacing needs positive from and to");
+      for (long long i = 0; i < points; ++i) {
+        const double t = points == 1 ? 0.0 : static_cast<double>(i) / static_cast<double>(points - 1);
+        c.sweep.values.push_back(spacing == "log" ? from * std::pow(to / from, t) : from + (to - from) * t);
+      }
+    }
+    if (c.sweep.parameter.empty() || c.sweep.parameter.find('.') == std::string::npos)
+      sw.error("parameter", "name the swept key as \"section.key\", e.g. \"load.force\"");
+    if (c.sweep.values.empty()) sw.error("values", "give the values (or from, to, points)");
+  }
+  sw.finish();
+
+  Section st(root, "stress", errors);
+  if (const toml::value* v = st.raw("post_analysis")) {
+    // false | true (= "consistent") | "paper" | "consistent" | a list of those.
+    const auto kind = [&](const toml::value& e) {
+      if (e.is_string() && (e.as_string() == "paper" || e.as_string() == "consistent")) {
+        const std::string k = e.as_string();
+        if (std::find(c.stress.post_analysis.begin(), c.stress.post_analysis.end(), k) ==
+            c.stress.post_analysis.end())
+          c.stress.post_analysis.push_back(k);
+      } else {
+        st.error("post_analysis",
+                 "must be false, true, \"paper\", \"consistent\" or a list of those" + where(e));
+      }
+    };
+    if (v->is_boolean()) {
+      if (v->as_boolean()) c.stress.post_analysis = {"consistent"};
+    } else if (v->is_array()) {
+      for (const auto& e : v->as_array()) kind(e);
+    } else {
+      kind(*v);
+    }
+  }
+  c.stress.high_tension_fraction = st.number("high_tension_fraction", 0.9);
+  c.stress.profiles = st.boolean("profiles", true);
+  if (!(c.stress.high_tension_fraction > 0 && c.stress.high_tension_fraction <= 1))
+    st.error("high_tension_fraction", "must be in (0, 1]");
+  if (const toml::value* v = st.raw("depths")) {
+    if (!v->is_array()) {
+      st.error("depths", "must be an array of depths below the surface" + where(*v));
+    } else if (v->as_array().size() > kMaxStressDepths) {
+      st.error("depths", "at most " + std::to_string(kMaxStressDepths) + " depths, got " +
+                             std::to_string(v->as_array().size()) + where(*v));
+    } else {
+      for (const auto& e : v->as_array()) {
+        const double d = e.is_floating()  ? e.as_floating()
+                         : e.is_integer() ? static_cast<double>(e.as_integer())
+                                          : -1.0;
+        if (!(d >= 0) || !std::isfinite(d) || (!c.elastic.half_space() && d > c.elastic.thickness))
+          st.error("depths", "each depth must be a number in [0, thickness]" + where(e));
+        else
+          c.stress.depths.push_back(d);
+      }
+    }
+  }
+  st.finish();
+
+  Section fl(root, "flow", errors);
+  if (fl.present()) {
+    c.flow.enabled = fl.boolean("enabled", true);
+    c.flow.tolerance = fl.number("tolerance", 1e-10);
+    if (!(c.flow.tolerance > 0 && c.flow.tolerance < 1)) fl.error("tolerance", "must be in (0, 1)");
+    const std::string solver = fl.string("solver", "auto");
+    if (!parse_flow_solver(solver, c.flow.solver))
+      fl.error("solver", "must be \"auto\", \"amg\" or \"boomeramg\", got \"" + solver + "\"");
+    const std::string dir = fl.string("direction", "both");
+    c.flow.angles = parse_flow_directions(dir);
+    if (c.flow.angles.empty())
+      fl.error("direction", "must be \"x\", \"y\", \"both\" or an angle in degrees, got \"" + dir + "\"");
+  }
+  fl.finish();
+
+  Section out(root, "output", errors);
+  c.output.fields = out.boolean("fields", true);
+  c.output.png = out.boolean("png", true);
+  out.finish();
+
+  // Combinations.
+  if (errors.empty()) {
+    if (c.indenter.type == "hertz" && c.load.mode == LoadMode::Force) {
+      const double r = std::sqrt(c.indenter.radius_x * c.indenter.radius_y);
+      const double a = std::cbrt(3 * c.load.value * r / (4 * c.elastic.contact_modulus));
+      const double l = std::min(c.grid.lx, c.grid.ly);
+      if (2 * a > 0.5 * l) {
+        std::ostringstream os;
+        os << "the Hertz contact radius a = " << a << " makes the contact wider than half the cell (L = " << l
+           << "): periodic images would interfere; enlarge grid.lx or lower the load";
+        errors.push_back("load.force: " + os.str() + load.at("force"));
+      } else if (a < 2 * c.grid.dx()) {
+        std::ostringstream os;
+        os << "the Hertz contact radius a = " << a
+           << " spans fewer than 2 grid spacings (dx = " << c.grid.dx() << "); refine the grid";
+        errors.push_back("load.force: " + os.str() + load.at("force"));
+      }
+    }
+    const double mem = estimated_memory_bytes(c.grid);
+    const MemoryLimit lim = memory_limit();
+    if (lim.bytes > 0 && mem > lim.bytes) {
+      std::ostringstream os;
+      os << "a " << c.grid.nx << " x " << c.grid.ny << " grid needs about " << mem / 1e9
+         << " GB, more than the " << lim.bytes / 1e9 << " GB allowed here (" << lim.source << ")";
+      errors.push_back("grid.nx: " + os.str());
+    }
+  }
+
+  if (!errors.empty()) {
+    std::ostringstream os;
+    os << errors.size() << " problem" << (errors.size() > 1 ? "s" : "") << " in the case:";
+    for (const auto& e : errors) os << "\n  - " << e;
+    throw InputError(name, os.str());
+  }
+  return c;
+}
+
+}  // namespace
+
+std::vector<double> parse_flow_directions(const std::string& text) {
+  if (text == "x") return {0.0};
+  if (text == "y") return {90.0};
+  if (text == "both") return {0.0, 90.0};
+  char* end = nullptr;
+  const double a = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || *end != '\0' || !std::isfinite(a)) return {};
+  return {a};
+}
+
+namespace {
+// A number from a one-line file such as cgroup's memory.max ("max": no limit, 0).
+double read_limit_file(const char* path) {
+  std::ifstream f(path);
+  std::string w;
+  if (!(f >> w) || w == "max") return 0;
+  char* end = nullptr;
+  const double v = std::strtod(w.c_str(), &end);
+  return (end != w.c_str() && v > 0 && v < 1e18) ? v : 0;
+}
+}  // namespace
+
+MemoryLimit memory_limit() {
+  MemoryLimit best;
+  const auto consider = [&best](double bytes, const std::string& what) {
+    if (bytes > 0 && (best.bytes <= 0 || bytes < best.bytes)) best = {bytes, what};
+  };
+  const double phys =
+      static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+  consider(0.8 * phys, "80% of the physical memory");
+  {
+    std::ifstream mi("/proc/meminfo");
+    std::string key, unit;
+    double kb = 0;
+    while (mi >> key >> kb) {
+      std::getline(mi, unit);
+      if (key == "MemAvailable:") consider(kb * 1024.0, "the memory available now (MemAvailable)");
+    }
+  }
+  consider(0.8 * read_limit_file("/sys/fs/cgroup/memory.max"), "80% of the cgroup limit memory.max");
+  consider(0.8 * read_limit_file("/sys/fs/cgroup/memory/memory.limit_in_bytes"),
+           "80% of the cgroup limit memory.limit_in_bytes");
+  for (const auto& [res, name] :
+       {std::pair{RLIMIT_AS, "RLIMIT_AS (ulimit -v)"}, std::pair{RLIMIT_DATA, "RLIMIT_DATA (ulimit -d)"}}) {
+    rlimit rl{};
+    if (getrlimit(res, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY)
+      consider(0.8 * static_cast<double>(rl.rlim_cur), std::string("80% of ") + name);
+  }
+  return best;
+}
+
+double estimated_memory_bytes(const Grid& grid) {
+  // Peak of a sliding solve (BENCHMARKS.md, memory budget): topography, pressure and two
+  // tractions, g0, w, the traction image, three CG fields (11 real fields), three complex
+  // half-spectra, the compliance tables (56 B/mode) and the Anderson history on the
+  // traction's support (196 B per support point; allowance: half the grid in contact).
+  const double n = static_cast<double>(grid.size());
+  const double ns = static_cast<double>(grid.spectral_size());
+  return n * (8.0 * 11.0 + 0.5 * 196.0) + ns * (3.0 * 16.0 + 56.0);
+}
+
+namespace {
+// TOML is UTF-8 text. Checking it first also keeps malformed bytes away from toml11
+// (3.7 reads past the end of some invalid sequences; found by fuzz/fuzz_config).
+void require_utf8(const std::string& s, const std::string& name) {
+  std::size_t i = 0, line = 1;
+  while (i < s.size()) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    std::size_t len = 0;
+    if (c == '\n') ++line;
+    if (c < 0x80) {
+      len = 1;
+      if (c == 0 || (c < 0x20 && c != '\n' && c != '\r' && c != '\t') || c == 0x7f)
+        throw InputError(name + ":" + std::to_string(line), "control character in the case file");
+    } else if ((c & 0xe0) == 0xc0 && c >= 0xc2) {
+      len = 2;
+    } else if ((c & 0xf0) == 0xe0) {
+      len = 3;
+    } else if ((c & 0xf8) == 0xf0 && c <= 0xf4) {
+      len = 4;
+    } else {
+      throw InputError(name + ":" + std::to_string(line), "not valid UTF-8 text");
+    }
+    if (i + len > s.size()) throw InputError(name + ":" + std::to_string(line), "not valid UTF-8 text");
+    for (std::size_t k = 1; k < len; ++k)
+      if ((static_cast<unsigned char>(s[i + k]) & 0xc0) != 0x80)
+        throw InputError(name + ":" + std::to_string(line), "not valid UTF-8 text");
+    i += len;
+  }
+}
+
+// toml11 parses arrays, inline tables and dotted keys recursively: a file nested thousands
+// deep overflows the stack. This scan (strings and comments skipped) refuses such files first.
+void require_shallow_nesting(const std::string& s, const std::string& name) {
+  int dots = 0, line = 1;
+  std::vector<long> elements;  // per open array / inline table (the nesting depth): its commas
+  bool in_key = true;          // at a position where a key (and so dotted-key nesting) may be written
+  const auto fail = [&](const std::string& what) {
+    throw InputError(name + ":" + std::to_string(line),
+                     what + " nested deeper than " + std::to_string(kMaxTomlNesting) + " levels");
+  };
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const char c = s[i];
+    if (c == '\n') {
+      ++line;
+      if (elements.empty()) {
+        in_key = true;
+        dots = 0;
+      }
+      continue;
+    }
+    if (c == '#') {
+      while (i + 1 < s.size() && s[i + 1] != '\n') ++i;
+      continue;
+    }
+    if (c == '"' || c == '\'') {
+      const bool multi = s.compare(i, 3, std::string(3, c)) == 0;
+      i += multi ? 3 : 1;
+      while (i < s.size()) {
+        if (s[i] == '\n') ++line;
+        if (c == '"' && s[i] == '\\') {
+          i += 2;
+          continue;
+        }
+        if (multi ? s.compare(i, 3, std::string(3, c)) == 0 : s[i] == c) break;
+        ++i;
+      }
+      if (multi) i += 2;
+      continue;
+    }
+    if (c == '[' || c == '{') {
+      elements.push_back(0);
+      if (static_cast<int>(elements.size()) > kMaxTomlNesting) fail("arrays or inline tables");
+      if (c == '{') {
+        in_key = true;
+        dots = 0;
+      }
+    } else if (c == ']' || c == '}') {
+      if (!elements.empty()) elements.pop_back();
+    } else if (c == '=') {
+      in_key = false;
+    } else if (c == ',') {
+      // toml11's arrays grow quadratically (200 000 numbers: 50 s): bounded like sweeps.
+      if (!elements.empty() && ++elements.back() >= kMaxSweepPoints)
+        throw InputError(
+            name + ":" + std::to_string(line),
+            "an array or inline table with more than " + std::to_string(kMaxSweepPoints) + " elements");
+      in_key = true;
+      dots = 0;
+    } else if (c == '.' && in_key) {
+      if (++dots > kMaxTomlNesting) fail("dotted keys");
+    }
+  }
+}
+}  // namespace
+
+Config parse_config(const std::string& text, const std::string& name,
+                    const std::vector<std::string>& overrides, const std::string& base_dir) {
+  require_utf8(text, name);
+  require_shallow_nesting(text, name);
+  toml::value root;
+  try {
+    std::istringstream is(text);
+    root = toml::parse(is, name);
+  } catch (const toml::syntax_error& e) {
+    throw InputError(name, std::string("not valid TOML:\n") + e.what());
+  } catch (const std::exception& e) {
+    throw InputError(name, std::string("not valid TOML: ") + e.what());
+  }
+  for (const auto& o : overrides) apply_override(root, o);
+  return build(root, name, base_dir);
+}
+
+Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
+  const std::string text = read_regular_file(path, kMaxCaseFileBytes, "case file");
+  const std::string base = std::filesystem::path(path).parent_path().string();
+  return parse_config(text, path, overrides, base.empty() ? "." : base);
+}
+
+nlohmann::json Config::to_json() const {
+  nlohmann::json j;
+  j["grid"] = {{"nx", grid.nx}, {"ny", grid.ny}, {"lx", grid.lx}, {"ly", grid.ly}};
+  j["elastic"] = {{"contact_modulus", elastic.contact_modulus},
+                  {"poisson", elastic.poisson},
+                  {"coupling", elastic.coupling}};
+  if (elastic.half_space())
+    j["elastic"]["thickness"] = "inf";
+  else
+    j["elastic"]["thickness"] = elastic.thickness;
+  nlohmann::json ind = {{"type", indenter.type}};
+  if (indenter.type == "hertz") {
+    ind["radius_x"] = indenter.radius_x;
+    ind["radius_y"] = indenter.radius_y;
+    if (indenter.radius_x == indenter.radius_y) ind["radius"] = indenter.radius_x;
+  } else if (indenter.type == "eggcrate") {
+    ind["wavelength"] = indenter.wavelength;
+    ind["amplitude"] = indenter.amplitude;
+  } else if (indenter.type == "selfaffine") {
+    const auto& s = indenter.selfaffine;
+    ind["hurst"] = s.hurst;
+    ind["lambda_long"] = s.lambda_long;
+    ind["lambda_short"] = s.lambda_short;
+    if (s.rms_height > 0) ind["rms_height"] = s.rms_height;
+    if (s.rms_gradient > 0) ind["rms_gradient"] = s.rms_gradient;
+    if (s.lambda_rolloff > 0) ind["lambda_rolloff"] = s.lambda_rolloff;
+    ind["seed"] = s.seed;
+  } else {
+    ind["path"] = indenter.path;
+  }
+  j["indenter"] = ind;
+  const char* lk = load.mode == LoadMode::Force      ? "force"
+                   : load.mode == LoadMode::Pressure ? "pressure"
+                                                     : "approach";
+  j["load"] = {{lk, load.value}};
+  j["friction"] = {{"coefficient", friction.coefficient},       {"direction", friction.direction_deg},
+                   {"regularization", friction.regularization}, {"creepage", friction.creepage},
+                   {"stick_step", friction.stick_step},         {"reference", friction_reference}};
+  j["interaction"] = {{"model", interaction.hard_wall ? "hardwall" : "harmonic"},
+                      {"stiffness", interaction.stiffness}};
+  j["solver"] = {{"tolerance", solver.tolerance},
+                 {"max_iterations", solver.max_iterations},
+                 {"max_outer", solver.max_outer},
+                 {"max_tangential", solver.max_tangential},
+                 {"anderson", solver.anderson},
+                 {"mixing", solver.mixing},
+                 {"fft_planner", solver.fft_planner == Planner::Measure ? "measure" : "estimate"},
+                 {"threads", threads}};
+  j["output"] = {{"fields", output.fields}, {"png", output.png}};
+  nlohmann::json pa = false;
+  if (stress.post_analysis.size() == 1) pa = stress.post_analysis.front();
+  if (stress.post_analysis.size() > 1) pa = stress.post_analysis;
+  j["stress"] = {{"post_analysis", pa},
+                 {"high_tension_fraction", stress.high_tension_fraction},
+                 {"depths", stress.depths},
+                 {"profiles", stress.profiles}};
+  if (flow.enabled)
+    j["flow"] = {
+        {"angles", flow.angles}, {"tolerance", flow.tolerance}, {"solver", flow_solver_name(flow.solver)}};
+  if (sweep.active())
+    j["sweep"] = {{"parameter", sweep.parameter}, {"values", sweep.values}, {"plot", sweep.plot}};
+  return j;
+}
+
+std::string Config::to_toml() const {
+  const nlohmann::json j = to_json();
+  std::ostringstream os;
+  os.precision(17);
+  for (const auto& sec : kSections) {
+    if (!j.contains(sec)) continue;
+    os << "[" << sec << "]\n";
+    for (const auto& [k, v] : j[sec].items()) {
+      os << k << " = ";
+      if (v.is_string())
+        os << '"' << v.get<std::string>() << '"';
+      else if (v.is_boolean())
+        os << (v.get<bool>() ? "true" : "false");
+      else if (v.is_number_integer() || v.is_number_unsigned() || v.is_array())
+        os << v.dump();
+      else
+        os << v.get<double>();
+      os << "\n";
+    }
+    os << "\n";
+  }
+  return os.str();
+}
+
+Topography make_topography(const Config& c) {
+  const IndenterConfig& in = c.indenter;
+  if (in.type == "hertz") return make_hertz(c.grid, in.radius_x, in.radius_y);
+  if (in.type == "eggcrate") return make_eggcrate(c.grid, in.wavelength, in.amplitude);
+  if (in.type == "selfaffine") return make_selfaffine(c.grid, in.selfaffine);
+  Topography t = read_topography(in.path, c.grid.lx, c.grid.ly);
+  if (t.grid.nx != c.grid.nx || t.grid.ny != c.grid.ny) {
+    std::ostringstream os;
+    os << "the height map is " << t.grid.nx << " x " << t.grid.ny << " but [grid] asks for " << c.grid.nx
+       << " x " << c.grid.ny;
+    throw InputError(in.path, os.str());
+  }
+  return t;
+}
+
+}  // namespace gfmd

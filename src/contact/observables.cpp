@@ -1,0 +1,202 @@
+#include "gfmd/contact/observables.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "gfmd/core/reduce.hpp"
+
+namespace gfmd {
+
+namespace {
+// out = (e_s . grad) in, spectrally.
+void directional_derivative(const FFT& fft, double ex, double ey, const RealField& in, RealField& out) {
+  const Grid& g = fft.grid();
+  SpecField s = fft.spec_field();
+  fft.forward(in.data(), s.data());
+  const int nxh = g.nxh();
+#pragma omp parallel for schedule(static)
+  for (int iky = 0; iky < g.ny; ++iky)
+    for (int ikx = 0; ikx < nxh; ++ikx) {
+      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
+      s[k] *= cplx(0.0, ex * g.qx_deriv(ikx) + ey * g.qy_deriv(iky));
+    }
+  out.resize(in.size());
+  fft.backward(s.data(), out.data());
+}
+}  // namespace
+
+void slip_velocity(const FFT& fft, const FrictionParams& fric, const RealField& ux, const RealField& uy,
+                   RealField& vx, RealField& vy) {
+  const double th = fric.direction_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(th), ey = std::sin(th);
+  directional_derivative(fft, ex, ey, ux, vx);
+  directional_derivative(fft, ex, ey, uy, vy);
+  const double xi = fric.creepage;
+  for (auto& v : vx) v += xi * ex;
+  for (auto& v : vy) v += xi * ey;
+}
+
+Observables compute_observables(const FFT& fft, const Topography& topo, const FrictionParams& fric,
+                                const ContactFields& f, const SolveInfo& info) {
+  const Grid& g = fft.grid();
+  const double n = static_cast<double>(g.size());
+  const double da = g.cell_area();
+  Observables o;
+  o.relative_contact_area = grid_sum(g, [&](std::size_t i) { return f.pressure[i] > 0 ? 1.0 : 0.0; }) / n;
+  o.normal_force = grid_sum(g, [&](std::size_t i) { return f.pressure[i]; }) * da;
+  o.mean_pressure = o.normal_force / g.area();
+  o.max_pressure = grid_max(
+      g, [&](std::size_t i) { return f.pressure[i]; }, 0.0);
+  o.mean_gap = grid_sum(g, [&](std::size_t i) { return f.gap[i]; }) / n;
+  o.approach = info.approach;
+  const double mu = fric.coefficient;
+  if (mu > 0) {
+    RealField vx, vy, dh;
+    slip_velocity(fft, fric, f.ux, f.uy, vx, vy);
+    const double th = fric.direction_deg * std::numbers::pi / 180.0;
+    directional_derivative(fft, std::cos(th), std::sin(th), topo.h, dh);
+    // One pass over the slip field with the solver's tractions tau (exact Coulomb with
+    // stick: |tau| = mu_c p where the point slips, tau inside the disc where it sticks and
+    // v = 0; regularised: mu_c p f(|v|) v/|v|): [0] dissipation sum tau.v, [1] sum |tau|
+    // (= mu_c F_z when every point slips), [2] sum tau.e_s (the tangential force along the
+    // sliding direction), [3] cells in contact slipping slower than eps (regularised law),
+    // [4] cells that stick, [5] sum tau_x, [6] sum tau_y.
+    const double ex = std::cos(th), ey = std::sin(th), eps = fric.regularization;
+    const bool has_stick = f.stick.size() == g.size();
+    const auto s = grid_sums<7>(g, [&](std::size_t i, std::array<double, 7>& acc) {
+      const double p = f.pressure[i], tx = f.tx[i], ty = f.ty[i];
+      acc[0] += tx * vx[i] + ty * vy[i];
+      acc[1] += std::hypot(tx, ty);
+      acc[2] += tx * ex + ty * ey;
+      acc[3] += (p > 0 && std::hypot(vx[i], vy[i]) < eps) ? 1.0 : 0.0;
+      acc[4] += (has_stick && f.stick[i]) ? 1.0 : 0.0;
+      acc[5] += tx;
+      acc[6] += ty;
+    });
+    o.downhill_force = -da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * dh[i]; });
+    o.friction_force = da * s[0];
+    o.friction_force_downhill = da * s[1] + o.downhill_force;
+    o.friction_force_drive = fric.creepage * da * s[2] + o.downhill_force;
+    o.tangential_force = da * s[2];
+    o.tangential_force_x = da * s[5];
+    o.tangential_force_y = da * s[6];
+    o.traction_coefficient = o.tangential_force / o.normal_force;
+    o.near_stick_fraction = s[3] / n;
+    const double contact_cells = o.relative_contact_area * n;
+    o.stick_fraction = contact_cells > 0 ? s[4] / contact_cells : 0.0;
+    o.friction_coefficient = o.friction_force / o.normal_force;
+    o.friction_coefficient_downhill = o.friction_force_downhill / o.normal_force;
+    o.energy_balance_error = std::abs(o.friction_force - o.friction_force_downhill) / o.friction_force;
+    o.energy_balance_error_exact = std::abs(o.friction_force - o.friction_force_drive) / o.friction_force;
+    o.mean_tangential_traction_x = s[5] / n;
+    o.mean_tangential_traction_y = s[6] / n;
+    double vmax = 0, vmin = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < g.size(); ++i)
+      if (f.pressure[i] > 0) {
+        const double v = std::hypot(vx[i], vy[i]);
+        vmax = std::max(vmax, v);
+        vmin = std::min(vmin, v);
+      }
+    o.max_slip_velocity = vmax;
+    o.min_slip_velocity = std::isfinite(vmin) ? vmin : 0.0;
+  }
+  // Geometry relative to the highest point of the indenter.
+  std::size_t apex = 0;
+  for (std::size_t i = 1; i < g.size(); ++i)
+    if (topo.h[i] > topo.h[apex]) apex = i;
+  const int ax = static_cast<int>(apex % g.nx), ay = static_cast<int>(apex / g.nx);
+  const double th = fric.direction_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(th), ey = std::sin(th);
+  const auto rel = [&](int ix, int iy, double& l, double& t) {
+    int dx = ix - ax, dy = iy - ay;
+    if (dx > g.nx / 2) dx -= g.nx;
+    if (dx < -g.nx / 2) dx += g.nx;
+    if (dy > g.ny / 2) dy -= g.ny;
+    if (dy < -g.ny / 2) dy += g.ny;
+    const double x = dx * g.dx(), y = dy * g.dy();
+    l = x * ex + y * ey;
+    t = -x * ey + y * ex;
+  };
+  double m0 = 0, ml = 0, mt = 0, lmin = 1e300, lmax = -1e300, tmin = 1e300, tmax = -1e300, pmax = -1;
+  for (int iy = 0; iy < g.ny; ++iy)
+    for (int ix = 0; ix < g.nx; ++ix) {
+      const double p = f.pressure[static_cast<std::size_t>(iy) * g.nx + ix];
+      if (!(p > 0)) continue;
+      double l, t;
+      rel(ix, iy, l, t);
+      m0 += p;
+      ml += p * l;
+      mt += p * t;
+      lmin = std::min(lmin, l);
+      lmax = std::max(lmax, l);
+      tmin = std::min(tmin, t);
+      tmax = std::max(tmax, t);
+      if (p > pmax) {
+        pmax = p;
+        o.pressure_max_shift = l;
+      }
+    }
+  if (m0 > 0) {
+    o.centroid_shift = ml / m0;
+    o.centroid_shift_transverse = mt / m0;
+    o.contact_extent_longitudinal = lmax - lmin + g.dx();
+    o.contact_extent_transverse = tmax - tmin + g.dy();
+  }
+  return o;
+}
+
+DerivedFields derived_fields(const FFT& fft, const FrictionParams& fric, const ContactFields& f) {
+  DerivedFields d;
+  RealField vx, vy;
+  slip_velocity(fft, fric, f.ux, f.uy, vx, vy);
+  const double th = fric.direction_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(th), ey = std::sin(th);
+  const std::size_t n = fft.grid().size();
+  d.slip_longitudinal.resize(n);
+  d.slip_transverse.resize(n);
+  d.dissipation.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    d.slip_longitudinal[i] = vx[i] * ex + vy[i] * ey - fric.creepage;
+    d.slip_transverse[i] = -vx[i] * ey + vy[i] * ex;
+    d.dissipation[i] = f.tx[i] * vx[i] + f.ty[i] * vy[i];
+  }
+  return d;
+}
+
+nlohmann::json to_json(const Observables& o) {
+  nlohmann::json j = {{"relative_contact_area", o.relative_contact_area},
+                      {"normal_force", o.normal_force},
+                      {"mean_pressure", o.mean_pressure},
+                      {"max_pressure", o.max_pressure},
+                      {"mean_gap", o.mean_gap},
+                      {"approach", o.approach}};
+  if (o.friction_force > 0) {
+    j["friction_force"] = o.friction_force;
+    j["friction_force_downhill"] = o.friction_force_downhill;
+    j["downhill_force"] = o.downhill_force;
+    j["friction_coefficient"] = o.friction_coefficient;
+    j["friction_coefficient_downhill"] = o.friction_coefficient_downhill;
+    j["energy_balance_error"] = o.energy_balance_error;
+    j["friction_force_drive"] = o.friction_force_drive;
+    j["energy_balance_error_exact"] = o.energy_balance_error_exact;
+    j["max_slip_velocity"] = o.max_slip_velocity;
+    j["min_slip_velocity"] = o.min_slip_velocity;
+    j["near_stick_fraction"] = o.near_stick_fraction;
+    j["stick_fraction"] = o.stick_fraction;
+    j["tangential_force"] = o.tangential_force;
+    j["tangential_force_x"] = o.tangential_force_x;
+    j["tangential_force_y"] = o.tangential_force_y;
+    j["traction_coefficient"] = o.traction_coefficient;
+  }
+  j["centroid_shift"] = o.centroid_shift;
+  j["centroid_shift_transverse"] = o.centroid_shift_transverse;
+  j["pressure_max_shift"] = o.pressure_max_shift;
+  j["contact_extent_longitudinal"] = o.contact_extent_longitudinal;
+  j["contact_extent_transverse"] = o.contact_extent_transverse;
+  return j;
+}
+
+}  // namespace gfmd

@@ -1,0 +1,253 @@
+#include "gfmd/elastic/elastic.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <sstream>
+
+#include "gfmd/core/error.hpp"
+
+namespace gfmd {
+
+void ElasticParams::validate() const {
+  if (!(contact_modulus > 0.0) || !std::isfinite(contact_modulus))
+    throw InputError("elastic.contact_modulus", "must be a positive finite number");
+  if (!(poisson > -1.0 && poisson <= 0.5)) {
+    std::ostringstream os;
+    os << "Poisson's ratio " << poisson << " is outside (-1, 0.5]";
+    throw InputError("elastic.poisson", os.str());
+  }
+  if (!(thickness > 0.0) || std::isnan(thickness))
+    throw InputError("elastic.thickness", "must be \"inf\" or a positive number");
+  if (poisson == 0.5 && !half_space())
+    throw InputError("elastic.poisson",
+                     "nu = 0.5 with a finite thickness is singular (an incompressible confined layer "
+                     "cannot be compressed); use e.g. 0.49");
+}
+
+namespace {
+// sinh(x)/x - 1 for |x| < 2 by its Taylor series (no cancellation).
+double sinhc_m1(double x) {
+  const double x2 = x * x;
+  double term = 1.0, sum = 0.0;
+  for (int k = 1; k < 40; ++k) {
+    term *= x2 / ((2.0 * k) * (2.0 * k + 1.0));
+    sum += term;
+    if (term < 1e-18 * sum) break;
+  }
+  return sum;
+}
+}  // namespace
+
+PhiRotated phi_rotated(double x, double nu) {
+  const double a = 3.0 - 4.0 * nu;
+  const double om = 1.0 - nu;
+  PhiRotated r{};
+  if (std::isinf(x)) {
+    r.p11 = r.p33 = 2.0 * om * om / a;
+    r.p22 = om / 2.0;
+    r.p13 = om * (1.0 - 2.0 * nu) / a;
+    return r;
+  }
+  if (x < 1.0) {
+    // Write s^2 = x^2 (1 + t), sinh(2x) = 2x (1 + t2): every term below is a sum of
+    // non-negative parts, so small qh loses no digits.
+    const double t1 = sinhc_m1(x);
+    const double t = t1 * (2.0 + t1);
+    const double t2 = sinhc_m1(2.0 * x);
+    const double dn = 8.0 * (1.0 - 2.0 * nu) * om + a * a * t;  // D / x^2
+    r.p11 = om * om * 2.0 * (2.0 * (1.0 - 2.0 * nu) + a * t2) / (x * dn);
+    r.p33 = om * om * 2.0 * (4.0 * om + a * t2) / (x * dn);
+    r.p13 = om * (2.0 * om * (1.0 - 4.0 * nu) + a * (1.0 - 2.0 * nu) * t) / dn;
+    r.p22 = om / (2.0 * std::tanh(x));
+    return r;
+  }
+  // Divide numerators and D by sinh^2: only exp(-x) appears, no overflow.
+  const double e = std::exp(-x);
+  const double e2 = e * e;
+  const double inv_s = 2.0 * e / (1.0 - e2);
+  const double x_s = x * inv_s;
+  const double coth = (1.0 + e2) / (1.0 - e2);
+  const double dr = a * a - x_s * x_s;
+  r.p11 = om * om * (2.0 * a * coth - 2.0 * x_s * inv_s) / dr;
+  r.p33 = om * om * (2.0 * a * coth + 2.0 * x_s * inv_s) / dr;
+  r.p13 = om * (a * (1.0 - 2.0 * nu) - x_s * x_s) / dr;
+  r.p22 = om / 2.0 * coth;
+  return r;
+}
+
+ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params)
+    : grid_(grid), params_(params), modes_(grid.spectral_size()) {
+  params_.validate();
+  const double es = params_.contact_modulus;
+  const double nu = params_.poisson;
+  const double h = params_.thickness;
+  const bool half = params_.half_space();
+  const int nxh = grid.nxh();
+#pragma omp parallel for schedule(static)
+  for (int iky = 0; iky < grid.ny; ++iky) {
+    for (int ikx = 0; ikx < nxh; ++ikx) {
+      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
+      const double qx = grid.qx(ikx), qy = grid.qy(iky);
+      const double q = std::hypot(qx, qy);
+      if (q == 0.0) {
+        modes_[k] = ComplianceMode{0, 0, 0, 0, 0, 0};
+        continue;
+      }
+      const PhiRotated p = phi_rotated(half ? std::numeric_limits<double>::infinity() : q * h, nu);
+      const double det = p.p11 * p.p33 - p.p13 * p.p13;
+      const double c11 = p.p33 / (det * q * es);
+      const double c33 = p.p11 / (det * q * es);
+      // Uncoupled reference: the cross-compliance is dropped, the direct ones are kept,
+      // so a frictionless solve is the same with and without coupling.
+      const double c13 = params_.coupling ? -p.p13 / (det * q * es) : 0.0;  // C'13 = i * c13
+      const double c22 = 1.0 / (p.p22 * q * es);
+      const double c = qx / q, s = qy / q;
+      // On the Nyquist lines the odd parts (xy, xz, yz) have no consistent sign
+      // (q and -q are the same mode there), so they are dropped like derivatives.
+      const bool nyq = (grid.nx % 2 == 0 && ikx == grid.nx / 2) || (grid.ny % 2 == 0 && iky == grid.ny / 2);
+      ComplianceMode& m = modes_[k];
+      m.cxx = c * c * c11 + s * s * c22;
+      m.cyy = s * s * c11 + c * c * c22;
+      m.czz = c33;
+      m.cxy = nyq ? 0.0 : c * s * (c11 - c22);
+      m.cxz = (nyq && ikx == grid.nx / 2 && grid.nx % 2 == 0) ? 0.0 : c * c13;
+      m.cyz = (nyq && iky == grid.ny / 2 && grid.ny % 2 == 0) ? 0.0 : s * c13;
+    }
+  }
+  if (!half) {
+    const double om = 1.0 - nu;
+    c0_zz_ = h * (1.0 - 2.0 * nu) / (om * om * es);
+    c0_t_ = h / params_.shear_modulus();
+  }
+  modes_[0].czz = c0_zz_;
+  modes_[0].cxx = modes_[0].cyy = c0_t_;
+}
+
+std::array<cplx, 9> ElasticBody::compliance(int ikx, int iky) const {
+  const ComplianceMode& m = modes_[static_cast<std::size_t>(iky) * grid_.nxh() + ikx];
+  const cplx i(0.0, 1.0);
+  return {cplx(m.cxx), cplx(m.cxy), i * m.cxz,  //
+          cplx(m.cxy), cplx(m.cyy), i * m.cyz,  //
+          -i * m.cxz,  -i * m.cyz,  cplx(m.czz)};
+}
+
+std::array<cplx, 9> ElasticBody::stiffness(int ikx, int iky) const {
+  const double qx = grid_.qx(ikx), qy = grid_.qy(iky);
+  const double q = std::hypot(qx, qy);
+  std::array<cplx, 9> k{};
+  if (q == 0.0) {
+    if (!params_.half_space()) {
+      k[0] = k[4] = 1.0 / c0_t_;
+      k[8] = 1.0 / c0_zz_;
+    }
+    return k;
+  }
+  PhiRotated p =
+      phi_rotated(params_.half_space() ? std::numeric_limits<double>::infinity() : q * params_.thickness,
+                  params_.poisson);
+  if (!params_.coupling) {
+    // Inverse of the uncoupled compliance (direct terms of the coupled body kept).
+    const double det = p.p11 * p.p33 - p.p13 * p.p13;
+    p = PhiRotated{det / p.p33, p.p22, det / p.p11, 0.0};
+  }
+  const double c = qx / q, s = qy / q, f = q * params_.contact_modulus;
+  const cplx i(0.0, 1.0);
+  k[0] = f * (c * c * p.p11 + s * s * p.p22);
+  k[4] = f * (s * s * p.p11 + c * c * p.p22);
+  k[1] = k[3] = f * c * s * (p.p11 - p.p22);
+  k[2] = f * i * c * p.p13;
+  k[5] = f * i * s * p.p13;
+  k[6] = std::conj(k[2]);
+  k[7] = std::conj(k[5]);
+  k[8] = f * p.p33;
+  return k;
+}
+
+namespace {
+// i c z for real c, without a general complex product (which also checks for NaN/inf).
+inline cplx times_i(double c, cplx z) { return {-c * z.imag(), c * z.real()}; }
+// In-plane displacement (u_x, u_y) of one mode under the tractions (x, y, z).
+inline std::array<cplx, 2> inplane(const ComplianceMode& m, cplx x, cplx y, cplx z) {
+  return {m.cxx * x + m.cxy * y + times_i(m.cxz, z), m.cxy * x + m.cyy * y + times_i(m.cyz, z)};
+}
+}  // namespace
+
+void ElasticBody::displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
+                               double scale, double scale_z) const {
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(modes_.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const ComplianceMode& m = modes_[k];
+    const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
+               z = tz ? scale_z * tz[k] : cplx(0.0);
+    if (ux || uy) {
+      const auto u = inplane(m, x, y, z);
+      if (ux) ux[k] = u[0];
+      if (uy) uy[k] = u[1];
+    }
+    if (uz) uz[k] = m.czz * z - times_i(m.cxz, x) - times_i(m.cyz, y);
+  }
+}
+
+namespace {
+// f(iky, k, m, d) for every mode of the half spectrum, rows in parallel: k its index, m its
+// compliance, d = e.q the wavenumber of the derivative along (ex, ey) (Nyquist modes: 0).
+template <class F>
+void for_each_slope_mode(const Grid& g, const std::vector<ComplianceMode>& modes, double ex, double ey,
+                         F&& f) {
+  const int nxh = g.nxh();
+#pragma omp parallel for schedule(static)
+  for (int iky = 0; iky < g.ny; ++iky) {
+    const double dy = ey * g.qy_deriv(iky);
+    for (int ikx = 0; ikx < nxh; ++ikx) {
+      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
+      f(iky, k, modes[k], ex * g.qx_deriv(ikx) + dy);
+    }
+  }
+}
+}  // namespace
+
+void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, double ex, double ey,
+                                cplx* dux, cplx* duy, double scale, double scale_z) const {
+  for_each_slope_mode(grid_, modes_, ex, ey, [&](int, std::size_t k, const ComplianceMode& m, double d) {
+    const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
+               z = tz ? scale_z * tz[k] : cplx(0.0);
+    const auto u = inplane(m, x, y, z);
+    dux[k] = times_i(d, u[0]);
+    duy[k] = times_i(d, u[1]);
+  });
+}
+
+double ElasticBody::slip_operator_norm(double ex, double ey) const {
+  // max over modes of |d| times the largest eigenvalue of C_tt (real symmetric 2x2).
+  std::vector<double> rows(static_cast<std::size_t>(grid_.ny), 0.0);
+  for_each_slope_mode(grid_, modes_, ex, ey, [&](int iky, std::size_t, const ComplianceMode& m, double d) {
+    const double tr = 0.5 * (m.cxx + m.cyy), df = 0.5 * (m.cxx - m.cyy);
+    double& r = rows[static_cast<std::size_t>(iky)];
+    r = std::max(r, std::abs(d) * (tr + std::sqrt(df * df + m.cxy * m.cxy)));
+  });
+  return *std::max_element(rows.begin(), rows.end());
+}
+
+void ElasticBody::slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale) const {
+  // M = I - i g d C with C = [[cxx, cxy], [cxy, cyy]] real symmetric and g d real: M is
+  // complex symmetric, det M = 1 - i g d (cxx + cyy) - (g d)^2 (cxx cyy - cxy^2), never 0.
+  for_each_slope_mode(grid_, modes_, ex, ey, [&](int, std::size_t k, const ComplianceMode& m, double d) {
+    const double gd = gamma * d;
+    const cplx a = scale * x[k], b = scale * y[k];
+    if (gd == 0.0) {
+      x[k] = a;
+      y[k] = b;
+      return;
+    }
+    const cplx det(1.0 - gd * gd * (m.cxx * m.cyy - m.cxy * m.cxy), -gd * (m.cxx + m.cyy));
+    const cplx inv = 1.0 / det;
+    // M^-1 = [[1 - i gd cyy, i gd cxy], [i gd cxy, 1 - i gd cxx]] / det
+    const cplx m11(1.0, -gd * m.cyy), m22(1.0, -gd * m.cxx), m12(0.0, gd * m.cxy);
+    x[k] = inv * (m11 * a + m12 * b);
+    y[k] = inv * (m12 * a + m22 * b);
+  });
+}
+
+}  // namespace gfmd

@@ -1,0 +1,667 @@
+// Stresses in the body: surface tensor from a solved state, principal stresses, the
+// post-analysis reference, and the exact field below the surface.
+//
+// Surface (Hooke's law with the free-surface relation). Isotropic Hooke's law,
+// sigma_ij = lambda eps_kk delta_ij + 2 G eps_ij with lambda = 2 G nu / (1 - 2 nu). At the
+// surface sigma_zz (= -p) is known while eps_zz is not:
+//   sigma_zz = lambda (eps_xx + eps_yy) + (lambda + 2G) eps_zz
+//   => eps_zz = (sigma_zz - lambda (eps_xx + eps_yy)) / (lambda + 2G).
+// Substituting into sigma_xx = (lambda + 2G) eps_xx + lambda eps_yy + lambda eps_zz:
+//   sigma_xx = 4G (lambda+G)/(lambda+2G) eps_xx + 2G lambda/(lambda+2G) eps_yy
+//              + lambda/(lambda+2G) sigma_zz,
+// and with lambda/(lambda+2G) = nu/(1-nu), (lambda+G)/(lambda+2G) = 1/(2(1-nu)):
+//   sigma_xx = 2G/(1-nu) (eps_xx + nu eps_yy) + nu/(1-nu) sigma_zz.
+// With G = E/(2(1+nu)): 2G/(1-nu) = E/((1+nu)(1-nu)) = E/(1-nu^2) = E*, finite for every
+// nu in (-1, 0.5]; at nu = 0.5: sigma_xx = E*(eps_xx + eps_yy/2) + sigma_zz
+// (the incompressible limit, lambda -> inf with lambda eps_kk finite). sigma_xy = 2 G eps_xy.
+//
+// Below the surface (exact spectral solution). Per mode exp(i q x1), q > 0, in the frame
+// where q points along axis 1, the problem splits into
+//  * antiplane (u2): G u2'' = G q^2 u2, u2 = a e^{qz} (half-space) or a sinh(q(z+h)) (layer,
+//    u2 = 0 at z = -h); sigma_23 = G du2/dz fixed by t2, sigma_12 = i q G u2;
+//  * plane strain (u1, u3) with u1 = i U, u3 = W, sigma_13 = i S, sigma_33 = N,
+//    sigma_11 = X, sigma_22 = Y = nu (X + N). Papkovich-Neuber potentials give four
+//    solutions, with E = e^{qz} = e^{-qd} (d = -z the depth) and F = e^{-q(z+h)} =
+//    e^{-q(h-d)} (anchored at the base so that every factor is <= 1: no overflow for any qh),
+//    delta = qd, eta = q(h-d), kappa = 3 - 4 nu (U, W in units of 1/(2Gq), stresses in 1):
+//      phi+ (grad of e^{qz}):        U = E,        W = E,              S = E,  N = E,  X = -E
+//      psi+ (4(1-nu)psi - grad(z psi), psi = e^{qz}):
+//                                    U = delta E,  W = (kappa+delta) E, S = (1-2nu+delta) E,
+//                                    N = (2-2nu+delta) E,  X = (2nu-delta) E
+//      phi- (grad of e^{-q(z+h)}):   U = F,        W = -F,             S = -F, N = F,  X = -F
+//      psi- (psi = e^{-q(z+h)}, z -> z+h):
+//                                    U = -eta F,   W = (kappa+eta) F,   S = (1-2nu+eta) F,
+//                                    N = -(2-2nu+eta) F,   X = (eta-2nu) F
+//    (each checked against Navier's equations: the state (U, W, S, N) obeys
+//    d/d(qz) (U, W, S, N) = (-W + 2S, nu U/(1-nu) + (1-2nu) N/(1-nu), (U - nu N)/(1-nu), S)).
+//    Half-space: only the decaying phi+, psi+ terms, fixed by S and N at d = 0.
+//    Layer: the four amplitudes are fixed by S, N at the surface and U = W = 0 at the base
+//    (a 4x4 system, well conditioned for qh >= 1). For qh < 1 the four functions become
+//    nearly dependent, so there the state is propagated from the base instead,
+//    w(z) = exp(M q(z+h)) w(-h) with w(-h) = (0, 0, S_b, N_b); M^2 - 1 is nilpotent
+//    ((M^2-1)^2 = 0), so exp(M xi) = a + b M + c M^2 + d M^3 with
+//    a = cosh - xi sinh/2, b = (3 sinh - xi cosh)/2, c = xi sinh/2, d = (xi cosh - sinh)/2.
+//    The surface displacement of both forms reproduces ElasticBody's compliance (SPEC §2),
+//    coupling sign included (tests). Back in lab axes with the rotation by (c, s) = q/|q|.
+#include "gfmd/elastic/stress.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "gfmd/core/error.hpp"
+
+namespace gfmd {
+
+namespace {
+
+void require_size(const RealField& f, std::size_t n, const char* what) {
+  if (f.size() != n)
+    throw std::invalid_argument(std::string("stress: field '") + what + "' has the wrong size");
+}
+
+bool present(const RealField& f, std::size_t n, const char* what) {
+  if (f.empty()) return false;
+  require_size(f, n, what);
+  return true;
+}
+
+StressField make_stress(std::size_t n) {
+  StressField s;
+  for (RealField* p : {&s.xx, &s.yy, &s.zz, &s.xy, &s.xz, &s.yz}) p->assign(n, 0.0);
+  return s;
+}
+
+// ---- plane-strain response ------------------------------------------------------------
+
+// Response at depth to unit S0 (column 0) and unit N0 (column 1) at the surface.
+// U, W in units of 1/(2 G q) (u1 = i U/(2Gq), u3 = W/(2Gq)); S, N, X, Y are stresses.
+struct Plane {
+  double U[2], W[2], S[2], N[2], X[2], Y[2];
+};
+
+// Basis values of the four Papkovich-Neuber solutions (see the header comment), rows
+// U, W, S, N, X, Y, columns phi+, psi+, phi-, psi-.
+void basis(double nu, double E, double dl, double F, double et, double B[6][4]) {
+  const double kap = 3.0 - 4.0 * nu;
+  const double r[6][4] = {
+      {E, dl * E, F, -et * F},
+      {E, (kap + dl) * E, -F, (kap + et) * F},
+      {E, (1.0 - 2.0 * nu + dl) * E, -F, (1.0 - 2.0 * nu + et) * F},
+      {E, (2.0 - 2.0 * nu + dl) * E, F, -(2.0 - 2.0 * nu + et) * F},
+      {-E, (2.0 * nu - dl) * E, -F, (et - 2.0 * nu) * F},
+      {0.0, 2.0 * nu * E, 0.0, -2.0 * nu * F},
+  };
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 4; ++j) B[i][j] = r[i][j];
+}
+
+Plane from_basis(const double B[6][4], const double b[4][2]) {
+  Plane p{};
+  double* rows[6] = {p.U, p.W, p.S, p.N, p.X, p.Y};
+  for (int i = 0; i < 6; ++i)
+    for (int c = 0; c < 2; ++c) {
+      double v = 0.0;
+      for (int j = 0; j < 4; ++j) v += B[i][j] * b[j][c];
+      rows[i][c] = v;
+    }
+  return p;
+}
+
+Plane plane_half_space(double dl, double nu) {
+  // Amplitudes (phi+, psi+) = (b1, b2): S0 = b1 + (1-2nu) b2, N0 = b1 + (2-2nu) b2.
+  const double b[4][2] = {{2.0 - 2.0 * nu, -(1.0 - 2.0 * nu)}, {-1.0, 1.0}, {0.0, 0.0}, {0.0, 0.0}};
+  double B[6][4];
+  basis(nu, std::exp(-dl), dl, 0.0, 0.0, B);
+  return from_basis(B, b);
+}
+
+// Gaussian elimination with partial pivoting, 4x4 with two right-hand sides.
+void solve4(double A[4][4], double b[4][2]) {
+  for (int k = 0; k < 4; ++k) {
+    int piv = k;
+    for (int i = k + 1; i < 4; ++i)
+      if (std::abs(A[i][k]) > std::abs(A[piv][k])) piv = i;
+    if (piv != k) {
+      for (int j = 0; j < 4; ++j) std::swap(A[k][j], A[piv][j]);
+      std::swap(b[k][0], b[piv][0]);
+      std::swap(b[k][1], b[piv][1]);
+    }
+    for (int i = k + 1; i < 4; ++i) {
+      const double m = A[i][k] / A[k][k];
+      for (int j = k; j < 4; ++j) A[i][j] -= m * A[k][j];
+      b[i][0] -= m * b[k][0];
+      b[i][1] -= m * b[k][1];
+    }
+  }
+  for (int k = 3; k >= 0; --k)
+    for (int c = 0; c < 2; ++c) {
+      double v = b[k][c];
+      for (int j = k + 1; j < 4; ++j) v -= A[k][j] * b[j][c];
+      b[k][c] = v / A[k][k];
+    }
+}
+
+// Layer, qh >= 1: amplitudes from the 4x4 system in the anchored basis.
+Plane plane_layer_anchored(double x, double dl, double nu) {
+  const double e = std::exp(-x);
+  double Bb[6][4], Bs[6][4];
+  basis(nu, e, x, 1.0, 0.0, Bb);  // at the base: d = h
+  basis(nu, 1.0, 0.0, e, x, Bs);  // at the surface: d = 0
+  double A[4][4], b[4][2] = {{0, 0}, {0, 0}, {1, 0}, {0, 1}};
+  for (int j = 0; j < 4; ++j) {
+    A[0][j] = Bb[0][j];  // U = 0 at the base
+    A[1][j] = Bb[1][j];  // W = 0 at the base
+    A[2][j] = Bs[2][j];  // S = S0 at the surface
+    A[3][j] = Bs[3][j];  // N = N0 at the surface
+  }
+  solve4(A, b);
+  const double et = std::max(0.0, x - dl);
+  double B[6][4];
+  basis(nu, std::exp(-dl), dl, std::exp(-et), et, B);
+  return from_basis(B, b);
+}
+
+// Columns 2, 3 (unit S and N at the start) of the propagator exp(M xi), state (U, W, S, N).
+void propagator_cols(double xi, const double M1[4][4], const double M2[4][4], const double M3[4][4],
+                     double P[4][2]) {
+  const double ch = std::cosh(xi), sh = std::sinh(xi);
+  const double a = ch - 0.5 * xi * sh;
+  const double b = 0.5 * (3.0 * sh - xi * ch);
+  const double c = 0.5 * xi * sh;
+  // d = (xi cosh - sinh)/2 = sum_{k>=1} k xi^(2k+1)/(2k+1)! (no cancellation for small xi).
+  double d = 0.0, term = xi;  // term = xi^(2k+1)/(2k+1)!
+  for (int k = 1; k < 30; ++k) {
+    term *= xi * xi / ((2.0 * k) * (2.0 * k + 1.0));
+    d += k * term;
+    if (k * term <= 1e-18 * d) break;
+  }
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 2; ++j) {
+      const int col = j + 2;
+      P[i][j] = (i == col ? a : 0.0) + b * M1[i][col] + c * M2[i][col] + d * M3[i][col];
+    }
+}
+
+// Layer, qh < 1: propagate the base state (0, 0, S_b, N_b) to the surface and to depth d.
+Plane plane_layer_propagator(double x, double dl, double nu) {
+  const double om = 1.0 - nu;
+  const double M1[4][4] = {{0.0, -1.0, 2.0, 0.0},
+                           {nu / om, 0.0, 0.0, (1.0 - 2.0 * nu) / om},
+                           {1.0 / om, 0.0, 0.0, -nu / om},
+                           {0.0, 0.0, 1.0, 0.0}};
+  double M2[4][4] = {}, M3[4][4] = {};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k) M2[i][j] += M1[i][k] * M1[k][j];
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k) M3[i][j] += M2[i][k] * M1[k][j];
+  double Px[4][2], Pd[4][2];
+  propagator_cols(x, M1, M2, M3, Px);
+  propagator_cols(std::max(0.0, x - dl), M1, M2, M3, Pd);
+  // (S0, N0) = A (S_b, N_b), A = rows S, N of Px; base tractions = A^-1.
+  const double a11 = Px[2][0], a12 = Px[2][1], a21 = Px[3][0], a22 = Px[3][1];
+  const double det = a11 * a22 - a12 * a21;
+  const double inv[2][2] = {{a22 / det, -a12 / det}, {-a21 / det, a11 / det}};
+  Plane p{};
+  double* rows[4] = {p.U, p.W, p.S, p.N};
+  for (int i = 0; i < 4; ++i)
+    for (int c = 0; c < 2; ++c) rows[i][c] = Pd[i][0] * inv[0][c] + Pd[i][1] * inv[1][c];
+  for (int c = 0; c < 2; ++c) {
+    p.X[c] = -(p.U[c] - nu * p.N[c]) / om;  // X = -dS/d(qz)
+    p.Y[c] = nu * (p.X[c] + p.N[c]);        // plane strain
+  }
+  return p;
+}
+
+void check_depth(const ElasticParams& el, double depth) {
+  if (!(depth >= 0.0) || !std::isfinite(depth))
+    throw InputError("stress.depth", "must be a finite number >= 0 (depth below the surface)");
+  if (!el.half_space() && depth > el.thickness * (1.0 + 1e-12))
+    throw InputError("stress.depth", "is below the rigid base of the layer (depth > thickness)");
+}
+
+// Lab-frame stress (xx, yy, zz, xy, xz, yz) and displacement of one mode with direction
+// (c, s) for lab tractions (tx, ty, tz).
+void to_lab(const ModeResponse& r, double c, double s, cplx tx, cplx ty, cplx tz, cplx* sig, cplx* u) {
+  const cplx t[3] = {c * tx + s * ty, -s * tx + c * ty, tz};
+  cplx sp[6], up[3];
+  for (int k = 0; k < 6; ++k) sp[k] = r.stress[k][0] * t[0] + r.stress[k][1] * t[1] + r.stress[k][2] * t[2];
+  for (int k = 0; k < 3; ++k) up[k] = r.disp[k][0] * t[0] + r.disp[k][1] * t[1] + r.disp[k][2] * t[2];
+  if (sig) {
+    const cplx s11 = sp[0], s22 = sp[1], s33 = sp[2], s12 = sp[3], s13 = sp[4], s23 = sp[5];
+    sig[0] = c * c * s11 + s * s * s22 - 2.0 * c * s * s12;
+    sig[1] = s * s * s11 + c * c * s22 + 2.0 * c * s * s12;
+    sig[2] = s33;
+    sig[3] = c * s * (s11 - s22) + (c * c - s * s) * s12;
+    sig[4] = c * s13 - s * s23;
+    sig[5] = s * s13 + c * s23;
+  }
+  if (u) {
+    u[0] = c * up[0] - s * up[1];
+    u[1] = s * up[0] + c * up[1];
+    u[2] = up[2];
+  }
+}
+
+// Spectral evaluation of the response on the whole grid; sig (6 spectra) and/or u (3).
+void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFields& f, double depth,
+                        std::array<SpecField, 6>* sig, std::array<SpecField, 3>* u) {
+  el.validate();
+  check_depth(el, depth);
+  const Grid& g = fft.grid();
+  const std::size_t n = g.size();
+  require_size(f.pressure, n, "pressure");
+  const bool has_tx = present(f.tx, n, "tx"), has_ty = present(f.ty, n, "ty");
+  RealField tz(n);
+  for (std::size_t i = 0; i < n; ++i) tz[i] = -f.pressure[i];
+  SpecField TZ = fft.spec_field(), TX, TY;
+  fft.forward(tz.data(), TZ.data());
+  if (has_tx) {
+    TX = fft.spec_field();
+    fft.forward(f.tx.data(), TX.data());
+  }
+  if (has_ty) {
+    TY = fft.spec_field();
+    fft.forward(f.ty.data(), TY.data());
+  }
+  if (sig)
+    for (auto& s : *sig) s = fft.spec_field();
+  if (u)
+    for (auto& s : *u) s = fft.spec_field();
+  const int nxh = g.nxh();
+  const bool evenx = g.nx % 2 == 0, eveny = g.ny % 2 == 0;
+#pragma omp parallel for schedule(static)
+  for (int iky = 0; iky < g.ny; ++iky) {
+    for (int ikx = 0; ikx < nxh; ++ikx) {
+      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
+      const double qx = g.qx(ikx), qy = g.qy(iky), q = std::hypot(qx, qy);
+      const ModeResponse r = mode_response(q, depth, el);
+      const double c = q > 0 ? qx / q : 1.0, s = q > 0 ? qy / q : 0.0;
+      const cplx tx = has_tx ? TX[k] : cplx(0.0), ty = has_ty ? TY[k] : cplx(0.0), tzk = TZ[k];
+      // On a Nyquist line the mode q and its mirror are the same mode: keep the part of
+      // the response that is even in that component (as ElasticBody does).
+      const bool nyx = evenx && ikx == g.nx / 2, nyy = eveny && iky == g.ny / 2;
+      cplx sacc[6] = {}, uacc[3] = {};
+      int count = 0;
+      for (int fx = 0; fx < (nyx ? 2 : 1); ++fx)
+        for (int fy = 0; fy < (nyy ? 2 : 1); ++fy) {
+          cplx sg[6], ug[3];
+          to_lab(r, fx ? -c : c, fy ? -s : s, tx, ty, tzk, sig ? sg : nullptr, u ? ug : nullptr);
+          if (sig)
+            for (int m = 0; m < 6; ++m) sacc[m] += sg[m];
+          if (u)
+            for (int m = 0; m < 3; ++m) uacc[m] += ug[m];
+          ++count;
+        }
+      if (sig)
+        for (int m = 0; m < 6; ++m) (*sig)[m][k] = sacc[m] / static_cast<double>(count);
+      if (u)
+        for (int m = 0; m < 3; ++m) (*u)[m][k] = uacc[m] / static_cast<double>(count);
+    }
+  }
+}
+
+}  // namespace
+
+// ---- surface ---------------------------------------------------------------------------
+
+StressField surface_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f) {
+  el.validate();
+  const Grid& g = fft.grid();
+  const std::size_t n = g.size();
+  require_size(f.pressure, n, "pressure");
+  require_size(f.ux, n, "ux");
+  require_size(f.uy, n, "uy");
+  const bool has_tx = present(f.tx, n, "tx"), has_ty = present(f.ty, n, "ty");
+
+  SpecField U = fft.spec_field(), V = fft.spec_field(), W = fft.spec_field();
+  fft.forward(f.ux.data(), U.data());
+  fft.forward(f.uy.data(), V.data());
+  const int nxh = g.nxh();
+  const cplx i(0.0, 1.0);
+  // One strain component at a time: W = its spectrum, synthesised in place.
+  const auto strain = [&](int comp, RealField& out) {
+#pragma omp parallel for schedule(static)
+    for (int iky = 0; iky < g.ny; ++iky)
+      for (int ikx = 0; ikx < nxh; ++ikx) {
+        const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
+        const double qx = g.qx_deriv(ikx), qy = g.qy_deriv(iky);
+        W[k] = comp == 0 ? i * qx * U[k] : comp == 1 ? i * qy * V[k] : i * qy * U[k] + i * qx * V[k];
+      }
+    fft.backward(W.data(), out.data());
+  };
+  StressField s = make_stress(n);
+  strain(0, s.xx);  // eps_xx
+  strain(1, s.yy);  // eps_yy
+  strain(2, s.xy);  // 2 eps_xy
+
+  const double es = el.contact_modulus, nu = el.poisson;
+  const double G = el.shear_modulus(), lat = nu / (1.0 - nu);
+  const std::ptrdiff_t nn = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < nn; ++k) {
+    const double e_xx = s.xx[k], e_yy = s.yy[k], szz = -f.pressure[k];
+    s.zz[k] = szz;
+    s.xx[k] = es * (e_xx + nu * e_yy) + lat * szz;
+    s.yy[k] = es * (e_yy + nu * e_xx) + lat * szz;
+    s.xy[k] = G * s.xy[k];
+    s.xz[k] = has_tx ? f.tx[k] : 0.0;
+    s.yz[k] = has_ty ? f.ty[k] : 0.0;
+  }
+  return s;
+}
+
+StressField paper_post_analysis_stress(const FFT& fft, const ElasticParams& el,
+                                       const ContactFields& frictionless, double mu, double angle_deg) {
+  const std::size_t n = fft.grid().size();
+  require_size(frictionless.pressure, n, "pressure");
+  require_size(frictionless.ux, n, "ux");
+  require_size(frictionless.uy, n, "uy");
+  const double a = angle_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(a), ey = std::sin(a);
+  ContactFields st;
+  st.pressure = frictionless.pressure;
+  st.ux = frictionless.ux;
+  st.uy = frictionless.uy;
+  st.tx.resize(n);
+  st.ty.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    st.tx[k] = mu * st.pressure[k] * ex;
+    st.ty[k] = mu * st.pressure[k] * ey;
+  }
+  return surface_stress(fft, el, st);
+}
+
+StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const RealField& pressure,
+                                 double mu, double angle_deg) {
+  const Grid& g = fft.grid();
+  if (g.nx != body.grid().nx || g.ny != body.grid().ny || g.lx != body.grid().lx || g.ly != body.grid().ly)
+    throw std::invalid_argument("post_analysis_stress: FFT and body are on different grids");
+  const std::size_t n = g.size();
+  require_size(pressure, n, "pressure");
+  const double a = angle_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(a), ey = std::sin(a);
+  ContactFields st;
+  st.pressure = pressure;
+  st.tx = fft.real_field();
+  st.ty = fft.real_field();
+  RealField tz = fft.real_field();
+  for (std::size_t k = 0; k < n; ++k) {
+    st.tx[k] = mu * pressure[k] * ex;
+    st.ty[k] = mu * pressure[k] * ey;
+    tz[k] = -pressure[k];
+  }
+  SpecField TX = fft.spec_field(), TY = fft.spec_field(), TZ = fft.spec_field();
+  fft.forward(st.tx.data(), TX.data());
+  fft.forward(st.ty.data(), TY.data());
+  fft.forward(tz.data(), TZ.data());
+  SpecField UX = fft.spec_field(), UY = fft.spec_field(), UZ = fft.spec_field();
+  body.displacement(TX.data(), TY.data(), TZ.data(), UX.data(), UY.data(), UZ.data());
+  st.ux = fft.real_field();
+  st.uy = fft.real_field();
+  st.uz = fft.real_field();
+  fft.backward(UX.data(), st.ux.data());
+  fft.backward(UY.data(), st.uy.data());
+  fft.backward(UZ.data(), st.uz.data());
+  return surface_stress(fft, body.params(), st);
+}
+
+// ---- principal stresses ----------------------------------------------------------------
+
+double von_mises(double xx, double yy, double zz, double xy, double xz, double yz) {
+  const double d1 = xx - yy, d2 = yy - zz, d3 = zz - xx;
+  return std::sqrt(0.5 * (d1 * d1 + d2 * d2 + d3 * d3) + 3.0 * (xy * xy + xz * xz + yz * yz));
+}
+
+namespace {
+
+using Vec3 = std::array<double, 3>;
+
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// Unit null vector of the rank-2 matrix A - lambda I from the largest cross product of
+// its rows; false if all rows are (nearly) parallel.
+bool null_vector(const double A[3][3], double lambda, Vec3& v) {
+  const Vec3 r0{A[0][0] - lambda, A[0][1], A[0][2]};
+  const Vec3 r1{A[1][0], A[1][1] - lambda, A[1][2]};
+  const Vec3 r2{A[2][0], A[2][1], A[2][2] - lambda};
+  const Vec3 c[3] = {cross(r0, r1), cross(r0, r2), cross(r1, r2)};
+  int best = 0;
+  double bn = dot(c[0], c[0]);
+  for (int k = 1; k < 3; ++k) {
+    const double nk = dot(c[k], c[k]);
+    if (nk > bn) {
+      bn = nk;
+      best = k;
+    }
+  }
+  if (!(bn > 0.0)) return false;
+  const double inv = 1.0 / std::sqrt(bn);
+  v = {c[best][0] * inv, c[best][1] * inv, c[best][2] * inv};
+  return true;
+}
+
+void orient(Vec3& v) {
+  int m = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(v[k]) > std::abs(v[m])) m = k;
+  if (v[m] < 0)
+    for (double& x : v) x = -x;
+}
+
+}  // namespace
+
+Principal3 principal(double xx, double yy, double zz, double xy, double xz, double yz) {
+  // Eberly's scheme: the trigonometric formula gives the eigenvalue that is best
+  // separated from the other two accurately (the cosine is flat there), its eigenvector
+  // follows from cross products of the rows of A - lambda I; the other two eigenpairs
+  // come from the exact 2x2 problem in the plane orthogonal to it. (The trigonometric
+  // values of a nearly repeated pair would carry errors of order sqrt(eps).)
+  Principal3 out{0, 0, 0, {1.0, 0.0, 0.0}};
+  const double scale =
+      std::max({std::abs(xx), std::abs(yy), std::abs(zz), std::abs(xy), std::abs(xz), std::abs(yz)});
+  if (!(scale > 0.0) || !std::isfinite(scale)) {
+    if (!std::isfinite(scale)) out.s1 = out.s2 = out.s3 = std::numeric_limits<double>::quiet_NaN();
+    return out;
+  }
+  // Work on A / scale (no overflow or underflow in the squares and the determinant).
+  const double inv = 1.0 / scale;
+  const double A[3][3] = {
+      {xx * inv, xy * inv, xz * inv}, {xy * inv, yy * inv, yz * inv}, {xz * inv, yz * inv, zz * inv}};
+  const double m = (A[0][0] + A[1][1] + A[2][2]) / 3.0;
+  const double k00 = A[0][0] - m, k11 = A[1][1] - m, k22 = A[2][2] - m;
+  const double off = A[0][1] * A[0][1] + A[0][2] * A[0][2] + A[1][2] * A[1][2];
+  const double p2 = (k00 * k00 + k11 * k11 + k22 * k22 + 2.0 * off) / 6.0;
+  if (!(p2 > 0.0)) {  // A = m I
+    out.s1 = out.s2 = out.s3 = m * scale;
+    return out;
+  }
+  const double p = std::sqrt(p2);
+  // det(K/p)/2 in [-1, 1].
+  const double b00 = k00 / p, b11 = k11 / p, b22 = k22 / p;
+  const double b01 = A[0][1] / p, b02 = A[0][2] / p, b12 = A[1][2] / p;
+  const double det =
+      b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
+  const double r = std::clamp(0.5 * det, -1.0, 1.0);
+  const double phi = std::acos(r) / 3.0;  // in [0, pi/3]
+  // r >= 0: the largest eigenvalue is the best separated one, else the smallest.
+  const bool top = r >= 0.0;
+  const double ld =
+      top ? m + 2.0 * p * std::cos(phi) : m + 2.0 * p * std::cos(phi + 2.0 * std::numbers::pi / 3.0);
+  Vec3 w{1.0, 0.0, 0.0};
+  if (!null_vector(A, ld, w)) w = {1.0, 0.0, 0.0};  // cannot happen for p > 0; keep it safe
+  auto apply = [&](const Vec3& a) {
+    return Vec3{A[0][0] * a[0] + A[0][1] * a[1] + A[0][2] * a[2],
+                A[1][0] * a[0] + A[1][1] * a[1] + A[1][2] * a[2],
+                A[2][0] * a[0] + A[2][1] * a[1] + A[2][2] * a[2]};
+  };
+  const double lw = dot(w, apply(w));  // Rayleigh quotient: second-order accurate
+  // Orthonormal (u, t) spanning the plane orthogonal to w; 2x2 problem there.
+  Vec3 u = std::abs(w[0]) > std::abs(w[1]) ? Vec3{-w[2], 0.0, w[0]} : Vec3{0.0, w[2], -w[1]};
+  const double un = std::sqrt(dot(u, u));
+  for (double& x : u) x /= un;
+  const Vec3 t = cross(w, u);
+  const Vec3 au = apply(u), at = apply(t);
+  const double c11 = dot(u, au), c22 = dot(t, at), c12 = 0.5 * (dot(u, at) + dot(t, au));
+  const double mid = 0.5 * (c11 + c22), rad = std::hypot(0.5 * (c11 - c22), c12);
+  const double lp = mid + rad, lm = mid - rad;
+  const double th = 0.5 * std::atan2(2.0 * c12, c11 - c22);  // eigenvector of lp in (u, t)
+  const double ct = std::cos(th), st = std::sin(th);
+  const Vec3 vp{ct * u[0] + st * t[0], ct * u[1] + st * t[1], ct * u[2] + st * t[2]};
+  double l1, l2, l3;
+  Vec3 v1;
+  if (lw >= lp) {  // always so when w belongs to the largest eigenvalue (up to rounding)
+    l1 = lw, l2 = lp, l3 = lm, v1 = w;
+  } else {
+    l1 = lp, v1 = vp;
+    l2 = std::max(lw, lm), l3 = std::min(lw, lm);
+  }
+  orient(v1);
+  out.s1 = l1 * scale;
+  out.s2 = l2 * scale;
+  out.s3 = l3 * scale;
+  out.e1 = v1;
+  return out;
+}
+
+PrincipalField principal(const StressField& s, PrincipalParts parts) {
+  const std::size_t n = s.xx.size();
+  for (const RealField* f : {&s.yy, &s.zz, &s.xy, &s.xz, &s.yz})
+    if (f->size() != n) throw std::invalid_argument("principal: stress components of different sizes");
+  PrincipalField p;
+  const bool all = parts == PrincipalParts::All;
+  for (RealField* f : {&p.s1, &p.von_mises}) f->assign(n, 0.0);
+  if (all)
+    for (RealField* f : {&p.s2, &p.s3, &p.e1x, &p.e1y, &p.e1z}) f->assign(n, 0.0);
+  const std::ptrdiff_t nn = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < nn; ++k) {
+    const Principal3 e = principal(s.xx[k], s.yy[k], s.zz[k], s.xy[k], s.xz[k], s.yz[k]);
+    p.s1[k] = e.s1;
+    p.von_mises[k] = von_mises(s.xx[k], s.yy[k], s.zz[k], s.xy[k], s.xz[k], s.yz[k]);
+    if (all) {
+      p.s2[k] = e.s2;
+      p.s3[k] = e.s3;
+      p.e1x[k] = e.e1[0];
+      p.e1y[k] = e.e1[1];
+      p.e1z[k] = e.e1[2];
+    }
+  }
+  return p;
+}
+
+StressSummary summarize(const Grid& g, const PrincipalField& p, double high_tension_fraction) {
+  const std::size_t n = g.size();
+  if (p.s1.size() != n || p.von_mises.size() != n)
+    throw std::invalid_argument("summarize: principal field does not match the grid");
+  StressSummary s;
+  s.high_tension_fraction_of = high_tension_fraction;
+  if (n == 0) return s;
+  std::size_t it = 0, iv = 0;
+  for (std::size_t k = 1; k < n; ++k) {
+    if (p.s1[k] > p.s1[it]) it = k;
+    if (p.von_mises[k] > p.von_mises[iv]) iv = k;
+  }
+  s.max_tensile_stress = p.s1[it];
+  s.max_tensile_ix = static_cast<int>(it % g.nx);
+  s.max_tensile_iy = static_cast<int>(it / g.nx);
+  s.max_von_mises = p.von_mises[iv];
+  s.max_von_mises_ix = static_cast<int>(iv % g.nx);
+  s.max_von_mises_iy = static_cast<int>(iv / g.nx);
+  if (s.max_tensile_stress > 0.0) {
+    const double thr = high_tension_fraction * s.max_tensile_stress;
+    std::size_t count = 0;
+    for (std::size_t k = 0; k < n; ++k)
+      if (p.s1[k] >= thr) ++count;
+    s.high_tension_area_fraction = static_cast<double>(count) / static_cast<double>(n);
+  }
+  return s;
+}
+
+// ---- below the surface -----------------------------------------------------------------
+
+ModeResponse mode_response(double q, double depth, const ElasticParams& el) {
+  const double nu = el.poisson, es = el.contact_modulus, om = 1.0 - nu;
+  const double G = el.shear_modulus();
+  const bool half = el.half_space();
+  const double h = el.thickness;
+  const cplx i(0.0, 1.0);
+  ModeResponse r;
+  if (q == 0.0) {
+    // Uniform traction: uniform stress, uniaxial strain (no mean in-plane strain).
+    r.stress[0][2] = r.stress[1][2] = nu / om;
+    r.stress[2][2] = 1.0;
+    r.stress[4][0] = 1.0;
+    r.stress[5][1] = 1.0;
+    // Uniform strain eps_xz = t1/(2G), eps_zz = t3/(lambda+2G); displacement pinned at the
+    // rigid base (layer) or, as in ElasticBody, zero at the surface (half-space).
+    const double z = half ? -depth : std::max(0.0, h - depth);
+    r.disp[0][0] = r.disp[1][1] = z / G;
+    r.disp[2][2] = z * (1.0 - 2.0 * nu) / (om * om * es);
+    return r;
+  }
+  const double dl = q * depth;
+  Plane p;
+  double tau, rho;  // antiplane: sigma_23 = tau t2, sigma_12 = i rho t2, u2 = rho t2 / (G q)
+  if (half) {
+    p = plane_half_space(dl, nu);
+    tau = rho = std::exp(-dl);
+  } else {
+    const double x = q * h, et = std::max(0.0, x - dl);
+    p = x >= 1.0 ? plane_layer_anchored(x, dl, nu) : plane_layer_propagator(x, dl, nu);
+    // cosh(eta)/cosh(x), sinh(eta)/cosh(x) with only decaying exponentials.
+    const double ed = std::exp(-dl), den = 1.0 + std::exp(-2.0 * x);
+    tau = ed * (1.0 + std::exp(-2.0 * et)) / den;
+    rho = -ed * std::expm1(-2.0 * et) / den;
+  }
+  // Plane strain inputs S0 = -i t1, N0 = t3.
+  r.stress[0][0] = -i * p.X[0];
+  r.stress[0][2] = p.X[1];
+  r.stress[1][0] = -i * p.Y[0];
+  r.stress[1][2] = p.Y[1];
+  r.stress[2][0] = -i * p.N[0];
+  r.stress[2][2] = p.N[1];
+  r.stress[4][0] = p.S[0];  // sigma_13 = i S = S_S t1 + i S_N t3
+  r.stress[4][2] = i * p.S[1];
+  r.stress[3][1] = i * rho;                   // sigma_12
+  r.stress[5][1] = tau;                       // sigma_23
+  const double u_unit = 1.0 / (2.0 * G * q);  // U, W are 2 G q times the displacement
+  r.disp[0][0] = p.U[0] * u_unit;             // u1 = i U
+  r.disp[0][2] = i * p.U[1] * u_unit;
+  r.disp[2][0] = -i * p.W[0] * u_unit;  // u3 = W
+  r.disp[2][2] = p.W[1] * u_unit;
+  r.disp[1][1] = rho / (G * q);
+  return r;
+}
+
+StressField subsurface_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f, double depth) {
+  std::array<SpecField, 6> sig;
+  subsurface_spectra(fft, el, f, depth, &sig, nullptr);
+  StressField s = make_stress(fft.grid().size());
+  RealField* out[6] = {&s.xx, &s.yy, &s.zz, &s.xy, &s.xz, &s.yz};
+  for (int m = 0; m < 6; ++m) fft.backward(sig[m].data(), out[m]->data());
+  return s;
+}
+
+DisplacementField subsurface_displacement(const FFT& fft, const ElasticParams& el, const ContactFields& f,
+                                          double depth) {
+  std::array<SpecField, 3> u;
+  subsurface_spectra(fft, el, f, depth, nullptr, &u);
+  DisplacementField d;
+  RealField* out[3] = {&d.ux, &d.uy, &d.uz};
+  for (int m = 0; m < 3; ++m) {
+    out[m]->assign(fft.grid().size(), 0.0);
+    fft.backward(u[m].data(), out[m]->data());
+  }
+  return d;
+}
+
+}  // namespace gfmd

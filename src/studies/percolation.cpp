@@ -1,0 +1,91 @@
+#include "gfmd/studies/percolation.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "gfmd/case/run.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/flow/flow.hpp"
+#include "gfmd/version.hpp"
+
+namespace gfmd {
+
+nlohmann::json find_percolation(const Config& base, const PercolationOptions& opt) {
+  struct Point {
+    double p, ac;
+    bool perc;
+  };
+  std::vector<Point> hist;
+  ContactFields warm;
+  bool have = false;
+  const auto eval = [&](double p) {
+    Config c = base;
+    c.load = LoadParams{LoadMode::Pressure, p};
+    c.stress.post_analysis.clear();
+    c.stress.depths.clear();
+    RunOptions ro;
+    ro.keep_stress_fields = false;
+    ro.stop_request = opt.stop_request;
+    if (have) ro.warm_start = &warm;
+    CaseResult r = run_case(c, ro);
+    if (!r.info.converged)
+      throw SolveError("percolation: solve at pressure " + format_number(p) + ": " + r.info.status);
+    const bool perc = percolates(c.grid, r.fields.gap.data(), opt.axis);
+    hist.push_back({p, r.observables.relative_contact_area, perc});
+    warm = std::move(r.fields);
+    have = true;
+    if (opt.log) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "pressure %.6g: a_c = %.5f, %s", p, hist.back().ac,
+                    perc ? "percolates" : "sealed");
+      opt.log(buf);
+    }
+    return hist.back();
+  };
+  double p0 = base.load.mode == LoadMode::Pressure ? base.load.value
+              : base.load.mode == LoadMode::Force  ? base.load.value / base.grid.area()
+                                                   : 0.01 * base.elastic.contact_modulus;
+  Point lo{}, hi{};
+  Point first = eval(p0);
+  if (first.perc) {
+    lo = first;
+    for (hi = first; hi.perc;) {
+      if (static_cast<int>(hist.size()) >= opt.max_solves)
+        throw SolveError("percolation: no sealing load found");
+      lo = hi;
+      hi = eval(hi.p * 2.0);
+    }
+  } else {
+    hi = first;
+    for (lo = first; !lo.perc;) {
+      if (static_cast<int>(hist.size()) >= opt.max_solves)
+        throw SolveError("percolation: no open load found");
+      hi = lo;
+      lo = eval(lo.p / 2.0);
+    }
+  }
+  while (hi.ac - lo.ac > opt.area_tolerance && static_cast<int>(hist.size()) < opt.max_solves &&
+         hi.p / lo.p > 1.0 + 1e-9) {
+    const Point m = eval(std::sqrt(lo.p * hi.p));
+    (m.perc ? lo : hi) = m;
+  }
+  nlohmann::json j;
+  j["direction"] = opt.axis == 0 ? "x" : "y";
+  j["critical_relative_contact_area"] = 0.5 * (lo.ac + hi.ac);
+  j["critical_pressure"] = std::sqrt(lo.p * hi.p);
+  j["bracket"] = {{"open", {{"pressure", lo.p}, {"relative_contact_area", lo.ac}}},
+                  {"sealed", {{"pressure", hi.p}, {"relative_contact_area", hi.ac}}}};
+  j["area_tolerance"] = opt.area_tolerance;
+  j["converged"] = hi.ac - lo.ac <= opt.area_tolerance;
+  j["history"] = nlohmann::json::array();
+  for (const auto& h : hist)
+    j["history"].push_back({{"pressure", h.p}, {"relative_contact_area", h.ac}, {"percolates", h.perc}});
+  j["solves"] = hist.size();
+  j["input"] = base.to_json();
+  j["version"] = kVersion;
+  j["git_commit"] = kGitCommit;
+  return j;
+}
+
+}  // namespace gfmd
