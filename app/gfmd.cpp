@@ -18,12 +18,15 @@
 #include <sstream>
 
 #include "gfmd/case/leakage.hpp"
+#include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/io/netcdf.hpp"
 #include "gfmd/io/png.hpp"
 #include "gfmd/studies/percolation.hpp"
+#include "gfmd/studies/sweep.hpp"
 #include "gfmd/version.hpp"
 
 extern char** environ;

@@ -12,8 +12,11 @@
 #include <csignal>
 
 #include "gfmd/case/config.hpp"
+#include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/studies/sweep.hpp"
 #include "gfmd/version.hpp"
 
 namespace py = pybind11;

@@ -22,7 +22,9 @@
 
 #include "gfmd/case/config.hpp"
 #include "gfmd/case/leakage.hpp"
+#include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
 #include "test_util.hpp"
 

@@ -6,7 +6,9 @@
 #include <numbers>
 
 #include "gfmd/case/config.hpp"
+#include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
 #include "test_util.hpp"
 
 using namespace gfmd;

@@ -12,9 +12,12 @@
 #include <thread>
 
 #include "gfmd/case/config.hpp"
+#include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/reduce.hpp"
+#include "gfmd/studies/sweep.hpp"
 
 using namespace gfmd;
 namespace fs = std::filesystem;

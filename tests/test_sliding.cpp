@@ -9,7 +9,9 @@
 #include <sstream>
 
 #include "gfmd/case/config.hpp"
+#include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
 #include "test_util.hpp"
 
 using namespace gfmd;

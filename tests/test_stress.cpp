@@ -20,7 +20,9 @@
 #include <string>
 
 #include "gfmd/case/config.hpp"
+#include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/elastic/elastic.hpp"
 #include "gfmd/elastic/stress.hpp"

@@ -11,7 +11,9 @@
 #include <vector>
 
 #include "gfmd/case/config.hpp"
+#include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
 
 namespace gfmd::testing {
 

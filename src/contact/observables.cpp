@@ -166,37 +166,4 @@ DerivedFields derived_fields(const FFT& fft, const FrictionParams& fric, const C
   return d;
 }
 
-nlohmann::json to_json(const Observables& o) {
-  nlohmann::json j = {{"relative_contact_area", o.relative_contact_area},
-                      {"normal_force", o.normal_force},
-                      {"mean_pressure", o.mean_pressure},
-                      {"max_pressure", o.max_pressure},
-                      {"mean_gap", o.mean_gap},
-                      {"approach", o.approach}};
-  if (o.friction_force > 0) {
-    j["friction_force"] = o.friction_force;
-    j["friction_force_downhill"] = o.friction_force_downhill;
-    j["downhill_force"] = o.downhill_force;
-    j["friction_coefficient"] = o.friction_coefficient;
-    j["friction_coefficient_downhill"] = o.friction_coefficient_downhill;
-    j["energy_balance_error"] = o.energy_balance_error;
-    j["friction_force_drive"] = o.friction_force_drive;
-    j["energy_balance_error_exact"] = o.energy_balance_error_exact;
-    j["max_slip_velocity"] = o.max_slip_velocity;
-    j["min_slip_velocity"] = o.min_slip_velocity;
-    j["near_stick_fraction"] = o.near_stick_fraction;
-    j["stick_fraction"] = o.stick_fraction;
-    j["tangential_force"] = o.tangential_force;
-    j["tangential_force_x"] = o.tangential_force_x;
-    j["tangential_force_y"] = o.tangential_force_y;
-    j["traction_coefficient"] = o.traction_coefficient;
-  }
-  j["centroid_shift"] = o.centroid_shift;
-  j["centroid_shift_transverse"] = o.centroid_shift_transverse;
-  j["pressure_max_shift"] = o.pressure_max_shift;
-  j["contact_extent_longitudinal"] = o.contact_extent_longitudinal;
-  j["contact_extent_transverse"] = o.contact_extent_transverse;
-  return j;
-}
-
 }  // namespace gfmd

@@ -4,7 +4,9 @@
 #include <cstdio>
 #include <vector>
 
+#include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/flow/flow.hpp"
 #include "gfmd/version.hpp"

@@ -1,8 +1,6 @@
 // Scalar observables of a solved contact (SPEC §5).
 #pragma once
 
-#include <nlohmann/json.hpp>
-
 #include "gfmd/contact/solver.hpp"
 #include "gfmd/core/fft.hpp"
 #include "gfmd/elastic/elastic.hpp"
@@ -68,7 +66,5 @@ void slip_velocity(const FFT& fft, const FrictionParams& fric, const RealField& 
 
 Observables compute_observables(const FFT& fft, const Topography& topo, const FrictionParams& fric,
                                 const ContactFields& f, const SolveInfo& info);
-
-nlohmann::json to_json(const Observables& o);
 
 }  // namespace gfmd

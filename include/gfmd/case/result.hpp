@@ -1,0 +1,64 @@
+// The result of one case: plain typed values (fields, solve info, observables, stresses,
+// leakage), filled by run_case and serialised by the output stage (case/outputs.hpp).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/leakage.hpp"
+#include "gfmd/contact/observables.hpp"
+#include "gfmd/elastic/stress.hpp"
+
+namespace gfmd {
+
+// Work done before a checkpoint: a resumed run reports cumulative counts.
+struct CheckpointProgress {
+  std::int64_t iterations = 0;
+  double wall_time_s = 0.0;
+};
+
+struct CaseResult {
+  Config config;
+  Topography topography;
+  TopographyStats topography_stats;
+  ContactFields fields;
+  SolveInfo info;
+  Observables observables;
+  DerivedFields derived;  // slip and dissipation fields (with friction; empty otherwise)
+  // Frictionless solve at the same load (with friction and friction_reference).
+  bool has_reference = false;
+  Observables reference;
+  SolveInfo reference_info;
+  RealField reference_pressure;          // frictionless pressure (with friction_reference)
+  RealField reference_ux, reference_uy;  // and its in-plane displacements (post_analysis "paper")
+  // Stresses (SPEC §5): summaries when has_stress (a converged solve); the fields only if
+  // RunOptions::keep_stress_fields.
+  bool has_stress = false;
+  std::string profiles_csv;  // profiles.csv (stress.profiles)
+  StressField stress;
+  PrincipalField principal;
+  StressSummary stress_summary;
+  // Post-analysis references, one per kind of [stress] post_analysis, in its order (empty:
+  // none asked for); the outputs show the first also under the names of earlier versions.
+  struct PostAnalysis {
+    std::string kind;  // "paper" or "consistent"
+    StressSummary summary;
+    double area_above_half_max = 0;  // fraction of cells with s1 >= 0.5 max s1 of this field
+    RealField s1;                    // sigma_I
+  };
+  std::vector<PostAnalysis> post_analyses;
+  double area_above_half_max = 0;  // the full solution's, as PostAnalysis::area_above_half_max
+  struct Subsurface {
+    double depth;
+    StressSummary summary;
+    RealField von_mises, s1;
+  };
+  std::vector<Subsurface> subsurface;
+  bool has_leakage = false;
+  LeakageResult leakage;       // [flow]
+  CheckpointProgress resumed;  // earlier sessions' work, included in info (RunOptions::resumed)
+};
+
+}  // namespace gfmd

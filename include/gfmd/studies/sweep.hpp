@@ -1,0 +1,28 @@
+// Load sweeps: one case over a list of values of one key, warm-started point to point.
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "gfmd/case/config.hpp"
+#include "gfmd/contact/solver.hpp"
+
+namespace gfmd {
+
+// Load sweeps: solves cfg.sweep.values of cfg.sweep.parameter in order, each warm-started
+// from the previous point, into dir/point_NNN/, and after every point rewrites
+// dir/sweep.csv and dir/sweep.json (one row of every scalar summary key per point).
+// Points whose summary.json already holds the same input are read back, not recomputed.
+struct SweepOptions {
+  std::function<void(const Progress&)> progress;
+  std::function<void(int done, int total, const std::string& message)> on_point;
+  std::vector<std::string> overrides;  // --set values applied to every point
+  std::function<bool()> stop_request;  // as in RunOptions; the current point keeps a checkpoint
+  double checkpoint_interval_s = 60.0;
+};
+nlohmann::json run_sweep(const std::string& case_path, const Config& cfg, const std::string& dir,
+                         const SweepOptions& opts);
+
+}  // namespace gfmd

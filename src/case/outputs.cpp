@@ -1,0 +1,333 @@
+// The output stage: summary.json, fields.nc, PNG maps and tables of a solved case.
+// See include/gfmd/case/outputs.hpp.
+#include "gfmd/case/outputs.hpp"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include "gfmd/case/run_dir.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
+#include "gfmd/io/netcdf.hpp"
+#include "gfmd/io/png.hpp"
+#include "gfmd/version.hpp"
+namespace gfmd {
+
+namespace fs = std::filesystem;
+
+void publish_outputs(const CaseResult& r, const std::string& dir, const std::function<void()>& extra) {
+  try {
+    write_outputs(r, dir);
+    if (extra) extra();
+    write_status(dir, "converged");
+  } catch (const std::exception& e) {
+    clear_run_outputs(dir);
+    try {
+      write_status(dir, "failed", std::string("writing the outputs: ") + e.what());
+    } catch (const std::exception&) {
+      // The status cannot be written either (disk full): the error itself still goes up.
+    }
+    throw;
+  }
+}
+
+namespace {
+nlohmann::json observables_json(const Observables& o) {
+  nlohmann::json j = {{"relative_contact_area", o.relative_contact_area},
+                      {"normal_force", o.normal_force},
+                      {"mean_pressure", o.mean_pressure},
+                      {"max_pressure", o.max_pressure},
+                      {"mean_gap", o.mean_gap},
+                      {"approach", o.approach}};
+  if (o.friction_force > 0) {
+    j["friction_force"] = o.friction_force;
+    j["friction_force_downhill"] = o.friction_force_downhill;
+    j["downhill_force"] = o.downhill_force;
+    j["friction_coefficient"] = o.friction_coefficient;
+    j["friction_coefficient_downhill"] = o.friction_coefficient_downhill;
+    j["energy_balance_error"] = o.energy_balance_error;
+    j["friction_force_drive"] = o.friction_force_drive;
+    j["energy_balance_error_exact"] = o.energy_balance_error_exact;
+    j["max_slip_velocity"] = o.max_slip_velocity;
+    j["min_slip_velocity"] = o.min_slip_velocity;
+    j["near_stick_fraction"] = o.near_stick_fraction;
+    j["stick_fraction"] = o.stick_fraction;
+    j["tangential_force"] = o.tangential_force;
+    j["tangential_force_x"] = o.tangential_force_x;
+    j["tangential_force_y"] = o.tangential_force_y;
+    j["traction_coefficient"] = o.traction_coefficient;
+  }
+  j["centroid_shift"] = o.centroid_shift;
+  j["centroid_shift_transverse"] = o.centroid_shift_transverse;
+  j["pressure_max_shift"] = o.pressure_max_shift;
+  j["contact_extent_longitudinal"] = o.contact_extent_longitudinal;
+  j["contact_extent_transverse"] = o.contact_extent_transverse;
+  return j;
+}
+
+}  // namespace
+
+nlohmann::json summary_json(const CaseResult& r) {
+  nlohmann::json j = observables_json(r.observables);
+  j["iterations"] = r.info.iterations;
+  j["outer_iterations"] = r.info.outer_iterations;
+  if (r.config.friction.coefficient > 0) {
+    j["tangential_iterations"] = r.info.tangential_iterations;
+    j["friction_law"] = r.config.friction.regularized() ? "regularized" : "coulomb";
+  }
+  j["converged"] = r.info.converged;
+  j["status"] = r.info.status;
+  j["residual"] = r.info.residual;
+  j["residual_bound"] = r.info.residual_bound;
+  if (r.resumed.iterations > 0 || r.resumed.wall_time_s > 0)
+    j["resumed"] = {{"iterations_before", r.resumed.iterations},
+                    {"wall_time_s_before", r.resumed.wall_time_s}};
+  j["pressure_change"] = r.info.pk_error;
+  if (r.config.friction.coefficient > 0) j["friction_change"] = r.info.friction_error;
+  j["wall_time_s"] = r.info.wall_time_s;
+  const Grid& g = r.config.grid;
+  const auto stress_json = [&g](const StressSummary& s) {
+    return nlohmann::json{{"max_tensile_stress", s.max_tensile_stress},
+                          {"max_tensile_stress_location", {g.x(s.max_tensile_ix), g.y(s.max_tensile_iy)}},
+                          {"max_von_mises", s.max_von_mises},
+                          {"max_von_mises_location", {g.x(s.max_von_mises_ix), g.y(s.max_von_mises_iy)}},
+                          {"high_tension_area_fraction", s.high_tension_area_fraction},
+                          {"high_tension_fraction_of", s.high_tension_fraction_of}};
+  };
+  if (r.has_stress) j.update(stress_json(r.stress_summary));
+  if (!r.post_analyses.empty()) {
+    // The first kind as "post_analysis" (its keys as before, plus kind, the area above half
+    // the maximum and the full/post ratios), every kind as "post_analysis_<kind>".
+    const auto pa_json = [&](const CaseResult::PostAnalysis& pa) {
+      nlohmann::json e = stress_json(pa.summary);
+      e["kind"] = pa.kind;
+      e["area_fraction_above_half_max"] = pa.area_above_half_max;
+      const auto ratio = [](double a, double b) { return b > 0 ? nlohmann::json(a / b) : nlohmann::json(); };
+      e["ratio_max_tensile_stress"] =
+          ratio(r.stress_summary.max_tensile_stress, pa.summary.max_tensile_stress);
+      e["ratio_max_von_mises"] = ratio(r.stress_summary.max_von_mises, pa.summary.max_von_mises);
+      e["ratio_area_above_half_max"] = ratio(r.area_above_half_max, pa.area_above_half_max);
+      return e;
+    };
+    j["post_analysis"] = pa_json(r.post_analyses.front());
+    for (const auto& pa : r.post_analyses) j["post_analysis_" + pa.kind] = pa_json(pa);
+    j["area_fraction_above_half_max"] = r.area_above_half_max;
+  }
+  if (r.has_leakage) j["flow"] = r.leakage.json;
+  if (!r.post_analyses.empty() && r.post_analyses.front().summary.max_tensile_stress > 0)
+    j["tensile_stress_ratio_to_post_analysis"] =
+        r.stress_summary.max_tensile_stress / r.post_analyses.front().summary.max_tensile_stress;
+  if (!r.subsurface.empty()) {
+    j["subsurface"] = nlohmann::json::array();
+    for (const auto& ss : r.subsurface) {
+      nlohmann::json e = stress_json(ss.summary);
+      e["depth"] = ss.depth;
+      j["subsurface"].push_back(e);
+    }
+  }
+  if (r.config.friction.coefficient > 0) {
+    const double mu = r.config.friction.coefficient;
+    j["delta_mu_over_mu_c"] = (r.observables.friction_coefficient - mu) / mu;
+    j["delta_mu_over_mu_c_downhill"] = (r.observables.friction_coefficient_downhill - mu) / mu;
+  }
+  if (r.has_reference) {
+    j["frictionless"] = observables_json(r.reference);
+    j["frictionless"]["iterations"] = r.reference_info.iterations;
+    j["delta_area_over_area"] = r.observables.relative_contact_area / r.reference.relative_contact_area - 1.0;
+  }
+  j["time_per_iteration_s"] = r.info.iterations > 0 ? r.info.wall_time_s / r.info.iterations : 0.0;
+  j["fft_count"] = r.info.transforms;
+  j["fft_time_s"] = r.info.fft_seconds;  // time inside the transforms (part of wall_time_s)
+  j["interaction_stiffness"] =
+      std::isinf(r.info.stiffness) ? nlohmann::json("inf") : nlohmann::json(r.info.stiffness);
+  j["threads"] = threads();
+  const auto& s = r.topography_stats;
+  j["topography"] = {{"kind", r.topography.kind},
+                     {"mean", s.mean},
+                     {"rms_height", s.rms_height},
+                     {"rms_gradient", s.rms_gradient},
+                     {"rms_curvature", s.rms_curvature},
+                     {"min", s.min},
+                     {"max", s.max}};
+  j["input"] = r.config.to_json();
+  j["units"] =
+      "lengths in the unit of grid.lx; pressures, stresses and E* in the unit of elastic.contact_modulus; "
+      "forces = pressure x length^2";
+  j["conventions"] = {
+      {"topography", "indenter height towards the body (peaks are maxima); initial gap g0 = max(h) - h"},
+      {"z", "out of the body towards the indenter; uz < 0 is a depression"},
+      {"approach",
+       "indenter displacement towards the body from first touch; for h = inf relative to the mean "
+       "surface (mean uz pinned to 0)"}};
+  j["version"] = kVersion;
+  j["git_commit"] = kGitCommit;
+  return j;
+}
+
+void write_outputs(const CaseResult& r, const std::string& dir) {
+  fs::create_directories(dir);
+  const Grid& g = r.config.grid;
+  const std::size_t n = g.size();
+  if (r.config.output.fields) {
+    RealField cm(n);
+    for (std::size_t i = 0; i < n; ++i) cm[i] = r.fields.pressure[i] > 0 ? 1.0 : 0.0;
+    std::vector<NamedField> fields = {
+        {"topography", r.topography.h.data(), "indenter height towards the body", "length"},
+        {"pressure", r.fields.pressure.data(), "contact pressure on the body (compressive positive)", "E*"},
+        {"gap", r.fields.gap.data(), "gap between indenter and deformed surface", "length"},
+        {"ux", r.fields.ux.data(), "surface displacement along x", "length"},
+        {"uy", r.fields.uy.data(), "surface displacement along y", "length"},
+        {"uz", r.fields.uz.data(), "surface displacement along z (out of the body)", "length"},
+        {"contact", cm.data(), "contact mask (1 = in contact)", "1"}};
+    const DerivedFields& d = r.derived;
+    if (r.config.friction.coefficient > 0) {
+      fields.push_back({"traction_x", r.fields.tx.data(), "friction traction on the body along x", "E*"});
+      fields.push_back({"traction_y", r.fields.ty.data(), "friction traction on the body along y", "E*"});
+      fields.push_back({"slip_longitudinal", d.slip_longitudinal.data(),
+                        "relative longitudinal slip velocity v_l^rel/v0 - 1 = (e_s.grad) u_s", "1"});
+      fields.push_back({"slip_transverse", d.slip_transverse.data(),
+                        "transverse slip velocity / v0 = (e_s.grad) u_perp", "1"});
+      fields.push_back({"dissipation", d.dissipation.data(),
+                        "dissipated power density / v0 = tau . v_slip / v0 (mu_c p |v|/v0 where slipping)",
+                        "E*"});
+    }
+    RealField sm;
+    if (r.fields.stick.size() == n) {
+      sm.resize(n);
+      for (std::size_t i = 0; i < n; ++i) sm[i] = r.fields.stick[i] ? 1.0 : 0.0;
+      fields.push_back(
+          {"stick", sm.data(), "stick mask (1 = contact point that sticks: zero slip velocity)", "1"});
+    }
+    if (!r.principal.s1.empty()) {
+      const StressField& st = r.stress;
+      const PrincipalField& pr = r.principal;
+      for (const NamedField& nf : std::vector<NamedField>{
+               {"sigma_xx", st.xx.data(), "surface stress xx (tensile positive)", "E*"},
+               {"sigma_yy", st.yy.data(), "surface stress yy", "E*"},
+               {"sigma_zz", st.zz.data(), "surface stress zz (= -p)", "E*"},
+               {"sigma_xy", st.xy.data(), "surface stress xy", "E*"},
+               {"sigma_xz", st.xz.data(), "surface stress xz (= friction traction x)", "E*"},
+               {"sigma_yz", st.yz.data(), "surface stress yz", "E*"},
+               {"sigma_1", pr.s1.data(), "maximum principal (most tensile) surface stress sigma_I", "E*"},
+               {"sigma_2", pr.s2.data(), "middle principal surface stress", "E*"},
+               {"sigma_3", pr.s3.data(), "minimum principal surface stress", "E*"},
+               {"e1_x", pr.e1x.data(), "eigenvector of sigma_I, x", "1"},
+               {"e1_y", pr.e1y.data(), "eigenvector of sigma_I, y", "1"},
+               {"e1_z", pr.e1z.data(), "eigenvector of sigma_I, z", "1"},
+               {"von_mises", pr.von_mises.data(), "von Mises surface stress", "E*"}})
+        fields.push_back(nf);
+      if (!r.post_analyses.empty()) {
+        fields.push_back({"post_analysis_sigma_1", r.post_analyses.front().s1.data(),
+                          "sigma_I of the post-analysis reference (" + r.post_analyses.front().kind +
+                              "; the first of [stress] post_analysis)",
+                          "E*"});
+        for (const auto& pa : r.post_analyses)
+          fields.push_back(
+              {"post_analysis_" + pa.kind + "_sigma_1", pa.s1.data(),
+               pa.kind == "paper"
+                   ? "sigma_I of the paper's post-analysis (frictionless fields, sigma_az = mu p)"
+                   : "sigma_I of the consistent post-analysis (frictionless p + mu p with its strain)",
+               "E*"});
+      }
+      for (std::size_t k = 0; k < r.subsurface.size(); ++k) {
+        const std::string depth = std::to_string(r.subsurface[k].depth);
+        fields.push_back({"von_mises_depth_" + std::to_string(k), r.subsurface[k].von_mises.data(),
+                          "von Mises stress at depth " + depth, "E*"});
+        fields.push_back({"sigma_1_depth_" + std::to_string(k), r.subsurface[k].s1.data(),
+                          "maximum principal stress at depth " + depth, "E*"});
+      }
+    }
+    if (r.has_leakage) append_current_fields(r.leakage, fields);
+    write_fields_netcdf(
+        (fs::path(dir) / "fields.nc").string(), g, fields,
+        {{"gfmd_version", kVersion},
+         {"git_commit", kGitCommit},
+         {"input_toml", r.config.to_toml()},
+         {"normalisation", "lengths in units of grid.lx, pressures in units of E* (contact_modulus)"}},
+        "length");
+  }
+  if (r.config.output.png) {
+    std::vector<unsigned char> mask(n);
+    for (std::size_t i = 0; i < n; ++i) mask[i] = r.fields.pressure[i] > 0;
+    PngOptions po;
+    po.colormap = "inferno";
+    po.title = "pressure";
+    write_png_map((fs::path(dir) / "pressure.png").string(), g, r.fields.pressure.data(), po);
+    PngOptions pg;
+    pg.colormap = "viridis";
+    pg.title = "gap";
+    pg.mask = mask.data();
+    write_png_map((fs::path(dir) / "gap.png").string(), g, r.fields.gap.data(), pg);
+    if (r.config.friction.coefficient > 0) {
+      const DerivedFields& d = r.derived;
+      std::vector<double> vl(n), vt(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        // Slip fields are shown inside the contact only.
+        vl[i] = mask[i] ? d.slip_longitudinal[i] : 0.0;
+        vt[i] = mask[i] ? d.slip_transverse[i] : 0.0;
+      }
+      PngOptions ps;
+      ps.colormap = "coolwarm";
+      ps.symmetric = true;
+      // Outline: the stick zone where there is one, else the contact.
+      const bool any_stick =
+          std::any_of(r.fields.stick.begin(), r.fields.stick.end(), [](auto v) { return v != 0; });
+      ps.mask = any_stick ? r.fields.stick.data() : mask.data();
+      ps.title = any_stick ? "longitudinal slip excess (outline: stick)" : "longitudinal slip excess";
+      write_png_map((fs::path(dir) / "slip_longitudinal.png").string(), g, vl.data(), ps);
+      ps.title = any_stick ? "transverse slip (outline: stick)" : "transverse slip";
+      write_png_map((fs::path(dir) / "slip_transverse.png").string(), g, vt.data(), ps);
+      PngOptions pd;
+      pd.colormap = "inferno";
+      pd.title = "dissipation";
+      write_png_map((fs::path(dir) / "dissipation.png").string(), g, d.dissipation.data(), pd);
+    }
+  }
+  if (r.config.output.png && !r.principal.s1.empty()) {
+    PngOptions ps;
+    ps.colormap = "coolwarm";
+    ps.symmetric = true;
+    ps.title = "max principal stress";
+    write_png_map((fs::path(dir) / "max_principal_stress.png").string(), g, r.principal.s1.data(), ps);
+    PngOptions pv;
+    pv.colormap = "inferno";
+    pv.title = "von mises";
+    write_png_map((fs::path(dir) / "von_mises.png").string(), g, r.principal.von_mises.data(), pv);
+  }
+  if (r.config.stress.profiles && !r.profiles_csv.empty())
+    write_text_atomic((fs::path(dir) / "profiles.csv").string(), r.profiles_csv);
+  if (r.has_leakage)
+    write_leakage(g, r.leakage, dir, {{"relative_contact_area", r.observables.relative_contact_area}});
+  // summary.json last: its presence marks a complete run directory.
+  write_text_atomic((fs::path(dir) / "summary.json").string(), summary_json(r).dump(2) + "\n");
+}
+
+std::vector<std::pair<std::string, nlohmann::json>> summary_row(const nlohmann::json& summary) {
+  std::vector<std::pair<std::string, nlohmann::json>> row;
+  for (const auto& [k, v] : summary.items()) {
+    if (k == "input" || k == "units" || k == "conventions") continue;
+    if (v.is_object()) {
+      for (const auto& [k2, v2] : v.items())
+        if (v2.is_primitive()) row.emplace_back(k + "." + k2, v2);
+    } else if (v.is_primitive()) {
+      row.emplace_back(k, v);
+    }
+  }
+  return row;
+}
+
+}  // namespace gfmd

@@ -1,0 +1,189 @@
+// Load sweeps: a case solved over a list of values, warm-started point to point.
+// See include/gfmd/studies/sweep.hpp.
+#include "gfmd/studies/sweep.hpp"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include "gfmd/case/outputs.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
+#include "gfmd/io/netcdf.hpp"
+#include "gfmd/io/png.hpp"
+#include "gfmd/version.hpp"
+namespace gfmd {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string csv_cell(const nlohmann::json& v) {
+  if (v.is_string()) {
+    std::string s = v.get<std::string>();
+    if (s.find_first_of(",\"\n") != std::string::npos) {
+      std::string q = "\"";
+      for (char c : s) q += (c == '"') ? std::string("\"\"") : std::string(1, c);
+      return q + "\"";
+    }
+    return s;
+  }
+  if (v.is_null()) return "";
+  return v.dump();
+}
+
+void write_sweep_tables(const std::string& dir, const std::string& param, const std::vector<double>& values,
+                        const std::vector<nlohmann::json>& summaries) {
+  std::vector<std::string> cols;
+  std::vector<std::vector<std::pair<std::string, nlohmann::json>>> rows;
+  for (const auto& s : summaries) {
+    rows.push_back(summary_row(s));
+    for (const auto& [k, v] : rows.back())
+      if (std::find(cols.begin(), cols.end(), k) == cols.end()) cols.push_back(k);
+  }
+  std::ostringstream csv;
+  csv.precision(17);
+  csv << param;
+  for (const auto& c : cols) csv << "," << c;
+  csv << "\n";
+  nlohmann::json j;
+  j["parameter"] = param;
+  j["values"] = values;
+  j["points"] = nlohmann::json::array();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    csv << values[i];
+    nlohmann::json pj;
+    pj[param] = values[i];
+    for (const auto& c : cols) {
+      csv << ",";
+      for (const auto& [k, v] : rows[i])
+        if (k == c) {
+          csv << csv_cell(v);
+          pj[c] = v;
+        }
+    }
+    csv << "\n";
+    j["points"].push_back(pj);
+  }
+  j["completed"] = rows.size();
+  j["total"] = values.size();
+  j["version"] = kVersion;
+  j["git_commit"] = kGitCommit;
+  if (!summaries.empty() && summaries.front().contains("input"))
+    j["input_first_point"] = summaries.front()["input"];
+  write_text_atomic((fs::path(dir) / "sweep.csv").string(), csv.str());
+  write_text_atomic((fs::path(dir) / "sweep.json").string(), j.dump(2) + "\n");
+}
+
+std::string format_value(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+}  // namespace
+
+nlohmann::json run_sweep(const std::string& case_path, const Config& base, const std::string& dir,
+                         const SweepOptions& opts) {
+  const SweepConfig& sw = base.sweep;
+  if (!sw.active())
+    throw InputError(case_path, "no sweep: give [sweep] parameter and values, or --set key=v1,v2,...");
+  fs::create_directories(dir);
+  {
+    // What an earlier, longer or differently plotted sweep left: points beyond this sweep's
+    // last and its plots (the tables are rewritten below).
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+      const std::string name = e.path().filename().string();
+      int k = -1;
+      if (name.size() == 9 && name.rfind("point_", 0) == 0 && std::sscanf(name.c_str() + 6, "%3d", &k) == 1 &&
+          k >= static_cast<int>(sw.values.size()))
+        fs::remove_all(e.path(), ec);
+      else if (name.rfind("sweep_", 0) == 0 && e.path().extension() == ".png")
+        fs::remove(e.path(), ec);
+    }
+  }
+  std::vector<nlohmann::json> summaries;
+  ContactFields warm;
+  bool have_warm = false;
+  const int total = static_cast<int>(sw.values.size());
+  for (int i = 0; i < total; ++i) {
+    std::vector<std::string> sets = opts.overrides;
+    sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
+    Config cfg = load_config(case_path, sets);
+    char name[32];
+    std::snprintf(name, sizeof name, "point_%03d", i);
+    const std::string pdir = (fs::path(dir) / name).string();
+    if (auto old = finished_summary(pdir, cfg)) {
+      summaries.push_back(std::move(*old));
+      have_warm = false;
+      if (opts.on_point) opts.on_point(i + 1, total, std::string(name) + " reused (finished earlier)");
+      continue;
+    }
+    RunOptions ro;
+    ro.progress = opts.progress;
+    ro.stop_request = opts.stop_request;
+    ro.checkpoint_interval_s = opts.checkpoint_interval_s;
+    ro.keep_stress_fields = outputs_need_stress_fields(cfg);
+    fs::create_directories(pdir);
+    ro.checkpoint_path = (fs::path(pdir) / "checkpoint.bin").string();
+    ContactFields resumed;
+    if (read_checkpoint(ro.checkpoint_path, cfg, resumed)) {
+      ro.warm_start = &resumed;
+    } else if (have_warm) {
+      ro.warm_start = &warm;
+    }
+    CaseResult r = run_case(cfg, ro);
+    bool retried = false;
+    if (!r.info.converged && ro.warm_start == &warm) {
+      // Started from the previous point's solution, the friction fixed point can fall into
+      // a limit cycle that a start from the frictionless solution avoids: try that once.
+      if (opts.on_point)
+        opts.on_point(i, total, std::string(name) + ": " + r.info.status + "; retrying from a cold start");
+      ro.warm_start = nullptr;
+      r = run_case(cfg, ro);
+      retried = true;
+    }
+    std::error_code ec;
+    fs::remove(ro.checkpoint_path, ec);
+    if (!r.info.converged) {
+      fs::remove(pdir, ec);  // only if empty: no bare point directory is left behind
+      write_sweep_tables(dir, sw.parameter, sw.values, summaries);
+      throw SolveError(std::string(name) + " (" + sw.parameter + " = " + format_number(sw.values[i]) +
+                       "): " + r.info.status + "; the " + std::to_string(i) + " finished points are kept");
+    }
+    clear_run_outputs(pdir);  // a point recomputed owns its directory, as a run does
+    write_outputs(r, pdir);
+    summaries.push_back(summary_json(r));
+    write_sweep_tables(dir, sw.parameter, sw.values, summaries);
+    warm = std::move(r.fields);
+    have_warm = cfg.grid.size() == base.grid.size();
+    if (opts.on_point) {
+      char msg[160];
+      std::snprintf(msg, sizeof msg, "%s: %s = %.6g, %d iterations, %.2f s%s", name, sw.parameter.c_str(),
+                    sw.values[i], r.info.iterations, r.info.wall_time_s, retried ? " (cold start)" : "");
+      opts.on_point(i + 1, total, msg);
+    }
+  }
+  write_sweep_tables(dir, sw.parameter, sw.values, summaries);
+  nlohmann::json j;
+  j["points"] = summaries.size();
+  return j;
+}
+
+}  // namespace gfmd
