@@ -25,6 +25,7 @@
 #include "gfmd/core/files.hpp"
 #include "gfmd/io/netcdf.hpp"
 #include "gfmd/io/png.hpp"
+#include "gfmd/studies/ensemble.hpp"
 #include "gfmd/studies/percolation.hpp"
 #include "gfmd/studies/sweep.hpp"
 #include "gfmd/version.hpp"
@@ -414,7 +415,9 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
   if (std::sscanf(seeds.c_str(), "%d..%d%n", &s0, &s1, &used) != 2 ||
       used != static_cast<int>(seeds.size()) || s0 < 0 || s1 < s0)
     throw gfmd::InputError("--seeds", "expected FIRST..LAST, e.g. 0..7, got '" + seeds + "'");
-  if (s1 - s0 >= 10000) throw gfmd::InputError("--seeds", "at most 10000 seeds per ensemble");
+  if (s1 - s0 >= gfmd::kMaxEnsembleSeeds)
+    throw gfmd::InputError("--seeds",
+                           "at most " + std::to_string(gfmd::kMaxEnsembleSeeds) + " seeds per ensemble");
   const gfmd::Config probe = gfmd::load_config(case_path, sets);
   if (probe.indenter.type != "selfaffine")
     throw gfmd::InputError(case_path, "an ensemble needs a selfaffine indenter");
@@ -423,98 +426,14 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
         (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_ensemble"))
             .string();
   const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
-  const bool pairs = probe.friction.coefficient > 0;
-  nlohmann::json j;
-  j["seeds"] = nlohmann::json::array();
-  std::vector<double> kx, ky, kx0, ky0, ac, ac0;
-  for (int seed = s0; seed <= s1; ++seed) {
-    for (int variant = 0; variant < (pairs ? 2 : 1); ++variant) {
-      std::vector<std::string> ss = sets;
-      ss.push_back("indenter.seed=" + std::to_string(seed));
-      ss.push_back("flow.direction=\"both\"");
-      if (variant == 1) ss.push_back("friction.coefficient=0");
-      const gfmd::Config c = gfmd::load_config(case_path, ss);
-      const std::string d = (std::filesystem::path(out_dir) /
-                             ((variant ? "frictionless_seed_" : "seed_") + std::to_string(seed)))
-                                .string();
-      double x = 0, y = 0, a = 0;
-      bool reused = false;
-      // A seed finished earlier with the same input is read back (as sweep points are).
-      if (const auto old = gfmd::finished_summary(d, c)) {
-        std::ifstream fj(std::filesystem::path(d) / "flow.json");
-        try {
-          const nlohmann::json fl = nlohmann::json::parse(fj);
-          x = fl.at("conductivity_x").get<double>();
-          y = fl.at("conductivity_y").get<double>();
-          a = old->at("relative_contact_area").get<double>();
-          reused = true;
-        } catch (const std::exception&) {
-          reused = false;  // incomplete: solve again
-        }
-      }
-      if (!reused) {
-        gfmd::RunOptions ro;
-        ro.keep_stress_fields = gfmd::outputs_need_stress_fields(c);
-        ro.stop_request = stop_requested;
-        const gfmd::CaseResult r = gfmd::run_case(c, ro);
-        if (!r.info.converged) throw gfmd::SolveError("seed " + std::to_string(seed) + ": " + r.info.status);
-        std::filesystem::create_directories(d);
-        gfmd::clear_run_outputs(d);
-        gfmd::write_outputs(r, d);
-        x = r.leakage.json["conductivity_x"];
-        y = r.leakage.json["conductivity_y"];
-        a = r.observables.relative_contact_area;
-      }
-      (variant ? kx0 : kx).push_back(x);
-      (variant ? ky0 : ky).push_back(y);
-      (variant ? ac0 : ac).push_back(a);
-      j["seeds"].push_back({{"seed", seed},
-                            {"friction_coefficient", c.friction.coefficient},
-                            {"relative_contact_area", a},
-                            {"conductivity_x", x},
-                            {"conductivity_y", y}});
-      if (!quiet)
-        std::fprintf(stderr, "  seed %d%s: a_c = %.4f, K_x = %.4e, K_y = %.4e%s\n", seed,
-                     variant ? " (frictionless)" : "", a, x, y, reused ? " (finished earlier)" : "");
-    }
-  }
-  // Mean and sample standard deviation; with the Bruggeman combination for conductivities.
-  const auto spread = [](const std::vector<double>& v) {
-    double m = 0, m2 = 0;
-    for (double x : v) m += x;
-    m /= std::max<std::size_t>(v.size(), 1);
-    for (double x : v) m2 += (x - m) * (x - m);
-    return nlohmann::json{{"mean", m}, {"std", v.size() > 1 ? std::sqrt(m2 / (v.size() - 1)) : 0.0}};
-  };
-  const auto stats = [&spread](const std::vector<double>& v) {
-    nlohmann::json j = spread(v);
-    j["bruggeman"] = gfmd::bruggeman_2d(v);
-    return j;
-  };
-  j["conductivity_x"] = stats(kx);
-  j["conductivity_y"] = stats(ky);
-  j["relative_contact_area"] = stats(ac);
-  if (pairs) {
-    j["frictionless"] = {{"conductivity_x", stats(kx0)},
-                         {"conductivity_y", stats(ky0)},
-                         {"relative_contact_area", stats(ac0)}};
-    const double bx = j["conductivity_x"]["bruggeman"], by = j["conductivity_y"]["bruggeman"];
-    const double bx0 = j["frictionless"]["conductivity_x"]["bruggeman"],
-                 by0 = j["frictionless"]["conductivity_y"]["bruggeman"];
-    j["relative_change_x"] = bx0 > 0 ? bx / bx0 - 1 : 0.0;
-    j["relative_change_y"] = by0 > 0 ? by / by0 - 1 : 0.0;
-    std::vector<double> rx, ry;
-    for (std::size_t i = 0; i < kx.size(); ++i) {
-      if (kx0[i] > 0) rx.push_back(kx[i] / kx0[i] - 1);
-      if (ky0[i] > 0) ry.push_back(ky[i] / ky0[i] - 1);
-    }
-    j["relative_change_x_per_seed"] = spread(rx);
-    j["relative_change_y_per_seed"] = spread(ry);
-  }
-  j["input"] = probe.to_json();
-  j["version"] = gfmd::kVersion;
-  j["git_commit"] = gfmd::kGitCommit;
-  gfmd::write_text_atomic((std::filesystem::path(out_dir) / "ensemble.json").string(), j.dump(2) + "\n");
+  gfmd::EnsembleOptions eo;
+  eo.first_seed = s0;
+  eo.last_seed = s1;
+  eo.overrides = sets;
+  eo.stop_request = stop_requested;
+  if (!quiet) eo.on_seed = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };
+  const nlohmann::json j = gfmd::run_ensemble(case_path, out_dir, eo);
+  const bool pairs = j.contains("frictionless");
   std::printf("%s/ensemble.json: K_x = %.4e, K_y = %.4e (Bruggeman over %d seeds)", out_dir.c_str(),
               j["conductivity_x"]["bruggeman"].get<double>(), j["conductivity_y"]["bruggeman"].get<double>(),
               s1 - s0 + 1);

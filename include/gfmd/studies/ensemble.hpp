@@ -1,0 +1,31 @@
+// Seed ensembles: a self-affine case with flow solved for a range of seeds (with friction:
+// each seed also frictionless), conductivities combined by Bruggeman's effective medium.
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace gfmd {
+
+inline constexpr int kMaxEnsembleSeeds = 10000;
+
+struct EnsembleOptions {
+  int first_seed = 0, last_seed = 7;
+  std::vector<std::string> overrides;               // --set values applied to every seed
+  std::function<bool()> stop_request;               // polled; true stops with gfmd::Interrupted
+  std::function<void(const std::string&)> on_seed;  // one line per finished seed
+};
+
+// Solves seeds first_seed..last_seed of the case (indenter.seed set, flow in both
+// directions) into dir/seed_N/ (and dir/frictionless_seed_N/ when the case has friction),
+// reusing seeds whose summary.json holds a converged solve of the same input, and writes
+// dir/ensemble.json (returned): per seed a_c, K_x, K_y; mean, sample std and Bruggeman
+// value of each; with friction the relative change of the conductivities through friction
+// and coupling. The caller holds dir's DirectoryLock. Throws InputError (the case is not
+// self-affine, bad seeds) and SolveError (a seed did not converge).
+nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir,
+                            const EnsembleOptions& opts);
+
+}  // namespace gfmd

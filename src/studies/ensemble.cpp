@@ -1,0 +1,128 @@
+// Seed ensembles of a self-affine case with flow. See include/gfmd/studies/ensemble.hpp.
+#include "gfmd/studies/ensemble.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "gfmd/case/outputs.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
+#include "gfmd/flow/flow.hpp"
+#include "gfmd/version.hpp"
+
+namespace gfmd {
+
+namespace fs = std::filesystem;
+
+nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir,
+                            const EnsembleOptions& opts) {
+  if (opts.first_seed < 0 || opts.last_seed < opts.first_seed)
+    throw InputError("--seeds", "expected 0 <= FIRST <= LAST");
+  if (opts.last_seed - opts.first_seed >= kMaxEnsembleSeeds)
+    throw InputError("--seeds", "at most " + std::to_string(kMaxEnsembleSeeds) + " seeds per ensemble");
+  const Config probe = load_config(case_path, opts.overrides);
+  if (probe.indenter.type != "selfaffine")
+    throw InputError(case_path, "an ensemble needs a selfaffine indenter");
+  const bool pairs = probe.friction.coefficient > 0;
+  nlohmann::json j;
+  j["seeds"] = nlohmann::json::array();
+  std::vector<double> kx, ky, kx0, ky0, ac, ac0;
+  for (int seed = opts.first_seed; seed <= opts.last_seed; ++seed) {
+    for (int variant = 0; variant < (pairs ? 2 : 1); ++variant) {
+      std::vector<std::string> ss = opts.overrides;
+      ss.push_back("indenter.seed=" + std::to_string(seed));
+      ss.push_back("flow.direction=\"both\"");
+      if (variant == 1) ss.push_back("friction.coefficient=0");
+      const Config c = load_config(case_path, ss);
+      const std::string d =
+          (fs::path(dir) / ((variant ? "frictionless_seed_" : "seed_") + std::to_string(seed))).string();
+      double x = 0, y = 0, a = 0;
+      bool reused = false;
+      // A seed finished earlier with the same input is read back (as sweep points are).
+      if (const auto old = finished_summary(d, c)) {
+        std::ifstream fj(fs::path(d) / "flow.json");
+        try {
+          const nlohmann::json fl = nlohmann::json::parse(fj);
+          x = fl.at("conductivity_x").get<double>();
+          y = fl.at("conductivity_y").get<double>();
+          a = old->at("relative_contact_area").get<double>();
+          reused = true;
+        } catch (const std::exception&) {
+          reused = false;  // incomplete: solve again
+        }
+      }
+      if (!reused) {
+        RunOptions ro;
+        ro.keep_stress_fields = outputs_need_stress_fields(c);
+        ro.stop_request = opts.stop_request;
+        const CaseResult r = run_case(c, ro);
+        if (!r.info.converged) throw SolveError("seed " + std::to_string(seed) + ": " + r.info.status);
+        fs::create_directories(d);
+        clear_run_outputs(d);
+        write_outputs(r, d);
+        x = r.leakage.json["conductivity_x"];
+        y = r.leakage.json["conductivity_y"];
+        a = r.observables.relative_contact_area;
+      }
+      (variant ? kx0 : kx).push_back(x);
+      (variant ? ky0 : ky).push_back(y);
+      (variant ? ac0 : ac).push_back(a);
+      j["seeds"].push_back({{"seed", seed},
+                            {"friction_coefficient", c.friction.coefficient},
+                            {"relative_contact_area", a},
+                            {"conductivity_x", x},
+                            {"conductivity_y", y}});
+      if (opts.on_seed) {
+        char line[160];
+        std::snprintf(line, sizeof line, "seed %d%s: a_c = %.4f, K_x = %.4e, K_y = %.4e%s", seed,
+                      variant ? " (frictionless)" : "", a, x, y, reused ? " (finished earlier)" : "");
+        opts.on_seed(line);
+      }
+    }
+  }
+  // Mean and sample standard deviation; with the Bruggeman combination for conductivities.
+  const auto spread = [](const std::vector<double>& v) {
+    double m = 0, m2 = 0;
+    for (double x : v) m += x;
+    m /= std::max<std::size_t>(v.size(), 1);
+    for (double x : v) m2 += (x - m) * (x - m);
+    return nlohmann::json{{"mean", m}, {"std", v.size() > 1 ? std::sqrt(m2 / (v.size() - 1)) : 0.0}};
+  };
+  const auto stats = [&spread](const std::vector<double>& v) {
+    nlohmann::json j = spread(v);
+    j["bruggeman"] = bruggeman_2d(v);
+    return j;
+  };
+  j["conductivity_x"] = stats(kx);
+  j["conductivity_y"] = stats(ky);
+  j["relative_contact_area"] = stats(ac);
+  if (pairs) {
+    j["frictionless"] = {{"conductivity_x", stats(kx0)},
+                         {"conductivity_y", stats(ky0)},
+                         {"relative_contact_area", stats(ac0)}};
+    const double bx = j["conductivity_x"]["bruggeman"], by = j["conductivity_y"]["bruggeman"];
+    const double bx0 = j["frictionless"]["conductivity_x"]["bruggeman"],
+                 by0 = j["frictionless"]["conductivity_y"]["bruggeman"];
+    j["relative_change_x"] = bx0 > 0 ? bx / bx0 - 1 : 0.0;
+    j["relative_change_y"] = by0 > 0 ? by / by0 - 1 : 0.0;
+    std::vector<double> rx, ry;
+    for (std::size_t i = 0; i < kx.size(); ++i) {
+      if (kx0[i] > 0) rx.push_back(kx[i] / kx0[i] - 1);
+      if (ky0[i] > 0) ry.push_back(ky[i] / ky0[i] - 1);
+    }
+    j["relative_change_x_per_seed"] = spread(rx);
+    j["relative_change_y_per_seed"] = spread(ry);
+  }
+  j["input"] = probe.to_json();
+  j["version"] = kVersion;
+  j["git_commit"] = kGitCommit;
+  write_text_atomic((fs::path(dir) / "ensemble.json").string(), j.dump(2) + "\n");
+  return j;
+}
+
+}  // namespace gfmd
