@@ -3,10 +3,10 @@
 // solvers of it (our AMG under CG in amg_solve.cpp, HYPRE's BoomerAMG in hypre_solve.cpp).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
