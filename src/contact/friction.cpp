@@ -1,0 +1,223 @@
+// Coulomb's law in the friction fixed point: slip tractions (full slip, regularised) and
+// the set-valued law with stick solved by Douglas-Rachford splitting (docs/solver.md).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <sstream>
+
+#include "gfmd/contact/solver.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/reduce.hpp"
+#include "solver_detail.hpp"
+
+namespace gfmd {
+
+using namespace contact_detail;
+
+std::string friction_history_evidence(const std::vector<double>& change, const std::vector<double>& force) {
+  const std::size_t n = std::min(change.size(), force.size());
+  const std::size_t w = std::min<std::size_t>(n, 60);
+  if (w < 8) return "too few friction steps to tell a limit cycle";
+  const std::size_t s = n - w;  // the last w steps
+  double fmin = force[s], fmax = force[s], fmean = 0, cmin = change[s], cmax = change[s];
+  for (std::size_t t = s; t < n; ++t) {
+    fmin = std::min(fmin, force[t]);
+    fmax = std::max(fmax, force[t]);
+    fmean += force[t] / static_cast<double>(w);
+    cmin = std::min(cmin, change[t]);
+    cmax = std::max(cmax, change[t]);
+  }
+  const double range = fmax - fmin;
+  char buf[320];
+  // The period whose shifted copy matches the force history best (mean mismatch relative to
+  // the range), tried up to a third of the window so that at least three periods are seen.
+  std::size_t best_p = 0;
+  double best_d = std::numeric_limits<double>::infinity();
+  if (range > 0)
+    for (std::size_t p = 1; p <= w / 3; ++p) {
+      double d = 0;
+      for (std::size_t t = s + p; t < n; ++t) d += std::abs(force[t] - force[t - p]);
+      d /= static_cast<double>(w - p) * range;
+      if (d < best_d - 1e-12) {
+        best_d = d;
+        best_p = p;
+      }
+    }
+  const double rel = std::abs(fmean) > 0 ? 0.5 * range / std::abs(fmean) : 0.5 * range;
+  if (best_p >= 2 && best_d < 0.1) {
+    std::snprintf(buf, sizeof buf,
+                  "a limit cycle over the last %zu friction steps: period %zu steps, tangential force "
+                  "oscillating by +-%.2e (relative), traction change per step %.2e to %.2e",
+                  w, best_p, rel, cmin, cmax);
+  } else if (best_p == 1 && best_d < 0.1) {
+    std::snprintf(buf, sizeof buf,
+                  "no limit cycle: over the last %zu friction steps the tangential force drifts slowly "
+                  "(range %.2e relative), traction change per step %.2e to %.2e: give it more steps",
+                  w, 2 * rel, cmin, cmax);
+  } else {
+    std::snprintf(buf, sizeof buf,
+                  "no periodic pattern over the last %zu friction steps: tangential force varies by +-%.2e "
+                  "(relative), traction change per step %.2e to %.2e",
+                  w, rel, cmin, cmax);
+  }
+  return buf;
+}
+
+std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, RealField& tx, RealField& ty,
+                                                    const std::vector<unsigned char>& in_supp) {
+  // Requires s2_/s3_ to hold the spectra of tau_x/tau_y (friction_normal_displacement).
+  // One forward FFT (of p; t_z = -p), the slopes (e.grad) u of the in-plane displacement in
+  // one spectral pass, two inverse FFTs; leaves (e.grad) u in r1_/r2_.
+  const double th = fric_.direction_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(th), ey = std::sin(th);
+  const double scale = 1.0 / static_cast<double>(grid_.size());
+  fft_.forward(f.pressure.data(), s1_.data());
+  body_.inplane_slope(s2_.data(), s3_.data(), s1_.data(), ex, ey, s1_.data(), s2_.data(), scale, -scale);
+  fft_.backward_unscaled_destroying(s1_.data(), r1_.data());
+  fft_.backward_unscaled_destroying(s2_.data(), r2_.data());
+  const double mu = fric_.coefficient;
+  const double eps = fric_.regularization;  // tau = mu p v / max(|v|, eps)
+  const double xi = fric_.creepage;
+  // Outside the contact set the new traction is zero; outside the Anderson support the
+  // traction and its previous image are zero too (see solve), so nothing there is read.
+  return grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
+    const double p = f.pressure[i];
+    if (p > 0) {
+      const double vx = xi * ex + r1_[i], vy = xi * ey + r2_[i];
+      const double norm = std::max(std::sqrt(vx * vx + vy * vy), eps);  // |v| = O(1): no hypot needed
+      double x = 0.0, y = 0.0;
+      if (norm > 0) {
+        x = mu * p * vx / norm;
+        y = mu * p * vy / norm;
+      }
+      tx[i] = x;
+      ty[i] = y;
+      add_change(acc, in_supp[i], x, y, f.tx[i], f.ty[i]);
+    } else if (in_supp[i]) {
+      tx[i] = 0.0;
+      ty[i] = 0.0;
+      acc[0] += std::abs(f.tx[i]) + std::abs(f.ty[i]);
+    }
+  });
+}
+
+double ContactSolver::default_stick_step() const {
+  // gamma = c / rho(A): the scale on which the slip operator acts.
+  const double th = fric_.direction_deg * std::numbers::pi / 180.0;
+  const double rho = body_.slip_operator_norm(std::cos(th), std::sin(th));
+  return rho > 0 ? kStickStepFactor / rho : body_.params().contact_modulus;
+}
+
+ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField& p, RealField& tx,
+                                                                RealField& ty, double tol, int max_it) {
+  // Douglas-Rachford on 0 in -v(tau) + N_K(tau), v(tau) = b + A tau with b = xi e_s + b' (b'
+  // the slip the pressure causes through the coupling) and A = (e_s.grad) C_tt skew:
+  //   tau = P_K(z);  y = (I - gamma A)^-1 (2 tau - z + gamma b);  z <- z + y - tau.
+  // At a fixed point y = tau and z = tau + gamma v(tau), the projection form of Coulomb's
+  // law: tau = mu_c p v/|v| where the point slips, |tau| <= mu_c p where v = 0 (stick).
+  // Per step: 2 forward and 2 inverse FFTs and two fused passes over the grid.
+  const std::size_t n = grid_.size();
+  const double th = fric_.direction_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(th), ey = std::sin(th);
+  const double xi = fric_.creepage;
+  const double mu = fric_.coefficient;
+  const double gamma = gamma_;
+  const double scale = 1.0 / static_cast<double>(n);
+  RealField& yx = r1_;
+  RealField& yy = r2_;
+  // b': slip velocity caused by the pressure (zero without coupling), times gamma.
+  for (auto* fld : {&bx_, &by_, &zx_, &zy_})
+    if (fld->size() != n) fld->assign(n, 0.0);
+  fft_.forward(p.data(), s1_.data());
+  body_.inplane_slope(nullptr, nullptr, s1_.data(), ex, ey, s2_.data(), s3_.data(), scale, -scale * gamma);
+  fft_.backward_unscaled_destroying(s2_.data(), bx_.data());
+  fft_.backward_unscaled_destroying(s3_.data(), by_.data());
+  if (!have_z_) {
+    // z = tau + gamma v(tau) for the traction we start from.
+    fft_.forward(tx.data(), s2_.data());
+    fft_.forward(ty.data(), s3_.data());
+    body_.inplane_slope(s2_.data(), s3_.data(), nullptr, ex, ey, s2_.data(), s3_.data(), scale * gamma, 0.0);
+    fft_.backward_unscaled_destroying(s2_.data(), yx.data());
+    fft_.backward_unscaled_destroying(s3_.data(), yy.data());
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      zx_[i] = tx[i] + gamma * xi * ex + bx_[i] + yx[i];
+      zy_[i] = ty[i] + gamma * xi * ey + by_[i] + yy[i];
+    }
+    have_z_ = true;
+  }
+  // Projection onto the disc of radius mu_c p.
+  const auto project = [&](std::size_t i, double zx, double zy, double& x, double& y) {
+    const double r = mu * p[i];
+    if (!(r > 0)) {
+      x = y = 0.0;
+      return;
+    }
+    const double m2 = zx * zx + zy * zy;
+    if (m2 <= r * r) {
+      x = zx;
+      y = zy;
+    } else {
+      const double f = r / std::sqrt(m2);
+      x = f * zx;
+      y = f * zy;
+    }
+  };
+  // tau = P_K(z); with `rhs` also y <- 2 tau - z + gamma b' (the resolvent's argument).
+  const auto project_pass = [&](bool rhs) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      double x, y;
+      project(i, zx_[i], zy_[i], x, y);
+      tx[i] = x;
+      ty[i] = y;
+      if (rhs) {
+        yx[i] = 2.0 * x - zx_[i] + bx_[i];
+        yy[i] = 2.0 * y - zy_[i] + by_[i];
+      }
+    }
+  };
+  TangentialResult res{0, 1.0, false};
+  const double cx = gamma * xi * ex, cy = gamma * xi * ey;
+  const double beta = kTangentialRelaxation;
+  for (int it = 0; it < max_it; ++it) {
+    ++res.iterations;
+    project_pass(true);
+    fft_.forward(yx.data(), s2_.data());
+    fft_.forward(yy.data(), s3_.data());
+    body_.slip_resolvent(s2_.data(), s3_.data(), ex, ey, gamma, scale);
+    s2_[0] += cx;  // the rigid slip gamma xi e_s: the q = 0 mode, where the resolvent is 1
+    s3_[0] += cy;
+    fft_.backward_unscaled_destroying(s2_.data(), yx.data());
+    fft_.backward_unscaled_destroying(s3_.data(), yy.data());
+    // The change |y - tau| and the size |tau| (L1); the relaxed step z <- z + beta (y - tau).
+    const auto sums = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
+      const double dx = yx[i] - tx[i], dy = yy[i] - ty[i];
+      acc[0] += std::abs(dx) + std::abs(dy);
+      acc[1] += std::abs(tx[i]) + std::abs(ty[i]);
+      zx_[i] += beta * dx;
+      zy_[i] += beta * dy;
+    });
+    res.error = sums[1] > 0 ? sums[0] / sums[1] : (sums[0] > 0 ? 1.0 : 0.0);
+    require_finite(res.error, "the stick-slip traction", total_it_);
+    if (res.error < tol) {
+      res.converged = true;
+      break;
+    }
+    if (res.iterations % 64 == 0) poll(nullptr);
+  }
+  project_pass(false);  // tau = P_K(z) for the final z
+  return res;
+}
+
+void ContactSolver::friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w) {
+  fft_.forward(tx.data(), s2_.data());
+  fft_.forward(ty.data(), s3_.data());
+  body_.displacement(s2_.data(), s3_.data(), nullptr, nullptr, nullptr, s1_.data(),
+                     1.0 / static_cast<double>(grid_.size()));
+  fft_.backward_unscaled_destroying(s1_.data(), w.data());
+}
+
+}  // namespace gfmd

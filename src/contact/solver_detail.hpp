@@ -1,0 +1,45 @@
+// Shared pieces of the contact solver's parts (private to the contact part): constants of
+// the stick-slip iteration, checks and the per-point sums of a friction step.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "gfmd/core/error.hpp"
+
+namespace gfmd::contact_detail {
+
+using Clock = std::chrono::steady_clock;
+// Stick-slip (Douglas-Rachford) iteration of the exact law, chosen by measurement (see
+// docs/solver.md): step gamma = 1/rho(A), over-relaxation 1.6, no Anderson mixing (it saved
+// iterations but not time, and holds 20 single-precision fields); each stick-slip solve
+// within a friction step stops at 1e-3 of the friction change.
+inline constexpr double kStickStepFactor = 1.0;
+inline constexpr double kTangentialRelaxation = 1.6;
+inline constexpr double kTangentialTolFactor = 1e-3;
+
+inline void require_finite(double v, const char* what, int it) {
+  if (!std::isfinite(v)) {
+    std::ostringstream os;
+    os << "solve diverged: " << what << " is not finite at iteration " << it;
+    throw SolveError(os.str());
+  }
+}
+// A point joins the Anderson support of the friction iteration when it is not in it yet
+// and the iterate (fx, fy) or its image (x, y) is non-zero there.
+inline bool joins_support(unsigned char in_supp, double x, double y, double fx, double fy) {
+  return !in_supp && (x != 0.0 || y != 0.0 || fx != 0.0 || fy != 0.0);
+}
+
+// Sums of a friction step at a point with new traction (x, y) and previous (fx, fy): the
+// change |new - old|_1, the size |new|_1, and whether the point joins the Anderson support.
+inline void add_change(std::array<double, 3>& acc, unsigned char in_supp, double x, double y, double fx,
+                       double fy) {
+  acc[0] += std::abs(x - fx) + std::abs(y - fy);
+  acc[1] += std::abs(x) + std::abs(y);
+  if (joins_support(in_supp, x, y, fx, fy)) acc[2] += 1.0;
+}
+
+}  // namespace gfmd::contact_detail
