@@ -1,0 +1,131 @@
+// A Config written back: its JSON (summary "input") and TOML (fields.nc, checkpoints), and
+// the topography it describes.
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+#include <toml.hpp>
+
+#include "config_detail.hpp"
+#include "gfmd/case/config.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
+#include "gfmd/flow/flow.hpp"
+
+namespace gfmd {
+
+using config_detail::kSections;
+
+nlohmann::json Config::to_json() const {
+  nlohmann::json j;
+  j["grid"] = {{"nx", grid.nx}, {"ny", grid.ny}, {"lx", grid.lx}, {"ly", grid.ly}};
+  j["elastic"] = {{"contact_modulus", elastic.contact_modulus},
+                  {"poisson", elastic.poisson},
+                  {"coupling", elastic.coupling}};
+  if (elastic.half_space())
+    j["elastic"]["thickness"] = "inf";
+  else
+    j["elastic"]["thickness"] = elastic.thickness;
+  nlohmann::json ind = {{"type", indenter.type}};
+  if (indenter.type == "hertz") {
+    ind["radius_x"] = indenter.radius_x;
+    ind["radius_y"] = indenter.radius_y;
+    if (indenter.radius_x == indenter.radius_y) ind["radius"] = indenter.radius_x;
+  } else if (indenter.type == "eggcrate") {
+    ind["wavelength"] = indenter.wavelength;
+    ind["amplitude"] = indenter.amplitude;
+  } else if (indenter.type == "selfaffine") {
+    const auto& s = indenter.selfaffine;
+    ind["hurst"] = s.hurst;
+    ind["lambda_long"] = s.lambda_long;
+    ind["lambda_short"] = s.lambda_short;
+    if (s.rms_height > 0) ind["rms_height"] = s.rms_height;
+    if (s.rms_gradient > 0) ind["rms_gradient"] = s.rms_gradient;
+    if (s.lambda_rolloff > 0) ind["lambda_rolloff"] = s.lambda_rolloff;
+    ind["seed"] = s.seed;
+  } else {
+    ind["path"] = indenter.path;
+  }
+  j["indenter"] = ind;
+  const char* lk = load.mode == LoadMode::Force      ? "force"
+                   : load.mode == LoadMode::Pressure ? "pressure"
+                                                     : "approach";
+  j["load"] = {{lk, load.value}};
+  j["friction"] = {{"coefficient", friction.coefficient},       {"direction", friction.direction_deg},
+                   {"regularization", friction.regularization}, {"creepage", friction.creepage},
+                   {"stick_step", friction.stick_step},         {"reference", friction_reference}};
+  j["interaction"] = {{"model", interaction.hard_wall ? "hardwall" : "harmonic"},
+                      {"stiffness", interaction.stiffness}};
+  j["solver"] = {{"tolerance", solver.tolerance},
+                 {"max_iterations", solver.max_iterations},
+                 {"max_outer", solver.max_outer},
+                 {"max_tangential", solver.max_tangential},
+                 {"anderson", solver.anderson},
+                 {"mixing", solver.mixing},
+                 {"fft_planner", solver.fft_planner == Planner::Measure ? "measure" : "estimate"},
+                 {"threads", threads}};
+  j["output"] = {{"fields", output.fields}, {"png", output.png}};
+  nlohmann::json pa = false;
+  if (stress.post_analysis.size() == 1) pa = stress.post_analysis.front();
+  if (stress.post_analysis.size() > 1) pa = stress.post_analysis;
+  j["stress"] = {{"post_analysis", pa},
+                 {"high_tension_fraction", stress.high_tension_fraction},
+                 {"depths", stress.depths},
+                 {"profiles", stress.profiles}};
+  if (flow.enabled)
+    j["flow"] = {
+        {"angles", flow.angles}, {"tolerance", flow.tolerance}, {"solver", flow_solver_name(flow.solver)}};
+  if (sweep.active())
+    j["sweep"] = {{"parameter", sweep.parameter}, {"values", sweep.values}, {"plot", sweep.plot}};
+  return j;
+}
+
+std::string Config::to_toml() const {
+  const nlohmann::json j = to_json();
+  std::ostringstream os;
+  os.precision(17);
+  for (const auto& sec : kSections) {
+    if (!j.contains(sec)) continue;
+    os << "[" << sec << "]\n";
+    for (const auto& [k, v] : j[sec].items()) {
+      os << k << " = ";
+      if (v.is_string())
+        os << '"' << v.get<std::string>() << '"';
+      else if (v.is_boolean())
+        os << (v.get<bool>() ? "true" : "false");
+      else if (v.is_number_integer() || v.is_number_unsigned() || v.is_array())
+        os << v.dump();
+      else
+        os << v.get<double>();
+      os << "\n";
+    }
+    os << "\n";
+  }
+  return os.str();
+}
+
+Topography make_topography(const Config& c) {
+  const IndenterConfig& in = c.indenter;
+  if (in.type == "hertz") return make_hertz(c.grid, in.radius_x, in.radius_y);
+  if (in.type == "eggcrate") return make_eggcrate(c.grid, in.wavelength, in.amplitude);
+  if (in.type == "selfaffine") return make_selfaffine(c.grid, in.selfaffine);
+  Topography t = read_topography(in.path, c.grid.lx, c.grid.ly);
+  if (t.grid.nx != c.grid.nx || t.grid.ny != c.grid.ny) {
+    std::ostringstream os;
+    os << "the height map is " << t.grid.nx << " x " << t.grid.ny << " but [grid] asks for " << c.grid.nx
+       << " x " << c.grid.ny;
+    throw InputError(in.path, os.str());
+  }
+  return t;
+}
+
+}  // namespace gfmd
