@@ -1,0 +1,564 @@
+// Height-map files (text and NetCDF). See include/gfmd/io/height_map.hpp.
+#include "gfmd/io/height_map.hpp"
+
+#include <netcdf.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
+
+namespace gfmd {
+
+namespace {
+
+std::string num(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+bool positive_finite(double v) { return v > 0.0 && std::isfinite(v); }
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+// File readers
+
+namespace {
+
+bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f' || c == '\r'; }
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && is_blank(s.front())) s.remove_prefix(1);
+  while (!s.empty() && is_blank(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+enum class ParseStatus { Ok, NotNumber, OutOfRange };
+
+// Parses the whole token as a double (an optional leading '+' is accepted).
+ParseStatus parse_double(std::string_view tok, double& v) {
+  if (tok.size() > 1 && tok.front() == '+' && tok[1] != '-' && tok[1] != '+') tok.remove_prefix(1);
+  const char* first = tok.data();
+  const char* last = tok.data() + tok.size();
+  const auto [ptr, ec] = std::from_chars(first, last, v, std::chars_format::general);
+  if (ec == std::errc::result_out_of_range && ptr == last) return ParseStatus::OutOfRange;
+  if (ec != std::errc() || ptr != last || tok.empty()) return ParseStatus::NotNumber;
+  return ParseStatus::Ok;
+}
+
+void check_readable(const std::string& path) {
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(st))
+    throw InputError(path, "cannot open the topography file: no such file");
+  require_regular_file(path, "topography file");
+}
+
+double choose_size(const std::string& path, const char* name, double arg, std::optional<double> from_file,
+                   const std::string& how_in_file) {
+  if (arg > 0.0) {
+    if (!std::isfinite(arg))
+      throw InputError(path, std::string(name) + " must be finite (got " + num(arg) + ")");
+    return arg;  // the caller's value wins over the file
+  }
+  if (std::isnan(arg)) throw InputError(path, std::string(name) + " is NaN");
+  if (from_file) return *from_file;
+  throw InputError(path, std::string("no physical size ") + name + ": the file has no " + how_in_file +
+                             " and no " + name + " > 0 was given");
+}
+
+// ---- text ----
+
+// Recognises "# lx = v" / "# ly: v" (after the '#'); returns 'x', 'y' or 0 (plain comment).
+char header_key(std::string_view rest, std::string_view& value) {
+  rest = trim(rest);
+  if (rest.size() < 2) return 0;
+  const char c0 = static_cast<char>(std::tolower(static_cast<unsigned char>(rest[0])));
+  const char c1 = static_cast<char>(std::tolower(static_cast<unsigned char>(rest[1])));
+  if (c0 != 'l' || (c1 != 'x' && c1 != 'y')) return 0;
+  std::string_view after = trim(rest.substr(2));
+  if (after.empty() || (after.front() != '=' && after.front() != ':')) return 0;
+  value = trim(after.substr(1));
+  return c1;
+}
+
+// A token as quoted in an error: at most 40 characters.
+std::string excerpt(std::string_view tok) {
+  return tok.size() <= 40 ? std::string(tok) : std::string(tok.substr(0, 37)) + "...";
+}
+
+HeightMap read_text(const std::string& path, double lx_arg, double ly_arg) {
+  // A text map is at most ~25 bytes per value; 1 GiB holds 2^25 values at ~30 B.
+  const std::string text = read_regular_file(path, std::size_t{1} << 30, "topography file");
+  std::vector<double> data;
+  int nx = 0, ny = 0;
+  long first_row_line = 0;
+  std::optional<double> hdr[2];
+  long hdr_line[2] = {0, 0};
+  long lineno = 0;
+  std::size_t next = 0;
+  while (next < text.size()) {
+    const std::size_t eol = std::min(text.find('\n', next), text.size());
+    const std::string_view line(text.data() + next, eol - next);
+    next = eol + 1;
+    ++lineno;
+    const std::string_view s = trim(line);
+    if (s.empty()) continue;
+    if (s.front() == '#') {
+      std::string_view value;
+      const char key = header_key(s.substr(1), value);
+      if (key == 0) continue;
+      const int k = key == 'x' ? 0 : 1;
+      const std::string name = key == 'x' ? "lx" : "ly";
+      if (hdr[k])
+        throw InputError(path, "line " + std::to_string(lineno) + ": " + name +
+                                   " given twice (first on line " + std::to_string(hdr_line[k]) + ")");
+      double v = 0.0;
+      if (parse_double(value, v) != ParseStatus::Ok || !positive_finite(v))
+        throw InputError(path, "line " + std::to_string(lineno) + ": invalid " + name + " header value '" +
+                                   excerpt(value) + "' (expected a positive number)");
+      hdr[k] = v;
+      hdr_line[k] = lineno;
+      continue;
+    }
+    // Data row: values separated by blanks, or by commas or semicolons (CSV; blanks around
+    // them allowed). A row uses one separator.
+    const char sep = s.find(',') != std::string_view::npos   ? ','
+                     : s.find(';') != std::string_view::npos ? ';'
+                                                             : ' ';
+    int count = 0;
+    std::size_t pos = 0;
+    while (pos <= s.size()) {
+      std::string_view tok;
+      if (sep == ' ') {
+        while (pos < s.size() && is_blank(s[pos])) ++pos;
+        if (pos >= s.size()) break;
+        std::size_t end = pos;
+        while (end < s.size() && !is_blank(s[end])) ++end;
+        tok = s.substr(pos, end - pos);
+        pos = end;
+      } else {
+        const std::size_t end = std::min(s.find(sep, pos), s.size());
+        tok = trim(s.substr(pos, end - pos));
+        pos = end + 1;
+        if (tok.empty() && end == s.size() && count > 0) break;  // one trailing separator
+        if (tok.empty())
+          throw InputError(path, "line " + std::to_string(lineno) + ": empty value " +
+                                     std::to_string(count + 1) + " between '" + std::string(1, sep) +
+                                     "' separators");
+      }
+      ++count;
+      double v = 0.0;
+      const ParseStatus st = parse_double(tok, v);
+      if (st == ParseStatus::NotNumber)
+        throw InputError(path, "line " + std::to_string(lineno) + ": non-numeric value '" + excerpt(tok) +
+                                   "' (value " + std::to_string(count) + ")");
+      if (st == ParseStatus::OutOfRange || !std::isfinite(v))
+        throw InputError(path, "line " + std::to_string(lineno) + ": non-finite value '" + excerpt(tok) +
+                                   "' (value " + std::to_string(count) + "); NaN and Inf are not allowed");
+      data.push_back(v);
+    }
+    if (ny == 0) {
+      nx = count;
+      first_row_line = lineno;
+    } else if (count != nx) {
+      throw InputError(path, "ragged rows: line " + std::to_string(lineno) + " has " + std::to_string(count) +
+                                 " values but the first data row (line " + std::to_string(first_row_line) +
+                                 ") has " + std::to_string(nx));
+    }
+    ++ny;
+  }
+  if (ny == 0)
+    throw InputError(path, lineno == 0 ? "the file is empty (no data)"
+                                       : "no data rows in the file (only comments or blank lines)");
+
+  HeightMap t;
+  t.nx = nx;
+  t.ny = ny;
+  t.lx = choose_size(path, "lx", lx_arg, hdr[0], "'# lx = <value>' header line");
+  t.ly = choose_size(path, "ly", ly_arg, hdr[1], "'# ly = <value>' header line");
+  t.h.assign(data.begin(), data.end());
+  return t;
+}
+
+// ---- NetCDF ----
+
+class NcFile {
+ public:
+  NcFile(const std::string& path) : path_(path) {
+    const int st = nc_open(path.c_str(), NC_NOWRITE, &id_);
+    if (st != NC_NOERR)
+      throw InputError(path, std::string("cannot read the NetCDF file: ") + nc_strerror(st));
+  }
+  ~NcFile() { nc_close(id_); }
+  NcFile(const NcFile&) = delete;
+  NcFile& operator=(const NcFile&) = delete;
+  [[nodiscard]] int id() const { return id_; }
+  void check(int st, const std::string& what) const {
+    if (st != NC_NOERR) throw InputError(path_, "NetCDF error while " + what + ": " + nc_strerror(st));
+  }
+
+ private:
+  std::string path_;
+  int id_ = -1;
+};
+
+// netcdf-c (4.9) reads the data of a truncated classic-format file (CDF-1/2/5) as zeros
+// without reporting an error. We therefore parse the classic header (big-endian; see the
+// NetCDF classic format specification) to find where every variable's data ends and
+// compare with the file size. Returns the number of bytes the header implies (0 when it
+// cannot be determined, e.g. a streamed record count), or throws on a malformed header.
+class ClassicHeader {
+ public:
+  struct NeedMore {};  // thrown when the bytes given end inside the header
+
+  ClassicHeader(const std::string& path, std::vector<unsigned char> bytes, bool complete)
+      : path_(path), b_(std::move(bytes)), complete_(complete) {}
+
+  std::uint64_t required_size() {
+    if (b_.size() < 4) fail();
+    const int version = b_[3];
+    wide_ = version == 5;                         // CDF-5: 64-bit counts
+    wide_offset_ = version == 2 || version == 5;  // CDF-2/5: 64-bit begin
+    const std::uint64_t numrecs = count();
+    const bool streaming = !wide_ && numrecs == 0xFFFFFFFFull;
+    // Dimensions.
+    std::vector<std::uint64_t> dim_len;
+    const std::uint64_t ndims = list_header(0x0A);
+    for (std::uint64_t i = 0; i < ndims; ++i) {
+      skip_name();
+      dim_len.push_back(count());
+    }
+    skip_atts();
+    struct Var {
+      std::uint64_t size, vsize, begin;
+      bool record;
+    };
+    std::vector<Var> vars;
+    const std::uint64_t nvars = list_header(0x0B);
+    for (std::uint64_t v = 0; v < nvars; ++v) {
+      skip_name();
+      const std::uint64_t nd = count();
+      bool record = false;
+      std::uint64_t elems = 1;
+      for (std::uint64_t d = 0; d < nd; ++d) {
+        const std::uint64_t id = count();
+        if (id >= dim_len.size()) fail();
+        if (d == 0 && dim_len[id] == 0)
+          record = true;
+        else
+          elems = mul(elems, dim_len[id]);
+      }
+      skip_atts();
+      const std::uint64_t tsize = type_size(static_cast<int>(u32()));
+      const std::uint64_t vsize = count();
+      const std::uint64_t begin = wide_offset_ ? u64() : u32();
+      vars.push_back({mul(elems, tsize), vsize, begin, record});
+    }
+    std::uint64_t need = pos_;
+    std::uint64_t recsize = 0;
+    int nrec = 0;
+    for (const auto& v : vars)
+      if (v.record) {
+        recsize += v.vsize;
+        ++nrec;
+      }
+    for (const auto& v : vars) {
+      if (!v.record) {
+        need = std::max(need, v.begin + v.size);
+      } else if (!streaming && numrecs > 0) {
+        const std::uint64_t rs = nrec == 1 ? v.size : recsize;
+        need = std::max(need, v.begin + (numrecs - 1) * rs + v.size);
+      }
+    }
+    return need;
+  }
+
+ private:
+  [[noreturn]] void fail() const {
+    if (!complete_) throw NeedMore{};
+    throw InputError(path_, std::string("corrupt NetCDF header: ") + nc_strerror(NC_ETRUNC));
+  }
+  std::uint64_t u32() {
+    if (pos_ + 4 > b_.size()) fail();
+    std::uint64_t v = 0;
+    for (int i = 0; i < 4; ++i) v = (v << 8) | b_[pos_++];
+    return v;
+  }
+  std::uint64_t u64() { return (u32() << 32) | u32(); }
+  std::uint64_t count() { return wide_ ? u64() : u32(); }
+  static std::uint64_t pad4(std::uint64_t n) { return (n + 3) / 4 * 4; }
+  std::uint64_t mul(std::uint64_t a, std::uint64_t b) const {
+    if (b != 0 && a > std::numeric_limits<std::uint64_t>::max() / b) fail();
+    return a * b;
+  }
+  void skip(std::uint64_t n) {
+    if (n > b_.size() - pos_) fail();
+    pos_ += n;
+  }
+  // A list: tag (or ZERO for absent) and element count.
+  std::uint64_t list_header(std::uint64_t tag) {
+    const std::uint64_t t = u32();
+    const std::uint64_t n = count();
+    if (t == 0 && n == 0) return 0;
+    if (t != tag) fail();
+    return n;
+  }
+  void skip_name() { skip(pad4(count())); }
+  static std::uint64_t type_size(int type) {
+    switch (type) {
+      case NC_BYTE:
+      case NC_CHAR:
+      case NC_UBYTE:
+        return 1;
+      case NC_SHORT:
+      case NC_USHORT:
+        return 2;
+      case NC_INT:
+      case NC_UINT:
+      case NC_FLOAT:
+        return 4;
+      case NC_DOUBLE:
+      case NC_INT64:
+      case NC_UINT64:
+        return 8;
+      default:
+        return 0;
+    }
+  }
+  void skip_atts() {
+    const std::uint64_t n = list_header(0x0C);
+    for (std::uint64_t i = 0; i < n; ++i) {
+      skip_name();
+      const std::uint64_t ts = type_size(static_cast<int>(u32()));
+      if (ts == 0) fail();
+      skip(pad4(mul(count(), ts)));
+    }
+  }
+
+  std::string path_;
+  std::vector<unsigned char> b_;
+  bool complete_ = true;
+  std::size_t pos_ = 4;
+  bool wide_ = false, wide_offset_ = false;
+};
+
+void check_classic_not_truncated(const std::string& path) {
+  std::error_code ec;
+  const std::uint64_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw InputError(path, "cannot determine the file size: " + ec.message());
+  // The header has no length field: parse the first 64 KiB, and the whole file if the
+  // header is longer than that.
+  for (std::uint64_t chunk : {std::uint64_t{1} << 16, size}) {
+    std::ifstream in(path, std::ios::binary);
+    std::vector<unsigned char> bytes(static_cast<std::size_t>(std::min(chunk, size)));
+    in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    if (static_cast<std::uint64_t>(in.gcount()) != bytes.size()) throw InputError(path, "read error");
+    const bool complete = bytes.size() == size;
+    try {
+      const std::uint64_t need = ClassicHeader(path, std::move(bytes), complete).required_size();
+      if (need > size)
+        throw InputError(path, "the file has " + std::to_string(size) + " bytes but its header describes " +
+                                   std::to_string(need) + " (" + nc_strerror(NC_ETRUNC) + ")");
+      return;
+    } catch (const ClassicHeader::NeedMore&) {
+      // read the whole file
+    }
+  }
+}
+
+bool numeric_type(nc_type t) {
+  switch (t) {
+    case NC_BYTE:
+    case NC_SHORT:
+    case NC_INT:
+    case NC_FLOAT:
+    case NC_DOUBLE:
+    case NC_UBYTE:
+    case NC_USHORT:
+    case NC_UINT:
+    case NC_INT64:
+    case NC_UINT64:
+      return true;
+    default:
+      return false;
+  }
+}
+
+// Scalar numeric attribute of a variable (or NC_GLOBAL); nullopt if absent.
+std::optional<double> nc_scalar_att(const NcFile& f, const std::string& path, int varid, const char* name) {
+  nc_type type{};
+  std::size_t len = 0;
+  if (nc_inq_att(f.id(), varid, name, &type, &len) != NC_NOERR) return std::nullopt;
+  if (!numeric_type(type) || len != 1)
+    throw InputError(path, std::string("attribute '") + name + "' must be a single number");
+  double v = 0.0;
+  f.check(nc_get_att_double(f.id(), varid, name, &v), std::string("reading attribute ") + name);
+  return v;
+}
+
+// Cell length along a dimension from a 1-D coordinate variable: spacing * count.
+std::optional<double> nc_coordinate_length(const NcFile& f, const std::string& path, int dimid,
+                                           const char* fallback) {
+  char dimname[NC_MAX_NAME + 1] = {};
+  std::size_t n = 0;
+  f.check(nc_inq_dim(f.id(), dimid, dimname, &n), "reading a dimension");
+  for (const char* name : {static_cast<const char*>(dimname), fallback}) {
+    int varid = -1;
+    if (nc_inq_varid(f.id(), name, &varid) != NC_NOERR) continue;
+    int ndims = 0;
+    int dims[NC_MAX_VAR_DIMS];
+    nc_type type{};
+    f.check(nc_inq_var(f.id(), varid, nullptr, &type, &ndims, dims, nullptr),
+            "reading a coordinate variable");
+    if (ndims != 1 || !numeric_type(type)) continue;
+    std::size_t len = 0;
+    f.check(nc_inq_dimlen(f.id(), dims[0], &len), "reading a dimension");
+    if (len != n || n < 2) continue;
+    std::vector<double> c(n);
+    f.check(nc_get_var_double(f.id(), varid, c.data()), std::string("reading coordinate variable ") + name);
+    const double d = (c[n - 1] - c[0]) / static_cast<double>(n - 1);
+    bool uniform = positive_finite(d);
+    for (std::size_t i = 0; uniform && i + 1 < n; ++i) uniform = std::abs((c[i + 1] - c[i]) - d) <= 1e-6 * d;
+    if (!uniform)
+      throw InputError(path, std::string("coordinate variable '") + name +
+                                 "' is not uniformly increasing, so the cell size cannot be taken from it");
+    return d * static_cast<double>(n);
+  }
+  return std::nullopt;
+}
+
+HeightMap read_netcdf(const std::string& path, double lx_arg, double ly_arg) {
+  NcFile f(path);
+  int format = 0;
+  f.check(nc_inq_format(f.id(), &format), "reading the format");
+  if (format == NC_FORMAT_CLASSIC || format == NC_FORMAT_64BIT_OFFSET || format == NC_FORMAT_CDF5)
+    check_classic_not_truncated(path);
+  int varid = -1;
+  std::string varname;
+  for (const char* name : {"topography", "height", "heights"}) {
+    if (nc_inq_varid(f.id(), name, &varid) == NC_NOERR) {
+      varname = name;
+      break;
+    }
+  }
+  if (varname.empty()) {
+    std::string present;
+    int nvars = 0;
+    f.check(nc_inq_nvars(f.id(), &nvars), "listing variables");
+    for (int v = 0; v < nvars; ++v) {
+      char name[NC_MAX_NAME + 1] = {};
+      f.check(nc_inq_varname(f.id(), v, name), "listing variables");
+      present += (present.empty() ? "" : ", ") + std::string(name);
+    }
+    throw InputError(path, "no variable named 'topography', 'height' or 'heights' (variables present: " +
+                               (present.empty() ? std::string("none") : present) + ")");
+  }
+  nc_type type{};
+  int ndims = 0;
+  int dims[NC_MAX_VAR_DIMS];
+  f.check(nc_inq_var(f.id(), varid, nullptr, &type, &ndims, dims, nullptr), "reading variable " + varname);
+  if (ndims != 2)
+    throw InputError(
+        path, "variable '" + varname + "' has " + std::to_string(ndims) + " dimensions; expected 2 (y, x)");
+  if (!numeric_type(type)) throw InputError(path, "variable '" + varname + "' is not numeric");
+  std::size_t ny = 0, nx = 0;
+  f.check(nc_inq_dimlen(f.id(), dims[0], &ny), "reading dimension lengths");
+  f.check(nc_inq_dimlen(f.id(), dims[1], &nx), "reading dimension lengths");
+  if (nx == 0 || ny == 0) throw InputError(path, "variable '" + varname + "' is empty (no data)");
+  if (nx > static_cast<std::size_t>(std::numeric_limits<int>::max()) ||
+      ny > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw InputError(path, "variable '" + varname + "' is too large");
+
+  HeightMap t;
+  t.nx = static_cast<int>(nx);
+  t.ny = static_cast<int>(ny);
+  t.h.resize(nx * ny);
+  f.check(nc_get_var_double(f.id(), varid, t.h.data()), "reading variable " + varname);
+
+  // Fill value (missing data) for floating-point variables.
+  std::optional<double> fill;
+  if (type == NC_DOUBLE || type == NC_FLOAT) {
+    int no_fill = 0;
+    if (type == NC_DOUBLE) {
+      double fv = 0.0;
+      if (nc_inq_var_fill(f.id(), varid, &no_fill, &fv) == NC_NOERR && !no_fill) fill = fv;
+    } else {
+      float fv = 0.0f;
+      if (nc_inq_var_fill(f.id(), varid, &no_fill, &fv) == NC_NOERR && !no_fill)
+        fill = static_cast<double>(fv);
+    }
+  }
+  for (std::size_t i = 0; i < t.h.size(); ++i) {
+    const double v = t.h[i];
+    const std::string where = "(iy, ix) = (" + std::to_string(i / nx) + ", " + std::to_string(i % nx) + ")";
+    if (!std::isfinite(v))
+      throw InputError(path, "non-finite value (NaN or Inf) in '" + varname + "' at " + where);
+    if (fill && v == *fill)
+      throw InputError(path, "missing value (equal to the fill value) in '" + varname + "' at " + where);
+  }
+  const auto scale = nc_scalar_att(f, path, varid, "scale_factor");
+  const auto offset = nc_scalar_att(f, path, varid, "add_offset");
+  if (scale || offset) {
+    const double a = scale.value_or(1.0), b = offset.value_or(0.0);
+    for (double& v : t.h) v = v * a + b;
+  }
+
+  auto size_from_file = [&](const char* name, int dimid, const char* coord) -> std::optional<double> {
+    std::optional<double> v = nc_scalar_att(f, path, varid, name);
+    if (!v) v = nc_scalar_att(f, path, NC_GLOBAL, name);
+    if (v && !positive_finite(*v))
+      throw InputError(path, std::string("attribute '") + name + "' must be positive (got " + num(*v) + ")");
+    if (!v) v = nc_coordinate_length(f, path, dimid, coord);
+    return v;
+  };
+  const std::string how = "attribute 'lx'/'ly' or 1-D coordinate variable";
+  t.lx =
+      choose_size(path, "lx", lx_arg, lx_arg > 0.0 ? std::nullopt : size_from_file("lx", dims[1], "x"), how);
+  t.ly =
+      choose_size(path, "ly", ly_arg, ly_arg > 0.0 ? std::nullopt : size_from_file("ly", dims[0], "y"), how);
+  return t;
+}
+
+bool looks_like_netcdf(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".nc") return true;
+  std::ifstream in(path, std::ios::binary);
+  std::array<char, 8> m{};
+  in.read(m.data(), m.size());
+  const std::size_t got = static_cast<std::size_t>(in.gcount());
+  if (got >= 4 && m[0] == 'C' && m[1] == 'D' && m[2] == 'F' && (m[3] == 1 || m[3] == 2 || m[3] == 5))
+    return true;
+  static constexpr char hdf5[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+  return got == 8 && std::equal(m.begin(), m.end(), hdf5);
+}
+
+}  // namespace
+
+HeightMap read_height_map(const std::string& path, double lx, double ly) {
+  check_readable(path);
+  return looks_like_netcdf(path) ? read_netcdf(path, lx, ly) : read_text(path, lx, ly);
+}
+
+}  // namespace gfmd
