@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -13,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <new>
 #include <sstream>
@@ -24,7 +26,6 @@
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/io/netcdf.hpp"
-#include "gfmd/io/png.hpp"
 #include "gfmd/studies/ensemble.hpp"
 #include "gfmd/studies/percolation.hpp"
 #include "gfmd/studies/sweep.hpp"
@@ -107,6 +108,72 @@ bool run_script(const std::string& script, const std::vector<std::string>& args,
   std::vector<std::string> argv = {python_interpreter(), path};
   argv.insert(argv.end(), args.begin(), args.end());
   return run_child(argv, quiet) == 0;
+}
+
+namespace fs = std::filesystem;
+
+bool has_file(const fs::path& dir, const std::string& name) {
+  std::error_code ec;
+  return fs::is_regular_file(dir / name, ec);
+}
+
+// Draws the PNG maps of run directories with plot_maps.py (matplotlib) from their fields.nc,
+// or from the staging file write_outputs leaves when output.fields is off (removed here,
+// drawn or not). `options` go before the directories (e.g. --profiles, --only current).
+// Never throws: a failure is a warning (the data files are complete); returns false then.
+bool draw_maps(const std::vector<std::string>& dirs, const std::vector<std::string>& options) {
+  if (dirs.empty()) return true;
+  bool ok = false, staged = false;
+  try {
+    std::vector<std::string> args = options;
+    if (dirs.size() == 1 && has_file(dirs.front(), gfmd::kMapsStagingFile)) {
+      args.emplace_back("--fields");
+      args.push_back((fs::path(dirs.front()) / gfmd::kMapsStagingFile).string());
+    }
+    args.emplace_back("--");
+    args.insert(args.end(), dirs.begin(), dirs.end());
+    for (const auto& d : dirs) staged = staged || has_file(d, gfmd::kMapsStagingFile);
+    ok = !find_script("plot_maps.py").empty() && run_script("plot_maps.py", args, false);
+  } catch (const std::exception&) {
+    ok = false;
+  }
+  for (const auto& d : dirs) {
+    std::error_code ec;
+    fs::remove(fs::path(d) / gfmd::kMapsStagingFile, ec);
+  }
+  if (!ok) {
+    const std::string where = dirs.size() == 1 ? dirs.front() : std::to_string(dirs.size()) + " directories";
+    std::fprintf(stderr,
+                 "gfmd: warning: the PNG maps of %s were not (all) drawn (plot_maps.py with %s and "
+                 "matplotlib)%s\n",
+                 where.c_str(), python_interpreter().c_str(),
+                 staged ? "" : "; the data files are complete: redraw with gfmd plot DIR");
+  }
+  return ok;
+}
+
+// The run directories below dir (point_NNN of a sweep, seed_N of an ensemble) whose maps
+// are still to be drawn: a staging file of the maps, or output.png on, fields.nc there and
+// no pressure.png (points finished earlier whose maps were not drawn are caught up too).
+std::vector<std::string> runs_needing_maps(const std::string& dir) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    if (!e.is_directory(ec) || !has_file(e.path(), "summary.json")) continue;
+    bool need = has_file(e.path(), gfmd::kMapsStagingFile);
+    if (!need && has_file(e.path(), "fields.nc") && !has_file(e.path(), "pressure.png")) {
+      try {
+        const auto j = nlohmann::json::parse(
+            gfmd::read_regular_file((e.path() / "summary.json").string(), 64u << 20, "summary file"));
+        need = j.at("input").at("output").at("png").get<bool>();
+      } catch (const std::exception&) {
+        need = false;
+      }
+    }
+    if (need) out.push_back(e.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 struct ProgressPrinter {
@@ -233,11 +300,9 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
                  sets_note(sets).c_str());
     return 3;
   }
+  // The maps and profiles.png (output.png) are drawn from the data files just written.
   gfmd::publish_outputs(r, out_dir, [&] {
-    if (cfg.output.png && cfg.stress.profiles &&
-        !run_script("plot_profiles.py", {(fs::path(out_dir) / "profiles.csv").string()}, true) && !quiet)
-      std::fprintf(stderr, "gfmd: note: profiles.png not drawn (needs %s with matplotlib)\n",
-                   python_interpreter().c_str());
+    if (cfg.output.png) (void)draw_maps({out_dir}, {"--profiles"});
   });
   std::error_code ec;
   fs::remove(ckpt, ec);
@@ -331,11 +396,13 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   } catch (const gfmd::SolveError&) {
     // The finished points are kept: draw them before reporting the failure.
     pp.done();
+    (void)draw_maps(runs_needing_maps(out_dir), {});
     if (std::filesystem::exists(std::filesystem::path(out_dir) / "sweep.csv") && draw())
       std::fprintf(stderr, "gfmd: the finished points are drawn in %s/sweep_%s.png\n", out_dir.c_str(),
                    plot.c_str());
     throw;
   }
+  (void)draw_maps(runs_needing_maps(out_dir), {});
   std::printf("sweep of %s over %zu values: tables in %s/sweep.csv and sweep.json\n",
               cfg.sweep.parameter.c_str(), cfg.sweep.values.size(), out_dir.c_str());
   if (!draw())
@@ -381,6 +448,7 @@ int cmd_flow(const std::string& dir, const std::string& direction, double tol, c
   const gfmd::DirectoryLock lock(dir, wait, stop_requested);
   const auto r = gfmd::compute_leakage(g, gap.data(), angles, tol, which, stop_requested);
   gfmd::write_leakage(g, r, dir, {{"relative_contact_area", s.value("relative_contact_area", 0.0)}});
+  (void)draw_maps({dir}, {"--only", "current"});
   std::printf("%s/flow.json:\n%s\n", dir.c_str(), r.json.dump(2).c_str());
   return 0;
 }
@@ -433,6 +501,7 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
   eo.stop_request = stop_requested;
   if (!quiet) eo.on_seed = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };
   const nlohmann::json j = gfmd::run_ensemble(case_path, out_dir, eo);
+  (void)draw_maps(runs_needing_maps(out_dir), {});
   const bool pairs = j.contains("frictionless");
   std::printf("%s/ensemble.json: K_x = %.4e, K_y = %.4e (Bruggeman over %d seeds)", out_dir.c_str(),
               j["conductivity_x"]["bruggeman"].get<double>(), j["conductivity_y"]["bruggeman"].get<double>(),
@@ -442,6 +511,131 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
                 100 * j["relative_change_x"].get<double>(), 100 * j["relative_change_y"].get<double>());
   std::printf("\n");
   return 0;
+}
+
+// The subdirectories of dir, sorted.
+std::vector<fs::path> subdirs(const fs::path& dir) {
+  std::vector<fs::path> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.is_directory(ec)) out.push_back(e.path());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The columns of a CSV table's header line (gfmd's own tables: no quoted names).
+std::vector<std::string> csv_columns(const fs::path& path) {
+  std::ifstream in(path);
+  std::string line, cell;
+  std::getline(in, line);
+  std::vector<std::string> cols;
+  std::stringstream ss(line);
+  while (std::getline(ss, cell, ',')) cols.push_back(cell);
+  return cols;
+}
+
+// gfmd plot DIR: redraws the figures of a run directory (maps from fields.nc, profiles.png
+// from profiles.csv), of a sweep (its sweep_<y>.png plots, the default one if none, and the
+// maps of its points), of an ensemble (its seeds' maps) or of a study (the maps and plots of
+// its series; the study figure itself is drawn by gfmd study, which reuses every result).
+int cmd_plot(const std::string& dir_in) {
+  const fs::path dir(dir_in);
+  const auto is_run = [](const fs::path& d) {
+    return has_file(d, "summary.json") || has_file(d, "fields.nc") || has_file(d, gfmd::kMapsStagingFile);
+  };
+  const auto is_sweep = [](const fs::path& d) { return has_file(d, "sweep.csv"); };
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw gfmd::InputError(dir_in, "no such directory");
+  const bool study = has_file(dir, "study.json"), ensemble = has_file(dir, "ensemble.json");
+  if (!study && !ensemble && !is_sweep(dir) && !is_run(dir))
+    throw gfmd::InputError(dir_in,
+                           "not a gfmd run, sweep or study directory (no summary.json, fields.nc, sweep.csv, "
+                           "study.json or ensemble.json in it)");
+  const gfmd::DirectoryLock lock(dir_in, false, stop_requested);
+  std::vector<fs::path> runs, sweeps;
+  std::function<void(const fs::path&, int)> collect = [&](const fs::path& d, int depth) {
+    if (is_sweep(d)) {
+      sweeps.push_back(d);
+      for (const auto& p : subdirs(d))
+        if (is_run(p)) runs.push_back(p);
+    } else if (is_run(d)) {
+      runs.push_back(d);
+    } else if (depth > 0) {
+      for (const auto& p : subdirs(d)) collect(p, depth - 1);
+    }
+  };
+  if (study || ensemble) {
+    for (const auto& p : subdirs(dir)) collect(p, 1);
+  } else {
+    collect(dir, 0);
+  }
+  bool ok = true;
+  int drawn = 0;
+  std::vector<std::string> with_fields;
+  for (const auto& d : runs) {
+    if (has_file(d, "fields.nc") || has_file(d, gfmd::kMapsStagingFile)) {
+      with_fields.push_back(d.string());
+    } else if (has_file(d, "profiles.csv")) {
+      if (run_script("plot_profiles.py", {(d / "profiles.csv").string()}, false))
+        ++drawn;
+      else
+        ok = false;
+      std::fprintf(stderr, "gfmd: note: %s has no fields.nc (output.fields = false): no maps drawn\n",
+                   d.c_str());
+    } else {
+      std::fprintf(stderr, "gfmd: note: %s has no fields.nc (output.fields = false): nothing to draw\n",
+                   d.c_str());
+    }
+  }
+  if (!with_fields.empty()) {
+    if (draw_maps(with_fields, {"--profiles"}))
+      drawn += static_cast<int>(with_fields.size());
+    else
+      ok = false;
+  }
+  for (const auto& d : sweeps) {
+    // The plots the sweep drew (sweep_<y>.png), else plot_sweep.py's default column.
+    std::vector<std::string> ys;
+    for (const auto& e : fs::directory_iterator(d, ec)) {
+      const std::string name = e.path().filename().string();
+      if (name.size() > 10 && name.rfind("sweep_", 0) == 0 && e.path().extension() == ".png" &&
+          name.find(".tmp.") == std::string::npos)
+        ys.push_back(name.substr(6, name.size() - 10));
+    }
+    std::sort(ys.begin(), ys.end());
+    const auto cols = csv_columns(d / "sweep.csv");
+    if (ys.empty() && std::find(cols.begin(), cols.end(), "friction_coefficient") != cols.end())
+      ys.emplace_back("friction_coefficient");
+    if (ys.empty())
+      std::fprintf(stderr, "gfmd: note: %s: no sweep plot to redraw (draw one with gfmd sweep --plot KEY)\n",
+                   d.c_str());
+    for (const auto& y : ys) {
+      if (run_script("plot_sweep.py", {(d / "sweep.csv").string(), "--y", y}, false)) {
+        ++drawn;
+      } else {
+        ok = false;
+        std::fprintf(stderr, "gfmd: warning: %s/sweep_%s.png not drawn\n", d.c_str(), y.c_str());
+      }
+    }
+  }
+  if (study) {
+    std::string name = "the study";
+    try {
+      name = nlohmann::json::parse(
+                 gfmd::read_regular_file((dir / "study.json").string(), 1u << 20, "study file"))
+                 .at("study")
+                 .get<std::string>();
+    } catch (const std::exception&) {
+      // The name is only for the note.
+    }
+    std::fprintf(stderr,
+                 "gfmd: note: the figure of %s (%s/%s.png) is drawn by gfmd study with its study file, "
+                 "which reuses every finished run\n",
+                 name.c_str(), dir_in.c_str(), name.c_str());
+  }
+  std::printf("%s: %d figure sets redrawn (%zu run directories, %zu sweeps)%s\n", dir_in.c_str(), drawn,
+              runs.size(), sweeps.size(), ok ? "" : "; some could not be drawn");
+  return ok ? 0 : 1;
 }
 
 // Tabulates the dimensionless Green's tensor of SPEC §2 (frame with q along axis 1).
@@ -550,6 +744,12 @@ int main(int argc, char** argv) {
   ens->add_flag("-q,--quiet", quiet, "no log lines");
   ens->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
 
+  std::string plot_dir;
+  auto* plot_cmd = app.add_subcommand(
+      "plot", "redraw the figures (PNG maps, profiles, sweep plots) of a run, sweep or study directory");
+  plot_cmd->add_option("dir", plot_dir, "a directory written by gfmd run, sweep, ensemble or study")
+      ->required();
+
   std::string study_path;
   bool study_quick = false;
   auto* study = app.add_subcommand("study", "run a study of studies/ and draw its figure (matplotlib)");
@@ -570,6 +770,7 @@ int main(int argc, char** argv) {
     if (flow->parsed()) return cmd_flow(flow_dir, direction, flow_tol, flow_solver, wait);
     if (perc->parsed()) return cmd_percolation(case_path, out_dir, sets, direction, area_tol, quiet, wait);
     if (ens->parsed()) return cmd_ensemble(case_path, out_dir, sets, seeds, quiet, wait);
+    if (plot_cmd->parsed()) return cmd_plot(plot_dir);
     if (green->parsed()) return cmd_green(green_nu, green_from, green_to, green_points, out_dir);
     if (study->parsed()) {
       const std::string script = find_script("study.py");

@@ -1,7 +1,7 @@
 // libFuzzer target: the whole `gfmd run` path on tiny grids. A case text is parsed, solved
-// (frictionless or sliding, stresses, flow as configured) and its summary, fields.nc and
-// maps written. Accepted behaviour: InputError for bad input, SolveError for a solve that
-// fails; any other exception, crash, hang or sanitizer report is a bug.
+// (frictionless or sliding, stresses, flow as configured) and its summary and fields.nc
+// written (the maps are drawn by the front ends). Accepted behaviour: InputError for bad input, SolveError
+// for a solve that fails; any other exception, crash, hang or sanitizer report is a bug.
 #include <unistd.h>
 
 #include <cstddef>

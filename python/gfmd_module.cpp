@@ -4,12 +4,15 @@
 //   import gfmd
 //   r = gfmd.run("examples/hertz_sliding.toml", set=["grid.nx=256"])
 //   r["summary"]["friction_coefficient"], r["fields"]["pressure"].shape
+#include <dlfcn.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <atomic>
 #include <csignal>
+#include <cstdlib>
+#include <filesystem>
 
 #include "gfmd/case/config.hpp"
 #include "gfmd/case/outputs.hpp"
@@ -104,15 +107,81 @@ gfmd::CaseResult solve(const gfmd::Config& cfg) {
   return r;
 }
 
+// scripts/plot_maps.py beside this module: <build>/share/gfmd/scripts next to
+// <build>/python/gfmd*.so (or <prefix>/share/gfmd/scripts). Empty if not found.
+std::string find_plot_maps() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&find_plot_maps), &info) == 0 || info.dli_fname == nullptr) return "";
+  std::error_code ec;
+  const auto dir = std::filesystem::absolute(info.dli_fname, ec).parent_path();
+  for (const auto& cand : {dir / ".." / "share" / "gfmd" / "scripts" / "plot_maps.py",
+                           dir / "share" / "gfmd" / "scripts" / "plot_maps.py"})
+    if (std::filesystem::is_regular_file(cand, ec)) return cand.lexically_normal().string();
+  return "";
+}
+
+// The maps and profiles.png of a run directory (output.png), drawn as `gfmd run` draws them:
+// plot_maps.py in a separate interpreter ($GFMD_PYTHON, else this one), so that matplotlib's
+// backend and state in the caller's process stay untouched. A failure only warns on stderr:
+// the data files are complete. The staging file of the maps (output.fields off) is removed.
+// Called with the GIL released.
+void draw_maps(const std::string& dir) {
+  const auto staging = std::filesystem::path(dir) / gfmd::kMapsStagingFile;
+  std::string problem;
+  {
+    py::gil_scoped_acquire acquire;
+    try {
+      const std::string script = find_plot_maps();
+      if (script.empty()) {
+        problem = "plot_maps.py not found next to the gfmd module";
+      } else {
+        const char* env = std::getenv("GFMD_PYTHON");
+        std::string python =
+            env && *env ? env : py::module_::import("sys").attr("executable").cast<std::string>();
+        if (python.empty()) python = "/usr/bin/python3";
+        py::list args;
+        for (const auto& a : {python, script, std::string("--profiles")}) args.append(a);
+        std::error_code ec;
+        if (std::filesystem::is_regular_file(staging, ec)) {
+          args.append("--fields");
+          args.append(staging.string());
+        }
+        args.append("--");
+        args.append(dir);
+        const py::module_ subprocess = py::module_::import("subprocess");
+        const py::object p =
+            subprocess.attr("run")(args, py::arg("stdout") = subprocess.attr("DEVNULL"),
+                                   py::arg("stderr") = subprocess.attr("PIPE"), py::arg("text") = true);
+        if (const int rc = p.attr("returncode").cast<int>(); rc != 0)
+          problem = python + " " + script + " failed (exit status " + std::to_string(rc) +
+                    "): " + p.attr("stderr").cast<std::string>();
+      }
+    } catch (py::error_already_set& e) {
+      problem = e.what();
+    } catch (const std::exception& e) {
+      problem = e.what();
+    }
+    if (!problem.empty()) {
+      while (!problem.empty() && problem.back() == '\n') problem.pop_back();
+      PySys_WriteStderr("gfmd: warning: the PNG maps of %.200s were not (all) drawn: %.1500s\n", dir.c_str(),
+                        problem.c_str());
+    }
+  }
+  std::error_code ec;
+  std::filesystem::remove(staging, ec);
+}
+
 // Writes a run directory as `gfmd run -o` does: one writer (the lock), no stale files of an
-// earlier run, status.json; a write error (disk full, permissions) raises OSError naming the
-// file and leaves no half-written set.
+// earlier run, status.json, the maps (output.png); a write error (disk full, permissions)
+// raises OSError naming the file and leaves no half-written set.
 void write_run(const gfmd::CaseResult& r, const std::string& dir) {
   try {
     py::gil_scoped_release release;
     const gfmd::DirectoryLock lock(dir);
     gfmd::clear_run_outputs(dir);
-    gfmd::publish_outputs(r, dir);
+    gfmd::publish_outputs(r, dir, [&] {
+      if (r.config.output.png) draw_maps(dir);
+    });
   } catch (const gfmd::InputError&) {
     throw;
   } catch (const std::exception& e) {
@@ -138,7 +207,8 @@ PYBIND11_MODULE(gfmd, m) {
       },
       py::arg("case"), py::arg("set") = std::vector<std::string>{}, py::arg("output") = "",
       "Solve a case file; returns {'summary': dict, 'fields': {name: ndarray(ny, nx)}}. "
-      "`set` takes 'section.key=value' overrides; `output` also writes the usual files there.");
+      "`set` takes 'section.key=value' overrides; `output` also writes the usual files there "
+      "(with output.png the PNG maps and profiles.png, drawn by plot_maps.py in a separate Python).");
   m.def(
       "run_toml",
       [](const std::string& text, const std::vector<std::string>& set) {

@@ -8,4 +8,4 @@ cmake --build build-asan -j"$(nproc)" --target gfmd gfmd_tests
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 ./build-asan/gfmd_tests --gtest_brief=1 \
-  --gtest_filter='Amg*:Elastic*:Rng*:Topograph*:AtomicWrite*:NetCdf*:Png*:Cli*:StressPrincipal*:StressSurface.Hooke*:StressSubsurface.SurfaceDisplacement*:StressSubsurface.LayerBase*:Flow*:Bruggeman*:Percolat*:Contact.Westergaard*:Contact.Approach*:Robustness.Interrupted*:Abuse*:-Abuse.Resume*:Abuse.MemoryLimit*'
+  --gtest_filter='Amg*:Elastic*:Rng*:Topograph*:AtomicWrite*:NetCdf*:Cli*:StressPrincipal*:StressSurface.Hooke*:StressSubsurface.SurfaceDisplacement*:StressSubsurface.LayerBase*:Flow*:Bruggeman*:Percolat*:Contact.Westergaard*:Contact.Approach*:Robustness.Interrupted*:Abuse*:-Abuse.Resume*:Abuse.MemoryLimit*'

@@ -212,14 +212,17 @@ TEST(Abuse, SecondWriterIsRefusedAndWaitWaits) {
   write_file(d / "case.toml", kHertz);
   const fs::path out = d / "out";
   auto lock = std::make_unique<gfmd::DirectoryLock>(out.string());  // another writer holds it
-  ASSERT_EQ(run({"run", (d / "case.toml").string(), "-o", out.string(), "-q"}, d / "log"), 2);
+  const std::string no_maps = "output.png=false";  // no maps needed here (matplotlib: ~1 s a run)
+  ASSERT_EQ(run({"run", (d / "case.toml").string(), "-o", out.string(), "-q", "--set", no_maps}, d / "log"),
+            2);
   EXPECT_NE(read_file(d / "log").find("in use by another gfmd run (process " + std::to_string(getpid())),
             std::string::npos)
       << read_file(d / "log");
   EXPECT_FALSE(fs::exists(out / "summary.json"));
   EXPECT_FALSE(fs::exists(out / "status.json"));
   // With --wait it waits for the holder, then runs.
-  Gfmd waiting({"run", (d / "case.toml").string(), "-o", out.string(), "-q", "--wait"}, d / "log2");
+  Gfmd waiting({"run", (d / "case.toml").string(), "-o", out.string(), "-q", "--wait", "--set", no_maps},
+               d / "log2");
   EXPECT_FALSE(waiting.exits_within(1.0)) << waiting.output();
   lock.reset();
   ASSERT_TRUE(waiting.exits_within(60.0));
@@ -229,10 +232,10 @@ TEST(Abuse, SecondWriterIsRefusedAndWaitWaits) {
   lock = std::make_unique<gfmd::DirectoryLock>(out.string());
   EXPECT_EQ(run({"flow", out.string()}, d / "log3"), 2) << read_file(d / "log3");
   EXPECT_NE(read_file(d / "log3").find("in use by another gfmd run"), std::string::npos);
-  EXPECT_EQ(
-      run({"sweep", (d / "case.toml").string(), "-o", out.string(), "-q", "--set", "load.force=0.005,0.01"},
-          d / "log4"),
-      2);
+  EXPECT_EQ(run({"sweep", (d / "case.toml").string(), "-o", out.string(), "-q", "--set",
+                 "load.force=0.005,0.01", "--set", no_maps},
+                d / "log4"),
+            2);
 }
 
 // Re-running into an old directory once kept its flow.json and slip maps.
@@ -253,14 +256,15 @@ TEST(Abuse, RerunRemovesStaleOutputs) {
   EXPECT_EQ(read_file(out / "notes.txt"), "mine") << "a file gfmd did not write was touched";
   // A shorter sweep into a longer one's directory: the extra point and the old plot go.
   const fs::path sw = d / "sweep";
-  ASSERT_EQ(run({"sweep", (d / "plain.toml").string(), "-o", sw.string(), "-q", "--set",
-                 "load.force=0.004,0.006,0.008", "--plot", "relative_contact_area"},
-                d / "log"),
-            0)
+  ASSERT_EQ(
+      run({"sweep", (d / "plain.toml").string(), "-o", sw.string(), "-q", "--set",
+           "load.force=0.004,0.006,0.008", "--plot", "relative_contact_area", "--set", "output.png=false"},
+          d / "log"),
+      0)
       << read_file(d / "log");
   ASSERT_TRUE(fs::exists(sw / "point_002" / "summary.json"));
   ASSERT_EQ(run({"sweep", (d / "plain.toml").string(), "-o", sw.string(), "-q", "--set",
-                 "load.force=0.004,0.006", "--plot", "mean_gap"},
+                 "load.force=0.004,0.006", "--plot", "mean_gap", "--set", "output.png=false"},
                 d / "log"),
             0)
       << read_file(d / "log");

@@ -66,7 +66,7 @@ TEST(Cli, RunWritesSummaryFieldsAndMaps) {
   EXPECT_EQ(j["input"]["solver"]["tolerance"].get<double>(), 1e-8);  // default filled in
   // --set overrides reach the input record.
   const auto s = run_gfmd("run " + (d / "case.toml").string() + " -o " + (d / "out2").string() +
-                          " -q --set elastic.poisson=0.3 --set load.pressure=0.0005");
+                          " -q --set elastic.poisson=0.3 --set load.pressure=0.0005 --set output.png=false");
   ASSERT_EQ(s.code, 0) << s.output;
   std::ifstream in2(d / "out2" / "summary.json");
   const auto j2 = nlohmann::json::parse(in2);
@@ -300,6 +300,23 @@ TEST(Cli, HeightMapHeaderGivesTheGrid) {
   EXPECT_EQ(b.code, 2);
   EXPECT_NE(b.output.find("no physical size lx"), std::string::npos) << b.output;
   EXPECT_NE(b.output.find("grid.lx"), std::string::npos) << b.output;
+}
+
+// gfmd plot on a directory that holds no run, sweep or study: exit 2 naming it, nothing
+// written there. (Drawing itself: tests/python/test_plot_maps.py.)
+TEST(Cli, PlotRefusesADirectoryWithoutResults) {
+  const fs::path d = scratch("plot_empty");
+  fs::create_directories(d / "empty");
+  const auto r = run_gfmd("plot " + (d / "empty").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find((d / "empty").string() + ": not a gfmd run, sweep or study directory"),
+            std::string::npos)
+      << r.output;
+  EXPECT_TRUE(fs::is_empty(d / "empty"));
+  const auto m = run_gfmd("plot " + (d / "missing").string());
+  EXPECT_EQ(m.code, 2) << m.output;
+  EXPECT_NE(m.output.find((d / "missing").string()), std::string::npos) << m.output;
+  EXPECT_FALSE(fs::exists(d / "missing"));
 }
 
 TEST(Cli, UnconvergedSolveWritesNothing) {

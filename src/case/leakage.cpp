@@ -7,7 +7,6 @@
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/io/netcdf.hpp"
-#include "gfmd/io/png.hpp"
 #include "gfmd/version.hpp"
 
 namespace gfmd {
@@ -92,13 +91,6 @@ void write_leakage(const Grid& g, const LeakageResult& r, const std::string& dir
   append_current_fields(r, fields);
   write_fields_netcdf((fs::path(dir) / "flow.nc").string(), g, fields,
                       {{"gfmd_version", kVersion}, {"git_commit", kGitCommit}}, "length");
-  for (std::size_t k = 0; k < r.flows.size(); ++k) {
-    PngOptions po;
-    po.colormap = "inferno";
-    const std::string tag = direction_tag(r.flows[k].angle_deg);
-    po.title = "current density " + tag;
-    write_png_map((fs::path(dir) / ("current_" + tag + ".png")).string(), g, r.magnitude[k].data(), po);
-  }
   nlohmann::json j = r.json;
   j.update(extra);
   j["version"] = kVersion;

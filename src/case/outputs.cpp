@@ -1,4 +1,5 @@
-// The output stage: summary.json, fields.nc, PNG maps and tables of a solved case.
+// The output stage: summary.json, fields.nc and tables of a solved case (the PNG maps are
+// drawn from them by the front ends, scripts/plot_maps.py).
 // See include/gfmd/case/outputs.hpp.
 #include "gfmd/case/outputs.hpp"
 
@@ -23,7 +24,6 @@
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/io/netcdf.hpp"
-#include "gfmd/io/png.hpp"
 #include "gfmd/version.hpp"
 namespace gfmd {
 
@@ -178,43 +178,52 @@ nlohmann::json summary_json(const CaseResult& r) {
   return j;
 }
 
-void write_outputs(const CaseResult& r, const std::string& dir) {
-  fs::create_directories(dir);
+void write_fields_file(const CaseResult& r, const std::string& path, bool maps_only) {
   const Grid& g = r.config.grid;
   const std::size_t n = g.size();
-  if (r.config.output.fields) {
-    RealField cm(n);
-    for (std::size_t i = 0; i < n; ++i) cm[i] = r.fields.pressure[i] > 0 ? 1.0 : 0.0;
-    std::vector<NamedField> fields = {
-        {"topography", r.topography.h.data(), "indenter height towards the body", "length"},
-        {"pressure", r.fields.pressure.data(), "contact pressure on the body (compressive positive)", "E*"},
-        {"gap", r.fields.gap.data(), "gap between indenter and deformed surface", "length"},
-        {"ux", r.fields.ux.data(), "surface displacement along x", "length"},
-        {"uy", r.fields.uy.data(), "surface displacement along y", "length"},
-        {"uz", r.fields.uz.data(), "surface displacement along z (out of the body)", "length"},
-        {"contact", cm.data(), "contact mask (1 = in contact)", "1"}};
-    const DerivedFields& d = r.derived;
-    if (r.config.friction.coefficient > 0) {
+  RealField cm(n);
+  for (std::size_t i = 0; i < n; ++i) cm[i] = r.fields.pressure[i] > 0 ? 1.0 : 0.0;
+  std::vector<NamedField> fields;
+  if (!maps_only)
+    fields.push_back({"topography", r.topography.h.data(), "indenter height towards the body", "length"});
+  fields.push_back(
+      {"pressure", r.fields.pressure.data(), "contact pressure on the body (compressive positive)", "E*"});
+  fields.push_back({"gap", r.fields.gap.data(), "gap between indenter and deformed surface", "length"});
+  if (!maps_only) {
+    fields.push_back({"ux", r.fields.ux.data(), "surface displacement along x", "length"});
+    fields.push_back({"uy", r.fields.uy.data(), "surface displacement along y", "length"});
+    fields.push_back({"uz", r.fields.uz.data(), "surface displacement along z (out of the body)", "length"});
+  }
+  fields.push_back({"contact", cm.data(), "contact mask (1 = in contact)", "1"});
+  const DerivedFields& d = r.derived;
+  if (r.config.friction.coefficient > 0) {
+    if (!maps_only) {
       fields.push_back({"traction_x", r.fields.tx.data(), "friction traction on the body along x", "E*"});
       fields.push_back({"traction_y", r.fields.ty.data(), "friction traction on the body along y", "E*"});
-      fields.push_back({"slip_longitudinal", d.slip_longitudinal.data(),
-                        "relative longitudinal slip velocity v_l^rel/v0 - 1 = (e_s.grad) u_s", "1"});
-      fields.push_back({"slip_transverse", d.slip_transverse.data(),
-                        "transverse slip velocity / v0 = (e_s.grad) u_perp", "1"});
-      fields.push_back({"dissipation", d.dissipation.data(),
-                        "dissipated power density / v0 = tau . v_slip / v0 (mu_c p |v|/v0 where slipping)",
-                        "E*"});
     }
-    RealField sm;
-    if (r.fields.stick.size() == n) {
-      sm.resize(n);
-      for (std::size_t i = 0; i < n; ++i) sm[i] = r.fields.stick[i] ? 1.0 : 0.0;
+    fields.push_back({"slip_longitudinal", d.slip_longitudinal.data(),
+                      "relative longitudinal slip velocity v_l^rel/v0 - 1 = (e_s.grad) u_s", "1"});
+    fields.push_back({"slip_transverse", d.slip_transverse.data(),
+                      "transverse slip velocity / v0 = (e_s.grad) u_perp", "1"});
+    fields.push_back({"dissipation", d.dissipation.data(),
+                      "dissipated power density / v0 = tau . v_slip / v0 (mu_c p |v|/v0 where slipping)",
+                      "E*"});
+  }
+  RealField sm;
+  if (r.fields.stick.size() == n) {
+    sm.resize(n);
+    for (std::size_t i = 0; i < n; ++i) sm[i] = r.fields.stick[i] ? 1.0 : 0.0;
+    fields.push_back(
+        {"stick", sm.data(), "stick mask (1 = contact point that sticks: zero slip velocity)", "1"});
+  }
+  if (!r.principal.s1.empty()) {
+    const StressField& st = r.stress;
+    const PrincipalField& pr = r.principal;
+    if (maps_only) {
       fields.push_back(
-          {"stick", sm.data(), "stick mask (1 = contact point that sticks: zero slip velocity)", "1"});
-    }
-    if (!r.principal.s1.empty()) {
-      const StressField& st = r.stress;
-      const PrincipalField& pr = r.principal;
+          {"sigma_1", pr.s1.data(), "maximum principal (most tensile) surface stress sigma_I", "E*"});
+      fields.push_back({"von_mises", pr.von_mises.data(), "von Mises surface stress", "E*"});
+    } else {
       for (const NamedField& nf : std::vector<NamedField>{
                {"sigma_xx", st.xx.data(), "surface stress xx (tensile positive)", "E*"},
                {"sigma_yy", st.yy.data(), "surface stress yy", "E*"},
@@ -230,19 +239,21 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
                {"e1_z", pr.e1z.data(), "eigenvector of sigma_I, z", "1"},
                {"von_mises", pr.von_mises.data(), "von Mises surface stress", "E*"}})
         fields.push_back(nf);
-      if (!r.post_analyses.empty()) {
-        fields.push_back({"post_analysis_sigma_1", r.post_analyses.front().s1.data(),
-                          "sigma_I of the post-analysis reference (" + r.post_analyses.front().kind +
-                              "; the first of [stress] post_analysis)",
-                          "E*"});
-        for (const auto& pa : r.post_analyses)
-          fields.push_back(
-              {"post_analysis_" + pa.kind + "_sigma_1", pa.s1.data(),
-               pa.kind == "paper"
-                   ? "sigma_I of the paper's post-analysis (frictionless fields, sigma_az = mu p)"
-                   : "sigma_I of the consistent post-analysis (frictionless p + mu p with its strain)",
-               "E*"});
-      }
+    }
+    if (!maps_only && !r.post_analyses.empty()) {
+      fields.push_back({"post_analysis_sigma_1", r.post_analyses.front().s1.data(),
+                        "sigma_I of the post-analysis reference (" + r.post_analyses.front().kind +
+                            "; the first of [stress] post_analysis)",
+                        "E*"});
+      for (const auto& pa : r.post_analyses)
+        fields.push_back(
+            {"post_analysis_" + pa.kind + "_sigma_1", pa.s1.data(),
+             pa.kind == "paper"
+                 ? "sigma_I of the paper's post-analysis (frictionless fields, sigma_az = mu p)"
+                 : "sigma_I of the consistent post-analysis (frictionless p + mu p with its strain)",
+             "E*"});
+    }
+    if (!maps_only)
       for (std::size_t k = 0; k < r.subsurface.size(); ++k) {
         const std::string depth = std::to_string(r.subsurface[k].depth);
         fields.push_back({"von_mises_depth_" + std::to_string(k), r.subsurface[k].von_mises.data(),
@@ -250,64 +261,25 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
         fields.push_back({"sigma_1_depth_" + std::to_string(k), r.subsurface[k].s1.data(),
                           "maximum principal stress at depth " + depth, "E*"});
       }
-    }
-    if (r.has_leakage) append_current_fields(r.leakage, fields);
-    write_fields_netcdf(
-        (fs::path(dir) / "fields.nc").string(), g, fields,
-        {{"gfmd_version", kVersion},
-         {"git_commit", kGitCommit},
-         {"input_toml", r.config.to_toml()},
-         {"normalisation", "lengths in units of grid.lx, pressures in units of E* (contact_modulus)"}},
-        "length");
   }
-  if (r.config.output.png) {
-    std::vector<unsigned char> mask(n);
-    for (std::size_t i = 0; i < n; ++i) mask[i] = r.fields.pressure[i] > 0;
-    PngOptions po;
-    po.colormap = "inferno";
-    po.title = "pressure";
-    write_png_map((fs::path(dir) / "pressure.png").string(), g, r.fields.pressure.data(), po);
-    PngOptions pg;
-    pg.colormap = "viridis";
-    pg.title = "gap";
-    pg.mask = mask.data();
-    write_png_map((fs::path(dir) / "gap.png").string(), g, r.fields.gap.data(), pg);
-    if (r.config.friction.coefficient > 0) {
-      const DerivedFields& d = r.derived;
-      std::vector<double> vl(n), vt(n);
-      for (std::size_t i = 0; i < n; ++i) {
-        // Slip fields are shown inside the contact only.
-        vl[i] = mask[i] ? d.slip_longitudinal[i] : 0.0;
-        vt[i] = mask[i] ? d.slip_transverse[i] : 0.0;
-      }
-      PngOptions ps;
-      ps.colormap = "coolwarm";
-      ps.symmetric = true;
-      // Outline: the stick zone where there is one, else the contact.
-      const bool any_stick =
-          std::any_of(r.fields.stick.begin(), r.fields.stick.end(), [](auto v) { return v != 0; });
-      ps.mask = any_stick ? r.fields.stick.data() : mask.data();
-      ps.title = any_stick ? "longitudinal slip excess (outline: stick)" : "longitudinal slip excess";
-      write_png_map((fs::path(dir) / "slip_longitudinal.png").string(), g, vl.data(), ps);
-      ps.title = any_stick ? "transverse slip (outline: stick)" : "transverse slip";
-      write_png_map((fs::path(dir) / "slip_transverse.png").string(), g, vt.data(), ps);
-      PngOptions pd;
-      pd.colormap = "inferno";
-      pd.title = "dissipation";
-      write_png_map((fs::path(dir) / "dissipation.png").string(), g, d.dissipation.data(), pd);
-    }
-  }
-  if (r.config.output.png && !r.principal.s1.empty()) {
-    PngOptions ps;
-    ps.colormap = "coolwarm";
-    ps.symmetric = true;
-    ps.title = "max principal stress";
-    write_png_map((fs::path(dir) / "max_principal_stress.png").string(), g, r.principal.s1.data(), ps);
-    PngOptions pv;
-    pv.colormap = "inferno";
-    pv.title = "von mises";
-    write_png_map((fs::path(dir) / "von_mises.png").string(), g, r.principal.von_mises.data(), pv);
-  }
+  // The current maps are drawn from flow.nc, which write_leakage writes with every flow.
+  if (!maps_only && r.has_leakage) append_current_fields(r.leakage, fields);
+  write_fields_netcdf(
+      path, g, fields,
+      {{"gfmd_version", kVersion},
+       {"git_commit", kGitCommit},
+       {"input_toml", r.config.to_toml()},
+       {"normalisation", "lengths in units of grid.lx, pressures in units of E* (contact_modulus)"}},
+      "length");
+}
+
+void write_outputs(const CaseResult& r, const std::string& dir) {
+  fs::create_directories(dir);
+  const Grid& g = r.config.grid;
+  if (r.config.output.fields)
+    write_fields_file(r, (fs::path(dir) / "fields.nc").string());
+  else if (r.config.output.png)
+    write_fields_file(r, (fs::path(dir) / kMapsStagingFile).string(), true);
   if (r.config.stress.profiles && !r.profiles_csv.empty())
     write_text_atomic((fs::path(dir) / "profiles.csv").string(), r.profiles_csv);
   if (r.has_leakage)

@@ -22,7 +22,6 @@
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/io/netcdf.hpp"
-#include "gfmd/io/png.hpp"
 #include "gfmd/version.hpp"
 namespace gfmd {
 

@@ -10,7 +10,6 @@
 #include "gfmd/core/grid.hpp"
 #include "gfmd/flow/flow.hpp"
 #include "gfmd/io/netcdf.hpp"
-#include "gfmd/io/png.hpp"
 
 namespace gfmd {
 
@@ -34,8 +33,9 @@ std::string direction_tag(double angle_deg);
 // Appends the current-density components and magnitude of every flow (views into r).
 void append_current_fields(const LeakageResult& r, std::vector<NamedField>& fields);
 
-// Writes flow.json, flow.nc (current density components and magnitude per direction) and
-// current_<x|y|angle>.png into dir.
+// Writes flow.json and flow.nc (current density components and magnitude per direction)
+// into dir. The maps current_<x|y|angle>.png are drawn from flow.nc by the front ends
+// (scripts/plot_maps.py).
 void write_leakage(const Grid& g, const LeakageResult& r, const std::string& dir,
                    const nlohmann::json& extra);
 

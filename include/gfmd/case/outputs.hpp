@@ -1,5 +1,7 @@
-// The output stage of a case: summary.json, fields.nc, PNG maps, profiles.csv, flow.json.
-// It only serialises what run_case computed.
+// The output stage of a case: summary.json, fields.nc, profiles.csv, flow.json/flow.nc.
+// It only serialises what run_case computed; the PNG maps (output.png) are drawn from these
+// files by the front ends (gfmd run/sweep/flow/plot and Python's run(output=) start
+// scripts/plot_maps.py after write_outputs).
 #pragma once
 
 #include <functional>
@@ -15,8 +17,20 @@ namespace gfmd {
 // summary.json contents.
 nlohmann::json summary_json(const CaseResult& r);
 
-// Writes summary.json (+ fields.nc and PNG maps as configured) into dir. Every file is
-// staged and renamed into place, so a crash leaves complete files only.
+// The file the maps are drawn from when output.png is on but output.fields is off:
+// DIR/.maps.tmp.nc, written by write_outputs with the fields the maps show; the front end
+// that draws the maps removes it. Its name holds ".tmp.", so clear_run_outputs removes one
+// that a crash left behind.
+inline constexpr const char* kMapsStagingFile = ".maps.tmp.nc";
+
+// Writes the contents of fields.nc to path (atomically): every field, or with maps_only
+// only those the maps are drawn from (pressure, gap, contact, stick, slip, dissipation,
+// sigma_1, von_mises).
+void write_fields_file(const CaseResult& r, const std::string& path, bool maps_only = false);
+
+// Writes summary.json (+ fields.nc as configured; with output.png but not output.fields
+// the staging file kMapsStagingFile) into dir. Every file is staged and renamed into place,
+// so a crash leaves complete files only.
 void write_outputs(const CaseResult& r, const std::string& dir);
 
 // A run directory's last stage, for the CLI and Python alike (the caller holds its

@@ -1,0 +1,414 @@
+#!/usr/bin/python3
+"""Draws the PNG maps of gfmd run directories from their fields (matplotlib).
+
+    plot_maps.py DIR [DIR ...] [--fields FILE] [--only NAME[,NAME...]] [--profiles]
+
+The fields come from DIR/fields.nc (or FILE; else DIR/.maps.tmp.nc, the staging file gfmd
+writes when output.png is on but output.fields is off); the flow current magnitudes from
+DIR/flow.nc when there is one. One PNG per field present, written atomically into DIR:
+
+    pressure.png              p (contact outlined)
+    gap.png                   g (contact outlined)
+    slip_longitudinal.png     v_l^rel/v0 - 1 inside the contact (diverging; stick zone outlined)
+    slip_transverse.png       v_perp/v0 inside the contact (diverging; stick zone outlined)
+    dissipation.png           dissipated power density / v0
+    max_principal_stress.png  sigma_I (diverging)
+    von_mises.png             von Mises stress
+    current_<dir>.png         |current density| for a pressure gradient along <dir>
+
+Axes are in the length unit of the case, with the true aspect ratio; Hertz cases are zoomed
+onto the contact. --only draws a subset (names as above without .png; "current" for all
+current maps); --profiles also draws profiles.png from DIR/profiles.csv (plot_profiles.py).
+Exit status: 0 when every map was drawn, 2 when a fields file is missing or unreadable,
+1 on other errors.
+"""
+import argparse
+import json
+import os
+import re
+import sys
+import warnings
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+
+try:
+    import tomllib
+except ImportError:  # Python < 3.11: the indenter type comes from summary.json then
+    tomllib = None
+
+STAGING = ".maps.tmp.nc"  # include/gfmd/case/outputs.hpp: kMapsStagingFile
+MAX_PIXELS = 1024  # long side of the drawn data after block averaging
+ZOOM_MARGIN = 0.3  # Hertz zoom: margin around the contact, relative to its size
+ZOOM_MIN_CELLS = 4  # ... and at least this many cells
+
+# name -> (field, title, symbol, colormap, kind); kind: "positive" (0 at the bottom),
+# "range" (data range), "diverging" (symmetric about 0), "slip" (diverging, contact only).
+MAPS = [
+    ("pressure", "pressure", "contact pressure", "$p$", "inferno", "positive"),
+    ("gap", "gap", "gap", "$g$", "viridis", "positive"),
+    ("slip_longitudinal", "slip_longitudinal", "longitudinal slip excess",
+     r"$v_\ell^\mathrm{rel}/v_0 - 1$", "RdBu_r", "slip"),
+    ("slip_transverse", "slip_transverse", "transverse slip", r"$v_\perp/v_0$", "RdBu_r", "slip"),
+    ("dissipation", "dissipation", "dissipated power density", r"$\dot w/v_0$", "inferno", "positive"),
+    ("max_principal_stress", "sigma_1", "maximum principal surface stress", r"$\sigma_\mathrm{I}$",
+     "RdBu_r", "diverging"),
+    ("von_mises", "von_mises", "von Mises surface stress", r"$\sigma_\mathrm{vM}$", "inferno", "positive"),
+]
+CURRENT = re.compile(r"current_([^_]+)")  # magnitudes; components are current_x_<dir>, current_y_<dir>
+
+
+class InputProblem(Exception):
+    """A fields file that is missing or unreadable (exit status 2)."""
+
+
+def read_netcdf(path, keep=None):
+    """Reads the 2D variables (dims y, x) of a gfmd NetCDF file: returns a dict with
+    "fields" {name: (array, long_name, units)}, "x", "y", "lx", "ly", "length_unit" and
+    "input_toml" (text or None). keep(name): read only the variables it accepts."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # "numpy.ndarray size changed" (Debian's build)
+            import netCDF4
+    except ImportError as e:
+        raise InputProblem(f"{path}: cannot read NetCDF files ({e}; install python3-netcdf4)")
+    if not os.path.isfile(path):
+        raise InputProblem(f"{path}: no such file")
+    try:
+        with netCDF4.Dataset(path) as nc:
+            x = np.array(nc.variables["x"][:], dtype=float)
+            y = np.array(nc.variables["y"][:], dtype=float)
+            unit = getattr(nc.variables["x"], "units", "")
+            attrs = nc.ncattrs()
+            lx = float(nc.getncattr("lx")) if "lx" in attrs else None
+            ly = float(nc.getncattr("ly")) if "ly" in attrs else None
+            text = nc.getncattr("input_toml") if "input_toml" in attrs else None
+            fields = {}
+            for name, v in nc.variables.items():
+                if v.dimensions != ("y", "x") or (keep is not None and not keep(name)):
+                    continue
+                a = np.ma.filled(np.ma.asarray(v[:], dtype=float), np.nan)
+                fields[name] = (np.asarray(a, dtype=float), getattr(v, "long_name", name),
+                                getattr(v, "units", ""))
+    except InputProblem:
+        raise
+    except Exception as e:  # netCDF4 raises OSError, KeyError, RuntimeError ...
+        raise InputProblem(f"{path}: unreadable as a gfmd fields file ({type(e).__name__}: {e})")
+    nx, ny = len(x), len(y)
+    if lx is None:
+        lx = (x[1] - x[0]) * nx if nx > 1 else 1.0
+    if ly is None:
+        ly = (y[1] - y[0]) * ny if ny > 1 else lx
+    return {"fields": fields, "x": x, "y": y, "lx": lx, "ly": ly, "length_unit": unit, "input_toml": text}
+
+
+def grid_extent(nx, ny, lx, ly):
+    """Edges of the cells (cell ix centred at x = ix * dx): (x0, x1, y0, y1)."""
+    dx, dy = lx / nx, ly / ny
+    return (-0.5 * dx, lx - 0.5 * dx, -0.5 * dy, ly - 0.5 * dy)
+
+
+def contact_bbox(pressure, lx, ly):
+    """Bounding box (x0, x1, y0, y1) of the centres of the cells with pressure > 0, or None."""
+    ny, nx = pressure.shape
+    iy, ix = np.nonzero(pressure > 0)
+    if ix.size == 0:
+        return None
+    dx, dy = lx / nx, ly / ny
+    return (ix.min() * dx, ix.max() * dx, iy.min() * dy, iy.max() * dy)
+
+
+def zoom_limits(pressure, lx, ly, margin=ZOOM_MARGIN, min_cells=ZOOM_MIN_CELLS):
+    """Axis limits (x0, x1, y0, y1) of a map zoomed onto the contact: the cells with
+    pressure > 0 plus a margin of `margin` times the contact's size on each side (at least
+    min_cells cells), clipped to the grid. The whole grid when nothing is in contact."""
+    ny, nx = pressure.shape
+    full = grid_extent(nx, ny, lx, ly)
+    box = contact_bbox(pressure, lx, ly)
+    if box is None:
+        return full
+    dx, dy = lx / nx, ly / ny
+    wx, wy = box[1] - box[0] + dx, box[3] - box[2] + dy
+    mx, my = max(margin * wx, min_cells * dx), max(margin * wy, min_cells * dy)
+    return (max(full[0], box[0] - 0.5 * dx - mx), min(full[1], box[1] + 0.5 * dx + mx),
+            max(full[2], box[2] - 0.5 * dy - my), min(full[3], box[3] + 0.5 * dy + my))
+
+
+def block_average(a, k):
+    """Means over k x k blocks (NaNs ignored; the last blocks padded with NaN)."""
+    if k <= 1:
+        return a
+    ny, nx = a.shape
+    py, px = -ny % k, -nx % k
+    b = np.pad(a, ((0, py), (0, px)), constant_values=np.nan)
+    b = b.reshape((ny + py) // k, k, (nx + px) // k, k)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN blocks
+        return np.nanmean(b, axis=(1, 3))
+
+
+def window(limits, nx, ny, lx, ly):
+    """Index ranges (iy0, iy1, ix0, ix1) of the cells that cover the axis limits."""
+    x0, _, y0, _ = grid_extent(nx, ny, lx, ly)
+    dx, dy = lx / nx, ly / ny
+    ix0 = max(0, int(np.floor((limits[0] - x0) / dx + 1e-9)))
+    ix1 = min(nx, int(np.ceil((limits[1] - x0) / dx - 1e-9)))
+    iy0 = max(0, int(np.floor((limits[2] - y0) / dy + 1e-9)))
+    iy1 = min(ny, int(np.ceil((limits[3] - y0) / dy - 1e-9)))
+    return iy0, max(iy1, iy0 + 1), ix0, max(ix1, ix0 + 1)
+
+
+class View:
+    """The part of the grid a map shows: crop window, block-averaging factor, limits."""
+
+    def __init__(self, nx, ny, lx, ly, limits):
+        self.nx, self.ny, self.lx, self.ly, self.limits = nx, ny, lx, ly, limits
+        self.iy0, self.iy1, self.ix0, self.ix1 = window(limits, nx, ny, lx, ly)
+        self.k = max(1, -(-max(self.iy1 - self.iy0, self.ix1 - self.ix0) // MAX_PIXELS))
+        dx, dy = lx / nx, ly / ny
+        x0, _, y0, _ = grid_extent(nx, ny, lx, ly)
+        cols = -(-(self.ix1 - self.ix0) // self.k)
+        rows = -(-(self.iy1 - self.iy0) // self.k)
+        self.extent = (x0 + self.ix0 * dx, x0 + (self.ix0 + cols * self.k) * dx,
+                       y0 + self.iy0 * dy, y0 + (self.iy0 + rows * self.k) * dy)
+        # Centres of the averaged blocks (for outlines).
+        self.xc = self.extent[0] + (np.arange(cols) + 0.5) * self.k * dx
+        self.yc = self.extent[2] + (np.arange(rows) + 0.5) * self.k * dy
+
+    def data(self, a):
+        return block_average(a[self.iy0:self.iy1, self.ix0:self.ix1], self.k)
+
+
+def indenter_type(input_toml, summary):
+    if input_toml and tomllib is not None:
+        try:
+            return str(tomllib.loads(input_toml).get("indenter", {}).get("type", ""))
+        except Exception:
+            pass
+    try:
+        return str(summary["input"]["indenter"]["type"])
+    except (KeyError, TypeError):
+        return ""
+
+
+def map_limits(data, pressure, hertz):
+    """Axis limits of every map of a run: zoomed onto the contact for Hertz cases."""
+    ny, nx = pressure.shape
+    if hertz:
+        return zoom_limits(pressure, data["lx"], data["ly"])
+    return grid_extent(nx, ny, data["lx"], data["ly"])
+
+
+def colour_label(symbol, units):
+    if not units or units == "1":
+        return symbol
+    return f"{symbol} / {units.replace('^3', '³').replace('^2', '²')}"
+
+
+def subtitle(summary):
+    if not summary:
+        return ""
+    parts = []
+    for key, fmt in (("normal_force", "F = {:.4g}"), ("mean_pressure", "p̄ = {:.4g} E*"),
+                     ("relative_contact_area", "A/A₀ = {:.4g}"), ("friction_coefficient", "μ = {:.4g}")):
+        v = summary.get(key)
+        if isinstance(v, (int, float)):
+            parts.append(fmt.format(v))
+    return ",  ".join(parts)
+
+
+def save_atomic(fig, path):
+    tmp = f"{path}.tmp.{os.getpid()}"
+    try:
+        fig.savefig(tmp, format="png")
+        os.replace(tmp, path)
+    finally:
+        plt.close(fig)
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+def figure(aspect):
+    """A figure whose map axes have the data's aspect ratio (height / width) and a colour bar
+    beside them, laid out by hand (a layout engine would double the drawing time)."""
+    left, bottom, top, gap, bar, right = 0.8, 0.55, 0.6, 0.15, 0.18, 0.95  # inches
+    aw = 4.0
+    ah = aw * aspect
+    if ah > 6.0:
+        ah, aw = 6.0, 6.0 / aspect
+    ah = max(ah, 0.4)
+    fw, fh = left + aw + gap + bar + right, bottom + ah + top
+    fw = max(fw, 4.5)
+    fig = plt.figure(figsize=(fw, fh), dpi=150)
+    ax = fig.add_axes((left / fw, bottom / fh, aw / fw, ah / fh))
+    cax = fig.add_axes(((left + aw + gap) / fw, bottom / fh, bar / fw, ah / fh))
+    return fig, ax, cax
+
+
+def draw(path, view, values, title, label, cmap, kind, unit, contact, stick=None, note=""):
+    """One map: the field over the view, a colour bar, the contact (and stick zone) outlines."""
+    v = view.data(values)
+    finite = v[np.isfinite(v)]
+    lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+    if kind in ("diverging", "slip"):
+        m = max(abs(lo), abs(hi)) or 1.0
+        lo, hi = -m, m
+    elif kind == "positive":
+        lo = min(0.0, lo)
+    if hi <= lo:
+        hi = lo + (abs(lo) or 1.0)
+    x0, x1, y0, y1 = view.limits
+    fig, ax, cax = figure((y1 - y0) / (x1 - x0))
+    cm = plt.get_cmap(cmap).copy()
+    cm.set_bad("0.85")
+    im = ax.imshow(v, origin="lower", extent=view.extent, cmap=cm, vmin=lo, vmax=hi,
+                   interpolation="nearest" if max(v.shape) <= 256 else "antialiased")
+    fig.colorbar(im, cax=cax, label=label)
+    outline = "black" if kind in ("diverging", "slip") else ("white" if cmap == "viridis" else "cyan")
+    handles = []
+    c = view.data(contact)
+    if np.nanmin(c) < 0.5 < np.nanmax(c):
+        ax.contour(view.xc, view.yc, c, levels=[0.5], colors=outline, linewidths=0.8)
+        handles.append(Line2D([], [], color=outline, lw=0.8, label="contact"))
+    if stick is not None:
+        s = view.data(stick)
+        if np.nanmax(s) > 0.5 and np.nanmin(s) < 0.5:
+            ax.contour(view.xc, view.yc, s, levels=[0.5], colors="limegreen", linewidths=1.0,
+                       linestyles="--")
+            handles.append(Line2D([], [], color="limegreen", lw=1.0, ls="--", label="stick zone"))
+    if handles:
+        leg = ax.legend(handles=handles, loc="upper right", fontsize=7, framealpha=0.6)
+        leg.get_frame().set_facecolor("0.5" if outline in ("white", "cyan") else "white")
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal")
+    u = f" / {unit}" if unit else ""
+    ax.set_xlabel(f"x{u}")
+    ax.set_ylabel(f"y{u}")
+    ax.set_title(title + (f"\n{note}" if note else ""), fontsize=9)
+    save_atomic(fig, path)
+
+
+def fields_file(d, given=None):
+    if given:
+        return given
+    for name in ("fields.nc", STAGING):
+        p = os.path.join(d, name)
+        if os.path.isfile(p):
+            return p
+    return os.path.join(d, "fields.nc")
+
+
+def wanted(name, only):
+    return only is None or name in only or (name.startswith("current_") and "current" in only)
+
+
+def plot_dir(d, fields=None, only=None, profiles=False):
+    """Draws the maps of run directory d; returns the paths written."""
+    path = fields_file(d, fields)
+    need = {"pressure", "contact", "stick"}
+    for name, var, *_ in MAPS:
+        if wanted(name, only):
+            need.add(var)
+    flow_nc = os.path.join(d, "flow.nc")
+    flow = wanted("current_x", only) and os.path.isfile(flow_nc)
+    data = read_netcdf(path, lambda k: k in need or (not flow and CURRENT.fullmatch(k) and wanted(k, only)))
+    f = data["fields"]
+    if "pressure" not in f:
+        raise InputProblem(f"{path}: no pressure field (not a gfmd fields file)")
+    summary = None
+    try:
+        with open(os.path.join(d, "summary.json")) as fh:
+            summary = json.load(fh)
+    except (OSError, ValueError):
+        pass
+    pressure = f["pressure"][0]
+    ny, nx = pressure.shape
+    contact = f["contact"][0] if "contact" in f else (pressure > 0).astype(float)
+    stick = f["stick"][0] if "stick" in f else None
+    if stick is not None and not np.any(stick > 0.5):
+        stick = None
+    hertz = indenter_type(data["input_toml"], summary) == "hertz"
+    view = View(nx, ny, data["lx"], data["ly"], map_limits(data, pressure, hertz))
+    note = subtitle(summary)
+    unit = data["length_unit"]
+    written = []
+    for name, var, title, symbol, cmap, kind in MAPS:
+        if var not in f or not wanted(name, only):
+            continue
+        values, _, units = f[var]
+        if kind == "slip":
+            values = np.where(contact > 0.5, values, np.nan)  # shown inside the contact only
+        out = os.path.join(d, name + ".png")
+        draw(out, view, values, title, colour_label(symbol, units), cmap, kind, unit, contact,
+             stick if kind == "slip" else None, note)
+        written.append(out)
+    # Flow current magnitudes: flow.nc (written with every flow), else the fields file.
+    currents = {k: v for k, v in f.items() if CURRENT.fullmatch(k)}
+    if flow:
+        currents = read_netcdf(flow_nc, lambda k: CURRENT.fullmatch(k) and wanted(k, only))["fields"]
+    for name in sorted(currents):
+        if not wanted(name, only):
+            continue
+        values, _, units = currents[name]
+        if values.shape != pressure.shape:
+            continue
+        tag = CURRENT.fullmatch(name).group(1)
+        out = os.path.join(d, name + ".png")
+        draw(out, view, values, f"flow current density, pressure gradient along {tag}",
+             colour_label("$|q|$", units), "plasma", "positive", unit, contact, None, note)
+        written.append(out)
+    if profiles and os.path.isfile(os.path.join(d, "profiles.csv")):
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        import plot_profiles
+
+        plot_profiles.main(os.path.join(d, "profiles.csv"))
+        written.append(os.path.join(d, "profiles.png"))
+    return written
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("dirs", nargs="+", metavar="DIR", help="run directory (written by gfmd run)")
+    ap.add_argument("--fields", help="NetCDF fields file (default DIR/fields.nc); one DIR only")
+    ap.add_argument("--only", help="comma-separated map names to draw (e.g. pressure,current)")
+    ap.add_argument("--profiles", action="store_true", help="also draw profiles.png from DIR/profiles.csv")
+    args = ap.parse_args(argv)
+    if args.fields and len(args.dirs) > 1:
+        ap.error("--fields takes one DIR")
+    only = set(args.only.split(",")) if args.only else None
+    jobs = [(d, args.fields, only, args.profiles) for d in args.dirs]
+    workers = min(len(jobs), os.cpu_count() or 1, 4)
+    if workers > 1:  # sweeps and studies: directories in parallel (forked after the imports)
+        import multiprocessing
+
+        with multiprocessing.get_context("fork").Pool(workers) as pool:
+            results = pool.map(plot_job, jobs, chunksize=1)
+    else:
+        results = [plot_job(j) for j in jobs]
+    for written, _, _ in results:
+        for p in written:
+            print(p)
+    for _, status, message in results:
+        if message:
+            print(f"plot_maps.py: error: {message}", file=sys.stderr)
+    return max(status for _, status, _ in results)
+
+
+def plot_job(job):
+    """plot_dir for one directory: (paths written, exit status, error message)."""
+    d, fields, only, profiles = job
+    try:
+        return plot_dir(d, fields, only, profiles), 0, ""
+    except InputProblem as e:
+        return [], 2, str(e)
+    except Exception as e:  # one directory's failure does not stop the others
+        return [], 1, f"{d}: {type(e).__name__}: {e}"
+
+
+if __name__ == "__main__":
+    sys.exit(main())
