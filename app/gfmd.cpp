@@ -483,21 +483,16 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
   if (std::sscanf(seeds.c_str(), "%d..%d%n", &s0, &s1, &used) != 2 ||
       used != static_cast<int>(seeds.size()) || s0 < 0 || s1 < s0)
     throw gfmd::InputError("--seeds", "expected FIRST..LAST, e.g. 0..7, got '" + seeds + "'");
-  if (s1 - s0 >= gfmd::kMaxEnsembleSeeds)
-    throw gfmd::InputError("--seeds",
-                           "at most " + std::to_string(gfmd::kMaxEnsembleSeeds) + " seeds per ensemble");
-  const gfmd::Config probe = gfmd::load_config(case_path, sets);
-  if (probe.indenter.type != "selfaffine")
-    throw gfmd::InputError(case_path, "an ensemble needs a selfaffine indenter");
+  gfmd::EnsembleOptions eo;
+  eo.first_seed = s0;
+  eo.last_seed = s1;
+  eo.overrides = sets;
+  gfmd::check_ensemble(case_path, eo);  // before the output directory is made
   if (out_dir.empty())
     out_dir =
         (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_ensemble"))
             .string();
   const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
-  gfmd::EnsembleOptions eo;
-  eo.first_seed = s0;
-  eo.last_seed = s1;
-  eo.overrides = sets;
   eo.stop_request = stop_requested;
   if (!quiet) eo.on_seed = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };
   const nlohmann::json j = gfmd::run_ensemble(case_path, out_dir, eo);

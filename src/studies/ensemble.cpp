@@ -19,8 +19,7 @@ namespace gfmd {
 
 namespace fs = std::filesystem;
 
-nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir,
-                            const EnsembleOptions& opts) {
+Config check_ensemble(const std::string& case_path, const EnsembleOptions& opts) {
   if (opts.first_seed < 0 || opts.last_seed < opts.first_seed)
     throw InputError("--seeds", "expected 0 <= FIRST <= LAST");
   if (opts.last_seed - opts.first_seed >= kMaxEnsembleSeeds)
@@ -28,6 +27,12 @@ nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir
   const Config probe = load_config(case_path, opts.overrides);
   if (probe.indenter.type != "selfaffine")
     throw InputError(case_path, "an ensemble needs a selfaffine indenter");
+  return probe;
+}
+
+nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir,
+                            const EnsembleOptions& opts) {
+  const Config probe = check_ensemble(case_path, opts);
   const bool pairs = probe.friction.coefficient > 0;
   nlohmann::json j;
   j["seeds"] = nlohmann::json::array();

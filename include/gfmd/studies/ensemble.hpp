@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "gfmd/case/config.hpp"
+
 namespace gfmd {
 
 inline constexpr int kMaxEnsembleSeeds = 10000;
@@ -25,6 +27,11 @@ struct EnsembleOptions {
 // value of each; with friction the relative change of the conductivities through friction
 // and coupling. The caller holds dir's DirectoryLock. Throws InputError (the case is not
 // self-affine, bad seeds) and SolveError (a seed did not converge).
+// The checks run_ensemble makes before it solves anything (seed range, a self-affine
+// indenter), for front ends that want them before creating the output directory. Returns
+// the case with the overrides applied. Throws InputError.
+Config check_ensemble(const std::string& case_path, const EnsembleOptions& opts);
+
 nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir,
                             const EnsembleOptions& opts);
 
