@@ -28,6 +28,8 @@ std::vector<std::uint8_t> strength(const CsrMatrix& a, double theta) {
   return strong;
 }
 
+namespace {
+
 // Blocks of rows of the coarse/fine splitting (a function of the size only).
 std::size_t split_blocks(std::size_t n) { return std::clamp<std::size_t>((n + 32767) / 65536, 1, 16); }
 
@@ -153,6 +155,8 @@ inline void second_pass_row(const CsrMatrix& a, const std::vector<std::uint8_t>&
     }
   }
 }
+
+}  // namespace
 
 // Ruge-Stueben coarse/fine splitting: the first pass in blocks of rows side by side, then
 // the second pass, first on the rows whose strong couplings stay inside their block (block
