@@ -7,7 +7,10 @@
 #    ("gfmd/<part>/..." includes in include/gfmd/NAME and src/NAME);
 #  - at build time, links each part whole (every object, --whole-archive) with only its
 #    declared dependencies into a small program, so that a call into a part above fails the
-#    build with an undefined reference.
+#    build with an undefined reference;
+#  - at configure time, fails if a file outside core (and outside the few files listed in
+#    GFMD_OPENMP_KERNELS) has an OpenMP pragma: grid passes go through the backend seam
+#    (gfmd/core/backend.hpp), not around it.
 
 set(GFMD_PARTS "")
 
@@ -50,6 +53,13 @@ function(gfmd_check_layers)
     file(GLOB_RECURSE files CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/include/gfmd/${name}/*.hpp
          ${CMAKE_SOURCE_DIR}/src/${name}/*.hpp ${CMAKE_SOURCE_DIR}/src/${name}/*.cpp)
     foreach(f ${files})
+      file(RELATIVE_PATH relf ${CMAKE_SOURCE_DIR} ${f})
+      if(NOT name STREQUAL "core" AND NOT relf IN_LIST GFMD_OPENMP_KERNELS)
+        file(STRINGS ${f} pragmas REGEX "^[ \t]*#[ \t]*pragma[ \t]+omp")
+        if(pragmas)
+          list(APPEND violations "${relf}: OpenMP pragma outside core (write the loop as a backend pass: parallel_for, for_rows)")
+        endif()
+      endif()
       file(STRINGS ${f} includes REGEX "^#include \"gfmd/[a-z_]+/")
       foreach(line ${includes})
         string(REGEX REPLACE "^#include \"gfmd/([a-z_]+)/.*" "\\1" used "${line}")

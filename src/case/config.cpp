@@ -16,6 +16,7 @@
 #include <toml.hpp>
 
 #include "config_detail.hpp"
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/flow/flow.hpp"
@@ -420,6 +421,12 @@ Config build(const toml::value& root, const std::string& name, const std::string
   c.solver.mixing = so.number("mixing", 0.5);
   if (!(c.solver.mixing > 0 && c.solver.mixing <= 1)) so.error("mixing", "must be in (0, 1]");
   c.threads = static_cast<int>(so.integer("threads", 0, 0, kMaxThreads));
+  c.backend = so.string("backend", c.backend);
+  if (find_backend(c.backend) == nullptr) {
+    std::string names;
+    for (const auto& b : backend_names()) names += (names.empty() ? "\"" : ", \"") + b + "\"";
+    so.error("backend", "must be one of " + names + " (got \"" + c.backend + "\")");
+  }
   {
     const std::string planner = so.string("fft_planner", "estimate");
     if (planner == "estimate") {

@@ -72,7 +72,8 @@ nlohmann::json Config::to_json() const {
                  {"anderson", solver.anderson},
                  {"mixing", solver.mixing},
                  {"fft_planner", solver.fft_planner == Planner::Measure ? "measure" : "estimate"},
-                 {"threads", threads}};
+                 {"threads", threads},
+                 {"backend", backend}};
   j["output"] = {{"fields", output.fields}, {"png", output.png}};
   nlohmann::json pa = false;
   if (stress.post_analysis.size() == 1) pa = stress.post_analysis.front();

@@ -155,6 +155,7 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["interaction_stiffness"] =
       std::isinf(r.info.stiffness) ? nlohmann::json("inf") : nlohmann::json(r.info.stiffness);
   j["threads"] = threads();
+  j["backend"] = r.config.backend;
   const auto& s = r.topography_stats;
   j["topography"] = {{"kind", r.topography.kind},
                      {"mean", s.mean},

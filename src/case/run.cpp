@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "gfmd/case/run_dir.hpp"
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/io/netcdf.hpp"
@@ -166,6 +167,9 @@ bool outputs_need_stress_fields(const Config& cfg) { return cfg.output.fields ||
 
 CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   set_threads(cfg.threads);
+  const Backend* chosen = find_backend(cfg.backend);
+  if (chosen == nullptr) throw std::invalid_argument("run_case: unknown backend " + cfg.backend);
+  const BackendScope on_backend(*chosen);
   CaseResult r;
   r.config = cfg;
   r.topography = make_topography(cfg);

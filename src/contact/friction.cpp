@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "gfmd/contact/solver.hpp"
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/reduce.hpp"
 #include "solver_detail.hpp"
@@ -141,11 +142,11 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
     body_.inplane_slope(s2_.data(), s3_.data(), nullptr, ex, ey, s2_.data(), s3_.data(), scale * gamma, 0.0);
     fft_.backward_unscaled_destroying(s2_.data(), yx.data());
     fft_.backward_unscaled_destroying(s3_.data(), yy.data());
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
+    parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t s_i) {
+      const auto i = static_cast<std::size_t>(s_i);
       zx_[i] = tx[i] + gamma * xi * ex + bx_[i] + yx[i];
       zy_[i] = ty[i] + gamma * xi * ey + by_[i] + yy[i];
-    }
+    });
     have_z_ = true;
   }
   // Projection onto the disc of radius mu_c p.
@@ -167,8 +168,8 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
   };
   // tau = P_K(z); with `rhs` also y <- 2 tau - z + gamma b' (the resolvent's argument).
   const auto project_pass = [&](bool rhs) {
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
+    parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t s_i) {
+      const auto i = static_cast<std::size_t>(s_i);
       double x, y;
       project(i, zx_[i], zy_[i], x, y);
       tx[i] = x;
@@ -177,7 +178,7 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
         yx[i] = 2.0 * x - zx_[i] + bx_[i];
         yy[i] = 2.0 * y - zy_[i] + by_[i];
       }
-    }
+    });
   };
   TangentialResult res{0, 1.0, false};
   const double cx = gamma * xi * ex, cy = gamma * xi * ey;

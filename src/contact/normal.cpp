@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "gfmd/contact/solver.hpp"
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/reduce.hpp"
 #include "solver_detail.hpp"
@@ -21,8 +22,7 @@ void ContactSolver::apply_compliance(const RealField& in, RealField& out, double
   // spectral pass with the contiguous table C_zz / N, then the inverse transform in place.
   fft_.forward(in.data(), s1_.data());
   const std::ptrdiff_t ns = static_cast<std::ptrdiff_t>(czz_n_.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t k = 0; k < ns; ++k) s1_[k] *= scale * czz_n_[k];  // exact for scale = 1
+  parallel_for(ns, [&](std::ptrdiff_t k) { s1_[k] *= scale * czz_n_[k]; });  // exact for scale = 1
   fft_.backward_unscaled_destroying(s1_.data(), out.data());
 }
 
@@ -61,8 +61,7 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
   const auto apply_pending = [&] {
     if (pending == 1.0) return;
     const double f = pending;
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < n; ++i) p[i] *= f;
+    parallel_for(n, [&](std::ptrdiff_t i) { p[i] *= f; });
     pending = 1.0;
   };
   PKResult res{0, 1.0, 0.0, false};
@@ -110,8 +109,7 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
         res.delta = delta_imp;
         return res;
       }
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < n; ++i) p[i] = std::max(0.0, -g[i]) * (ik > 0 ? k_ : 1.0);
+      parallel_for(n, [&](std::ptrdiff_t i) { p[i] = std::max(0.0, -g[i]) * (ik > 0 ? k_ : 1.0); });
       conjugate = false;
       continue;
     }

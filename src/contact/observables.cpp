@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/reduce.hpp"
 
 namespace gfmd {
@@ -17,12 +18,12 @@ void directional_derivative(const FFT& fft, double ex, double ey, const RealFiel
   SpecField s = fft.spec_field();
   fft.forward(in.data(), s.data());
   const int nxh = g.nxh();
-#pragma omp parallel for schedule(static)
-  for (int iky = 0; iky < g.ny; ++iky)
+  for_rows(g.ny, [&](int iky) {
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
       s[k] *= cplx(0.0, ex * g.qx_deriv(ikx) + ey * g.qy_deriv(iky));
     }
+  });
   out.resize(in.size());
   fft.backward(s.data(), out.data());
 }

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/reduce.hpp"
 #include "solver_detail.hpp"
@@ -335,14 +336,14 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       const std::size_t ns = supp.size();
       std::vector<double> rhs;
       if (!have_prev) {
-#pragma omp parallel for schedule(static)
-        for (std::size_t j = 0; j < ns; ++j) {
+        parallel_for(static_cast<std::ptrdiff_t>(ns), [&](std::ptrdiff_t s_j) {
+          const auto j = static_cast<std::size_t>(s_j);
           const std::size_t i = supp[j];
           xprev[2 * j] = f.tx[i];
           xprev[2 * j + 1] = f.ty[i];
           fprev[2 * j] = tx[i] - f.tx[i];
           fprev[2 * j + 1] = ty[i] - f.ty[i];
-        }
+        });
         have_prev = true;
       } else {
         int slot = 0;
@@ -401,8 +402,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       }
       // Outside the support the iterate and its image are zero, and so is the update.
       const std::ptrdiff_t nsp = static_cast<std::ptrdiff_t>(ns);
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t j = 0; j < nsp; ++j) {
+      parallel_for(nsp, [&](std::ptrdiff_t j) {
         const std::size_t ex = 2 * static_cast<std::size_t>(j), ey = ex + 1;
         double xx = xprev[ex], xy = xprev[ey], fx = fprev[ex], fy = fprev[ey];
         for (std::size_t r = 0; r < h; ++r) {
@@ -414,7 +414,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         const std::size_t i = supp[static_cast<std::size_t>(j)];
         f.tx[i] = xx + omega * fx;
         f.ty[i] = xy + omega * fy;
-      }
+      });
       follow();
     }
     and_df_.clear();

@@ -17,6 +17,7 @@
 #include <string>
 #include <system_error>
 
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/files.hpp"
 
 namespace gfmd {
@@ -137,38 +138,71 @@ void set_threads(int n) {
 
 int threads() { return g_threads > 0 ? g_threads : omp_get_max_threads(); }
 
-struct FFT::Plans {
-  fftw_plan r2c = nullptr;
-  fftw_plan c2r = nullptr;
-};
-
-FFT::FFT(const Grid& grid, Planner planner) : grid_(grid), plans_(std::make_unique<Plans>()) {
-  if (g_threads == 0) set_threads(0);
-  const bool measure = planner == Planner::Measure;
-  const unsigned flags = (measure ? FFTW_MEASURE : FFTW_ESTIMATE);
-  std::lock_guard lock(planner_mutex());
-  const std::string wisdom = measure ? wisdom_file() : std::string();
-  if (measure && !g_wisdom_loaded) {
-    if (!wisdom.empty()) fftw_import_wisdom_from_filename(wisdom.c_str());  // absent or stale: ignored
-    g_wisdom_loaded = true;
+namespace {
+class FftwEngine final : public FftEngine {
+ public:
+  FftwEngine(const Grid& grid, Planner planner, int threads) {
+    if (g_threads == 0) set_threads(0);
+    const bool measure = planner == Planner::Measure;
+    const unsigned flags = (measure ? FFTW_MEASURE : FFTW_ESTIMATE);
+    std::lock_guard lock(planner_mutex());
+    fftw_plan_with_nthreads(threads);
+    const std::string wisdom = measure ? wisdom_file() : std::string();
+    if (measure && !g_wisdom_loaded) {
+      if (!wisdom.empty()) fftw_import_wisdom_from_filename(wisdom.c_str());  // absent or stale: ignored
+      g_wisdom_loaded = true;
+    }
+    // Planning arrays only (the plans run on the callers' aligned arrays): freed at once.
+    RealField rplan(grid.size());
+    SpecField cplan(grid.spectral_size());
+    auto* r = rplan.data();
+    auto* c = reinterpret_cast<fftw_complex*>(cplan.data());
+    r2c_ = fftw_plan_dft_r2c_2d(grid.ny, grid.nx, r, c, flags);
+    c2r_ = fftw_plan_dft_c2r_2d(grid.ny, grid.nx, c, r, flags);
+    if (r2c_ == nullptr || c2r_ == nullptr) {
+      destroy();
+      throw std::runtime_error("FFTW could not make a plan");
+    }
+    if (measure) save_wisdom(wisdom);
   }
-  // Planning arrays only (the plans run on the callers' aligned arrays): freed at once.
-  RealField rplan(grid.size());
-  SpecField cplan(grid.spectral_size());
-  auto* r = rplan.data();
-  auto* c = reinterpret_cast<fftw_complex*>(cplan.data());
-  plans_->r2c = fftw_plan_dft_r2c_2d(grid.ny, grid.nx, r, c, flags);
-  plans_->c2r = fftw_plan_dft_c2r_2d(grid.ny, grid.nx, c, r, flags);
-  if (plans_->r2c == nullptr || plans_->c2r == nullptr)
-    throw std::runtime_error("FFTW could not make a plan");
-  if (measure) save_wisdom(wisdom);
+  ~FftwEngine() override {
+    std::lock_guard lock(planner_mutex());
+    destroy();
+  }
+  FftwEngine(const FftwEngine&) = delete;
+  FftwEngine& operator=(const FftwEngine&) = delete;
+
+  void forward(const double* in, cplx* out) override {
+    // r2c leaves its input intact; the const_cast only satisfies FFTW's signature.
+    fftw_execute_dft_r2c(r2c_, const_cast<double*>(in), reinterpret_cast<fftw_complex*>(out));
+  }
+  void backward_unscaled(cplx* in, double* out) override {
+    fftw_execute_dft_c2r(c2r_, reinterpret_cast<fftw_complex*>(in), out);
+  }
+
+ private:
+  void destroy() {
+    if (r2c_) fftw_destroy_plan(r2c_);
+    if (c2r_) fftw_destroy_plan(c2r_);
+    r2c_ = c2r_ = nullptr;
+  }
+  fftw_plan r2c_ = nullptr;
+  fftw_plan c2r_ = nullptr;
+};
+}  // namespace
+
+std::unique_ptr<FftEngine> make_fftw_engine(const Grid& grid, Planner planner, int threads) {
+  return std::make_unique<FftwEngine>(grid, planner, threads);
 }
 
-FFT::~FFT() {
-  std::lock_guard lock(planner_mutex());
-  if (plans_->r2c) fftw_destroy_plan(plans_->r2c);
-  if (plans_->c2r) fftw_destroy_plan(plans_->c2r);
+std::unique_ptr<FftEngine> Backend::make_fft_engine(const Grid& grid, Planner planner) const {
+  return make_fftw_engine(grid, planner, fft_threads());
 }
+
+FFT::FFT(const Grid& grid, Planner planner)
+    : grid_(grid), engine_(backend().make_fft_engine(grid, planner)) {}
+
+FFT::~FFT() = default;
 
 namespace {
 // Adds the wall time of its scope to a counter (the transforms' own time, for benchmarks).
@@ -186,16 +220,15 @@ class ScopeTimer {
 }  // namespace
 
 void FFT::forward(const double* in, cplx* out) const {
-  // r2c leaves its input intact; the const_cast only satisfies FFTW's signature.
   ++transforms_;
   const ScopeTimer timer(seconds_);
-  fftw_execute_dft_r2c(plans_->r2c, const_cast<double*>(in), reinterpret_cast<fftw_complex*>(out));
+  engine_->forward(in, out);
 }
 
 void FFT::backward_unscaled_destroying(cplx* in, double* out) const {
   ++transforms_;
   const ScopeTimer timer(seconds_);
-  fftw_execute_dft_c2r(plans_->c2r, reinterpret_cast<fftw_complex*>(in), out);
+  engine_->backward_unscaled(in, out);
 }
 
 void FFT::backward(const cplx* in, double* out) const {
@@ -204,10 +237,9 @@ void FFT::backward(const cplx* in, double* out) const {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.spectral_size());
   if (cbuf_.empty()) cbuf_.resize(grid_.spectral_size());  // first use: c2r destroys its input
   cplx* buf = cbuf_.data();
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) buf[i] = in[i] * scale;
+  parallel_for(n, [&](std::ptrdiff_t i) { buf[i] = in[i] * scale; });
   const ScopeTimer timer(seconds_);
-  fftw_execute_dft_c2r(plans_->c2r, reinterpret_cast<fftw_complex*>(buf), out);
+  engine_->backward_unscaled(buf, out);
 }
 
 }  // namespace gfmd

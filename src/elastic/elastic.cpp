@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 
 namespace gfmd {
@@ -84,8 +85,7 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params)
   const double h = params_.thickness;
   const bool half = params_.half_space();
   const int nxh = grid.nxh();
-#pragma omp parallel for schedule(static)
-  for (int iky = 0; iky < grid.ny; ++iky) {
+  for_rows(grid.ny, [&](int iky) {
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
       const double qx = grid.qx(ikx), qy = grid.qy(iky);
@@ -114,7 +114,7 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params)
       m.cxz = (nyq && ikx == grid.nx / 2 && grid.nx % 2 == 0) ? 0.0 : c * c13;
       m.cyz = (nyq && iky == grid.ny / 2 && grid.ny % 2 == 0) ? 0.0 : s * c13;
     }
-  }
+  });
   if (!half) {
     const double om = 1.0 - nu;
     c0_zz_ = h * (1.0 - 2.0 * nu) / (om * om * es);
@@ -176,8 +176,7 @@ inline std::array<cplx, 2> inplane(const ComplianceMode& m, cplx x, cplx y, cplx
 void ElasticBody::displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
                                double scale, double scale_z) const {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(modes_.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t k = 0; k < n; ++k) {
+  parallel_for(n, [&](std::ptrdiff_t k) {
     const ComplianceMode& m = modes_[k];
     const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
                z = tz ? scale_z * tz[k] : cplx(0.0);
@@ -187,7 +186,7 @@ void ElasticBody::displacement(const cplx* tx, const cplx* ty, const cplx* tz, c
       if (uy) uy[k] = u[1];
     }
     if (uz) uz[k] = m.czz * z - times_i(m.cxz, x) - times_i(m.cyz, y);
-  }
+  });
 }
 
 namespace {
@@ -197,14 +196,13 @@ template <class F>
 void for_each_slope_mode(const Grid& g, const std::vector<ComplianceMode>& modes, double ex, double ey,
                          F&& f) {
   const int nxh = g.nxh();
-#pragma omp parallel for schedule(static)
-  for (int iky = 0; iky < g.ny; ++iky) {
+  for_rows(g.ny, [&](int iky) {
     const double dy = ey * g.qy_deriv(iky);
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
       f(iky, k, modes[k], ex * g.qx_deriv(ikx) + dy);
     }
-  }
+  });
 }
 }  // namespace
 

@@ -52,6 +52,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "stress_detail.hpp"
 namespace gfmd {
@@ -74,13 +75,13 @@ StressField surface_stress(const FFT& fft, const ElasticParams& el, const Contac
   const cplx i(0.0, 1.0);
   // One strain component at a time: W = its spectrum, synthesised in place.
   const auto strain = [&](int comp, RealField& out) {
-#pragma omp parallel for schedule(static)
-    for (int iky = 0; iky < g.ny; ++iky)
+    for_rows(g.ny, [&](int iky) {
       for (int ikx = 0; ikx < nxh; ++ikx) {
         const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
         const double qx = g.qx_deriv(ikx), qy = g.qy_deriv(iky);
         W[k] = comp == 0 ? i * qx * U[k] : comp == 1 ? i * qy * V[k] : i * qy * U[k] + i * qx * V[k];
       }
+    });
     fft.backward(W.data(), out.data());
   };
   StressField s = make_stress(n);
@@ -91,8 +92,7 @@ StressField surface_stress(const FFT& fft, const ElasticParams& el, const Contac
   const double es = el.contact_modulus, nu = el.poisson;
   const double G = el.shear_modulus(), lat = nu / (1.0 - nu);
   const std::ptrdiff_t nn = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t k = 0; k < nn; ++k) {
+  parallel_for(nn, [&](std::ptrdiff_t k) {
     const double e_xx = s.xx[k], e_yy = s.yy[k], szz = -f.pressure[k];
     s.zz[k] = szz;
     s.xx[k] = es * (e_xx + nu * e_yy) + lat * szz;
@@ -100,7 +100,7 @@ StressField surface_stress(const FFT& fft, const ElasticParams& el, const Contac
     s.xy[k] = G * s.xy[k];
     s.xz[k] = has_tx ? f.tx[k] : 0.0;
     s.yz[k] = has_ty ? f.ty[k] : 0.0;
-  }
+  });
   return s;
 }
 
@@ -290,8 +290,7 @@ PrincipalField principal(const StressField& s, PrincipalParts parts) {
   if (all)
     for (RealField* f : {&p.s2, &p.s3, &p.e1x, &p.e1y, &p.e1z}) f->assign(n, 0.0);
   const std::ptrdiff_t nn = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t k = 0; k < nn; ++k) {
+  parallel_for(nn, [&](std::ptrdiff_t k) {
     const Principal3 e = principal(s.xx[k], s.yy[k], s.zz[k], s.xy[k], s.xz[k], s.yz[k]);
     p.s1[k] = e.s1;
     p.von_mises[k] = von_mises(s.xx[k], s.yy[k], s.zz[k], s.xy[k], s.xz[k], s.yz[k]);
@@ -302,7 +301,7 @@ PrincipalField principal(const StressField& s, PrincipalParts parts) {
       p.e1y[k] = e.e1[1];
       p.e1z[k] = e.e1[2];
     }
-  }
+  });
   return p;
 }
 

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/elastic/stress.hpp"
 #include "stress_detail.hpp"
@@ -216,8 +217,7 @@ void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFi
     for (auto& s : *u) s = fft.spec_field();
   const int nxh = g.nxh();
   const bool evenx = g.nx % 2 == 0, eveny = g.ny % 2 == 0;
-#pragma omp parallel for schedule(static)
-  for (int iky = 0; iky < g.ny; ++iky) {
+  for_rows(g.ny, [&](int iky) {
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
       const double qx = g.qx(ikx), qy = g.qy(iky), q = std::hypot(qx, qy);
@@ -244,7 +244,7 @@ void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFi
       if (u)
         for (int m = 0; m < 3; ++m) (*u)[m][k] = uacc[m] / static_cast<double>(count);
     }
-  }
+  });
 }
 }  // namespace
 

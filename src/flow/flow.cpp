@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "connectivity.hpp"
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/buffer.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/reduce.hpp"
@@ -106,10 +107,10 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
   };
   // Also counted: faces between two open cells that the cut-off (or underflow of
   // (g / g_max)^3) closed.
-  std::size_t faces_cut = 0;
-#pragma omp parallel for schedule(static) reduction(+ : faces_cut)
-  for (int iy = 0; iy < ny; ++iy) {
+  std::vector<std::size_t> cut_in_row(static_cast<std::size_t>(ny), 0);
+  for_rows(ny, [&](int iy) {
     const int iyn = (iy + 1 == ny) ? 0 : iy + 1;
+    std::size_t cut = 0;
     for (int ix = 0; ix < nx; ++ix) {
       const int ixe = (ix + 1 == nx) ? 0 : ix + 1;
       const std::size_t i = static_cast<std::size_t>(iy) * nx + ix;
@@ -118,10 +119,13 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
       const double ki = kcell(i);
       sys.kx[i] = wx * harmonic(ki, kcell(ie));
       sys.ky[i] = wy * harmonic(ki, kcell(in));
-      faces_cut += static_cast<std::size_t>(gap[i] > 0.0 && gap[ie] > 0.0 && sys.kx[i] == 0.0);
-      faces_cut += static_cast<std::size_t>(gap[i] > 0.0 && gap[in] > 0.0 && sys.ky[i] == 0.0);
+      cut += static_cast<std::size_t>(gap[i] > 0.0 && gap[ie] > 0.0 && sys.kx[i] == 0.0);
+      cut += static_cast<std::size_t>(gap[i] > 0.0 && gap[in] > 0.0 && sys.ky[i] == 0.0);
     }
-  }
+    cut_in_row[iy] = cut;
+  });
+  std::size_t faces_cut = 0;
+  for (std::size_t c : cut_in_row) faces_cut += c;
 
   // Connected components over open faces; windings give the percolation flags.
   // (Geometric flags, g > 0, are recomputed below where faces were cut.)
@@ -139,13 +143,12 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
         uf, grid, [&](std::size_t i) { return sys.kx[i] > 0.0; },
         [&](std::size_t i) { return sys.ky[i] > 0.0; });
     std::tie(wraps_x, wraps_y) = uf.windings();
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t ii = 0; ii < static_cast<std::ptrdiff_t>(n); ++ii) {
+    parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t ii) {
       const auto i = static_cast<std::size_t>(ii);
       const std::int32_t r = uf.root(static_cast<std::int32_t>(i));
       still[i] = !(uf.wraps(r, 0) || uf.wraps(r, 1));
       pinned[i] = still[i] || r == static_cast<std::int32_t>(i);
-    }
+    });
   }
   // Cutting faces only removes windings: the geometric flags differ only where a direction
   // lost its winding.
@@ -161,8 +164,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     const double a = angles[k] * std::numbers::pi / 180.0;
     const double dxd = std::cos(a), dyd = std::sin(a);
     b.resize(n);
-#pragma omp parallel for schedule(static)
-    for (int iy = 0; iy < ny; ++iy) {
+    for_rows(ny, [&](int iy) {
       const int iys = (iy == 0) ? ny - 1 : iy - 1;
       for (int ix = 0; ix < nx; ++ix) {
         const int ixw = (ix == 0) ? nx - 1 : ix - 1;
@@ -175,7 +177,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
         const std::size_t is = static_cast<std::size_t>(iys) * nx + ix;
         b[i] = dxd * dx * (sys.kx[iw] - sys.kx[i]) + dyd * dy * (sys.ky[is] - sys.ky[i]);
       }
-    }
+    });
   };
 
   // Back end: our algebraic multigrid (OpenMP, on the red-black reduced system), with
@@ -230,8 +232,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     const Buffer<double>& P = sols[k].x;
 
     // Face current densities (physical units, G = 1) and cell-centred averages.
-#pragma omp parallel for schedule(static)
-    for (int iy = 0; iy < ny; ++iy) {
+    for_rows(ny, [&](int iy) {
       const int iyn = (iy + 1 == ny) ? 0 : iy + 1;
       for (int ix = 0; ix < nx; ++ix) {
         const int ixe = (ix + 1 == nx) ? 0 : ix + 1;
@@ -242,11 +243,10 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
         qxf[i] = (sys.kx[i] > 0.0 && !still[i]) ? -kscale * sys.kx[i] * (P[ie] - P[i] - dxd * dx) / dy : 0.0;
         qyf[i] = (sys.ky[i] > 0.0 && !still[i]) ? -kscale * sys.ky[i] * (P[in] - P[i] - dyd * dy) / dx : 0.0;
       }
-    }
+    });
     res.qx.resize(n);
     res.qy.resize(n);
-#pragma omp parallel for schedule(static)
-    for (int iy = 0; iy < ny; ++iy) {
+    for_rows(ny, [&](int iy) {
       const int iys = (iy == 0) ? ny - 1 : iy - 1;
       for (int ix = 0; ix < nx; ++ix) {
         const int ixw = (ix == 0) ? nx - 1 : ix - 1;
@@ -254,7 +254,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
         res.qx[i] = 0.5 * (qxf[i] + qxf[static_cast<std::size_t>(iy) * nx + ixw]);
         res.qy[i] = 0.5 * (qyf[i] + qyf[static_cast<std::size_t>(iys) * nx + ix]);
       }
-    }
+    });
     const double mqx = grid_sum(grid, [&](std::size_t i) { return qxf[i]; }) / static_cast<double>(n);
     const double mqy = grid_sum(grid, [&](std::size_t i) { return qyf[i]; }) / static_cast<double>(n);
     res.conductivity = mqx * dxd + mqy * dyd;

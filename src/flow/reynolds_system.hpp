@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/buffer.hpp"
 #include "gfmd/core/grid.hpp"
 #include "gfmd/core/reduce.hpp"
@@ -84,11 +85,10 @@ struct LinearSystem {
     return (pinned[iw] ? kx[iw] : 0.0) + (pinned[ie] ? kx[i] : 0.0) + (pinned[is] ? ky[is] : 0.0) +
            (pinned[in] ? ky[i] : 0.0);
   }
-  // Calls f(iy) for every grid row, rows shared among the threads.
+  // Calls f(iy) for every grid row (a pass of the current backend).
   template <class F>
   void for_rows(F&& f) const {
-#pragma omp parallel for schedule(static)
-    for (int iy = 0; iy < ny; ++iy) f(static_cast<std::size_t>(iy));
+    gfmd::for_rows(ny, [&](int iy) { f(static_cast<std::size_t>(iy)); });
   }
 };
 

@@ -21,6 +21,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/core/reduce.hpp"
@@ -56,13 +57,12 @@ template <class F>
 double spectral_sum(const Grid& g, F&& f) {
   const int nxh = g.nxh();
   std::vector<double> rows(static_cast<std::size_t>(g.ny));
-#pragma omp parallel for schedule(static)
-  for (int iky = 0; iky < g.ny; ++iky) {
+  for_rows(g.ny, [&](int iky) {
     double s = 0.0;
     const std::size_t base = static_cast<std::size_t>(iky) * nxh;
     for (int ikx = 0; ikx < nxh; ++ikx) s += f(ikx, iky, base + ikx);
     rows[iky] = s;
-  }
+  });
   double total = 0.0;
   for (double r : rows) total += r;
   return total;
@@ -109,8 +109,7 @@ double real_rms(const Grid& g, const RealField& h, double mean) {
 
 void scale_field(RealField& h, double factor) {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(h.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) h[i] *= factor;
+  parallel_for(n, [&](std::ptrdiff_t i) { h[i] *= factor; });
 }
 
 }  // namespace
@@ -127,15 +126,14 @@ Topography make_hertz(const Grid& grid, double rx, double ry) {
   Topography t{grid, RealField(grid.size()), "hertz"};
   const int cx = grid.nx / 2, cy = grid.ny / 2;
   const double dx = grid.dx(), dy = grid.dy();
-#pragma omp parallel for schedule(static)
-  for (int iy = 0; iy < grid.ny; ++iy) {
+  for_rows(grid.ny, [&](int iy) {
     const double y = (iy - cy) * dy;
     const double hy = (y * y) / (2.0 * ry);
     for (int ix = 0; ix < grid.nx; ++ix) {
       const double x = (ix - cx) * dx;
       t.h[static_cast<std::size_t>(iy) * grid.nx + ix] = -(x * x) / (2.0 * rx) - hy;
     }
-  }
+  });
   return t;
 }
 
@@ -165,10 +163,10 @@ Topography make_eggcrate(const Grid& grid, double wavelength, double amplitude) 
   for (int iy = 0; iy < grid.ny; ++iy)
     cy[iy] = std::cos(kTwoPi * static_cast<double>((iy * my) % grid.ny) / grid.ny);
   Topography t{grid, RealField(grid.size()), "eggcrate"};
-#pragma omp parallel for schedule(static)
-  for (int iy = 0; iy < grid.ny; ++iy)
+  for_rows(grid.ny, [&](int iy) {
     for (int ix = 0; ix < grid.nx; ++ix)
       t.h[static_cast<std::size_t>(iy) * grid.nx + ix] = amplitude * (cx[ix] + cy[iy]);
+  });
   return t;
 }
 
@@ -244,8 +242,7 @@ Topography make_selfaffine(const Grid& g, const SelfAffineParams& p) {
   FFT fft(g);
   SpecField spec = fft.spec_field();
   std::vector<int> in_band(static_cast<std::size_t>(g.ny), 0);
-#pragma omp parallel for schedule(static)
-  for (int iky = 0; iky < g.ny; ++iky) {
+  for_rows(g.ny, [&](int iky) {
     int count = 0;
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t i = static_cast<std::size_t>(iky) * nxh + ikx;
@@ -255,7 +252,7 @@ Topography make_selfaffine(const Grid& g, const SelfAffineParams& p) {
       count += a != 0.0;
     }
     in_band[iky] = count;
-  }
+  });
   int modes = 0;
   for (int c : in_band) modes += c;
   if (modes == 0)

@@ -73,6 +73,7 @@ struct Config {
   InteractionParams interaction;
   SolverParams solver;
   int threads = 0;
+  std::string backend = "threads";  // solver.backend: where passes and FFTs run (core/backend.hpp)
   OutputConfig output;
   bool friction_reference = true;  // with friction: also solve frictionless at the same load
   StressConfig stress;

@@ -72,8 +72,27 @@ int threads();
 // the wisdom exists; results differ from Estimate's at round-off level).
 enum class Planner { Estimate, Measure };
 
+// What executes the transforms of an FFT object: FFTW's plans unless the current backend
+// supplies its own (Backend::make_fft_engine: FFTW-MPI on slabs, cuFFT on a device). The
+// conventions are those of FFT::forward and FFT::backward_unscaled_destroying.
+class FftEngine {
+ public:
+  FftEngine() = default;
+  FftEngine(const FftEngine&) = delete;
+  FftEngine& operator=(const FftEngine&) = delete;
+  virtual ~FftEngine() = default;
+  // r2c analysis; in is not modified.
+  virtual void forward(const double* in, cplx* out) = 0;
+  // c2r synthesis without 1/(nx*ny); in is overwritten.
+  virtual void backward_unscaled(cplx* in, double* out) = 0;
+};
+
+// FFTW's plans on the grid with `threads` threads (the default engine of every backend).
+std::unique_ptr<FftEngine> make_fftw_engine(const Grid& grid, Planner planner, int threads);
+
 class FFT {
  public:
+  // Plans made by the current backend (backend().make_fft_engine).
   FFT(const Grid& grid, Planner planner = Planner::Estimate);
   ~FFT();
   FFT(const FFT&) = delete;
@@ -97,9 +116,8 @@ class FFT {
   [[nodiscard]] SpecField spec_field() const { return SpecField(grid_.spectral_size()); }
 
  private:
-  struct Plans;
   Grid grid_;
-  std::unique_ptr<Plans> plans_;
+  std::unique_ptr<FftEngine> engine_;
   mutable SpecField cbuf_;  // backward()'s copy of its input, allocated on first use
   mutable std::uint64_t transforms_ = 0;
   mutable double seconds_ = 0.0;

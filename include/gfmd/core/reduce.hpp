@@ -1,5 +1,6 @@
-// Deterministic parallel reductions: each row is summed serially, the row sums are
-// added in row order, so the result does not depend on the number of threads.
+// Deterministic reductions over the current backend: each row is summed serially, the row
+// sums are added in row order, so the result does not depend on the backend or on the
+// number of its workers.
 #pragma once
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/grid.hpp"
 
 namespace gfmd {
@@ -17,13 +19,12 @@ namespace gfmd {
 template <std::size_t K, class F>
 std::array<double, K> grid_sums(const Grid& g, F&& f) {
   std::vector<std::array<double, K>> rows(static_cast<std::size_t>(g.ny));
-#pragma omp parallel for schedule(static)
-  for (int iy = 0; iy < g.ny; ++iy) {
+  for_rows(g.ny, [&](int iy) {
     std::array<double, K> s{};
     const std::size_t base = static_cast<std::size_t>(iy) * g.nx;
     for (int ix = 0; ix < g.nx; ++ix) f(base + ix, s);
     rows[iy] = s;
-  }
+  });
   std::array<double, K> total{};
   for (const auto& r : rows)
     for (std::size_t k = 0; k < K; ++k) total[k] += r[k];
@@ -40,12 +41,11 @@ double grid_sum(const Grid& g, F&& f) {
 template <class F>
 std::vector<double> grid_sums(const Grid& g, std::size_t k, F&& f) {
   std::vector<double> rows(static_cast<std::size_t>(g.ny) * k, 0.0);
-#pragma omp parallel for schedule(static)
-  for (int iy = 0; iy < g.ny; ++iy) {
+  for_rows(g.ny, [&](int iy) {
     double* s = rows.data() + static_cast<std::size_t>(iy) * k;
     const std::size_t base = static_cast<std::size_t>(iy) * g.nx;
     for (int ix = 0; ix < g.nx; ++ix) f(base + ix, s);
-  }
+  });
   std::vector<double> total(k, 0.0);
   for (int iy = 0; iy < g.ny; ++iy)
     for (std::size_t j = 0; j < k; ++j) total[j] += rows[static_cast<std::size_t>(iy) * k + j];
@@ -60,12 +60,11 @@ std::vector<double> range_sums(std::size_t len, std::size_t k, F&& f) {
   constexpr std::size_t block = 4096;
   const std::ptrdiff_t nb = static_cast<std::ptrdiff_t>((len + block - 1) / block);
   std::vector<double> blocks(static_cast<std::size_t>(nb) * k, 0.0);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t b = 0; b < nb; ++b) {
+  parallel_for(nb, [&](std::ptrdiff_t b) {
     double* s = blocks.data() + static_cast<std::size_t>(b) * k;
     const std::size_t lo = static_cast<std::size_t>(b) * block, hi = std::min(len, lo + block);
     for (std::size_t i = lo; i < hi; ++i) f(i, s);
-  }
+  });
   std::vector<double> total(k, 0.0);
   for (std::ptrdiff_t b = 0; b < nb; ++b)
     for (std::size_t j = 0; j < k; ++j) total[j] += blocks[static_cast<std::size_t>(b) * k + j];
@@ -76,8 +75,7 @@ std::vector<double> range_sums(std::size_t len, std::size_t k, F&& f) {
 template <class F>
 double grid_max(const Grid& g, F&& f, double init) {
   std::vector<double> rows(static_cast<std::size_t>(g.ny), init);
-#pragma omp parallel for schedule(static)
-  for (int iy = 0; iy < g.ny; ++iy) {
+  for_rows(g.ny, [&](int iy) {
     double m = init;
     const std::size_t base = static_cast<std::size_t>(iy) * g.nx;
     for (int ix = 0; ix < g.nx; ++ix) {
@@ -85,7 +83,7 @@ double grid_max(const Grid& g, F&& f, double init) {
       if (v > m) m = v;
     }
     rows[iy] = m;
-  }
+  });
   double m = init;
   for (double r : rows)
     if (r > m) m = r;
