@@ -1,0 +1,411 @@
+#include "commands.hpp"
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <new>
+#include <sstream>
+
+#include "child.hpp"
+#include "gfmd/case/leakage.hpp"
+#include "gfmd/case/outputs.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
+#include "gfmd/io/netcdf.hpp"
+#include "gfmd/studies/ensemble.hpp"
+#include "gfmd/studies/percolation.hpp"
+#include "gfmd/studies/sweep.hpp"
+#include "gfmd/version.hpp"
+#include "maps.hpp"
+
+namespace gfmd::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+struct ProgressPrinter {
+  bool tty = isatty(STDERR_FILENO) != 0;
+  bool quiet = false;
+  bool verbose = false;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), last = start;
+  void operator()(const gfmd::Progress& p) {
+    if (quiet) return;
+    const auto now = std::chrono::steady_clock::now();
+    const double since = std::chrono::duration<double>(now - last).count();
+    if (verbose && p.outer > 0) {
+      std::fprintf(stderr, "  friction step %3d: %6d iterations, traction change %.3e\n", p.outer,
+                   p.iteration, p.error);
+      return;
+    }
+    if (since < (tty ? 0.2 : 5.0)) return;
+    last = now;
+    const double el = std::chrono::duration<double>(now - start).count();
+    if (tty)
+      std::fprintf(stderr, "\r  iteration %6d  friction step %3d  change %.2e  %.1f s   ", p.iteration,
+                   p.outer, p.error, el);
+    else
+      std::fprintf(stderr, "  iteration %d friction step %d change %.3e elapsed %.1f s\n", p.iteration,
+                   p.outer, p.error, el);
+  }
+  void done() const {
+    if (tty && !quiet) std::fprintf(stderr, "\r%80s\r", "");
+  }
+};
+
+}  // namespace
+
+// " [with --set a=1 b=2]": errors name the overrides, the case file alone does not say what ran.
+std::string sets_note(const std::vector<std::string>& sets) {
+  if (sets.empty()) return "";
+  std::string t = " [with --set";
+  for (const auto& v : sets) t += " " + v;
+  return t + "]";
+}
+
+int cmd_run(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
+            bool quiet, bool verbose, bool resume, double checkpoint_s, bool wait) {
+  const gfmd::Config cfg = gfmd::load_config(case_path, sets);
+  if (out_dir.empty())
+    out_dir = (std::filesystem::path("out") / std::filesystem::path(case_path).stem()).string();
+  namespace fs = std::filesystem;
+  // Validates the topography before anything is written.
+  (void)gfmd::make_topography(cfg);
+  const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
+  const std::string ckpt = (fs::path(out_dir) / "checkpoint.bin").string();
+  gfmd::ContactFields warm;
+  gfmd::CheckpointProgress done;
+  bool have_warm = false;
+  if (resume) {
+    if (gfmd::finished_summary(out_dir, cfg)) {
+      std::printf("%s: already solved in %s/ (summary.json); nothing to do\n", case_path.c_str(),
+                  out_dir.c_str());
+      return 0;
+    }
+    const std::string before = gfmd::read_status(out_dir);
+    have_warm = gfmd::read_checkpoint(ckpt, cfg, warm, &done);
+    if (!quiet) {
+      // We hold the lock, so a "running" status was left by a process that died.
+      if (before == "running")
+        std::fprintf(stderr, "the previous run in %s/ did not finish (it crashed or was killed)\n",
+                     out_dir.c_str());
+      std::fprintf(stderr, "%s\n",
+                   have_warm ? "resuming from the checkpoint" : "no usable checkpoint: starting afresh");
+    }
+  }
+  // The run owns its directory: what an earlier run wrote there goes first.
+  gfmd::clear_run_outputs(out_dir, have_warm);
+  gfmd::write_status(out_dir, "running");
+  ProgressPrinter pp;
+  pp.quiet = quiet;
+  pp.verbose = verbose;
+  gfmd::RunOptions opts;
+  opts.progress = [&pp](const gfmd::Progress& p) { pp(p); };
+  opts.stop_request = stop_requested;
+  opts.checkpoint_path = ckpt;
+  opts.checkpoint_interval_s = checkpoint_s;
+  opts.keep_stress_fields = gfmd::outputs_need_stress_fields(cfg);
+  if (have_warm) {
+    opts.warm_start = &warm;
+    opts.resumed = done;
+  }
+  // Every error from here on leaves status.json "failed" with the reason.
+  const auto failed = [&](const std::string& why) {
+    pp.done();
+    try {
+      gfmd::write_status(out_dir, "failed", why);
+    } catch (const std::exception&) {
+      // The status cannot be written either (disk full): the message on stderr remains.
+    }
+  };
+  gfmd::CaseResult r;
+  try {
+    r = gfmd::run_case(cfg, opts);
+  } catch (const gfmd::Interrupted& e) {
+    pp.done();
+    gfmd::write_status(out_dir, "interrupted", e.what());
+    std::fprintf(stderr, "gfmd: %s: %s; state saved in %s, continue with --resume\n", case_path.c_str(),
+                 e.what(), ckpt.c_str());
+    return 4;
+  } catch (const std::bad_alloc&) {
+    failed("out of memory during the solve");
+    throw;
+  } catch (const std::exception& e) {
+    failed(e.what());
+    std::error_code ec;
+    fs::remove(ckpt, ec);
+    throw;
+  }
+  pp.done();
+  if (!r.info.converged) {
+    char why[512];
+    std::snprintf(why, sizeof why,
+                  "%s after %d iterations (pressure change %.3e, friction change %.3e, tolerance %.1e)",
+                  r.info.status.c_str(), r.info.iterations, r.info.pk_error, r.info.friction_error,
+                  cfg.solver.tolerance);
+    failed(why);
+    std::error_code ec;
+    fs::remove(ckpt, ec);
+    std::fprintf(stderr, "gfmd: error: %s: %s%s; no results written\n", case_path.c_str(), why,
+                 sets_note(sets).c_str());
+    return 3;
+  }
+  // The maps and profiles.png (output.png) are drawn from the data files just written.
+  gfmd::publish_outputs(r, out_dir, [&] {
+    if (cfg.output.png) (void)draw_maps({out_dir}, {"--profiles"});
+  });
+  std::error_code ec;
+  fs::remove(ckpt, ec);
+  const auto& o = r.observables;
+  std::printf("%s: %s in %d iterations (%.2f s, residual %.2e)\n", case_path.c_str(), r.info.status.c_str(),
+              r.info.iterations, r.info.wall_time_s, r.info.residual);
+  std::printf("  relative contact area  %.6g\n", o.relative_contact_area);
+  std::printf("  normal force           %.6g\n", o.normal_force);
+  std::printf("  mean / max pressure    %.6g / %.6g\n", o.mean_pressure, o.max_pressure);
+  std::printf("  mean gap               %.6g\n", o.mean_gap);
+  if (cfg.friction.coefficient > 0) {
+    std::printf("  friction coefficient   %.6g (dissipation)  %.6g (downhill)\n", o.friction_coefficient,
+                o.friction_coefficient_downhill);
+  }
+  std::printf("  outputs in %s/\n", out_dir.c_str());
+  return 0;
+}
+
+int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets_in,
+              std::string plot, bool quiet, bool wait) {
+  std::vector<std::string> sets;
+  std::string param;
+  std::vector<double> values;
+  for (const auto& s : sets_in) {
+    const auto eq = s.find('=');
+    if (eq != std::string::npos && s.find(',', eq) != std::string::npos) {
+      if (!param.empty())
+        throw gfmd::InputError("--set " + s, "only one swept key per sweep (already sweeping " + param + ")");
+      param = s.substr(0, eq);
+      std::stringstream ss(s.substr(eq + 1));
+      std::string tok;
+      while (std::getline(ss, tok, ',')) {
+        try {
+          std::size_t used = 0;
+          values.push_back(std::stod(tok, &used));
+          if (used != tok.size()) throw std::invalid_argument(tok);
+        } catch (const std::exception&) {
+          throw gfmd::InputError("--set " + s, "'" + tok + "' is not a number");
+        }
+      }
+    } else {
+      sets.push_back(s);
+    }
+  }
+  gfmd::Config cfg = gfmd::load_config(
+      case_path, param.empty() ? sets : [&] {
+        auto v = sets;
+        v.push_back(param + "=" + gfmd::format_number(values.front()));
+        return v;
+      }());
+  if (!param.empty()) {
+    cfg.sweep.parameter = param;
+    cfg.sweep.values = values;
+  }
+  if (!cfg.sweep.active())
+    throw gfmd::InputError(case_path, "nothing to sweep: add --set section.key=v1,v2,... or a [sweep] table");
+  if (plot.empty()) plot = cfg.sweep.plot;
+  if (out_dir.empty())
+    out_dir = (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_sweep"))
+                  .string();
+  const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
+  ProgressPrinter pp;
+  pp.quiet = quiet;
+  gfmd::SweepOptions so;
+  so.overrides = sets;
+  so.progress = [&pp](const gfmd::Progress& p) { pp(p); };
+  so.stop_request = stop_requested;
+  const auto t0 = std::chrono::steady_clock::now();
+  so.on_point = [&](int done, int total, const std::string& msg) {
+    pp.done();
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!quiet)
+      std::fprintf(stderr, "[%d/%d] %s (elapsed %.1f s, about %.0f s left)\n", done, total, msg.c_str(), el,
+                   el / done * (total - done));
+  };
+  // The sweep re-reads the case for every point; [sweep] given on the command line is
+  // passed on through the overrides-free config copy.
+  const auto draw = [&] {
+    return run_script("plot_sweep.py", {(std::filesystem::path(out_dir) / "sweep.csv").string(), "--y", plot},
+                      false);
+  };
+  try {
+    gfmd::run_sweep(case_path, cfg, out_dir, so);
+  } catch (const gfmd::Interrupted& e) {
+    pp.done();
+    std::fprintf(stderr,
+                 "gfmd: sweep interrupted (%s); finished points and a checkpoint are kept in %s/, run the "
+                 "same command again to continue\n",
+                 e.what(), out_dir.c_str());
+    return 4;
+  } catch (const gfmd::SolveError&) {
+    // The finished points are kept: draw them before reporting the failure.
+    pp.done();
+    (void)draw_maps(runs_needing_maps(out_dir), {});
+    if (std::filesystem::exists(std::filesystem::path(out_dir) / "sweep.csv") && draw())
+      std::fprintf(stderr, "gfmd: the finished points are drawn in %s/sweep_%s.png\n", out_dir.c_str(),
+                   plot.c_str());
+    throw;
+  }
+  (void)draw_maps(runs_needing_maps(out_dir), {});
+  std::printf("sweep of %s over %zu values: tables in %s/sweep.csv and sweep.json\n",
+              cfg.sweep.parameter.c_str(), cfg.sweep.values.size(), out_dir.c_str());
+  if (!draw())
+    std::fprintf(stderr, "gfmd: warning: could not draw %s with matplotlib (%s)\n", plot.c_str(),
+                 python_interpreter().c_str());
+  else
+    std::printf("  plot: %s/sweep_%s.png\n", out_dir.c_str(), plot.c_str());
+  return 0;
+}
+
+int cmd_flow(const std::string& dir, const std::string& direction, double tol, const std::string& solver,
+             bool wait) {
+  gfmd::FlowSolver which;
+  if (!gfmd::parse_flow_solver(solver, which))
+    throw gfmd::InputError("--solver", "must be auto, amg or boomeramg, got '" + solver + "'");
+  namespace fs = std::filesystem;
+  const fs::path sp = fs::path(dir) / "summary.json";
+  if (!fs::exists(sp)) throw gfmd::InputError(sp.string(), "no solved case here (run gfmd run first)");
+  const std::string text = gfmd::read_regular_file(sp.string(), 64u << 20, "summary file");
+  gfmd::require_regular_file((fs::path(dir) / "fields.nc").string(), "fields file");
+  nlohmann::json s;
+  try {
+    s = nlohmann::json::parse(text);
+  } catch (const std::exception& e) {
+    throw gfmd::InputError(sp.string(), std::string("unreadable: ") + e.what());
+  }
+  gfmd::Grid g;
+  try {
+    const auto& gi = s.at("input").at("grid");
+    g = gfmd::Grid{gi.at("nx").get<int>(), gi.at("ny").get<int>(), gi.at("lx").get<double>(),
+                   gi.at("ly").get<double>()};
+  } catch (const nlohmann::json::exception& e) {
+    throw gfmd::InputError(sp.string(), std::string("not a gfmd summary (input.grid): ") + e.what());
+  }
+  int nx = 0, ny = 0;
+  const std::vector<double> gap =
+      gfmd::read_netcdf_field((fs::path(dir) / "fields.nc").string(), "gap", nx, ny);
+  if (nx != g.nx || ny != g.ny) throw gfmd::InputError(dir, "fields.nc does not match summary.json");
+  const std::vector<double> angles = gfmd::parse_flow_directions(direction);
+  if (angles.empty())
+    throw gfmd::InputError("--direction",
+                           "must be x, y, both or an angle in degrees, got '" + direction + "'");
+  const gfmd::DirectoryLock lock(dir, wait, stop_requested);
+  const auto r = gfmd::compute_leakage(g, gap.data(), angles, tol, which, stop_requested);
+  gfmd::write_leakage(g, r, dir, {{"relative_contact_area", s.value("relative_contact_area", 0.0)}});
+  (void)draw_maps({dir}, {"--only", "current"});
+  std::printf("%s/flow.json:\n%s\n", dir.c_str(), r.json.dump(2).c_str());
+  return 0;
+}
+
+int cmd_percolation(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
+                    const std::string& direction, double area_tol, bool quiet, bool wait) {
+  const gfmd::Config cfg = gfmd::load_config(case_path, sets);
+  if (direction != "x" && direction != "y") throw gfmd::InputError("--direction", "must be x or y");
+  if (out_dir.empty())
+    out_dir =
+        (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_percolation"))
+            .string();
+  gfmd::PercolationOptions po;
+  po.axis = direction == "x" ? 0 : 1;
+  po.area_tolerance = area_tol;
+  if (!quiet) po.log = [](const std::string& m) { std::fprintf(stderr, "  %s\n", m.c_str()); };
+  po.stop_request = stop_requested;
+  const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
+  const nlohmann::json j = gfmd::find_percolation(cfg, po);
+  gfmd::write_text_atomic((std::filesystem::path(out_dir) / "percolation.json").string(), j.dump(2) + "\n");
+  std::printf(
+      "critical relative contact area along %s: %.4f (pressure %.6g) after %d solves -> "
+      "%s/percolation.json\n",
+      direction.c_str(), j["critical_relative_contact_area"].get<double>(),
+      j["critical_pressure"].get<double>(), j["solves"].get<int>(), out_dir.c_str());
+  return 0;
+}
+
+int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
+                 const std::string& seeds, bool quiet, bool wait) {
+  int s0 = 0, s1 = 7, used = 0;
+  if (std::sscanf(seeds.c_str(), "%d..%d%n", &s0, &s1, &used) != 2 ||
+      used != static_cast<int>(seeds.size()) || s0 < 0 || s1 < s0)
+    throw gfmd::InputError("--seeds", "expected FIRST..LAST, e.g. 0..7, got '" + seeds + "'");
+  gfmd::EnsembleOptions eo;
+  eo.first_seed = s0;
+  eo.last_seed = s1;
+  eo.overrides = sets;
+  gfmd::check_ensemble(case_path, eo);  // before the output directory is made
+  if (out_dir.empty())
+    out_dir =
+        (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_ensemble"))
+            .string();
+  const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
+  eo.stop_request = stop_requested;
+  if (!quiet) eo.on_seed = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };
+  const nlohmann::json j = gfmd::run_ensemble(case_path, out_dir, eo);
+  (void)draw_maps(runs_needing_maps(out_dir), {});
+  const bool pairs = j.contains("frictionless");
+  std::printf("%s/ensemble.json: K_x = %.4e, K_y = %.4e (Bruggeman over %d seeds)", out_dir.c_str(),
+              j["conductivity_x"]["bruggeman"].get<double>(), j["conductivity_y"]["bruggeman"].get<double>(),
+              s1 - s0 + 1);
+  if (pairs)
+    std::printf("; change through friction and coupling: x %+.1f %%, y %+.1f %%",
+                100 * j["relative_change_x"].get<double>(), 100 * j["relative_change_y"].get<double>());
+  std::printf("\n");
+  return 0;
+}
+
+// Tabulates the dimensionless Green's tensor of SPEC §2 (frame with q along axis 1).
+int cmd_green(const std::vector<double>& nus, double from, double to, int points, const std::string& out) {
+  if (!(from > 0 && to > from) || points < 2)
+    throw gfmd::InputError("gfmd green", "need 0 < --from < --to and --points >= 2");
+  for (double nu : nus) gfmd::ElasticParams{1.0, nu, 1.0, true}.validate();
+  std::ostringstream os;
+  os.precision(12);
+  os << "poisson,qh,phi11,phi22,phi33,im_phi13\n";
+  for (double nu : nus)
+    for (int i = 0; i < points; ++i) {
+      const double qh = from * std::pow(to / from, static_cast<double>(i) / (points - 1));
+      const gfmd::PhiRotated p = gfmd::phi_rotated(qh, nu);
+      os << nu << "," << qh << "," << p.p11 << "," << p.p22 << "," << p.p33 << "," << p.p13 << "\n";
+    }
+  if (out.empty() || out == "-")
+    std::fputs(os.str().c_str(), stdout);
+  else
+    gfmd::write_text_atomic(out, os.str());
+  return 0;
+}
+
+int cmd_study(const std::string& study_path, bool quick, const std::string& out_dir) {
+  const std::string script = find_script("study.py");
+  if (script.empty()) throw gfmd::InputError("gfmd study", "study.py is not installed next to this program");
+  std::vector<std::string> args = {python_interpreter(), script, study_path};
+  if (quick) args.emplace_back("--quick");
+  if (!out_dir.empty()) {
+    args.emplace_back("-o");
+    args.push_back(out_dir);
+  }
+  const int rc = run_child(args, false);
+  if (stop_requested()) {
+    // Ctrl-C reaches the driver and its runs too; finished runs are reused next time.
+    std::fprintf(stderr, "gfmd: study interrupted; run the same command again to continue\n");
+    return 4;
+  }
+  return rc == 0 ? 0 : 1;
+}
+
+}  // namespace gfmd::cli

@@ -1,0 +1,29 @@
+// The subcommands of the gfmd command line, each a thin call into the library: the options
+// parsed by app/gfmd.cpp in, an exit status out (errors are thrown to main, which maps them
+// to exit codes).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace gfmd::cli {
+
+// " [with --set a=1 b=2]": errors name the overrides, the case file alone does not say what ran.
+std::string sets_note(const std::vector<std::string>& sets);
+
+int cmd_run(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
+            bool quiet, bool verbose, bool resume, double checkpoint_s, bool wait);
+int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets_in,
+              std::string plot, bool quiet, bool wait);
+int cmd_flow(const std::string& dir, const std::string& direction, double tol, const std::string& solver,
+             bool wait);
+int cmd_percolation(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
+                    const std::string& direction, double area_tol, bool quiet, bool wait);
+int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
+                 const std::string& seeds, bool quiet, bool wait);
+// Tabulates the dimensionless Green's tensor of SPEC §2 (frame with q along axis 1).
+int cmd_green(const std::vector<double>& nus, double from, double to, int points, const std::string& out);
+// Runs scripts/study.py (the figure studies) with this program's Python.
+int cmd_study(const std::string& study_path, bool quick, const std::string& out_dir);
+
+}  // namespace gfmd::cli

@@ -1,0 +1,228 @@
+#include "maps.hpp"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <new>
+#include <sstream>
+
+#include "child.hpp"
+#include "gfmd/case/leakage.hpp"
+#include "gfmd/case/outputs.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
+#include "gfmd/io/netcdf.hpp"
+#include "gfmd/studies/ensemble.hpp"
+#include "gfmd/studies/percolation.hpp"
+#include "gfmd/studies/sweep.hpp"
+#include "gfmd/version.hpp"
+
+namespace gfmd::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+bool has_file(const fs::path& dir, const std::string& name) {
+  std::error_code ec;
+  return fs::is_regular_file(dir / name, ec);
+}
+}  // namespace
+
+// Draws the PNG maps of run directories with plot_maps.py (matplotlib) from their fields.nc,
+// or from the staging file write_outputs leaves when output.fields is off (removed here,
+// drawn or not). `options` go before the directories (e.g. --profiles, --only current).
+// Never throws: a failure is a warning (the data files are complete); returns false then.
+bool draw_maps(const std::vector<std::string>& dirs, const std::vector<std::string>& options) {
+  if (dirs.empty()) return true;
+  bool ok = false, staged = false;
+  try {
+    std::vector<std::string> args = options;
+    if (dirs.size() == 1 && has_file(dirs.front(), gfmd::kMapsStagingFile)) {
+      args.emplace_back("--fields");
+      args.push_back((fs::path(dirs.front()) / gfmd::kMapsStagingFile).string());
+    }
+    args.emplace_back("--");
+    args.insert(args.end(), dirs.begin(), dirs.end());
+    for (const auto& d : dirs) staged = staged || has_file(d, gfmd::kMapsStagingFile);
+    ok = !find_script("plot_maps.py").empty() && run_script("plot_maps.py", args, false);
+  } catch (const std::exception&) {
+    ok = false;
+  }
+  for (const auto& d : dirs) {
+    std::error_code ec;
+    fs::remove(fs::path(d) / gfmd::kMapsStagingFile, ec);
+  }
+  if (!ok) {
+    const std::string where = dirs.size() == 1 ? dirs.front() : std::to_string(dirs.size()) + " directories";
+    std::fprintf(stderr,
+                 "gfmd: warning: the PNG maps of %s were not (all) drawn (plot_maps.py with %s and "
+                 "matplotlib)%s\n",
+                 where.c_str(), python_interpreter().c_str(),
+                 staged ? "" : "; the data files are complete: redraw with gfmd plot DIR");
+  }
+  return ok;
+}
+
+// The run directories below dir (point_NNN of a sweep, seed_N of an ensemble) whose maps
+// are still to be drawn: a staging file of the maps, or output.png on, fields.nc there and
+// no pressure.png (points finished earlier whose maps were not drawn are caught up too).
+std::vector<std::string> runs_needing_maps(const std::string& dir) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    if (!e.is_directory(ec) || !has_file(e.path(), "summary.json")) continue;
+    bool need = has_file(e.path(), gfmd::kMapsStagingFile);
+    if (!need && has_file(e.path(), "fields.nc") && !has_file(e.path(), "pressure.png")) {
+      try {
+        const auto j = nlohmann::json::parse(
+            gfmd::read_regular_file((e.path() / "summary.json").string(), 64u << 20, "summary file"));
+        need = j.at("input").at("output").at("png").get<bool>();
+      } catch (const std::exception&) {
+        need = false;
+      }
+    }
+    if (need) out.push_back(e.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+namespace {
+// The subdirectories of dir, sorted.
+std::vector<fs::path> subdirs(const fs::path& dir) {
+  std::vector<fs::path> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.is_directory(ec)) out.push_back(e.path());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The columns of a CSV table's header line (gfmd's own tables: no quoted names).
+std::vector<std::string> csv_columns(const fs::path& path) {
+  std::ifstream in(path);
+  std::string line, cell;
+  std::getline(in, line);
+  std::vector<std::string> cols;
+  std::stringstream ss(line);
+  while (std::getline(ss, cell, ',')) cols.push_back(cell);
+  return cols;
+}
+
+}  // namespace
+
+// gfmd plot DIR: redraws the figures of a run directory (maps from fields.nc, profiles.png
+// from profiles.csv), of a sweep (its sweep_<y>.png plots, the default one if none, and the
+// maps of its points), of an ensemble (its seeds' maps) or of a study (the maps and plots of
+// its series; the study figure itself is drawn by gfmd study, which reuses every result).
+int cmd_plot(const std::string& dir_in) {
+  const fs::path dir(dir_in);
+  const auto is_run = [](const fs::path& d) {
+    return has_file(d, "summary.json") || has_file(d, "fields.nc") || has_file(d, gfmd::kMapsStagingFile);
+  };
+  const auto is_sweep = [](const fs::path& d) { return has_file(d, "sweep.csv"); };
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw gfmd::InputError(dir_in, "no such directory");
+  const bool study = has_file(dir, "study.json"), ensemble = has_file(dir, "ensemble.json");
+  if (!study && !ensemble && !is_sweep(dir) && !is_run(dir))
+    throw gfmd::InputError(dir_in,
+                           "not a gfmd run, sweep or study directory (no summary.json, fields.nc, sweep.csv, "
+                           "study.json or ensemble.json in it)");
+  const gfmd::DirectoryLock lock(dir_in, false, stop_requested);
+  std::vector<fs::path> runs, sweeps;
+  std::function<void(const fs::path&, int)> collect = [&](const fs::path& d, int depth) {
+    if (is_sweep(d)) {
+      sweeps.push_back(d);
+      for (const auto& p : subdirs(d))
+        if (is_run(p)) runs.push_back(p);
+    } else if (is_run(d)) {
+      runs.push_back(d);
+    } else if (depth > 0) {
+      for (const auto& p : subdirs(d)) collect(p, depth - 1);
+    }
+  };
+  if (study || ensemble) {
+    for (const auto& p : subdirs(dir)) collect(p, 1);
+  } else {
+    collect(dir, 0);
+  }
+  bool ok = true;
+  int drawn = 0;
+  std::vector<std::string> with_fields;
+  for (const auto& d : runs) {
+    if (has_file(d, "fields.nc") || has_file(d, gfmd::kMapsStagingFile)) {
+      with_fields.push_back(d.string());
+    } else if (has_file(d, "profiles.csv")) {
+      if (run_script("plot_profiles.py", {(d / "profiles.csv").string()}, false))
+        ++drawn;
+      else
+        ok = false;
+      std::fprintf(stderr, "gfmd: note: %s has no fields.nc (output.fields = false): no maps drawn\n",
+                   d.c_str());
+    } else {
+      std::fprintf(stderr, "gfmd: note: %s has no fields.nc (output.fields = false): nothing to draw\n",
+                   d.c_str());
+    }
+  }
+  if (!with_fields.empty()) {
+    if (draw_maps(with_fields, {"--profiles"}))
+      drawn += static_cast<int>(with_fields.size());
+    else
+      ok = false;
+  }
+  for (const auto& d : sweeps) {
+    // The plots the sweep drew (sweep_<y>.png), else plot_sweep.py's default column.
+    std::vector<std::string> ys;
+    for (const auto& e : fs::directory_iterator(d, ec)) {
+      const std::string name = e.path().filename().string();
+      if (name.size() > 10 && name.rfind("sweep_", 0) == 0 && e.path().extension() == ".png" &&
+          name.find(".tmp.") == std::string::npos)
+        ys.push_back(name.substr(6, name.size() - 10));
+    }
+    std::sort(ys.begin(), ys.end());
+    const auto cols = csv_columns(d / "sweep.csv");
+    if (ys.empty() && std::find(cols.begin(), cols.end(), "friction_coefficient") != cols.end())
+      ys.emplace_back("friction_coefficient");
+    if (ys.empty())
+      std::fprintf(stderr, "gfmd: note: %s: no sweep plot to redraw (draw one with gfmd sweep --plot KEY)\n",
+                   d.c_str());
+    for (const auto& y : ys) {
+      if (run_script("plot_sweep.py", {(d / "sweep.csv").string(), "--y", y}, false)) {
+        ++drawn;
+      } else {
+        ok = false;
+        std::fprintf(stderr, "gfmd: warning: %s/sweep_%s.png not drawn\n", d.c_str(), y.c_str());
+      }
+    }
+  }
+  if (study) {
+    std::string name = "the study";
+    try {
+      name = nlohmann::json::parse(
+                 gfmd::read_regular_file((dir / "study.json").string(), 1u << 20, "study file"))
+                 .at("study")
+                 .get<std::string>();
+    } catch (const std::exception&) {
+      // The name is only for the note.
+    }
+    std::fprintf(stderr,
+                 "gfmd: note: the figure of %s (%s/%s.png) is drawn by gfmd study with its study file, "
+                 "which reuses every finished run\n",
+                 name.c_str(), dir_in.c_str(), name.c_str());
+  }
+  std::printf("%s: %d figure sets redrawn (%zu run directories, %zu sweeps)%s\n", dir_in.c_str(), drawn,
+              runs.size(), sweeps.size(), ok ? "" : "; some could not be drawn");
+  return ok ? 0 : 1;
+}
+
+}  // namespace gfmd::cli
