@@ -7,8 +7,10 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
+#include "gfmd/contact/anderson.hpp"
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/reduce.hpp"
@@ -17,38 +19,6 @@
 namespace gfmd {
 
 using namespace contact_detail;
-
-namespace {
-
-// Solves the small (regularised) normal equations of the Anderson least-squares problem.
-std::vector<double> solve_small_spd(std::vector<double> M, std::vector<double> rhs) {
-  const std::size_t h = rhs.size();
-  double trace = 0;
-  for (std::size_t a = 0; a < h; ++a) trace += M[a * h + a];
-  for (std::size_t a = 0; a < h; ++a) M[a * h + a] += 1e-10 * trace + 1e-300;
-  for (std::size_t c = 0; c < h; ++c) {
-    std::size_t piv = c;
-    for (std::size_t r = c + 1; r < h; ++r)
-      if (std::abs(M[r * h + c]) > std::abs(M[piv * h + c])) piv = r;
-    if (piv != c) {
-      for (std::size_t k = 0; k < h; ++k) std::swap(M[c * h + k], M[piv * h + k]);
-      std::swap(rhs[c], rhs[piv]);
-    }
-    for (std::size_t r = c + 1; r < h; ++r) {
-      const double fct = M[r * h + c] / M[c * h + c];
-      for (std::size_t k = c; k < h; ++k) M[r * h + k] -= fct * M[c * h + k];
-      rhs[r] -= fct * rhs[c];
-    }
-  }
-  std::vector<double> x(h);
-  for (std::size_t c = h; c-- > 0;) {
-    double v = rhs[c];
-    for (std::size_t k = c + 1; k < h; ++k) v -= M[c * h + k] * x[k];
-    x[c] = v / M[c * h + c];
-  }
-  return x;
-}
-}  // namespace
 
 ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, const InteractionParams& inter,
                              const FrictionParams& fric, const SolverParams& solver)
@@ -176,31 +146,21 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     // Anderson state, kept on the support of the traction only: the points where the
     // iterate or its image has been non-zero since the solve began (the contact set and
     // the points that left it; elsewhere every difference is exactly zero). supp lists them in
-    // order of entry; per support point the previous iterate and residual (double) and
-    // the ring buffers of their differences (float) hold two interleaved components.
+    // order of entry; the mixer's vector holds the two components of each support point
+    // interleaved (entry 2j: tau_x at supp[j], 2j + 1: tau_y).
     std::vector<std::uint32_t> supp;
-    // Zero-extends v to len with 25 % headroom (the support grows in small steps; the
-    // default doubling would hold up to twice the memory).
-    const auto grow = [](auto& v, std::size_t len) {
-      if (v.capacity() < len) v.reserve(len + len / 4);
-      v.resize(len, 0);
-    };
     std::vector<unsigned char> in_supp(n, 0);
-    std::vector<double> xprev, fprev;
     // A warm start's traction starts the support (the slip pass reads nothing outside it).
     for (std::size_t i = 0; i < n; ++i)
       if (f.tx[i] != 0.0 || f.ty[i] != 0.0) {
         in_supp[i] = 1;
         supp.push_back(static_cast<std::uint32_t>(i));
       }
-    grow(xprev, 2 * supp.size());
-    grow(fprev, 2 * supp.size());
-    const int m = std::max(0, sp_.anderson);
-    and_df_.assign(static_cast<std::size_t>(m), {});
-    and_dx_.assign(static_cast<std::size_t>(m), {});
-    std::vector<double> gram(static_cast<std::size_t>(m) * m, 0.0);
-    std::vector<int> slots;  // ring slots in use, oldest first
-    bool have_prev = false;
+    std::optional<AndersonMixer> mixer;  // none: plain relaxation
+    if (sp_.anderson > 0) {
+      mixer.emplace(sp_.anderson);
+      mixer->resize(2 * supp.size());
+    }
     double err = 1.0, best = std::numeric_limits<double>::infinity();
     int since_best = 0;
     // Per friction step: the traction change and the tangential force (sum of tau_x and of
@@ -275,8 +235,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         // the current traction, with a fresh mixing history.
         stick_mode = true;
         tangential_ok = false;
-        slots.clear();
-        have_prev = false;
+        if (mixer) mixer->restart();
         since_best = 0;
         best = std::numeric_limits<double>::infinity();
         continue;
@@ -284,7 +243,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         // Stalled: damp harder and restart the mixing history; give up once damping
         // no longer helps (a limit cycle of the slip field).
         omega *= 0.5;
-        slots.clear();
+        if (mixer) mixer->clear_history();
         since_best = 0;
         best = err;
         if (omega < 0.04) {
@@ -302,13 +261,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
             in_supp[i] = 1;
             supp.push_back(static_cast<std::uint32_t>(i));
           }
-        const std::size_t len = 2 * supp.size();
-        grow(xprev, len);
-        grow(fprev, len);
-        for (int sl : slots) {
-          grow(and_df_[static_cast<std::size_t>(sl)], len);
-          grow(and_dx_[static_cast<std::size_t>(sl)], len);
-        }
+        if (mixer) mixer->resize(2 * supp.size());
       }
       // The exact law's splitting variable follows the mixed traction: z <- z + (tau_mixed -
       // tau), so the next stick-slip solve starts from the mixed iterate (z - tau = gamma v
@@ -320,7 +273,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
           zy_[i] += f.ty[i] - ty[i];
         }
       };
-      if (m == 0) {
+      if (!mixer) {
         // Plain relaxation; outside the support both tractions are zero.
         for (const std::uint32_t i : supp) {
           f.tx[i] += omega * (tx[i] - f.tx[i]);
@@ -329,96 +282,17 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         follow();
         continue;
       }
-      // Anderson mixing with relaxation (Walker & Ni 2011): with x the traction, f = G(x) - x,
-      // gamma = argmin |f - dF gamma|, x <- x - dX gamma + omega (f - dF gamma).
-      // omega < 1 damps the rotating (imaginary-eigenvalue) modes of the slip feedback.
-      // One pass stores the new differences and forms the new Gram row and dF^T f.
-      const std::size_t ns = supp.size();
-      std::vector<double> rhs;
-      if (!have_prev) {
-        parallel_for(static_cast<std::ptrdiff_t>(ns), [&](std::ptrdiff_t s_j) {
-          const auto j = static_cast<std::size_t>(s_j);
-          const std::size_t i = supp[j];
-          xprev[2 * j] = f.tx[i];
-          xprev[2 * j + 1] = f.ty[i];
-          fprev[2 * j] = tx[i] - f.tx[i];
-          fprev[2 * j + 1] = ty[i] - f.ty[i];
-        });
-        have_prev = true;
-      } else {
-        int slot = 0;
-        if (static_cast<int>(slots.size()) == m) {
-          slot = slots.front();
-          slots.erase(slots.begin());
-        } else {
-          std::vector<bool> used(static_cast<std::size_t>(m), false);
-          for (int sl : slots) used[static_cast<std::size_t>(sl)] = true;
-          while (used[static_cast<std::size_t>(slot)]) ++slot;
-        }
-        slots.push_back(slot);
-        auto& dfs = and_df_[static_cast<std::size_t>(slot)];
-        auto& dxs = and_dx_[static_cast<std::size_t>(slot)];
-        grow(dfs, 2 * ns);
-        grow(dxs, 2 * ns);
-        const std::size_t h = slots.size();
-        std::vector<const float*> hist(h);
-        for (std::size_t r = 0; r < h; ++r) hist[r] = and_df_[static_cast<std::size_t>(slots[r])].data();
-        // Over both components of every support point: acc[0..h-1] = <dF_r, dF_new>,
-        // acc[h..2h-1] = <dF_r, f>.
-        const auto sums = range_sums(2 * ns, 2 * h, [&](std::size_t e, double* acc) {
-          const std::size_t i = supp[e / 2];
-          const double xi = (e % 2 == 0) ? f.tx[i] : f.ty[i];
-          const double fi = ((e % 2 == 0) ? tx[i] : ty[i]) - xi;
-          const float dfi = static_cast<float>(fi - fprev[e]);
-          dfs[e] = dfi;
-          dxs[e] = static_cast<float>(xi - xprev[e]);
-          xprev[e] = xi;
-          fprev[e] = fi;
-          for (std::size_t r = 0; r < h; ++r) {
-            const double hr = hist[r][e];
-            acc[r] += hr * static_cast<double>(dfi);
-            acc[h + r] += hr * fi;
-          }
-        });
-        for (std::size_t r = 0; r < h; ++r) {
-          const auto a = static_cast<std::size_t>(slots[r]), b = static_cast<std::size_t>(slot);
-          gram[a * m + b] = gram[b * m + a] = sums[r];
-        }
-        rhs.assign(sums.begin() + static_cast<std::ptrdiff_t>(h), sums.end());
-      }
-      const std::size_t h = rhs.size();
-      std::vector<double> gamma;
-      if (h > 0) {
-        std::vector<double> M(h * h);
-        for (std::size_t r = 0; r < h; ++r)
-          for (std::size_t c = 0; c < h; ++c)
-            M[r * h + c] = gram[static_cast<std::size_t>(slots[r]) * m + static_cast<std::size_t>(slots[c])];
-        gamma = solve_small_spd(M, rhs);
-      }
-      std::vector<const float*> hf(h), hx(h);
-      for (std::size_t r = 0; r < h; ++r) {
-        hf[r] = and_df_[static_cast<std::size_t>(slots[r])].data();
-        hx[r] = and_dx_[static_cast<std::size_t>(slots[r])].data();
-      }
-      // Outside the support the iterate and its image are zero, and so is the update.
-      const std::ptrdiff_t nsp = static_cast<std::ptrdiff_t>(ns);
-      parallel_for(nsp, [&](std::ptrdiff_t j) {
-        const std::size_t ex = 2 * static_cast<std::size_t>(j), ey = ex + 1;
-        double xx = xprev[ex], xy = xprev[ey], fx = fprev[ex], fy = fprev[ey];
-        for (std::size_t r = 0; r < h; ++r) {
-          xx -= gamma[r] * hx[r][ex];
-          xy -= gamma[r] * hx[r][ey];
-          fx -= gamma[r] * hf[r][ex];
-          fy -= gamma[r] * hf[r][ey];
-        }
-        const std::size_t i = supp[static_cast<std::size_t>(j)];
-        f.tx[i] = xx + omega * fx;
-        f.ty[i] = xy + omega * fy;
-      });
+      // Anderson mixing (contact/anderson.hpp) of the traction on the support; outside it
+      // the iterate, its image and so the update are zero.
+      const auto entry = [&](const RealField& ax, const RealField& ay, std::size_t e) {
+        return (e % 2 == 0 ? ax : ay)[supp[e / 2]];
+      };
+      mixer->step(
+          omega, [&](std::size_t e) { return entry(f.tx, f.ty, e); },
+          [&](std::size_t e) { return entry(tx, ty, e); },
+          [&](std::size_t e, double v) { (e % 2 == 0 ? f.tx : f.ty)[supp[e / 2]] = v; });
       follow();
     }
-    and_df_.clear();
-    and_dx_.clear();
     if (!info.converged && info.status.rfind("not converged: iteration limit", 0) != 0)
       info.status += "; " + friction_history_evidence(hist_change, hist_force);
     if (!info.converged && have_slip && fric_.regularized()) {

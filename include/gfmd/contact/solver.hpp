@@ -184,9 +184,6 @@ class ContactSolver {
   bool have_z_ = false;
   double gamma_ = 0.0;         // its step
   std::vector<double> czz_n_;  // C_zz / (nx ny) per half-spectrum mode, contiguous
-  // Anderson history of the friction fixed point (ring buffers, single precision: only
-  // the mixing uses them; convergence is always judged on the unaccelerated map).
-  std::vector<std::vector<float>> and_df_, and_dx_;
   // Stop requests and checkpoints; `settle` runs first when either is due (it brings the
   // state up to date).
   void poll(const ContactFields* f, const std::function<void()>& settle = {});

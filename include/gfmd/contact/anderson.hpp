@@ -1,0 +1,129 @@
+// Anderson acceleration of a fixed-point map x <- G(x) (Walker & Ni 2011), with relaxation:
+// the friction fixed point's accelerator, usable on any vector the caller can index.
+//
+// With f = G(x) - x and the differences dX, dF of the last `depth` iterates and residuals,
+// gamma = argmin |f - dF gamma| and x <- x - dX gamma + omega (f - dF gamma); omega < 1
+// damps rotating (imaginary-eigenvalue) modes. The history is kept in single precision
+// (only the mixing uses it; convergence is judged on the unaccelerated map by the caller).
+// The vector may grow between steps (new entries have zero history: their previous iterate,
+// residual and differences are zero), which the friction solve uses to keep the state on the
+// support of the traction only. Sums are deterministic (range_sums), so the iterates do not
+// depend on the backend or the thread count.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "gfmd/core/backend.hpp"
+#include "gfmd/core/reduce.hpp"
+
+namespace gfmd {
+
+class AndersonMixer {
+ public:
+  // depth >= 1: the number of differences kept.
+  explicit AndersonMixer(int depth);
+
+  [[nodiscard]] int depth() const { return m_; }
+  [[nodiscard]] std::size_t size() const { return xprev_.size(); }
+  // Differences in the history now (0 after a restart and on the first two steps).
+  [[nodiscard]] std::size_t history() const { return slots_.size(); }
+
+  // Zero-extends the state to len entries (len >= size()), with 25 % headroom so that a
+  // vector growing in small steps does not hold twice its memory.
+  void resize(std::size_t len);
+  // Drops the stored differences; the next step mixes from the last iterate on.
+  void clear_history() { slots_.clear(); }
+  // Drops everything: the next step only records x and f (and relaxes).
+  void restart() {
+    slots_.clear();
+    have_prev_ = false;
+  }
+
+  // One step over entries 0..len-1 (len == size()): x(e) is the current iterate, g(e) its
+  // image G(x), out(e, v) receives the mixed iterate. Entries may be updated in parallel.
+  template <class X, class G, class Out>
+  void step(double omega, X&& x, G&& g, Out&& out);
+
+ private:
+  // The ring slot for the newest difference (the oldest one's once the ring is full).
+  std::size_t next_slot();
+  // Least-squares coefficients from the Gram matrix of the slots in use and dF^T f.
+  [[nodiscard]] std::vector<double> coefficients(const std::vector<double>& rhs) const;
+  static void grow(auto& v, std::size_t len) {
+    if (v.capacity() < len) v.reserve(len + len / 4);
+    v.resize(len, 0);
+  }
+
+  int m_;
+  std::vector<double> xprev_, fprev_;
+  std::vector<std::vector<float>> df_, dx_;  // ring buffers of the differences
+  std::vector<double> gram_;                 // <dF_a, dF_b> by slot
+  std::vector<std::size_t> slots_;           // ring slots in use, oldest first
+  bool have_prev_ = false;
+};
+
+// Solves the small (regularised) normal equations M x = rhs of the least-squares problem
+// (M symmetric positive semi-definite, h x h, row-major); exposed for tests.
+std::vector<double> anderson_solve_small(std::vector<double> M, std::vector<double> rhs);
+
+template <class X, class G, class Out>
+void AndersonMixer::step(double omega, X&& x, G&& g, Out&& out) {
+  const std::size_t len = xprev_.size();
+  std::vector<double> rhs;
+  if (!have_prev_) {
+    parallel_for(static_cast<std::ptrdiff_t>(len), [&](std::ptrdiff_t s) {
+      const auto e = static_cast<std::size_t>(s);
+      const double xi = x(e);
+      xprev_[e] = xi;
+      fprev_[e] = g(e) - xi;
+    });
+    have_prev_ = true;
+  } else {
+    const std::size_t slot = next_slot();
+    auto& dfs = df_[slot];
+    auto& dxs = dx_[slot];
+    grow(dfs, len);
+    grow(dxs, len);
+    const std::size_t h = slots_.size();
+    std::vector<const float*> hist(h);
+    for (std::size_t r = 0; r < h; ++r) hist[r] = df_[slots_[r]].data();
+    // One pass stores the new differences and forms the new Gram row, acc[0..h-1] =
+    // <dF_r, dF_new>, and dF^T f, acc[h..2h-1] = <dF_r, f>.
+    const auto sums = range_sums(len, 2 * h, [&](std::size_t e, double* acc) {
+      const double xi = x(e);
+      const double fi = g(e) - xi;
+      const float dfi = static_cast<float>(fi - fprev_[e]);
+      dfs[e] = dfi;
+      dxs[e] = static_cast<float>(xi - xprev_[e]);
+      xprev_[e] = xi;
+      fprev_[e] = fi;
+      for (std::size_t r = 0; r < h; ++r) {
+        const double hr = hist[r][e];
+        acc[r] += hr * static_cast<double>(dfi);
+        acc[h + r] += hr * fi;
+      }
+    });
+    const auto mm = static_cast<std::size_t>(m_);
+    for (std::size_t r = 0; r < h; ++r) gram_[slots_[r] * mm + slot] = gram_[slot * mm + slots_[r]] = sums[r];
+    rhs.assign(sums.begin() + static_cast<std::ptrdiff_t>(h), sums.end());
+  }
+  const std::size_t h = rhs.size();
+  const std::vector<double> gamma = coefficients(rhs);
+  std::vector<const float*> hf(h), hx(h);
+  for (std::size_t r = 0; r < h; ++r) {
+    hf[r] = df_[slots_[r]].data();
+    hx[r] = dx_[slots_[r]].data();
+  }
+  parallel_for(static_cast<std::ptrdiff_t>(len), [&](std::ptrdiff_t s) {
+    const auto e = static_cast<std::size_t>(s);
+    double xe = xprev_[e], fe = fprev_[e];
+    for (std::size_t r = 0; r < h; ++r) {
+      xe -= gamma[r] * hx[r][e];
+      fe -= gamma[r] * hf[r][e];
+    }
+    out(e, xe + omega * fe);
+  });
+}
+
+}  // namespace gfmd

@@ -1,0 +1,79 @@
+// Anderson acceleration: the ring of differences and the small least-squares solve.
+#include "gfmd/contact/anderson.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+namespace gfmd {
+
+AndersonMixer::AndersonMixer(int depth) : m_(depth) {
+  if (depth < 1) throw std::invalid_argument("AndersonMixer: depth must be >= 1");
+  df_.resize(static_cast<std::size_t>(m_));
+  dx_.resize(static_cast<std::size_t>(m_));
+  gram_.assign(static_cast<std::size_t>(m_) * static_cast<std::size_t>(m_), 0.0);
+}
+
+void AndersonMixer::resize(std::size_t len) {
+  grow(xprev_, len);
+  grow(fprev_, len);
+  for (std::size_t sl : slots_) {
+    grow(df_[sl], len);
+    grow(dx_[sl], len);
+  }
+}
+
+std::size_t AndersonMixer::next_slot() {
+  std::size_t slot = 0;
+  if (slots_.size() == static_cast<std::size_t>(m_)) {
+    slot = slots_.front();
+    slots_.erase(slots_.begin());
+  } else {
+    std::vector<bool> used(static_cast<std::size_t>(m_), false);
+    for (std::size_t sl : slots_) used[sl] = true;
+    while (used[slot]) ++slot;
+  }
+  slots_.push_back(slot);
+  return slot;
+}
+
+std::vector<double> AndersonMixer::coefficients(const std::vector<double>& rhs) const {
+  const std::size_t h = rhs.size();
+  if (h == 0) return {};
+  const auto mm = static_cast<std::size_t>(m_);
+  std::vector<double> M(h * h);
+  for (std::size_t r = 0; r < h; ++r)
+    for (std::size_t c = 0; c < h; ++c) M[r * h + c] = gram_[slots_[r] * mm + slots_[c]];
+  return anderson_solve_small(std::move(M), rhs);
+}
+
+std::vector<double> anderson_solve_small(std::vector<double> M, std::vector<double> rhs) {
+  // Tikhonov shift relative to the trace, then Gaussian elimination with partial pivoting.
+  const std::size_t h = rhs.size();
+  double trace = 0;
+  for (std::size_t a = 0; a < h; ++a) trace += M[a * h + a];
+  for (std::size_t a = 0; a < h; ++a) M[a * h + a] += 1e-10 * trace + 1e-300;
+  for (std::size_t c = 0; c < h; ++c) {
+    std::size_t piv = c;
+    for (std::size_t r = c + 1; r < h; ++r)
+      if (std::abs(M[r * h + c]) > std::abs(M[piv * h + c])) piv = r;
+    if (piv != c) {
+      for (std::size_t k = 0; k < h; ++k) std::swap(M[c * h + k], M[piv * h + k]);
+      std::swap(rhs[c], rhs[piv]);
+    }
+    for (std::size_t r = c + 1; r < h; ++r) {
+      const double fct = M[r * h + c] / M[c * h + c];
+      for (std::size_t k = c; k < h; ++k) M[r * h + k] -= fct * M[c * h + k];
+      rhs[r] -= fct * rhs[c];
+    }
+  }
+  std::vector<double> x(h);
+  for (std::size_t c = h; c-- > 0;) {
+    double v = rhs[c];
+    for (std::size_t k = c + 1; k < h; ++k) v -= M[c * h + k] * x[k];
+    x[c] = v / M[c * h + c];
+  }
+  return x;
+}
+
+}  // namespace gfmd
