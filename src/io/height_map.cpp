@@ -24,6 +24,7 @@
 
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
+#include "nc_file.hpp"
 
 namespace gfmd {
 
@@ -202,25 +203,7 @@ HeightMap read_text(const std::string& path, double lx_arg, double ly_arg) {
 
 // ---- NetCDF ----
 
-class NcFile {
- public:
-  NcFile(const std::string& path) : path_(path) {
-    const int st = nc_open(path.c_str(), NC_NOWRITE, &id_);
-    if (st != NC_NOERR)
-      throw InputError(path, std::string("cannot read the NetCDF file: ") + nc_strerror(st));
-  }
-  ~NcFile() { nc_close(id_); }
-  NcFile(const NcFile&) = delete;
-  NcFile& operator=(const NcFile&) = delete;
-  [[nodiscard]] int id() const { return id_; }
-  void check(int st, const std::string& what) const {
-    if (st != NC_NOERR) throw InputError(path_, "NetCDF error while " + what + ": " + nc_strerror(st));
-  }
-
- private:
-  std::string path_;
-  int id_ = -1;
-};
+using io_detail::NcFile;
 
 // netcdf-c (4.9) reads the data of a truncated classic-format file (CDF-1/2/5) as zeros
 // without reporting an error. We therefore parse the classic header (big-endian; see the
@@ -405,23 +388,23 @@ bool numeric_type(nc_type t) {
 }
 
 // Scalar numeric attribute of a variable (or NC_GLOBAL); nullopt if absent.
-std::optional<double> nc_scalar_att(const NcFile& f, const std::string& path, int varid, const char* name) {
+std::optional<double> nc_scalar_att(const NcFile& f, int varid, const char* name) {
   nc_type type{};
   std::size_t len = 0;
   if (nc_inq_att(f.id(), varid, name, &type, &len) != NC_NOERR) return std::nullopt;
   if (!numeric_type(type) || len != 1)
-    throw InputError(path, std::string("attribute '") + name + "' must be a single number");
+    throw InputError(f.path(), std::string("attribute '") + name + "' must be a single number");
   double v = 0.0;
-  f.check(nc_get_att_double(f.id(), varid, name, &v), std::string("reading attribute ") + name);
+  f.check(nc_get_att_double(f.id(), varid, name, &v),
+          std::string("NetCDF error while reading attribute ") + name);
   return v;
 }
 
 // Cell length along a dimension from a 1-D coordinate variable: spacing * count.
-std::optional<double> nc_coordinate_length(const NcFile& f, const std::string& path, int dimid,
-                                           const char* fallback) {
+std::optional<double> nc_coordinate_length(const NcFile& f, int dimid, const char* fallback) {
   char dimname[NC_MAX_NAME + 1] = {};
   std::size_t n = 0;
-  f.check(nc_inq_dim(f.id(), dimid, dimname, &n), "reading a dimension");
+  f.check(nc_inq_dim(f.id(), dimid, dimname, &n), "NetCDF error while reading a dimension");
   for (const char* name : {static_cast<const char*>(dimname), fallback}) {
     int varid = -1;
     if (nc_inq_varid(f.id(), name, &varid) != NC_NOERR) continue;
@@ -429,19 +412,21 @@ std::optional<double> nc_coordinate_length(const NcFile& f, const std::string& p
     int dims[NC_MAX_VAR_DIMS];
     nc_type type{};
     f.check(nc_inq_var(f.id(), varid, nullptr, &type, &ndims, dims, nullptr),
-            "reading a coordinate variable");
+            "NetCDF error while reading a coordinate variable");
     if (ndims != 1 || !numeric_type(type)) continue;
     std::size_t len = 0;
-    f.check(nc_inq_dimlen(f.id(), dims[0], &len), "reading a dimension");
+    f.check(nc_inq_dimlen(f.id(), dims[0], &len), "NetCDF error while reading a dimension");
     if (len != n || n < 2) continue;
     std::vector<double> c(n);
-    f.check(nc_get_var_double(f.id(), varid, c.data()), std::string("reading coordinate variable ") + name);
+    f.check(nc_get_var_double(f.id(), varid, c.data()),
+            std::string("NetCDF error while reading coordinate variable ") + name);
     const double d = (c[n - 1] - c[0]) / static_cast<double>(n - 1);
     bool uniform = positive_finite(d);
     for (std::size_t i = 0; uniform && i + 1 < n; ++i) uniform = std::abs((c[i + 1] - c[i]) - d) <= 1e-6 * d;
     if (!uniform)
-      throw InputError(path, std::string("coordinate variable '") + name +
-                                 "' is not uniformly increasing, so the cell size cannot be taken from it");
+      throw InputError(f.path(),
+                       std::string("coordinate variable '") + name +
+                           "' is not uniformly increasing, so the cell size cannot be taken from it");
     return d * static_cast<double>(n);
   }
   return std::nullopt;
@@ -449,8 +434,9 @@ std::optional<double> nc_coordinate_length(const NcFile& f, const std::string& p
 
 HeightMap read_netcdf(const std::string& path, double lx_arg, double ly_arg) {
   NcFile f(path);
+  f.check(f.open_read(), "cannot read the NetCDF file");
   int format = 0;
-  f.check(nc_inq_format(f.id(), &format), "reading the format");
+  f.check(nc_inq_format(f.id(), &format), "NetCDF error while reading the format");
   if (format == NC_FORMAT_CLASSIC || format == NC_FORMAT_64BIT_OFFSET || format == NC_FORMAT_CDF5)
     check_classic_not_truncated(path);
   int varid = -1;
@@ -464,10 +450,10 @@ HeightMap read_netcdf(const std::string& path, double lx_arg, double ly_arg) {
   if (varname.empty()) {
     std::string present;
     int nvars = 0;
-    f.check(nc_inq_nvars(f.id(), &nvars), "listing variables");
+    f.check(nc_inq_nvars(f.id(), &nvars), "NetCDF error while listing variables");
     for (int v = 0; v < nvars; ++v) {
       char name[NC_MAX_NAME + 1] = {};
-      f.check(nc_inq_varname(f.id(), v, name), "listing variables");
+      f.check(nc_inq_varname(f.id(), v, name), "NetCDF error while listing variables");
       present += (present.empty() ? "" : ", ") + std::string(name);
     }
     throw InputError(path, "no variable named 'topography', 'height' or 'heights' (variables present: " +
@@ -476,14 +462,15 @@ HeightMap read_netcdf(const std::string& path, double lx_arg, double ly_arg) {
   nc_type type{};
   int ndims = 0;
   int dims[NC_MAX_VAR_DIMS];
-  f.check(nc_inq_var(f.id(), varid, nullptr, &type, &ndims, dims, nullptr), "reading variable " + varname);
+  f.check(nc_inq_var(f.id(), varid, nullptr, &type, &ndims, dims, nullptr),
+          "NetCDF error while reading variable " + varname);
   if (ndims != 2)
     throw InputError(
         path, "variable '" + varname + "' has " + std::to_string(ndims) + " dimensions; expected 2 (y, x)");
   if (!numeric_type(type)) throw InputError(path, "variable '" + varname + "' is not numeric");
   std::size_t ny = 0, nx = 0;
-  f.check(nc_inq_dimlen(f.id(), dims[0], &ny), "reading dimension lengths");
-  f.check(nc_inq_dimlen(f.id(), dims[1], &nx), "reading dimension lengths");
+  f.check(nc_inq_dimlen(f.id(), dims[0], &ny), "NetCDF error while reading dimension lengths");
+  f.check(nc_inq_dimlen(f.id(), dims[1], &nx), "NetCDF error while reading dimension lengths");
   if (nx == 0 || ny == 0) throw InputError(path, "variable '" + varname + "' is empty (no data)");
   if (nx > static_cast<std::size_t>(std::numeric_limits<int>::max()) ||
       ny > static_cast<std::size_t>(std::numeric_limits<int>::max()))
@@ -493,7 +480,7 @@ HeightMap read_netcdf(const std::string& path, double lx_arg, double ly_arg) {
   t.nx = static_cast<int>(nx);
   t.ny = static_cast<int>(ny);
   t.h.resize(nx * ny);
-  f.check(nc_get_var_double(f.id(), varid, t.h.data()), "reading variable " + varname);
+  f.check(nc_get_var_double(f.id(), varid, t.h.data()), "NetCDF error while reading variable " + varname);
 
   // Fill value (missing data) for floating-point variables.
   std::optional<double> fill;
@@ -516,19 +503,19 @@ HeightMap read_netcdf(const std::string& path, double lx_arg, double ly_arg) {
     if (fill && v == *fill)
       throw InputError(path, "missing value (equal to the fill value) in '" + varname + "' at " + where);
   }
-  const auto scale = nc_scalar_att(f, path, varid, "scale_factor");
-  const auto offset = nc_scalar_att(f, path, varid, "add_offset");
+  const auto scale = nc_scalar_att(f, varid, "scale_factor");
+  const auto offset = nc_scalar_att(f, varid, "add_offset");
   if (scale || offset) {
     const double a = scale.value_or(1.0), b = offset.value_or(0.0);
     for (double& v : t.h) v = v * a + b;
   }
 
   auto size_from_file = [&](const char* name, int dimid, const char* coord) -> std::optional<double> {
-    std::optional<double> v = nc_scalar_att(f, path, varid, name);
-    if (!v) v = nc_scalar_att(f, path, NC_GLOBAL, name);
+    std::optional<double> v = nc_scalar_att(f, varid, name);
+    if (!v) v = nc_scalar_att(f, NC_GLOBAL, name);
     if (v && !positive_finite(*v))
       throw InputError(path, std::string("attribute '") + name + "' must be positive (got " + num(*v) + ")");
-    if (!v) v = nc_coordinate_length(f, path, dimid, coord);
+    if (!v) v = nc_coordinate_length(f, dimid, coord);
     return v;
   };
   const std::string how = "attribute 'lx'/'ly' or 1-D coordinate variable";
