@@ -373,7 +373,13 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
 int cmd_green(const std::vector<double>& nus, double from, double to, int points, const std::string& out) {
   if (!(from > 0 && to > from) || points < 2)
     throw gfmd::InputError("gfmd green", "need 0 < --from < --to and --points >= 2");
-  for (double nu : nus) gfmd::ElasticParams{1.0, nu, 1.0, true}.validate();
+  for (double nu : nus) {
+    try {
+      gfmd::ElasticParams{1.0, nu, 1.0, true}.validate();
+    } catch (const gfmd::ParameterError& e) {
+      throw gfmd::InputError("gfmd green --poisson", e.why());
+    }
+  }
   std::ostringstream os;
   os.precision(12);
   os << "poisson,qh,phi11,phi22,phi33,im_phi13\n";

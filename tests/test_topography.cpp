@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "gfmd/case/config.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/fft.hpp"
 #include "gfmd/core/rng.hpp"
@@ -375,28 +376,24 @@ TEST(TopographySelfAffine, RejectsBadParameters) {
     edit(p);
     return [g, p] { (void)gfmd::make_selfaffine(g, p); };
   };
-  expect_input_error(with([](SelfAffineParams& p) { p.hurst = 1.0; }), "indenter.hurst", "0 < H < 1");
-  expect_input_error(with([](SelfAffineParams& p) { p.hurst = 0.0; }), "indenter.hurst", "0 < H < 1");
-  expect_input_error(with([](SelfAffineParams& p) { p.lambda_long = 2.0; }), "indenter.lambda_long",
-                     "cell size");
-  expect_input_error(with([](SelfAffineParams& p) { p.lambda_long = 0.0; }), "indenter.lambda_long", "> 0");
-  expect_input_error(with([](SelfAffineParams& p) { p.lambda_short = 0.6; }), "indenter.lambda_short",
-                     "smaller than");
-  expect_input_error(with([](SelfAffineParams& p) { p.lambda_short = 1.5 / 64; }), "indenter.lambda_short",
+  expect_input_error(with([](SelfAffineParams& p) { p.hurst = 1.0; }), "hurst", "0 < H < 1");
+  expect_input_error(with([](SelfAffineParams& p) { p.hurst = 0.0; }), "hurst", "0 < H < 1");
+  expect_input_error(with([](SelfAffineParams& p) { p.lambda_long = 2.0; }), "lambda_long", "cell size");
+  expect_input_error(with([](SelfAffineParams& p) { p.lambda_long = 0.0; }), "lambda_long", "> 0");
+  expect_input_error(with([](SelfAffineParams& p) { p.lambda_short = 0.6; }), "lambda_short", "smaller than");
+  expect_input_error(with([](SelfAffineParams& p) { p.lambda_short = 1.5 / 64; }), "lambda_short",
                      "grid spacing is too coarse");
-  expect_input_error(with([](SelfAffineParams& p) { p.rms_gradient = 0.1; }), "indenter.rms_height",
-                     "exactly one");
-  expect_input_error(with([](SelfAffineParams& p) { p.rms_height = 0.0; }), "indenter.rms_height",
-                     "exactly one");
-  expect_input_error(with([](SelfAffineParams& p) { p.lambda_rolloff = 0.4; }), "indenter.lambda_rolloff",
+  expect_input_error(with([](SelfAffineParams& p) { p.rms_gradient = 0.1; }), "rms_height", "exactly one");
+  expect_input_error(with([](SelfAffineParams& p) { p.rms_height = 0.0; }), "rms_height", "exactly one");
+  expect_input_error(with([](SelfAffineParams& p) { p.lambda_rolloff = 0.4; }), "lambda_rolloff",
                      "larger than lambda_long");
-  expect_input_error(with([](SelfAffineParams& p) { p.lambda_rolloff = 3.0; }), "indenter.lambda_rolloff",
+  expect_input_error(with([](SelfAffineParams& p) { p.lambda_rolloff = 3.0; }), "lambda_rolloff",
                      "cell size");
   expect_input_error(with([](SelfAffineParams& p) {
                        p.lambda_long = 0.9;
                        p.lambda_short = 0.8;
                      }),
-                     "indenter.lambda_short", "no Fourier mode");
+                     "lambda_short", "no Fourier mode");
   // lambda_short = 2 dx exactly is accepted.
   EXPECT_NO_THROW(with([](SelfAffineParams& p) { p.lambda_short = 2.0 / 64; })());
 }
@@ -426,7 +423,7 @@ TEST(TopographyHertz, SymmetricWithMaximumAtCentre) {
   // Values: h = -(x-xc)^2/(2 rx) - (y-yc)^2/(2 ry).
   const double x = (40 - cx) * g.dx(), y = (10 - cy) * g.dy();
   EXPECT_DOUBLE_EQ(at(40, 10), -x * x / (2 * rx) - y * y / (2 * ry));
-  expect_input_error([&] { (void)gfmd::make_hertz(g, 0.0, 1.0); }, "indenter.radius_x", "> 0");
+  expect_input_error([&] { (void)gfmd::make_hertz(g, 0.0, 1.0); }, "radius_x", "> 0");
   expect_input_error([&] { (void)gfmd::make_hertz(Grid{0, 4, 1.0, 1.0}, 1.0, 1.0); }, "grid", "nx");
 }
 
@@ -447,8 +444,8 @@ TEST(TopographyEggcrate, StatisticsMatchAnalytic) {
   // Peak radius of curvature R = lambda for h0 = lambda/(2 pi)^2 (SPEC §3):
   // d2h/dx2 at the peak = -h0 q0^2 = -1/lambda.
   EXPECT_NEAR(h0 * q0 * q0, 1.0 / lambda, 1e-12);
-  expect_input_error([&] { (void)gfmd::make_eggcrate(g, 0.3, h0); }, "indenter.wavelength", "divide");
-  expect_input_error([&] { (void)gfmd::make_eggcrate(g, lambda, -1.0); }, "indenter.amplitude", "> 0");
+  expect_input_error([&] { (void)gfmd::make_eggcrate(g, 0.3, h0); }, "wavelength", "divide");
+  expect_input_error([&] { (void)gfmd::make_eggcrate(g, lambda, -1.0); }, "amplitude", "> 0");
 }
 
 TEST(TopographyStatistics, SingleModeAndOffset) {
@@ -770,3 +767,31 @@ TEST_F(TopographyFile, NetcdfErrors) {
 }
 
 }  // namespace
+
+TEST(TopographySelfAffine, LibraryNamesTheParameterCaseNamesTheKey) {
+  // Physics knows its parameters, not the case file: make_selfaffine names "lambda_long";
+  // the case layer's make_topography turns that into the key "indenter.lambda_long".
+  const Grid g{64, 64, 1.0, 1.0};
+  SelfAffineParams p = paper_like(1.0);
+  p.lambda_long = 2.0;
+  try {
+    (void)gfmd::make_selfaffine(g, p);
+    ADD_FAILURE() << "accepted lambda_long > cell";
+  } catch (const gfmd::ParameterError& e) {
+    EXPECT_EQ(e.where(), "lambda_long");
+    EXPECT_EQ(std::string(e.what()).find("indenter."), std::string::npos) << e.what();
+  }
+  gfmd::Config cfg = gfmd::parse_config(
+      "[grid]\nnx = 64\nlx = 1.0\n[indenter]\ntype = \"selfaffine\"\nhurst = 0.8\nlambda_long = 0.5\n"
+      "lambda_short = 0.0625\nrms_height = 0.01\n[load]\npressure = 0.01\n",
+      "t.toml");
+  cfg.indenter.selfaffine.lambda_long = 2.0;
+  try {
+    (void)gfmd::make_topography(cfg);
+    ADD_FAILURE() << "accepted lambda_long > cell";
+  } catch (const gfmd::ParameterError&) {
+    ADD_FAILURE() << "the case layer let a ParameterError through";
+  } catch (const gfmd::InputError& e) {
+    EXPECT_EQ(e.where(), "indenter.lambda_long");
+  }
+}

@@ -275,9 +275,8 @@ Config build(const toml::value& root, const std::string& name, const std::string
   el.finish();
   try {
     c.elastic.validate();
-  } catch (const InputError& e) {
-    const std::string key = e.where().substr(e.where().find('.') + 1);
-    errors.push_back(e.where() + ": " + e.why() + el.at(key));
+  } catch (const ParameterError& e) {
+    errors.push_back("elastic." + e.where() + ": " + e.why() + el.at(e.where()));
   }
 
   Section ind(root, "indenter", errors);

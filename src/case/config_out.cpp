@@ -116,9 +116,12 @@ std::string Config::to_toml() const {
 
 Topography make_topography(const Config& c) {
   const IndenterConfig& in = c.indenter;
-  if (in.type == "hertz") return make_hertz(c.grid, in.radius_x, in.radius_y);
-  if (in.type == "eggcrate") return make_eggcrate(c.grid, in.wavelength, in.amplitude);
-  if (in.type == "selfaffine") return make_selfaffine(c.grid, in.selfaffine);
+  if (in.type == "hertz")
+    return in_section("indenter", [&] { return make_hertz(c.grid, in.radius_x, in.radius_y); });
+  if (in.type == "eggcrate")
+    return in_section("indenter", [&] { return make_eggcrate(c.grid, in.wavelength, in.amplitude); });
+  if (in.type == "selfaffine")
+    return in_section("indenter", [&] { return make_selfaffine(c.grid, in.selfaffine); });
   Topography t = read_topography(in.path, c.grid.lx, c.grid.ly);
   if (t.grid.nx != c.grid.nx || t.grid.ny != c.grid.ny) {
     std::ostringstream os;

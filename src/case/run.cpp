@@ -155,8 +155,12 @@ void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
     }
   }
   for (double d : cfg.stress.depths) {
-    const PrincipalField pf =
-        principal(subsurface_stress(fft, cfg.elastic, r.fields, d), PrincipalParts::SummaryOnly);
+    PrincipalField pf;
+    try {
+      pf = principal(subsurface_stress(fft, cfg.elastic, r.fields, d), PrincipalParts::SummaryOnly);
+    } catch (const ParameterError& e) {
+      throw InputError("stress.depths", e.why() + " (depth " + format_number(d) + ")");
+    }
     r.subsurface.push_back(
         {d, summarize(cfg.grid, pf, cfg.stress.high_tension_fraction), pf.von_mises, pf.s1});
   }

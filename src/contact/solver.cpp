@@ -30,7 +30,7 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
       sp_(solver),
       g0_(body.grid().size()) {
   if (topo.grid.nx != grid_.nx || topo.grid.ny != grid_.ny)
-    throw InputError("indenter", "topography grid does not match the elastic grid");
+    throw ParameterError("topo", "the topography's grid does not match the elastic body's");
   if (inter_.hard_wall) {
     k_ = std::numeric_limits<double>::infinity();
     inv_k_ = 0.0;

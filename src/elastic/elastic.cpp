@@ -12,18 +12,18 @@ namespace gfmd {
 
 void ElasticParams::validate() const {
   if (!(contact_modulus > 0.0) || !std::isfinite(contact_modulus))
-    throw InputError("elastic.contact_modulus", "must be a positive finite number");
+    throw ParameterError("contact_modulus", "must be a positive finite number");
   if (!(poisson > -1.0 && poisson <= 0.5)) {
     std::ostringstream os;
     os << "Poisson's ratio " << poisson << " is outside (-1, 0.5]";
-    throw InputError("elastic.poisson", os.str());
+    throw ParameterError("poisson", os.str());
   }
   if (!(thickness > 0.0) || std::isnan(thickness))
-    throw InputError("elastic.thickness", "must be \"inf\" or a positive number");
+    throw ParameterError("thickness", "must be \"inf\" or a positive number");
   if (poisson == 0.5 && !half_space())
-    throw InputError("elastic.poisson",
-                     "nu = 0.5 with a finite thickness is singular (an incompressible confined layer "
-                     "cannot be compressed); use e.g. 0.49");
+    throw ParameterError("poisson",
+                         "nu = 0.5 with a finite thickness is singular (an incompressible confined layer "
+                         "cannot be compressed); use e.g. 0.49");
 }
 
 namespace {

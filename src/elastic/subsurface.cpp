@@ -162,9 +162,9 @@ Plane plane_layer_propagator(double x, double dl, double nu) {
 
 void check_depth(const ElasticParams& el, double depth) {
   if (!(depth >= 0.0) || !std::isfinite(depth))
-    throw InputError("stress.depth", "must be a finite number >= 0 (depth below the surface)");
+    throw ParameterError("depth", "must be a finite number >= 0 (depth below the surface)");
   if (!el.half_space() && depth > el.thickness * (1.0 + 1e-12))
-    throw InputError("stress.depth", "is below the rigid base of the layer (depth > thickness)");
+    throw ParameterError("depth", "is below the rigid base of the layer (depth > thickness)");
 }
 
 // Lab-frame stress (xx, yy, zz, xy, xz, yz) and displacement of one mode with direction

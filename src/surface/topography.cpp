@@ -42,8 +42,8 @@ std::string num(double v) {
 
 void validate_grid(const Grid& g) {
   if (g.nx < 1 || g.ny < 1)
-    throw InputError("grid", "nx and ny must be at least 1 (got nx = " + std::to_string(g.nx) +
-                                 ", ny = " + std::to_string(g.ny) + ")");
+    throw ParameterError("grid", "nx and ny must be at least 1 (got nx = " + std::to_string(g.nx) +
+                                     ", ny = " + std::to_string(g.ny) + ")");
   if (!(g.lx > 0.0 && std::isfinite(g.lx)) || !(g.ly > 0.0 && std::isfinite(g.ly)))
     throw InputError(
         "grid", "lx and ly must be positive and finite (got lx = " + num(g.lx) + ", ly = " + num(g.ly) + ")");
@@ -120,9 +120,9 @@ void scale_field(RealField& h, double factor) {
 Topography make_hertz(const Grid& grid, double rx, double ry) {
   validate_grid(grid);
   if (!positive_finite(rx))
-    throw InputError("indenter.radius_x", "radius of curvature must be > 0 (got " + num(rx) + ")");
+    throw ParameterError("radius_x", "radius of curvature must be > 0 (got " + num(rx) + ")");
   if (!positive_finite(ry))
-    throw InputError("indenter.radius_y", "radius of curvature must be > 0 (got " + num(ry) + ")");
+    throw ParameterError("radius_y", "radius of curvature must be > 0 (got " + num(ry) + ")");
   Topography t{grid, RealField(grid.size()), "hertz"};
   const int cx = grid.nx / 2, cy = grid.ny / 2;
   const double dx = grid.dx(), dy = grid.dy();
@@ -140,18 +140,17 @@ Topography make_hertz(const Grid& grid, double rx, double ry) {
 Topography make_eggcrate(const Grid& grid, double wavelength, double amplitude) {
   validate_grid(grid);
   if (!positive_finite(wavelength))
-    throw InputError("indenter.wavelength", "must be > 0 (got " + num(wavelength) + ")");
+    throw ParameterError("wavelength", "must be > 0 (got " + num(wavelength) + ")");
   if (!positive_finite(amplitude))
-    throw InputError("indenter.amplitude", "must be > 0 (got " + num(amplitude) + ")");
+    throw ParameterError("amplitude", "must be > 0 (got " + num(amplitude) + ")");
   // Number of periods per cell side; must be an integer for a periodic surface.
   auto periods = [&](double l, const char* side) {
     const double r = l / wavelength;
     const double m = std::round(r);
     if (m < 1.0 || std::abs(r - m) > 1e-9 * r)
-      throw InputError("indenter.wavelength", "the wavelength " + num(wavelength) +
-                                                  " must divide the cell size " + std::string(side) + " = " +
-                                                  num(l) + " (ratio " + num(r) +
-                                                  ") so that the surface is periodic");
+      throw ParameterError("wavelength", "the wavelength " + num(wavelength) + " must divide the cell size " +
+                                             std::string(side) + " = " + num(l) + " (ratio " + num(r) +
+                                             ") so that the surface is periodic");
     return static_cast<long long>(m);
   };
   const long long mx = periods(grid.lx, "lx"), my = periods(grid.ly, "ly");
@@ -176,19 +175,18 @@ Topography make_eggcrate(const Grid& grid, double wavelength, double amplitude) 
 Topography make_selfaffine(const Grid& g, const SelfAffineParams& p) {
   validate_grid(g);
   if (!(p.hurst > 0.0 && p.hurst < 1.0))
-    throw InputError("indenter.hurst",
-                     "the Hurst exponent must satisfy 0 < H < 1 (got " + num(p.hurst) + ")");
+    throw ParameterError("hurst", "the Hurst exponent must satisfy 0 < H < 1 (got " + num(p.hurst) + ")");
   const double lmin = std::min(g.lx, g.ly), lmax = std::max(g.lx, g.ly);
   if (!positive_finite(p.lambda_long))
-    throw InputError("indenter.lambda_long", "must be > 0 (got " + num(p.lambda_long) + ")");
+    throw ParameterError("lambda_long", "must be > 0 (got " + num(p.lambda_long) + ")");
   if (p.lambda_long > lmin * (1.0 + 1e-12))
-    throw InputError("indenter.lambda_long", "must not exceed the cell size min(lx, ly) = " + num(lmin) +
-                                                 " (got " + num(p.lambda_long) + ")");
+    throw ParameterError("lambda_long", "must not exceed the cell size min(lx, ly) = " + num(lmin) +
+                                            " (got " + num(p.lambda_long) + ")");
   if (!positive_finite(p.lambda_short))
-    throw InputError("indenter.lambda_short", "must be > 0 (got " + num(p.lambda_short) + ")");
+    throw ParameterError("lambda_short", "must be > 0 (got " + num(p.lambda_short) + ")");
   if (!(p.lambda_short < p.lambda_long))
-    throw InputError("indenter.lambda_short", "must be smaller than lambda_long = " + num(p.lambda_long) +
-                                                  " (got " + num(p.lambda_short) + ")");
+    throw ParameterError("lambda_short", "must be smaller than lambda_long = " + num(p.lambda_long) +
+                                             " (got " + num(p.lambda_short) + ")");
   const double spacing = std::max(g.dx(), g.dy());
   if (p.lambda_short < 2.0 * spacing * (1.0 - 1e-12))
     throw InputError(
@@ -199,23 +197,21 @@ Topography make_selfaffine(const Grid& g, const SelfAffineParams& p) {
   const bool rolloff = p.lambda_rolloff != 0.0;
   if (rolloff) {
     if (!positive_finite(p.lambda_rolloff) || !(p.lambda_rolloff > p.lambda_long))
-      throw InputError("indenter.lambda_rolloff",
-                       "must be 0 (no roll-off) or larger than lambda_long = " + num(p.lambda_long) +
-                           " (got " + num(p.lambda_rolloff) + ")");
+      throw ParameterError("lambda_rolloff", "must be 0 (no roll-off) or larger than lambda_long = " +
+                                                 num(p.lambda_long) + " (got " + num(p.lambda_rolloff) + ")");
     if (p.lambda_rolloff > lmax * (1.0 + 1e-12))
-      throw InputError("indenter.lambda_rolloff", "must not exceed the cell size max(lx, ly) = " + num(lmax) +
-                                                      " (got " + num(p.lambda_rolloff) + ")");
+      throw ParameterError("lambda_rolloff", "must not exceed the cell size max(lx, ly) = " + num(lmax) +
+                                                 " (got " + num(p.lambda_rolloff) + ")");
   }
   if (std::isnan(p.rms_height) || p.rms_height < 0.0 || std::isinf(p.rms_height))
-    throw InputError("indenter.rms_height", "must be a finite number >= 0 (got " + num(p.rms_height) + ")");
+    throw ParameterError("rms_height", "must be a finite number >= 0 (got " + num(p.rms_height) + ")");
   if (std::isnan(p.rms_gradient) || p.rms_gradient < 0.0 || std::isinf(p.rms_gradient))
-    throw InputError("indenter.rms_gradient",
-                     "must be a finite number >= 0 (got " + num(p.rms_gradient) + ")");
+    throw ParameterError("rms_gradient", "must be a finite number >= 0 (got " + num(p.rms_gradient) + ")");
   if ((p.rms_height > 0.0) == (p.rms_gradient > 0.0))
-    throw InputError("indenter.rms_height",
-                     "give exactly one of rms_height and rms_gradient (> 0) to normalise "
-                     "the surface (got rms_height = " +
-                         num(p.rms_height) + ", rms_gradient = " + num(p.rms_gradient) + ")");
+    throw ParameterError("rms_height",
+                         "give exactly one of rms_height and rms_gradient (> 0) to normalise "
+                         "the surface (got rms_height = " +
+                             num(p.rms_height) + ", rms_gradient = " + num(p.rms_gradient) + ")");
 
   const double expo = -1.0 - p.hurst;  // |h~| ∝ q^(-1-H)
   const double q_l = kTwoPi / p.lambda_long, q_s = kTwoPi / p.lambda_short;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "gfmd/contact/solver.hpp"
+#include "gfmd/core/error.hpp"
 #include "gfmd/core/grid.hpp"
 #include "gfmd/elastic/elastic.hpp"
 #include "gfmd/flow/flow.hpp"
@@ -96,6 +97,17 @@ Config parse_config(const std::string& toml_text, const std::string& name,
 
 // Builds the indenter's topography of a configuration.
 Topography make_topography(const Config& cfg);
+
+// Runs f; a ParameterError from the library becomes InputError("<section>.<parameter>"):
+// how physics errors come to name config keys, here in the case layer only.
+template <class F>
+decltype(auto) in_section(const std::string& section, F&& f) {
+  try {
+    return f();
+  } catch (const ParameterError& e) {
+    throw InputError(section + "." + e.where(), e.why());
+  }
+}
 
 // Estimated peak memory of a solve in bytes.
 double estimated_memory_bytes(const Grid& grid);

@@ -19,6 +19,15 @@ class InputError : public std::runtime_error {
   std::string where_, why_;
 };
 
+// A bad argument of a library function, named by the function's parameter ("radius_x",
+// "poisson", "depth"), never by a config key: physics does not know the case file. The case
+// layer, which does, turns it into an InputError naming the key (gfmd::in_section in
+// case/config.hpp). An InputError itself, so callers catching InputError see it too.
+class ParameterError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 // A solve that failed numerically (NaN, divergence, no convergence when required).
 class SolveError : public std::runtime_error {
  public:
