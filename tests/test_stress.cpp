@@ -458,7 +458,7 @@ post_analysis = ["paper", "consistent"]
   EXPECT_EQ(j["post_analysis"]["kind"], "paper");
   EXPECT_EQ(j["post_analysis_consistent"]["kind"], "consistent");
   EXPECT_DOUBLE_EQ(j["post_analysis_paper"]["ratio_max_tensile_stress"].get<double>(),
-                   r.stress_summary.max_tensile_stress / r.post_analyses[0].summary.max_tensile_stress);
+                   r.stress_summary->max_tensile_stress / r.post_analyses[0].summary.max_tensile_stress);
   EXPECT_GT(j["post_analysis_paper"]["area_fraction_above_half_max"].get<double>(), 0.0);
 }
 

@@ -108,7 +108,7 @@ nlohmann::json summary_json(const CaseResult& r) {
                           {"high_tension_area_fraction", s.high_tension_area_fraction},
                           {"high_tension_fraction_of", s.high_tension_fraction_of}};
   };
-  if (r.has_stress) j.update(stress_json(r.stress_summary));
+  if (r.stress_summary) j.update(stress_json(*r.stress_summary));
   if (!r.post_analyses.empty()) {
     // The first kind as "post_analysis" (its keys as before, plus kind, the area above half
     // the maximum and the full/post ratios), every kind as "post_analysis_<kind>".
@@ -118,8 +118,8 @@ nlohmann::json summary_json(const CaseResult& r) {
       e["area_fraction_above_half_max"] = pa.area_above_half_max;
       const auto ratio = [](double a, double b) { return b > 0 ? nlohmann::json(a / b) : nlohmann::json(); };
       e["ratio_max_tensile_stress"] =
-          ratio(r.stress_summary.max_tensile_stress, pa.summary.max_tensile_stress);
-      e["ratio_max_von_mises"] = ratio(r.stress_summary.max_von_mises, pa.summary.max_von_mises);
+          ratio(r.stress_summary->max_tensile_stress, pa.summary.max_tensile_stress);
+      e["ratio_max_von_mises"] = ratio(r.stress_summary->max_von_mises, pa.summary.max_von_mises);
       e["ratio_area_above_half_max"] = ratio(r.area_above_half_max, pa.area_above_half_max);
       return e;
     };
@@ -127,10 +127,10 @@ nlohmann::json summary_json(const CaseResult& r) {
     for (const auto& pa : r.post_analyses) j["post_analysis_" + pa.kind] = pa_json(pa);
     j["area_fraction_above_half_max"] = r.area_above_half_max;
   }
-  if (r.has_leakage) j["flow"] = r.leakage.json;
+  if (r.leakage) j["flow"] = r.leakage->json;
   if (!r.post_analyses.empty() && r.post_analyses.front().summary.max_tensile_stress > 0)
     j["tensile_stress_ratio_to_post_analysis"] =
-        r.stress_summary.max_tensile_stress / r.post_analyses.front().summary.max_tensile_stress;
+        r.stress_summary->max_tensile_stress / r.post_analyses.front().summary.max_tensile_stress;
   if (!r.subsurface.empty()) {
     j["subsurface"] = nlohmann::json::array();
     for (const auto& ss : r.subsurface) {
@@ -144,10 +144,11 @@ nlohmann::json summary_json(const CaseResult& r) {
     j["delta_mu_over_mu_c"] = (r.observables.friction_coefficient - mu) / mu;
     j["delta_mu_over_mu_c_downhill"] = (r.observables.friction_coefficient_downhill - mu) / mu;
   }
-  if (r.has_reference) {
-    j["frictionless"] = observables_json(r.reference);
-    j["frictionless"]["iterations"] = r.reference_info.iterations;
-    j["delta_area_over_area"] = r.observables.relative_contact_area / r.reference.relative_contact_area - 1.0;
+  if (r.reference) {
+    j["frictionless"] = observables_json(r.reference->observables);
+    j["frictionless"]["iterations"] = r.reference->info.iterations;
+    j["delta_area_over_area"] =
+        r.observables.relative_contact_area / r.reference->observables.relative_contact_area - 1.0;
   }
   j["time_per_iteration_s"] = r.info.iterations > 0 ? r.info.wall_time_s / r.info.iterations : 0.0;
   j["fft_count"] = r.info.transforms;
@@ -264,7 +265,7 @@ void write_fields_file(const CaseResult& r, const std::string& path, bool maps_o
       }
   }
   // The current maps are drawn from flow.nc, which write_leakage writes with every flow.
-  if (!maps_only && r.has_leakage) append_current_fields(r.leakage, fields);
+  if (!maps_only && r.leakage) append_current_fields(*r.leakage, fields);
   write_fields_netcdf(
       path, g, fields,
       {{"gfmd_version", kVersion},
@@ -283,8 +284,8 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
     write_fields_file(r, (fs::path(dir) / kMapsStagingFile).string(), true);
   if (r.config.stress.profiles && !r.profiles_csv.empty())
     write_text_atomic((fs::path(dir) / "profiles.csv").string(), r.profiles_csv);
-  if (r.has_leakage)
-    write_leakage(g, r.leakage, dir, {{"relative_contact_area", r.observables.relative_contact_area}});
+  if (r.leakage)
+    write_leakage(g, *r.leakage, dir, {{"relative_contact_area", r.observables.relative_contact_area}});
   // summary.json last: its presence marks a complete run directory.
   write_text_atomic((fs::path(dir) / "summary.json").string(), summary_json(r).dump(2) + "\n");
 }

@@ -101,7 +101,6 @@ void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
   r.stress = surface_stress(fft, cfg.elastic, r.fields);
   r.principal = principal(r.stress, keep_fields ? PrincipalParts::All : PrincipalParts::SummaryOnly);
   r.stress_summary = summarize(cfg.grid, r.principal, cfg.stress.high_tension_fraction);
-  r.has_stress = true;
   // Fraction of the cells with s1 >= half its maximum (the full solution's here, while its
   // field is still there; each post-analysis's below).
   const auto above_half = [&cfg](const RealField& s1, double max) {
@@ -111,7 +110,7 @@ void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
     return static_cast<double>(k) / static_cast<double>(cfg.grid.size());
   };
   if (!cfg.stress.post_analysis.empty())
-    r.area_above_half_max = above_half(r.principal.s1, r.stress_summary.max_tensile_stress);
+    r.area_above_half_max = above_half(r.principal.s1, r.stress_summary->max_tensile_stress);
   if (cfg.stress.profiles) r.profiles_csv = profiles_table(r);
   if (!keep_fields) {
     r.stress = StressField{};
@@ -121,10 +120,10 @@ void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
     // The frictionless solution: the reference solve (kept for this alone), or the solution
     // itself without friction, or (no reference kept) a frictionless solve now.
     ContactFields rf;
-    if (!r.reference_pressure.empty()) {
-      rf.pressure = std::move(r.reference_pressure);
-      rf.ux = std::move(r.reference_ux);
-      rf.uy = std::move(r.reference_uy);
+    if (r.reference && !r.reference->pressure.empty()) {
+      rf.pressure = std::move(r.reference->pressure);
+      rf.ux = std::move(r.reference->ux);
+      rf.uy = std::move(r.reference->uy);
     } else if (cfg.friction.coefficient == 0) {
       rf.pressure = r.fields.pressure;
       rf.ux = r.fields.ux;
@@ -209,25 +208,27 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     ContactSolver ref(*body, r.topography, cfg.interaction, none, cfg.solver);
     hook(ref);
     ContactFields rf = r.fields;
+    SolveInfo ref_info;
     try {
-      r.reference_info = ref.solve(cfg.load, rf);
+      ref_info = ref.solve(cfg.load, rf);
     } catch (const Interrupted&) {
       save(rf);
       throw;
     }
     running = nullptr;
-    finished_iterations = r.reference_info.iterations;
-    if (!r.reference_info.converged) {
-      r.info = r.reference_info;
+    finished_iterations = ref_info.iterations;
+    if (!ref_info.converged) {
+      r.info = ref_info;
       r.info.status += " (frictionless reference)";
       return r;
     }
-    r.reference = compute_observables(ref.fft(), r.topography, none, rf, r.reference_info);
-    r.has_reference = true;
+    CaseResult::Reference& rr = r.reference.emplace();
+    rr.observables = compute_observables(ref.fft(), r.topography, none, rf, ref_info);
+    rr.info = ref_info;
     if (!cfg.stress.post_analysis.empty()) {
-      r.reference_pressure = rf.pressure;
-      r.reference_ux = std::move(rf.ux);
-      r.reference_uy = std::move(rf.uy);
+      rr.pressure = rf.pressure;
+      rr.ux = std::move(rf.ux);
+      rr.uy = std::move(rf.uy);
     }
     if (!opts.warm_start) r.fields.pressure = std::move(rf.pressure);
   }
@@ -241,10 +242,10 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
       throw;
     }
     running = nullptr;
-    if (r.has_reference) {
-      r.info.wall_time_s += r.reference_info.wall_time_s;
-      r.info.transforms += r.reference_info.transforms;
-      r.info.fft_seconds += r.reference_info.fft_seconds;
+    if (r.reference) {
+      r.info.wall_time_s += r.reference->info.wall_time_s;
+      r.info.transforms += r.reference->info.transforms;
+      r.info.fft_seconds += r.reference->info.fft_seconds;
     }
     // A resumed run reports the totals of all its sessions.
     r.info.iterations += static_cast<int>(opts.resumed.iterations);
@@ -259,7 +260,6 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   if (r.info.converged && cfg.flow.enabled) {
     r.leakage = compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance,
                                 cfg.flow.solver, opts.stop_request);
-    r.has_leakage = true;
   }
   return r;
 }

@@ -70,8 +70,8 @@ nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir
         fs::create_directories(d);
         clear_run_outputs(d);
         write_outputs(r, d);
-        x = r.leakage.json["conductivity_x"];
-        y = r.leakage.json["conductivity_y"];
+        x = r.leakage->json["conductivity_x"];
+        y = r.leakage->json["conductivity_y"];
         a = r.observables.relative_contact_area;
       }
       (variant ? kx0 : kx).push_back(x);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,19 +28,21 @@ struct CaseResult {
   SolveInfo info;
   Observables observables;
   DerivedFields derived;  // slip and dissipation fields (with friction; empty otherwise)
-  // Frictionless solve at the same load (with friction and friction_reference).
-  bool has_reference = false;
-  Observables reference;
-  SolveInfo reference_info;
-  RealField reference_pressure;          // frictionless pressure (with friction_reference)
-  RealField reference_ux, reference_uy;  // and its in-plane displacements (post_analysis "paper")
-  // Stresses (SPEC §5): summaries when has_stress (a converged solve); the fields only if
+  // The converged frictionless solve at the same load (with friction and friction_reference).
+  struct Reference {
+    Observables observables;
+    SolveInfo info;
+    // Its pressure and in-plane displacements, kept for the stress post-analysis only
+    // (empty otherwise; moved out by it).
+    RealField pressure, ux, uy;
+  };
+  std::optional<Reference> reference;
+  // Stresses (SPEC §5): the summary after a converged solve; the fields only if
   // RunOptions::keep_stress_fields.
-  bool has_stress = false;
+  std::optional<StressSummary> stress_summary;
   std::string profiles_csv;  // profiles.csv (stress.profiles)
   StressField stress;
   PrincipalField principal;
-  StressSummary stress_summary;
   // Post-analysis references, one per kind of [stress] post_analysis, in its order (empty:
   // none asked for); the outputs show the first also under the names of earlier versions.
   struct PostAnalysis {
@@ -56,9 +59,8 @@ struct CaseResult {
     RealField von_mises, s1;
   };
   std::vector<Subsurface> subsurface;
-  bool has_leakage = false;
-  LeakageResult leakage;       // [flow]
-  CheckpointProgress resumed;  // earlier sessions' work, included in info (RunOptions::resumed)
+  std::optional<LeakageResult> leakage;  // [flow], after a converged solve
+  CheckpointProgress resumed;            // earlier sessions' work, included in info (RunOptions::resumed)
 };
 
 }  // namespace gfmd
