@@ -4,9 +4,13 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -14,6 +18,7 @@
 #include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
+#include "gfmd/core/fft.hpp"
 
 namespace gfmd::testing {
 
@@ -54,5 +59,97 @@ radius = 1.0
 [load]
 force = 0.01
 )";
+
+// ---------------------------------------------------------------------------------------
+// Stress fixtures (test_stress.cpp, test_subsurface.cpp). Hertz states: R = 1, E* = 1,
+// F = 4 a^3 / 3 with a = 0.2 exactly, cell L = 3.2 = 16 a, hard-wall contact; L = 16 a keeps
+// the stress the periodic images add at the contact edge below about 2 % of (1-2nu)p0/3.
+// The frictionless pressure on a half-space does not depend on nu: one solve serves every nu.
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kA = 0.2;                       // Hertz contact radius
+constexpr double kF = 4.0 * kA * kA * kA / 3.0;  // load giving a = 0.2 for R = E* = 1
+inline const double kP0 = 3.0 * kF / (2.0 * kPi * kA * kA);
+
+// Runs the heavy tests on one thread (robust timing on a busy machine) and restores the
+// library's thread count afterwards.
+struct OneThread {
+  int saved = threads();
+  OneThread() { set_threads(1); }
+  ~OneThread() { set_threads(saved); }
+  OneThread(const OneThread&) = delete;
+  OneThread& operator=(const OneThread&) = delete;
+};
+
+inline const CaseResult& hertz(int nx) {
+  static std::map<int, CaseResult> cache;
+  auto it = cache.find(nx);
+  if (it != cache.end()) return it->second;
+  char force[64];
+  std::snprintf(force, sizeof force, "%.17g", kF);
+  const std::string toml =
+      "[grid]\nnx = " + std::to_string(nx) +
+      "\nlx = 3.2\n[elastic]\npoisson = 0.3\n[indenter]\ntype = \"hertz\"\nradius = 1.0\n"
+      "[load]\nforce = " +
+      force + "\n[interaction]\nmodel = \"hardwall\"\n[solver]\ntolerance = 1e-10\nthreads = 1\n";
+  CaseResult r = run_case(parse_config(toml, "hertz.toml"));
+  EXPECT_TRUE(r.info.converged) << r.info.status;
+  return cache.emplace(nx, std::move(r)).first->second;
+}
+
+// Hamilton (1983): max tension at the trailing edge of a sliding Hertz contact.
+inline double hamilton(double nu, double mu) { return kP0 * ((1 - 2 * nu) / 3 + (4 + nu) * kPi * mu / 8); }
+
+// Hertz on the axis at depth z (Johnson eqs. 3.46-3.47): sigma_r = sigma_theta, sigma_z.
+inline double hertz_axis_von_mises(double z, double nu) {
+  const double t = z / kA;
+  const double sz = -1.0 / (1.0 + t * t);
+  const double sr = -(1.0 + nu) * (1.0 - t * std::atan(1.0 / t)) + 0.5 / (1.0 + t * t);
+  return kP0 * std::abs(sr - sz);
+}
+
+// Small deterministic generator (portable): uniform in [-1, 1).
+struct Lcg {
+  std::uint64_t s;
+  double next() {
+    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(s >> 11) * (2.0 / 9007199254740992.0) - 1.0;
+  }
+};
+
+inline double max_abs(const RealField& f) {
+  double m = 0;
+  for (double v : f) m = std::max(m, std::abs(v));
+  return m;
+}
+
+// Smooth band-limited random field: sum of a few Fourier modes with |k| <= kmax.
+inline RealField smooth_field(const Grid& g, Lcg& rng, int kmax, double offset) {
+  RealField f(g.size(), offset);
+  for (int mx = -kmax; mx <= kmax; ++mx)
+    for (int my = -kmax; my <= kmax; ++my) {
+      const double a = rng.next(), b = rng.next();
+      for (int iy = 0; iy < g.ny; ++iy)
+        for (int ix = 0; ix < g.nx; ++ix) {
+          const double ph = 2 * kPi * (double(mx) * ix / g.nx + double(my) * iy / g.ny);
+          f[static_cast<std::size_t>(iy) * g.nx + ix] += 0.1 * (a * std::cos(ph) + b * std::sin(ph));
+        }
+    }
+  return f;
+}
+
+// Spectral x / y derivative of a real field (Nyquist dropped).
+inline RealField deriv(const FFT& fft, const RealField& f, bool along_x) {
+  const Grid& g = fft.grid();
+  SpecField s = fft.spec_field();
+  fft.forward(f.data(), s.data());
+  for (int iky = 0; iky < g.ny; ++iky)
+    for (int ikx = 0; ikx < g.nxh(); ++ikx)
+      s[static_cast<std::size_t>(iky) * g.nxh() + ikx] *=
+          cplx(0.0, along_x ? g.qx_deriv(ikx) : g.qy_deriv(iky));
+  RealField out = fft.real_field();
+  fft.backward(s.data(), out.data());
+  return out;
+}
 
 }  // namespace gfmd::testing
