@@ -283,7 +283,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
   if (!ind.present()) errors.push_back("indenter: missing section [indenter] (type = \"hertz\", ...)");
   IndenterConfig& in = c.indenter;
   in.type = ind.string("type", "hertz");
-  const std::vector<std::string> types = {"hertz", "eggcrate", "selfaffine", "file"};
+  const std::vector<std::string> types = {"hertz", "eggcrate", "selfaffine", "file", "array"};
   std::vector<std::string> extra;
   if (std::find(types.begin(), types.end(), in.type) == types.end()) {
     ind.error("type", "unknown indenter type \"" + in.type + "\"" + did_you_mean(in.type, types) +
@@ -319,6 +319,8 @@ Config build(const toml::value& root, const std::string& name, const std::string
     s.seed = static_cast<std::uint64_t>(ind.integer("seed", 0, 0, std::numeric_limits<long long>::max()));
     if ((s.rms_height > 0) == (s.rms_gradient > 0))
       ind.error("rms_height", "give exactly one of rms_height and rms_gradient (positive)");
+  } else if (in.type == "array") {
+    // Heights handed over by a program (Python's gfmd.solve: RunOptions::topography); no keys.
   } else if (in.type == "file") {
     in.path = ind.string("path", "");
     if (in.path.empty()) {

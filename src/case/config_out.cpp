@@ -122,6 +122,10 @@ Topography make_topography(const Config& c) {
     return in_section("indenter", [&] { return make_eggcrate(c.grid, in.wavelength, in.amplitude); });
   if (in.type == "selfaffine")
     return in_section("indenter", [&] { return make_selfaffine(c.grid, in.selfaffine); });
+  if (in.type == "array")
+    throw InputError("indenter.type",
+                     "\"array\" takes its heights from the calling program (Python: gfmd.solve); "
+                     "a case file gives type = \"file\" and a path");
   Topography t = read_topography(in.path, c.grid.lx, c.grid.ly);
   if (t.grid.nx != c.grid.nx || t.grid.ny != c.grid.ny) {
     std::ostringstream os;

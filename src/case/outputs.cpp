@@ -180,12 +180,13 @@ nlohmann::json summary_json(const CaseResult& r) {
   return j;
 }
 
-void write_fields_file(const CaseResult& r, const std::string& path, bool maps_only) {
-  const Grid& g = r.config.grid;
-  const std::size_t n = g.size();
-  RealField cm(n);
+FieldSet result_fields(const CaseResult& r, bool maps_only) {
+  FieldSet set;
+  std::vector<NamedField>& fields = set.fields;
+  set.masks.reserve(2);
+  const std::size_t n = r.config.grid.size();
+  RealField& cm = set.masks.emplace_back(n);
   for (std::size_t i = 0; i < n; ++i) cm[i] = r.fields.pressure[i] > 0 ? 1.0 : 0.0;
-  std::vector<NamedField> fields;
   if (!maps_only)
     fields.push_back({"topography", r.topography.h.data(), "indenter height towards the body", "length"});
   fields.push_back(
@@ -211,9 +212,8 @@ void write_fields_file(const CaseResult& r, const std::string& path, bool maps_o
                       "dissipated power density / v0 = tau . v_slip / v0 (mu_c p |v|/v0 where slipping)",
                       "E*"});
   }
-  RealField sm;
   if (r.fields.stick.size() == n) {
-    sm.resize(n);
+    RealField& sm = set.masks.emplace_back(n);
     for (std::size_t i = 0; i < n; ++i) sm[i] = r.fields.stick[i] ? 1.0 : 0.0;
     fields.push_back(
         {"stick", sm.data(), "stick mask (1 = contact point that sticks: zero slip velocity)", "1"});
@@ -266,8 +266,14 @@ void write_fields_file(const CaseResult& r, const std::string& path, bool maps_o
   }
   // The current maps are drawn from flow.nc, which write_leakage writes with every flow.
   if (!maps_only && r.leakage) append_current_fields(*r.leakage, fields);
+  return set;
+}
+
+void write_fields_file(const CaseResult& r, const std::string& path, bool maps_only) {
+  const Grid& g = r.config.grid;
+  const FieldSet set = result_fields(r, maps_only);
   write_fields_netcdf(
-      path, g, fields,
+      path, g, set.fields,
       {{"gfmd_version", kVersion},
        {"git_commit", kGitCommit},
        {"input_toml", r.config.to_toml()},

@@ -175,7 +175,18 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   const BackendScope on_backend(*chosen);
   CaseResult r;
   r.config = cfg;
-  r.topography = make_topography(cfg);
+  if (cfg.indenter.type == "array" && opts.topography) {
+    const Grid& tg = opts.topography->grid;
+    if (tg.nx != cfg.grid.nx || tg.ny != cfg.grid.ny || tg.lx != cfg.grid.lx || tg.ly != cfg.grid.ly)
+      throw InputError("indenter", "the given heights are " + std::to_string(tg.nx) + " x " +
+                                       std::to_string(tg.ny) + " on " + format_number(tg.lx) + " x " +
+                                       format_number(tg.ly) + ", the grid " + std::to_string(cfg.grid.nx) +
+                                       " x " + std::to_string(cfg.grid.ny) + " on " +
+                                       format_number(cfg.grid.lx) + " x " + format_number(cfg.grid.ly));
+    r.topography = std::move(*opts.topography);
+  } else {
+    r.topography = make_topography(cfg);
+  }
   r.topography_stats = statistics(r.topography);
   // The body and the solvers live only as long as the solves: the stage after them
   // (stresses, flow) gets the memory back.

@@ -23,6 +23,20 @@ nlohmann::json summary_json(const CaseResult& r);
 // that a crash left behind.
 inline constexpr const char* kMapsStagingFile = ".maps.tmp.nc";
 
+// The fields of fields.nc (with maps_only: those the maps are drawn from), named and
+// described as there: views into r, except the masks (contact, stick), which are made here
+// and held by the set. Valid while r and the set live; a set is moved, never copied.
+struct FieldSet {
+  std::vector<NamedField> fields;
+  std::vector<RealField> masks;
+  FieldSet() = default;
+  FieldSet(FieldSet&&) = default;
+  FieldSet& operator=(FieldSet&&) = default;
+  FieldSet(const FieldSet&) = delete;
+  FieldSet& operator=(const FieldSet&) = delete;
+};
+FieldSet result_fields(const CaseResult& r, bool maps_only = false);
+
 // Writes the contents of fields.nc to path (atomically): every field, or with maps_only
 // only those the maps are drawn from (pressure, gap, contact, stick, slip, dissipation,
 // sigma_1, von_mises).

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "gfmd/case/result.hpp"
@@ -21,6 +22,9 @@ struct RunOptions {
   // Counts of the earlier sessions of a resumed run (from read_checkpoint): added to the
   // result's iterations and wall time, and carried into the next checkpoint.
   CheckpointProgress resumed;
+  // Heights given by the calling program (indenter.type = "array", e.g. Python's
+  // gfmd.solve), on the case's grid; moved into the result (not copied).
+  std::shared_ptr<Topography> topography;
 };
 
 // Whether the configured outputs show stress fields (fields.nc, PNG maps).

@@ -26,7 +26,7 @@ struct ElasticParams {
 
   [[nodiscard]] bool half_space() const { return thickness == std::numeric_limits<double>::infinity(); }
   [[nodiscard]] double shear_modulus() const { return contact_modulus * (1.0 - poisson) / 2.0; }
-  // Throws InputError naming elastic.poisson / elastic.thickness / elastic.contact_modulus.
+  // Throws ParameterError naming poisson / thickness / contact_modulus.
   void validate() const;
 };
 

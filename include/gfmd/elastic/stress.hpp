@@ -114,7 +114,7 @@ ModeResponse mode_response(double q, double depth, const ElasticParams& el);
 // f.tx / f.ty may be empty. At depth 0 the stress equals surface_stress except on the
 // Nyquist lines (there the odd parts of the response are dropped, as in ElasticBody,
 // instead of the derivative), and the displacement equals ElasticBody::displacement.
-// Throws InputError for a depth outside the body.
+// Throws ParameterError("depth") for a depth outside the body.
 StressField subsurface_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f, double depth);
 DisplacementField subsurface_displacement(const FFT& fft, const ElasticParams& el, const ContactFields& f,
                                           double depth);

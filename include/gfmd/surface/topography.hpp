@@ -31,12 +31,12 @@ struct TopographyStats {
 // Paraboloid (Hertz) with radii of curvature rx, ry > 0, apex on the node
 // (nx/2, ny/2): h = -(x-xc)^2/(2 rx) - (y-yc)^2/(2 ry), xc = (nx/2)*dx, yc = (ny/2)*dy,
 // computed from integer offsets so that h(xc+d) == h(xc-d) bit for bit. max(h) = 0.
-// Throws InputError("indenter.radius_x"/"indenter.radius_y", ...) and ("grid", ...).
+// Throws ParameterError("radius_x"/"radius_y", ...) and ("grid", ...).
 Topography make_hertz(const Grid& grid, double rx, double ry);
 
 // Egg-crate h = h0 [cos(2 pi x / lambda) + cos(2 pi y / lambda)], peaks (h = 2 h0) at the
 // origin. lambda must divide lx and ly (relative tolerance 1e-9) so that the surface is
-// periodic: InputError("indenter.wavelength", ...); h0 > 0: ("indenter.amplitude", ...).
+// periodic: ParameterError("wavelength", ...); h0 > 0: ("amplitude", ...).
 // SPEC §3: h0 = lambda/(2 pi)^2 gives a peak radius of curvature R = lambda.
 Topography make_eggcrate(const Grid& grid, double wavelength, double amplitude);
 
@@ -68,10 +68,10 @@ struct SelfAffineParams {
 // real space) equals rms_height, or, if rms_gradient > 0 instead, so that its realised
 // spectral rms gradient (as in statistics()) equals rms_gradient.
 // The result does not depend on the number of threads.
-// Throws InputError naming indenter.hurst, indenter.lambda_long, indenter.lambda_short
+// Throws ParameterError naming hurst, lambda_long, lambda_short
 // (also when 2 * grid spacing > lambda_short: the grid is too coarse),
-// indenter.lambda_rolloff, indenter.rms_height (not exactly one of rms_height /
-// rms_gradient > 0; a negative rms_gradient names indenter.rms_gradient), grid.
+// lambda_rolloff, rms_height (not exactly one of rms_height /
+// rms_gradient > 0; a negative rms_gradient names rms_gradient), grid.
 Topography make_selfaffine(const Grid& grid, const SelfAffineParams& params);
 
 // Realised statistics (see TopographyStats). Throws std::invalid_argument if h does not
