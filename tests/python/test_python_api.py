@@ -1,16 +1,13 @@
-"""The Python module (build/python/gfmd*.so): results, fields as numpy arrays, errors."""
-import glob
+"""gfmd.run / gfmd.run_toml (case files through Python): results, fields as numpy arrays, errors.
+The package comes from the build tree (conftest.py)."""
 import os
-import sys
 
 import numpy as np
 import pytest
 
+import gfmd
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(ROOT, "build", "python"))
-if not glob.glob(os.path.join(ROOT, "build", "python", "gfmd*.so")):
-    pytest.fail("the Python module was not built (pybind11-dev and python3-dev are needed)", pytrace=False)
-import gfmd  # noqa: E402
 
 HERTZ = """
 [grid]

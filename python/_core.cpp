@@ -1,0 +1,444 @@
+// gfmd._core: the compiled half of the Python package (python/gfmd/ is the other). Cases from
+// TOML (file or text) or from a height array; the result stays a C++ CaseResult whose
+// fields numpy sees as read-only (ny, nx) views, without copies; topographies, statistics,
+// flow through the gap, and the run-directory writer of `gfmd run`. Solves release the GIL
+// and stop on Ctrl-C within an iteration (KeyboardInterrupt).
+#include <dlfcn.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/leakage.hpp"
+#include "gfmd/case/outputs.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/studies/sweep.hpp"
+#include "gfmd/surface/topography.hpp"
+#include "gfmd/version.hpp"
+
+namespace py = pybind11;
+
+namespace {
+
+py::object json_to_py(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+
+py::array_t<double> to_array(const gfmd::Grid& g, const gfmd::RealField& f) {
+  py::array_t<double> a({g.ny, g.nx});
+  std::copy(f.begin(), f.end(), a.mutable_data());
+  return a;
+}
+
+py::dict result(const gfmd::CaseResult& r) {
+  py::dict out;
+  out["summary"] = json_to_py(gfmd::summary_json(r));
+  py::dict f;
+  const gfmd::Grid& g = r.config.grid;
+  f["topography"] = to_array(g, r.topography.h);
+  f["pressure"] = to_array(g, r.fields.pressure);
+  f["gap"] = to_array(g, r.fields.gap);
+  f["ux"] = to_array(g, r.fields.ux);
+  f["uy"] = to_array(g, r.fields.uy);
+  f["uz"] = to_array(g, r.fields.uz);
+  f["traction_x"] = to_array(g, r.fields.tx);
+  f["traction_y"] = to_array(g, r.fields.ty);
+  if (!r.principal.s1.empty()) {
+    f["sigma_1"] = to_array(g, r.principal.s1);
+    f["von_mises"] = to_array(g, r.principal.von_mises);
+  }
+  out["fields"] = f;
+  return out;
+}
+
+// Ctrl-C during a solve: while the solve runs without the GIL, Python's own SIGINT handler
+// cannot run, so a C handler sets a flag that the solver polls; the solve then stops within
+// an iteration and KeyboardInterrupt is raised. Installed only on the main thread (where
+// Python receives signals), and the previous handler is restored afterwards.
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_sigint(int) { g_interrupted.store(true); }
+
+class SigintToFlag {
+ public:
+  SigintToFlag() {
+    const py::module_ threading = py::module_::import("threading");
+    if (!threading.attr("current_thread")().is(threading.attr("main_thread")())) return;
+    g_interrupted.store(false);
+    struct sigaction sa {};
+    sa.sa_handler = on_sigint;
+    sigemptyset(&sa.sa_mask);
+    active_ = sigaction(SIGINT, &sa, &old_) == 0;
+  }
+  ~SigintToFlag() {
+    if (active_) sigaction(SIGINT, &old_, nullptr);
+  }
+  SigintToFlag(const SigintToFlag&) = delete;
+  SigintToFlag& operator=(const SigintToFlag&) = delete;
+
+ private:
+  struct sigaction old_ {};
+  bool active_ = false;
+};
+
+[[noreturn]] void raise_keyboard_interrupt() {
+  PyErr_SetNone(PyExc_KeyboardInterrupt);
+  throw py::error_already_set();
+}
+
+gfmd::CaseResult solve(const gfmd::Config& cfg, gfmd::RunOptions ro = {}) {
+  gfmd::CaseResult r;
+  {
+    SigintToFlag guard;
+    ro.stop_request = [] { return g_interrupted.load(); };
+    try {
+      py::gil_scoped_release release;
+      r = gfmd::run_case(cfg, ro);
+    } catch (const gfmd::Interrupted&) {
+      g_interrupted.store(false);
+      raise_keyboard_interrupt();
+    }
+  }
+  if (!r.info.converged) throw gfmd::SolveError(r.info.status);
+  return r;
+}
+
+// scripts/plot_maps.py beside this module: <package>/share/gfmd/scripts in an installed
+// package, <build>/share/gfmd/scripts from <build>/python/gfmd/_core*.so. Empty if not found.
+std::string find_plot_maps() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&find_plot_maps), &info) == 0 || info.dli_fname == nullptr) return "";
+  std::error_code ec;
+  const auto dir = std::filesystem::absolute(info.dli_fname, ec).parent_path();
+  for (const auto& cand : {dir / "share" / "gfmd" / "scripts" / "plot_maps.py",
+                           dir / ".." / "share" / "gfmd" / "scripts" / "plot_maps.py",
+                           dir / ".." / ".." / "share" / "gfmd" / "scripts" / "plot_maps.py"})
+    if (std::filesystem::is_regular_file(cand, ec)) return cand.lexically_normal().string();
+  return "";
+}
+
+// The maps and profiles.png of a run directory (output.png), drawn as `gfmd run` draws them:
+// plot_maps.py in a separate interpreter ($GFMD_PYTHON, else this one), so that matplotlib's
+// backend and state in the caller's process stay untouched. A failure only warns on stderr:
+// the data files are complete. The staging file of the maps (output.fields off) is removed.
+// Called with the GIL released.
+void draw_maps(const std::string& dir) {
+  const auto staging = std::filesystem::path(dir) / gfmd::kMapsStagingFile;
+  std::string problem;
+  {
+    py::gil_scoped_acquire acquire;
+    try {
+      const std::string script = find_plot_maps();
+      if (script.empty()) {
+        problem = "plot_maps.py not found next to the gfmd module";
+      } else {
+        const char* env = std::getenv("GFMD_PYTHON");
+        std::string python =
+            env && *env ? env : py::module_::import("sys").attr("executable").cast<std::string>();
+        if (python.empty()) python = "/usr/bin/python3";
+        py::list args;
+        for (const auto& a : {python, script, std::string("--profiles")}) args.append(a);
+        std::error_code ec;
+        if (std::filesystem::is_regular_file(staging, ec)) {
+          args.append("--fields");
+          args.append(staging.string());
+        }
+        args.append("--");
+        args.append(dir);
+        const py::module_ subprocess = py::module_::import("subprocess");
+        const py::object p =
+            subprocess.attr("run")(args, py::arg("stdout") = subprocess.attr("DEVNULL"),
+                                   py::arg("stderr") = subprocess.attr("PIPE"), py::arg("text") = true);
+        if (const int rc = p.attr("returncode").cast<int>(); rc != 0)
+          problem = python + " " + script + " failed (exit status " + std::to_string(rc) +
+                    "): " + p.attr("stderr").cast<std::string>();
+      }
+    } catch (py::error_already_set& e) {
+      problem = e.what();
+    } catch (const std::exception& e) {
+      problem = e.what();
+    }
+    if (!problem.empty()) {
+      while (!problem.empty() && problem.back() == '\n') problem.pop_back();
+      PySys_WriteStderr("gfmd: warning: the PNG maps of %.200s were not (all) drawn: %.1500s\n", dir.c_str(),
+                        problem.c_str());
+    }
+  }
+  std::error_code ec;
+  std::filesystem::remove(staging, ec);
+}
+
+// Writes a run directory as `gfmd run -o` does: one writer (the lock), no stale files of an
+// earlier run, status.json, the maps (output.png); a write error (disk full, permissions)
+// raises OSError naming the file and leaves no half-written set.
+void write_run(const gfmd::CaseResult& r, const std::string& dir) {
+  try {
+    py::gil_scoped_release release;
+    const gfmd::DirectoryLock lock(dir);
+    gfmd::clear_run_outputs(dir);
+    gfmd::publish_outputs(r, dir, [&] {
+      if (r.config.output.png) draw_maps(dir);
+    });
+  } catch (const gfmd::InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    PyErr_SetString(PyExc_OSError, e.what());
+    throw py::error_already_set();
+  }
+}
+
+// A solved case with the fields of fields.nc as views (FieldSet points into r: the holder is
+// made once and never moved).
+struct Solution {
+  gfmd::CaseResult r;
+  gfmd::FieldSet set;
+};
+
+std::shared_ptr<Solution> make_solution(gfmd::CaseResult&& r) {
+  auto s = std::make_shared<Solution>();
+  s->r = std::move(r);
+  s->set = gfmd::result_fields(s->r);
+  return s;
+}
+
+// A read-only (ny, nx) view of data owned by `owner` (kept alive by the array).
+template <class Owner>
+py::array_t<double> view(const std::shared_ptr<Owner>& owner, const gfmd::Grid& g, const double* data) {
+  const py::capsule keep(new std::shared_ptr<Owner>(owner),
+                         [](void* p) { delete static_cast<std::shared_ptr<Owner>*>(p); });
+  py::array_t<double> a(
+      {static_cast<py::ssize_t>(g.ny), static_cast<py::ssize_t>(g.nx)},
+      {static_cast<py::ssize_t>(g.nx * sizeof(double)), static_cast<py::ssize_t>(sizeof(double))}, data,
+      keep);
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+// (ny, nx) float64 C-contiguous heights on a grid of lx x ly; the Python layer has converted
+// and checked the array (dtype, order, finiteness) and names the argument; this checks again.
+gfmd::Topography heights_to_topography(const py::array_t<double, py::array::c_style>& h, double lx, double ly,
+                                       const std::string& kind) {
+  if (h.ndim() != 2) throw gfmd::InputError("heights", "must be a 2-D array (ny, nx)");
+  gfmd::Grid g{static_cast<int>(h.shape(1)), static_cast<int>(h.shape(0)), lx, ly};
+  if (g.nx < 2 || g.ny < 2) throw gfmd::InputError("heights", "needs at least 2 x 2 points");
+  if (!(lx > 0 && std::isfinite(lx)) || !(ly > 0 && std::isfinite(ly)))
+    throw gfmd::InputError("lx", "the cell size must be positive and finite");
+  gfmd::Topography t{g, gfmd::RealField(g.size()), kind};
+  const double* src = h.data();
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    if (!std::isfinite(src[i]))
+      throw gfmd::InputError("heights", "holds a non-finite value at index " + std::to_string(i));
+    t.h[i] = src[i];
+  }
+  return t;
+}
+
+py::array_t<double> heights_copy(const gfmd::Topography& t) {
+  py::array_t<double> a({t.grid.ny, t.grid.nx});
+  std::copy(t.h.begin(), t.h.end(), a.mutable_data());
+  return a;
+}
+
+// Progress of a solve for a Python callable, at most every 0.2 s; an exception in the
+// callable stops the solve and is raised afterwards.
+struct ProgressRelay {
+  py::object callback;
+  std::chrono::steady_clock::time_point last{};
+  bool failed = false;
+  py::object error;
+  void operator()(const gfmd::Progress& p) {
+    const auto now = std::chrono::steady_clock::now();
+    if (failed || now - last < std::chrono::milliseconds(200)) return;
+    last = now;
+    py::gil_scoped_acquire acquire;
+    try {
+      callback(p.iteration, p.outer, p.error);
+    } catch (py::error_already_set& e) {
+      failed = true;
+      error = py::reinterpret_borrow<py::object>(e.value());
+      g_interrupted.store(true);
+    }
+  }
+};
+
+std::shared_ptr<Solution> solve_case(const std::string& toml, const py::object& heights, double lx, double ly,
+                                     const py::object& progress) {
+  const gfmd::Config cfg = gfmd::parse_config(toml, "<gfmd.solve>");
+  gfmd::RunOptions ro;
+  if (!heights.is_none())
+    ro.topography = std::make_shared<gfmd::Topography>(
+        heights_to_topography(heights.cast<py::array_t<double, py::array::c_style>>(), lx, ly, "array"));
+  std::shared_ptr<ProgressRelay> relay;
+  if (!progress.is_none()) {
+    relay = std::make_shared<ProgressRelay>();
+    relay->callback = progress;
+    ro.progress = [relay](const gfmd::Progress& p) { (*relay)(p); };
+  }
+  try {
+    return make_solution(solve(cfg, ro));
+  } catch (py::error_already_set&) {
+    if (relay && relay->failed) {
+      PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(relay->error.ptr())), relay->error.ptr());
+      throw py::error_already_set();
+    }
+    throw;
+  }
+}
+
+py::dict flow_of(const Solution& s, const std::vector<double>& angles, double tol,
+                 const std::string& solver) {
+  gfmd::FlowSolver fs = gfmd::FlowSolver::Auto;
+  if (!gfmd::parse_flow_solver(solver, fs)) {
+    throw gfmd::InputError("solver", "must be \"auto\", \"amg\" or \"boomeramg\" (got \"" + solver + "\")");
+  }
+  gfmd::LeakageResult lk;
+  {
+    SigintToFlag guard;
+    try {
+      py::gil_scoped_release release;
+      lk = gfmd::compute_leakage(s.r.config.grid, s.r.fields.gap.data(), angles, tol, fs,
+                                 [] { return g_interrupted.load(); });
+    } catch (const gfmd::Interrupted&) {
+      g_interrupted.store(false);
+      raise_keyboard_interrupt();
+    }
+  }
+  py::dict out;
+  out["summary"] = json_to_py(lk.json);
+  std::vector<gfmd::NamedField> fields;
+  gfmd::append_current_fields(lk, fields);
+  py::dict f;
+  for (const auto& nf : fields) {
+    py::array_t<double> a({s.r.config.grid.ny, s.r.config.grid.nx});
+    std::copy(nf.data, nf.data + s.r.config.grid.size(), a.mutable_data());
+    f[py::str(nf.name)] = a;
+  }
+  out["fields"] = f;
+  return out;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "gfmd's compiled core (use the package gfmd)";
+  m.attr("__version__") = gfmd::kVersion;
+  py::register_exception<gfmd::InputError>(m, "InputError", PyExc_ValueError);
+  py::register_exception<gfmd::SolveError>(m, "SolveError", PyExc_RuntimeError);
+  m.def(
+      "run",
+      [](const std::string& path, const std::vector<std::string>& set, const std::string& output) {
+        const gfmd::Config cfg = gfmd::load_config(path, set);
+        const gfmd::CaseResult r = solve(cfg);
+        if (!output.empty()) write_run(r, output);
+        return result(r);
+      },
+      py::arg("case"), py::arg("set") = std::vector<std::string>{}, py::arg("output") = "",
+      "Solve a case file; returns {'summary': dict, 'fields': {name: ndarray(ny, nx)}}. "
+      "`set` takes 'section.key=value' overrides; `output` also writes the usual files there "
+      "(with output.png the PNG maps and profiles.png, drawn by plot_maps.py in a separate Python).");
+  m.def(
+      "run_toml",
+      [](const std::string& text, const std::vector<std::string>& set) {
+        return result(solve(gfmd::parse_config(text, "<string>", set)));
+      },
+      py::arg("toml"), py::arg("set") = std::vector<std::string>{}, "Solve a case given as TOML text.");
+
+  py::class_<Solution, std::shared_ptr<Solution>>(m, "Solution")
+      .def_property_readonly("summary", [](const Solution& s) { return json_to_py(gfmd::summary_json(s.r)); })
+      .def_property_readonly("grid",
+                             [](const Solution& s) {
+                               const gfmd::Grid& g = s.r.config.grid;
+                               return py::make_tuple(g.nx, g.ny, g.lx, g.ly);
+                             })
+      .def("field_names",
+           [](const Solution& s) {
+             std::vector<std::string> names;
+             for (const auto& f : s.set.fields) names.push_back(f.name);
+             return names;
+           })
+      .def(
+          "field",
+          [](const std::shared_ptr<Solution>& s, const std::string& name) {
+            for (const auto& f : s->set.fields)
+              if (f.name == name) return view(s, s->r.config.grid, f.data);
+            throw py::key_error("no field '" + name + "' in this result");
+          },
+          py::arg("name"))
+      .def(
+          "field_info",
+          [](const Solution& s, const std::string& name) {
+            for (const auto& f : s.set.fields)
+              if (f.name == name) return py::make_tuple(f.long_name, f.units);
+            throw py::key_error("no field '" + name + "' in this result");
+          },
+          py::arg("name"))
+      .def(
+          "save", [](const Solution& s, const std::string& dir) { write_run(s.r, dir); }, py::arg("dir"))
+      .def("flow", &flow_of, py::arg("angles"), py::arg("tolerance") = 1e-10, py::arg("solver") = "auto")
+      .def_property_readonly("toml", [](const Solution& s) { return s.r.config.to_toml(); });
+  m.def("solve_case", &solve_case, py::arg("toml"), py::arg("heights"), py::arg("lx"), py::arg("ly"),
+        py::arg("progress"));
+  m.def(
+      "make_hertz",
+      [](int nx, int ny, double lx, double ly, double rx, double ry) {
+        return heights_copy(gfmd::make_hertz(gfmd::Grid{nx, ny, lx, ly}, rx, ry));
+      },
+      py::arg("nx"), py::arg("ny"), py::arg("lx"), py::arg("ly"), py::arg("radius_x"), py::arg("radius_y"));
+  m.def(
+      "make_eggcrate",
+      [](int nx, int ny, double lx, double ly, double wavelength, double amplitude) {
+        return heights_copy(gfmd::make_eggcrate(gfmd::Grid{nx, ny, lx, ly}, wavelength, amplitude));
+      },
+      py::arg("nx"), py::arg("ny"), py::arg("lx"), py::arg("ly"), py::arg("wavelength"),
+      py::arg("amplitude"));
+  m.def(
+      "make_selfaffine",
+      [](int nx, int ny, double lx, double ly, double hurst, double lambda_long, double lambda_short,
+         double rms_height, double rms_gradient, double lambda_rolloff, std::uint64_t seed) {
+        gfmd::SelfAffineParams p;
+        p.hurst = hurst;
+        p.lambda_long = lambda_long;
+        p.lambda_short = lambda_short;
+        p.rms_height = rms_height;
+        p.rms_gradient = rms_gradient;
+        p.lambda_rolloff = lambda_rolloff;
+        p.seed = seed;
+        gfmd::Topography t;
+        {
+          py::gil_scoped_release release;
+          t = gfmd::make_selfaffine(gfmd::Grid{nx, ny, lx, ly}, p);
+        }
+        return heights_copy(t);
+      },
+      py::arg("nx"), py::arg("ny"), py::arg("lx"), py::arg("ly"), py::arg("hurst"), py::arg("lambda_long"),
+      py::arg("lambda_short"), py::arg("rms_height"), py::arg("rms_gradient"), py::arg("lambda_rolloff"),
+      py::arg("seed"));
+  m.def(
+      "read_topography",
+      [](const std::string& path, double lx, double ly) {
+        const gfmd::Topography t = gfmd::read_topography(path, lx, ly);
+        return py::make_tuple(heights_copy(t), t.grid.lx, t.grid.ly);
+      },
+      py::arg("path"), py::arg("lx"), py::arg("ly"));
+  m.def(
+      "statistics",
+      [](const py::array_t<double, py::array::c_style>& h, double lx, double ly) {
+        const gfmd::TopographyStats s = gfmd::statistics(heights_to_topography(h, lx, ly, "array"));
+        py::dict d;
+        d["mean"] = s.mean;
+        d["rms_height"] = s.rms_height;
+        d["rms_gradient"] = s.rms_gradient;
+        d["rms_curvature"] = s.rms_curvature;
+        d["min"] = s.min;
+        d["max"] = s.max;
+        return d;
+      },
+      py::arg("heights"), py::arg("lx"), py::arg("ly"));
+}

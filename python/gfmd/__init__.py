@@ -1,0 +1,32 @@
+"""gfmd: steady sliding and rolling contacts with full elastic coupling.
+
+Rigid indenters (Hertz, egg-crate, self-affine rough, measured height maps) pressed on and
+sliding over an elastic layer or half-space of any Poisson ratio, with the normal/in-plane
+coupling kept (Müller, Müser, Carbone & Menga, PRL 131, 156201, 2023).
+
+Units: lengths in any unit L (that of the topography's lx), pressures and stresses in the unit
+of the contact modulus E* (ElasticBody.contact_modulus), forces in E* L^2. Fields are numpy
+arrays of shape (ny, nx): row iy is y = iy * ly / ny, column ix is x = ix * lx / nx.
+
+    import gfmd
+    top = gfmd.Topography.hertz(nx=256, lx=1.6, radius=1.0)
+    body = gfmd.ElasticBody(poisson=0.49, thickness=0.2)
+    r = gfmd.solve(top, body, force=0.01, friction=0.5)
+    r.summary["friction_coefficient"], r.pressure.shape
+
+Case files work as with the command line: gfmd.run("case.toml", set=["grid.nx=512"]).
+"""
+from ._core import InputError, SolveError, __version__
+from ._api import ElasticBody, Result, Topography, run, run_toml, solve
+
+__all__ = [
+    "ElasticBody",
+    "InputError",
+    "Result",
+    "SolveError",
+    "Topography",
+    "__version__",
+    "run",
+    "run_toml",
+    "solve",
+]

@@ -1,0 +1,382 @@
+"""The Python API: topographies as values, elastic bodies, solve() and its Result."""
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass
+from typing import Callable, Iterable, Optional
+
+import numpy as np
+
+from . import _core
+from ._core import InputError
+
+
+def _positive(name: str, value) -> float:
+    """A positive finite number, or InputError naming the argument."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise InputError(f"{name}: must be a number (got {value!r})")
+    v = float(value)
+    if not (v > 0 and math.isfinite(v)):
+        raise InputError(f"{name}: must be positive and finite (got {value!r})")
+    return v
+
+
+def _count(name: str, value) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not 2 <= int(value) <= 65536:
+        raise InputError(f"{name}: must be an integer in [2, 65536] (got {value!r})")
+    return int(value)
+
+
+def _heights(name: str, heights) -> np.ndarray:
+    """float64, C-contiguous, 2-D, finite: converted (one copy at most) or refused."""
+    a = np.asarray(heights)
+    if a.dtype.kind not in "fiu" or a.dtype == np.bool_:
+        raise InputError(f"{name}: must be a real array (got dtype {a.dtype})")
+    if a.ndim != 2:
+        raise InputError(f"{name}: must be 2-D (ny, nx) (got shape {a.shape})")
+    if a.shape[0] < 2 or a.shape[1] < 2:
+        raise InputError(f"{name}: needs at least 2 x 2 points (got shape {a.shape})")
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    if not np.all(np.isfinite(a)):
+        bad = int(np.argmax(~np.isfinite(a)))
+        raise InputError(f"{name}: holds a non-finite value at (iy, ix) = {np.unravel_index(bad, a.shape)}")
+    return a
+
+
+class Topography:
+    """A rigid indenter's heights on a periodic lx x ly cell: h[iy, ix] at x = ix lx/nx, y = iy ly/ny.
+
+    Heights point towards the elastic body (asperity peaks are maxima and touch first). Make one
+    with hertz(), eggcrate(), self_affine(), from_array() or read(); the value is immutable.
+    """
+
+    def __init__(self, heights, lx: float, ly: Optional[float] = None, kind: str = "array"):
+        self._h = _heights("heights", heights)
+        self._h.setflags(write=False)
+        self.lx = _positive("lx", lx)
+        self.ly = _positive("ly", self.lx * self._h.shape[0] / self._h.shape[1] if ly is None else ly)
+        self.kind = kind
+
+    # -- constructors ------------------------------------------------------------------
+    @classmethod
+    def hertz(cls, nx: int, lx: float, radius: Optional[float] = None, *, radius_x: Optional[float] = None,
+              radius_y: Optional[float] = None, ny: Optional[int] = None, ly: Optional[float] = None) -> "Topography":
+        """Paraboloid h = -(x-xc)^2/(2 radius_x) - (y-yc)^2/(2 radius_y), apex (max h = 0) at the cell centre."""
+        nx, ny, lx, ly = cls._grid(nx, lx, ny, ly)
+        rx = radius_x if radius_x is not None else radius
+        ry = radius_y if radius_y is not None else radius
+        if rx is None or ry is None:
+            raise InputError("radius: give radius (or radius_x and radius_y)")
+        h = _core.make_hertz(nx, ny, lx, ly, _positive("radius_x" if radius_x is not None else "radius", rx),
+                             _positive("radius_y" if radius_y is not None else "radius", ry))
+        return cls(h, lx, ly, "hertz")
+
+    @classmethod
+    def eggcrate(cls, nx: int, lx: float, wavelength: Optional[float] = None, amplitude: Optional[float] = None, *,
+                 ny: Optional[int] = None, ly: Optional[float] = None) -> "Topography":
+        """h = amplitude [cos(2 pi x/wavelength) + cos(2 pi y/wavelength)]; wavelength must divide lx and ly.
+
+        Defaults: wavelength = lx, amplitude = wavelength / (2 pi)^2 (peak radius of curvature = wavelength).
+        """
+        nx, ny, lx, ly = cls._grid(nx, lx, ny, ly)
+        wl = lx if wavelength is None else _positive("wavelength", wavelength)
+        amp = wl / (4 * math.pi ** 2) if amplitude is None else _positive("amplitude", amplitude)
+        return cls(_core.make_eggcrate(nx, ny, lx, ly, wl, amp), lx, ly, "eggcrate")
+
+    @classmethod
+    def self_affine(cls, nx: int, lx: float, *, hurst: float = 0.8, lambda_long: Optional[float] = None,
+                    lambda_short: Optional[float] = None, rms_height: Optional[float] = None,
+                    rms_gradient: Optional[float] = None, lambda_rolloff: Optional[float] = None, seed: int = 0,
+                    ny: Optional[int] = None, ly: Optional[float] = None) -> "Topography":
+        """Random self-affine surface, spectrum C q^(-2-2 hurst) between 2 pi/lambda_long and 2 pi/lambda_short.
+
+        Give exactly one of rms_height and rms_gradient (the realised value is exact). Defaults:
+        lambda_long = lx/2, lambda_short = lambda_long/128. The same seed gives the same bits everywhere.
+        """
+        nx, ny, lx, ly = cls._grid(nx, lx, ny, ly)
+        if (rms_height is None) == (rms_gradient is None):
+            raise InputError("rms_height: give exactly one of rms_height and rms_gradient")
+        ll = lx / 2 if lambda_long is None else _positive("lambda_long", lambda_long)
+        ls = ll / 128 if lambda_short is None else _positive("lambda_short", lambda_short)
+        if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or seed < 0:
+            raise InputError(f"seed: must be an integer >= 0 (got {seed!r})")
+        h = _core.make_selfaffine(
+            nx, ny, lx, ly, float(hurst), ll, ls, 0.0 if rms_height is None else _positive("rms_height", rms_height),
+            0.0 if rms_gradient is None else _positive("rms_gradient", rms_gradient),
+            0.0 if lambda_rolloff is None else _positive("lambda_rolloff", lambda_rolloff), int(seed))
+        return cls(h, lx, ly, "selfaffine")
+
+    @classmethod
+    def from_array(cls, heights, lx: float, ly: Optional[float] = None) -> "Topography":
+        """Heights (ny, nx) on an lx x ly cell (ly defaults to keeping square cells: lx ny/nx).
+
+        Integer arrays and non-contiguous views are converted (one copy); non-finite values,
+        non-2-D or non-real arrays raise InputError.
+        """
+        return cls(heights, lx, ly, "array")
+
+    @classmethod
+    def read(cls, path: str, lx: Optional[float] = None, ly: Optional[float] = None) -> "Topography":
+        """A height map file: a text matrix or NetCDF (with its physical size, or give lx, ly)."""
+        h, lx2, ly2 = _core.read_topography(str(path), 0.0 if lx is None else _positive("lx", lx),
+                                            0.0 if ly is None else _positive("ly", ly))
+        return cls(h, lx2, ly2, "file")
+
+    @staticmethod
+    def _grid(nx, lx, ny, ly):
+        nx = _count("nx", nx)
+        ny = nx if ny is None else _count("ny", ny)
+        lx = _positive("lx", lx)
+        ly = lx * ny / nx if ly is None else _positive("ly", ly)
+        return nx, ny, lx, ly
+
+    # -- values ------------------------------------------------------------------------
+    @property
+    def heights(self) -> np.ndarray:
+        """The heights, (ny, nx), read-only."""
+        return self._h
+
+    @property
+    def shape(self):
+        return self._h.shape
+
+    @property
+    def nx(self) -> int:
+        return self._h.shape[1]
+
+    @property
+    def ny(self) -> int:
+        return self._h.shape[0]
+
+    def _stats(self):
+        if not hasattr(self, "_cached_stats"):
+            self._cached_stats = _core.statistics(self._h, self.lx, self.ly)
+        return self._cached_stats
+
+    def rms_height(self) -> float:
+        """Root mean square height about the mean (length)."""
+        return self._stats()["rms_height"]
+
+    def rms_gradient(self) -> float:
+        """sqrt(<|grad h|^2>), computed spectrally (dimensionless)."""
+        return self._stats()["rms_gradient"]
+
+    def rms_curvature(self) -> float:
+        """sqrt(<(lap h / 2)^2>), computed spectrally (1/length)."""
+        return self._stats()["rms_curvature"]
+
+    def psd(self, bins: int = 64):
+        """Radially averaged power spectral density C(q) (length^4), with its wave numbers q (1/length).
+
+        C(q) = (lx ly) / (2 pi)^2 |h~(q)|^2 / (nx ny)^2 with h~ the discrete transform; returns
+        (q, C) over logarithmic bins between the smallest and largest |q| with modes.
+        """
+        ny, nx = self._h.shape
+        spec = np.fft.fft2(self._h - self._h.mean())
+        qx = 2 * np.pi * np.fft.fftfreq(nx, d=self.lx / nx)
+        qy = 2 * np.pi * np.fft.fftfreq(ny, d=self.ly / ny)
+        q = np.hypot(*np.meshgrid(qx, qy))
+        c = self.lx * self.ly / (2 * np.pi) ** 2 * np.abs(spec) ** 2 / (nx * ny) ** 2
+        mask = q > 0
+        edges = np.geomspace(q[mask].min(), q[mask].max() * (1 + 1e-12), bins + 1)
+        idx = np.digitize(q[mask], edges) - 1
+        sums = np.bincount(idx, weights=c[mask], minlength=bins)[:bins]
+        counts = np.bincount(idx, minlength=bins)[:bins]
+        keep = counts > 0
+        centres = np.sqrt(edges[:-1] * edges[1:])
+        return centres[keep], sums[keep] / counts[keep]
+
+    def __repr__(self) -> str:
+        return f"Topography({self.kind}, {self.nx} x {self.ny} on {self.lx:g} x {self.ly:g})"
+
+
+@dataclass(frozen=True)
+class ElasticBody:
+    """An elastic layer of the given thickness on a rigid base, or a half-space (thickness = inf).
+
+    contact_modulus: E* = E / (1 - nu^2), the unit of pressures and stresses. poisson: nu in
+    [0, 0.5] (0.5 only for a half-space). coupling = False drops the normal/in-plane coupling
+    (the usual uncoupled approximation) for comparison.
+    """
+
+    contact_modulus: float = 1.0
+    poisson: float = 0.25
+    thickness: float = math.inf
+    coupling: bool = True
+
+
+_SOLVER_KEYS = {"tolerance", "max_iterations", "max_outer", "max_tangential", "anderson", "mixing", "threads",
+                "fft_planner", "backend"}
+_FRICTION_KEYS = {"regularization", "creepage", "stick_step", "reference"}
+
+
+def _toml_value(name: str, v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, numbers.Integral):
+        return str(int(v))
+    if isinstance(v, numbers.Real):
+        f = float(v)
+        if math.isnan(f):
+            raise InputError(f"{name}: must not be NaN")
+        return "inf" if f == math.inf else ("-inf" if f == -math.inf else repr(f))
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(name, x) for x in v) + "]"
+    raise InputError(f"{name}: unsupported value {v!r}")
+
+
+class Result:
+    """A solved case: .summary (the keys of summary.json), every field of fields.nc as a read-only
+    numpy view (ny, nx) (result.pressure, result["gap"], result.fields), .save(dir), .plot(), .flow()."""
+
+    def __init__(self, solution, topography: Optional[Topography] = None):
+        self._s = solution
+        self._summary = None
+        self.topography = topography
+
+    @property
+    def summary(self) -> dict:
+        if self._summary is None:
+            self._summary = self._s.summary
+        return self._summary
+
+    @property
+    def field_names(self):
+        return list(self._s.field_names())
+
+    @property
+    def fields(self) -> dict:
+        """Every field by name (views, no copies)."""
+        return {n: self._s.field(n) for n in self._s.field_names()}
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self._s.field(name)
+
+    def __getattr__(self, name: str):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        try:
+            return self._s.field(name)
+        except KeyError:
+            raise AttributeError(f"Result has no field or attribute {name!r}; fields: {self.field_names}") from None
+
+    def field_info(self, name: str):
+        """(description, units) of a field, as in fields.nc."""
+        return tuple(self._s.field_info(name))
+
+    @property
+    def grid(self):
+        """(nx, ny, lx, ly)."""
+        return tuple(self._s.grid)
+
+    @property
+    def toml(self) -> str:
+        """The case as TOML (what `gfmd run` would read)."""
+        return self._s.toml
+
+    def save(self, directory: str) -> None:
+        """Writes the run directory `gfmd run -o DIR` writes (summary.json, fields.nc, ...; maps with output.png)."""
+        self._s.save(str(directory))
+
+    def flow(self, directions: Iterable = ("x", "y"), tolerance: float = 1e-10, solver: str = "auto") -> dict:
+        """Reynolds flow through the deformed gap (as `gfmd flow`): {'summary': flow.json keys, 'fields': currents}.
+
+        directions: "x", "y" or angles in degrees.
+        """
+        angles = []
+        for d in directions:
+            if d == "x":
+                angles.append(0.0)
+            elif d == "y":
+                angles.append(90.0)
+            elif isinstance(d, numbers.Real) and not isinstance(d, bool) and math.isfinite(d):
+                angles.append(float(d))
+            else:
+                raise InputError(f"directions: 'x', 'y' or an angle in degrees (got {d!r})")
+        if not angles:
+            raise InputError("directions: give at least one")
+        return self._s.flow(angles, _positive("tolerance", tolerance), str(solver))
+
+    def plot(self, field: str = "pressure", ax=None, **imshow):
+        """Draws a field over the cell in physical coordinates with a labelled colour bar; returns the axes."""
+        import matplotlib.pyplot as plt
+
+        data = self._s.field(field)
+        nx, ny, lx, ly = self.grid
+        if ax is None:
+            _, ax = plt.subplots()
+        im = ax.imshow(data, origin="lower", extent=(0, lx, 0, ly), **imshow)
+        desc, units = self.field_info(field)
+        unit = {"E*": "E*", "length": "L", "1": ""}.get(units, units)
+        ax.figure.colorbar(im, ax=ax, label=f"{field}" + (f" ({unit})" if unit else ""))
+        ax.set_xlabel("x (L)")
+        ax.set_ylabel("y (L)")
+        ax.set_aspect("equal")
+        ax.set_title(desc)
+        return ax
+
+    def __repr__(self) -> str:
+        s = self.summary
+        return (f"Result({s.get('status')}, contact area {s.get('relative_contact_area', float('nan')):.4g}, "
+                f"friction {s.get('friction_coefficient', float('nan')):.4g})")
+
+
+def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressure: Optional[float] = None,
+          force: Optional[float] = None, approach: Optional[float] = None, friction: float = 0.0,
+          direction: float = 0.0, interaction: str = "harmonic", stress_depths: Iterable[float] = (),
+          progress: Optional[Callable[[int, int, float], None]] = None, **options) -> Result:
+    """Presses (and, with friction > 0, slides) the topography on the body; returns a Result.
+
+    Exactly one of pressure (mean, E*), force (E* L^2) or approach (L). friction: the local
+    Coulomb coefficient mu_c; direction: sliding direction in degrees from x. options: the
+    [solver] keys (tolerance, max_iterations, max_outer, max_tangential, anderson, mixing,
+    threads, fft_planner, backend) and the [friction] keys (regularization, creepage,
+    stick_step, reference). progress(iteration, friction_step, change) is called about every
+    0.2 s. Ctrl-C raises KeyboardInterrupt within an iteration. The same case through
+    gfmd.run or `gfmd run` gives the same numbers.
+    """
+    if not isinstance(topography, Topography):
+        raise InputError(f"topography: must be a gfmd.Topography (got {type(topography).__name__})")
+    body = ElasticBody() if body is None else body
+    if not isinstance(body, ElasticBody):
+        raise InputError(f"body: must be a gfmd.ElasticBody (got {type(body).__name__})")
+    loads = {k: v for k, v in (("pressure", pressure), ("force", force), ("approach", approach)) if v is not None}
+    if len(loads) != 1:
+        raise InputError("pressure: give exactly one of pressure, force, approach")
+    unknown = sorted(set(options) - _SOLVER_KEYS - _FRICTION_KEYS)
+    if unknown:
+        raise InputError(f"{unknown[0]}: unknown keyword argument of gfmd.solve (solver options: "
+                         f"{', '.join(sorted(_SOLVER_KEYS))}; friction options: {', '.join(sorted(_FRICTION_KEYS))})")
+    if progress is not None and not callable(progress):
+        raise InputError("progress: must be callable (iteration, friction_step, change)")
+    (lk, lv), = loads.items()
+    lines = ["[grid]", f"nx = {topography.nx}", f"ny = {topography.ny}", f"lx = {topography.lx!r}",
+             f"ly = {topography.ly!r}", "[elastic]",
+             f"contact_modulus = {_toml_value('contact_modulus', body.contact_modulus)}",
+             f"poisson = {_toml_value('poisson', body.poisson)}",
+             f"thickness = {_toml_value('thickness', body.thickness)}",
+             f"coupling = {_toml_value('coupling', body.coupling)}",
+             "[indenter]", 'type = "array"', "[load]", f"{lk} = {_toml_value(lk, lv)}",
+             "[friction]", f"coefficient = {_toml_value('friction', friction)}",
+             f"direction = {_toml_value('direction', direction)}"]
+    lines += [f"{k} = {_toml_value(k, v)}" for k, v in options.items() if k in _FRICTION_KEYS]
+    lines += ["[interaction]", f"model = {_toml_value('interaction', interaction)}", "[solver]"]
+    lines += [f"{k} = {_toml_value(k, v)}" for k, v in options.items() if k in _SOLVER_KEYS]
+    depths = list(stress_depths)
+    lines += ["[stress]", f"depths = {_toml_value('stress_depths', depths)}", "[output]", "png = false"]
+    solution = _core.solve_case("\n".join(lines) + "\n", topography.heights, topography.lx, topography.ly, progress)
+    return Result(solution, topography)
+
+
+def run(case: str, set: Iterable[str] = (), output: str = "") -> dict:
+    """Solves a case file as `gfmd run` does: {'summary': dict, 'fields': {name: ndarray}}; with
+    output, also writes the run directory there."""
+    return _core.run(str(case), list(set), str(output))
+
+
+def run_toml(toml: str, set: Iterable[str] = ()) -> dict:
+    """As run(), for a case given as TOML text."""
+    return _core.run_toml(toml, list(set))

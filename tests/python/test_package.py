@@ -1,0 +1,227 @@
+"""The Python package's API (gfmd.Topography, ElasticBody, solve, Result): values against closed
+forms, the same numbers as case files and the command line, bad input, progress and Ctrl-C."""
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import gfmd
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BUILD = os.environ.get("GFMD_BUILD_DIR", os.path.join(ROOT, "build"))
+ENV = dict(os.environ, OMP_WAIT_POLICY="PASSIVE", PYTHONPATH=os.path.join(BUILD, "python"))
+
+HERTZ_TOML = """[grid]
+nx = 128
+lx = 1.6
+[elastic]
+poisson = 0.3
+thickness = 0.4
+[indenter]
+type = "hertz"
+radius = 1.0
+[load]
+force = 0.01
+[friction]
+coefficient = 0.5
+[output]
+png = false
+"""
+
+
+def hertz_case():
+    return (gfmd.Topography.hertz(nx=128, lx=1.6, radius=1.0), gfmd.ElasticBody(poisson=0.3, thickness=0.4))
+
+
+# --- topographies ------------------------------------------------------------------------
+
+def test_hertz_topography_is_the_paraboloid():
+    t = gfmd.Topography.hertz(nx=64, lx=2.0, radius=0.5, ny=32, ly=1.0)
+    assert t.shape == (32, 64) and t.nx == 64 and t.ny == 32 and t.kind == "hertz"
+    h = t.heights
+    assert h.max() == 0.0 and h[16, 32] == 0.0  # apex on node (nx/2, ny/2)
+    dx = 2.0 / 64
+    assert h[16, 32 + 5] == pytest.approx(-(5 * dx) ** 2 / (2 * 0.5), rel=1e-14)
+    assert not h.flags.writeable
+
+
+def test_eggcrate_peak_and_default_amplitude():
+    t = gfmd.Topography.eggcrate(nx=64, lx=1.0, wavelength=0.5)
+    a = 0.5 / (4 * math.pi ** 2)  # peak radius of curvature = wavelength (SPEC §3)
+    assert t.heights.max() == pytest.approx(2 * a, rel=1e-12)
+    with pytest.raises(gfmd.InputError, match="wavelength"):
+        gfmd.Topography.eggcrate(nx=64, lx=1.0, wavelength=0.3)
+
+
+def test_self_affine_statistics_seed_and_spectrum():
+    kw = dict(nx=256, lx=1.0, hurst=0.7, lambda_long=0.5, lambda_short=1 / 32, rms_height=0.01)
+    t = gfmd.Topography.self_affine(seed=3, **kw)
+    assert t.rms_height() == pytest.approx(0.01, rel=1e-12)
+    assert np.array_equal(t.heights, gfmd.Topography.self_affine(seed=3, **kw).heights)
+    assert not np.array_equal(t.heights, gfmd.Topography.self_affine(seed=4, **kw).heights)
+    g = gfmd.Topography.self_affine(nx=256, lx=1.0, rms_gradient=0.1, lambda_short=1 / 32)
+    assert g.rms_gradient() == pytest.approx(0.1, rel=1e-12)
+    # C(q) ~ q^(-2-2H) inside the band: fitted slope within 0.15 of -3.4
+    q, c = t.psd(bins=40)
+    band = (q > 2 * math.pi / 0.5 * 1.3) & (q < 2 * math.pi * 32 / 1.3)
+    slope = np.polyfit(np.log(q[band]), np.log(c[band]), 1)[0]
+    assert slope == pytest.approx(-2 - 2 * 0.7, abs=0.15)
+
+
+def test_from_array_converts_or_refuses_naming_the_argument():
+    ints = np.arange(12, dtype=np.int32).reshape(3, 4)
+    t = gfmd.Topography.from_array(ints, lx=2.0)
+    assert t.heights.dtype == np.float64 and t.ly == pytest.approx(1.5)
+    base = np.random.default_rng(0).random((8, 16))
+    view = base[:, ::2]  # not C-contiguous
+    assert np.array_equal(gfmd.Topography.from_array(view, 1.0).heights, view)
+    for bad, what in [(np.array([[1.0, np.nan], [0, 0]]), "non-finite"), (np.zeros(5), "2-D"),
+                      (np.zeros((3, 3), dtype=complex), "real"), (np.zeros((1, 4)), "2 x 2"),
+                      (np.array([["a", "b"], ["c", "d"]]), "real")]:
+        with pytest.raises(gfmd.InputError, match="heights") as e:
+            gfmd.Topography.from_array(bad, 1.0)
+        assert what in str(e.value)
+    for lx in (0.0, -1.0, float("inf"), "1"):
+        with pytest.raises(gfmd.InputError, match="lx"):
+            gfmd.Topography.from_array(np.zeros((4, 4)), lx)
+    with pytest.raises(gfmd.InputError, match="radius"):
+        gfmd.Topography.hertz(nx=64, lx=1.0, radius=-1.0)
+    with pytest.raises(gfmd.InputError, match="nx"):
+        gfmd.Topography.hertz(nx=1, lx=1.0, radius=1.0)
+    with pytest.raises(gfmd.InputError, match="lambda_long"):  # from the library: names the parameter
+        gfmd.Topography.self_affine(nx=64, lx=1.0, lambda_long=2.0, rms_height=0.01)
+
+
+def test_read_a_text_height_map(tmp_path):
+    h = np.random.default_rng(1).random((6, 8))
+    path = tmp_path / "h.txt"
+    np.savetxt(path, h, fmt="%.17g")
+    t = gfmd.Topography.read(path, lx=2.0, ly=1.5)
+    assert np.array_equal(t.heights, h) and (t.lx, t.ly) == (2.0, 1.5) and t.kind == "file"
+    with pytest.raises(gfmd.InputError, match="nothere"):
+        gfmd.Topography.read(tmp_path / "nothere.txt", lx=1.0)
+
+
+# --- solve and Result --------------------------------------------------------------------
+
+def strip(summary):
+    s = {k: v for k, v in summary.items() if "time" not in k and k != "input"}
+    return s
+
+
+def test_solve_equals_the_case_file_and_fields_are_views():
+    top, body = hertz_case()
+    r = gfmd.solve(top, body, force=0.01, friction=0.5)
+    ref = gfmd.run_toml(HERTZ_TOML)
+    for k, v in strip(ref["summary"]).items():
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            assert r.summary[k] == v, k  # same numbers, bit for bit
+    assert r.summary["input"]["indenter"]["type"] == "array"
+    assert np.array_equal(r.pressure, ref["fields"]["pressure"])
+    assert np.array_equal(r["traction_x"], ref["fields"]["traction_x"])
+    # every field of fields.nc, read-only views of the result (no copies)
+    for name in ["topography", "pressure", "gap", "ux", "uy", "uz", "contact", "traction_x", "traction_y",
+                 "slip_longitudinal", "slip_transverse", "dissipation", "sigma_1", "von_mises"]:
+        assert name in r.field_names
+    a, b = r.pressure, r.fields["pressure"]
+    assert np.shares_memory(a, b) and not a.flags.writeable and a.shape == (128, 128)
+    desc, units = r.field_info("pressure")
+    assert units == "E*" and "pressure" in desc
+    with pytest.raises(AttributeError):
+        r.no_such_field
+    del r
+    assert a.sum() > 0  # the view keeps the result alive
+
+
+def test_save_writes_what_gfmd_run_writes_and_flow_matches_the_cli(tmp_path):
+    top, body = hertz_case()
+    r = gfmd.solve(top, body, force=0.01, friction=0.5)
+    d = tmp_path / "run"
+    r.save(str(d))
+    with open(d / "summary.json") as f:
+        saved = json.load(f)
+    assert saved["friction_coefficient"] == r.summary["friction_coefficient"]
+    assert (d / "fields.nc").is_file()
+    fl = r.flow(("x", "y"))
+    p = subprocess.run([os.path.join(BUILD, "gfmd"), "flow", str(d)], capture_output=True, text=True, env=ENV)
+    assert p.returncode == 0, p.stderr
+    with open(d / "flow.json") as f:
+        cli = json.load(f)
+    for k in ("flow_factor_x", "flow_factor_y", "conductivity_x", "mean_gap"):
+        assert fl["summary"][k] == pytest.approx(cli[k], rel=1e-12), k
+    assert fl["fields"]["current_x"].shape == (128, 128)
+    with pytest.raises(gfmd.InputError, match="directions"):
+        r.flow(("z",))
+
+
+def test_rough_layer_with_depths_and_options():
+    t = gfmd.Topography.self_affine(nx=64, lx=1.0, lambda_long=0.5, lambda_short=1 / 16, rms_height=0.01)
+    r = gfmd.solve(t, gfmd.ElasticBody(poisson=0.49, thickness=0.1), pressure=0.02, friction=1.0,
+                   stress_depths=[0.01], tolerance=1e-9, backend="serial", threads=1)
+    s = r.summary
+    assert s["converged"] and s["mean_pressure"] == pytest.approx(0.02, rel=1e-12)
+    assert s["subsurface"][0]["depth"] == 0.01 and "von_mises_depth_0" in r.field_names
+    assert s["backend"] == "serial"
+
+
+def test_bad_arguments_name_themselves():
+    top, body = hertz_case()
+    cases = [(dict(force=0.01, frobnicate=1), "frobnicate"), (dict(), "pressure"),
+             (dict(force=0.01, pressure=0.1), "pressure"), (dict(force=0.01, friction=float("nan")), "friction"),
+             (dict(force=0.01, tolerance="tight"), "tolerance"), (dict(force=-1.0), "load.force")]
+    for kw, what in cases:
+        with pytest.raises(gfmd.InputError, match=what):
+            gfmd.solve(top, body, **kw)
+    with pytest.raises(gfmd.InputError, match="topography"):
+        gfmd.solve(np.zeros((4, 4)), body, force=0.01)
+    with pytest.raises(gfmd.InputError, match="poisson"):
+        gfmd.solve(top, gfmd.ElasticBody(poisson=0.7), force=0.01)
+    with pytest.raises(gfmd.SolveError):
+        gfmd.solve(top, body, force=0.01, max_iterations=2)
+
+
+def test_progress_callback_and_its_exception():
+    t = gfmd.Topography.self_affine(nx=256, lx=1.0, lambda_long=0.5, lambda_short=1 / 32, rms_height=0.01)
+    body = gfmd.ElasticBody(poisson=0.49, thickness=0.05)
+    calls = []
+    gfmd.solve(t, body, pressure=0.05, friction=1.0, progress=lambda *a: calls.append(a))
+    assert calls and all(len(c) == 3 for c in calls)
+
+    def boom(*_):
+        raise ValueError("stop here")
+
+    with pytest.raises(ValueError, match="stop here"):
+        gfmd.solve(t, body, pressure=0.05, friction=1.0, progress=boom)
+
+
+def test_ctrl_c_raises_keyboard_interrupt_quickly():
+    code = ("import gfmd, sys, time\n"
+            "t = gfmd.Topography.self_affine(nx=1024, lx=1.0, lambda_long=0.5, lambda_short=1/256, rms_height=0.01)\n"
+            "print('ready', flush=True)\n"
+            "try:\n"
+            "    gfmd.solve(t, gfmd.ElasticBody(poisson=0.49, thickness=0.05), pressure=0.05, friction=1.0)\n"
+            "except KeyboardInterrupt:\n"
+            "    print('interrupted', flush=True); sys.exit(7)\n")
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True, env=ENV)
+    assert p.stdout.readline().strip() == "ready"
+    time.sleep(1.0)
+    t0 = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=60)
+    assert p.returncode == 7, out
+    assert "interrupted" in out
+    assert time.monotonic() - t0 < 5.0
+
+
+def test_python_m_gfmd_is_the_program():
+    exe = os.path.join(BUILD, "gfmd")
+    a = subprocess.run([exe, "--version"], capture_output=True, text=True, env=ENV)
+    b = subprocess.run([sys.executable, "-m", "gfmd", "--version"], capture_output=True, text=True, env=ENV)
+    assert b.returncode == 0, b.stderr
+    assert a.stdout == b.stdout and a.stdout.strip()
