@@ -225,3 +225,17 @@ def test_python_m_gfmd_is_the_program():
     b = subprocess.run([sys.executable, "-m", "gfmd", "--version"], capture_output=True, text=True, env=ENV)
     assert b.returncode == 0, b.stderr
     assert a.stdout == b.stdout and a.stdout.strip()
+
+
+def test_the_tutorial_runs_top_to_bottom(tmp_path):
+    script = os.path.join(ROOT, "examples", "python", "tutorial.py")
+    p = subprocess.run([sys.executable, script], cwd=tmp_path, capture_output=True, text=True, env=ENV, timeout=600)
+    assert p.returncode == 0, p.stderr[-3000:]
+    out = tmp_path / "out" / "tutorial"
+    for f in ("hertz_pressure.png", "rough_psd.png", "rough_dissipation.png", "rough_sigma1.png",
+              "rough_current.png", "rough_run/summary.json"):
+        assert (out / f).is_file(), f
+    # Hertz contact radius within 3 % of (3FR/4E*)^(1/3) at a/dx = 32
+    line = next(l for l in p.stdout.splitlines() if l.startswith("contact radius"))
+    num, ref = float(line.split()[3].rstrip(",")), float(line.split()[5])
+    assert abs(num / ref - 1) < 0.03, line
