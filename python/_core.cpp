@@ -22,6 +22,9 @@
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
+#include "gfmd/studies/ensemble.hpp"
+#include "gfmd/studies/percolation.hpp"
 #include "gfmd/studies/sweep.hpp"
 #include "gfmd/surface/topography.hpp"
 #include "gfmd/version.hpp"
@@ -324,6 +327,72 @@ py::dict flow_of(const Solution& s, const std::vector<double>& angles, double to
   return out;
 }
 
+// Runs a study with the GIL released and Ctrl-C as a stop request; Interrupted becomes
+// KeyboardInterrupt (what the study keeps on disk stays, as with the CLI).
+template <class F>
+nlohmann::json run_study(F&& f) {
+  nlohmann::json j;
+  SigintToFlag guard;
+  try {
+    py::gil_scoped_release release;
+    j = f([] { return g_interrupted.load(); });
+  } catch (const gfmd::Interrupted&) {
+    g_interrupted.store(false);
+    raise_keyboard_interrupt();
+  }
+  return j;
+}
+
+py::object sweep_case(const std::string& case_path, const std::string& parameter,
+                      const std::vector<double>& values, const std::vector<std::string>& set,
+                      const std::string& dir) {
+  if (values.empty()) throw gfmd::InputError("values", "give at least one value");
+  std::vector<std::string> with_first = set;
+  with_first.push_back(parameter + "=" + gfmd::format_number(values.front()));
+  gfmd::Config cfg = gfmd::load_config(case_path, with_first);
+  cfg.sweep.parameter = parameter;
+  cfg.sweep.values = values;
+  return json_to_py(run_study([&](const std::function<bool()>& stop) {
+    const gfmd::DirectoryLock lock(dir);
+    gfmd::SweepOptions so;
+    so.overrides = set;
+    so.stop_request = stop;
+    return gfmd::run_sweep(case_path, cfg, dir, so);
+  }));
+}
+
+py::object percolation_case(const std::string& case_path, const std::string& direction,
+                            const std::vector<std::string>& set, double area_tolerance,
+                            const std::string& dir) {
+  if (direction != "x" && direction != "y") throw gfmd::InputError("direction", "must be \"x\" or \"y\"");
+  const gfmd::Config cfg = gfmd::load_config(case_path, set);
+  return json_to_py(run_study([&](const std::function<bool()>& stop) {
+    gfmd::PercolationOptions po;
+    po.axis = direction == "x" ? 0 : 1;
+    po.area_tolerance = area_tolerance;
+    po.stop_request = stop;
+    if (dir.empty()) return gfmd::find_percolation(cfg, po);
+    const gfmd::DirectoryLock lock(dir);
+    nlohmann::json j = gfmd::find_percolation(cfg, po);
+    gfmd::write_text_atomic((std::filesystem::path(dir) / "percolation.json").string(), j.dump(2) + "\n");
+    return j;
+  }));
+}
+
+py::object ensemble_case(const std::string& case_path, int first, int last,
+                         const std::vector<std::string>& set, const std::string& dir) {
+  gfmd::EnsembleOptions eo;
+  eo.first_seed = first;
+  eo.last_seed = last;
+  eo.overrides = set;
+  (void)gfmd::check_ensemble(case_path, eo);
+  return json_to_py(run_study([&](const std::function<bool()>& stop) {
+    eo.stop_request = stop;
+    const gfmd::DirectoryLock lock(dir);
+    return gfmd::run_ensemble(case_path, dir, eo);
+  }));
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
@@ -441,4 +510,10 @@ PYBIND11_MODULE(_core, m) {
         return d;
       },
       py::arg("heights"), py::arg("lx"), py::arg("ly"));
+  m.def("sweep_case", &sweep_case, py::arg("case"), py::arg("parameter"), py::arg("values"), py::arg("set"),
+        py::arg("output"));
+  m.def("percolation_case", &percolation_case, py::arg("case"), py::arg("direction"), py::arg("set"),
+        py::arg("area_tolerance"), py::arg("output"));
+  m.def("ensemble_case", &ensemble_case, py::arg("case"), py::arg("first_seed"), py::arg("last_seed"),
+        py::arg("set"), py::arg("output"));
 }

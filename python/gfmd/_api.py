@@ -1,8 +1,10 @@
 """The Python API: topographies as values, elastic bodies, solve() and its Result."""
 from __future__ import annotations
 
+import json
 import math
 import numbers
+import os
 from dataclasses import dataclass
 from typing import Callable, Iterable, Optional
 
@@ -380,3 +382,35 @@ def run(case: str, set: Iterable[str] = (), output: str = "") -> dict:
 def run_toml(toml: str, set: Iterable[str] = ()) -> dict:
     """As run(), for a case given as TOML text."""
     return _core.run_toml(toml, list(set))
+
+
+# --- studies over case files (the same C++ studies as the command line) -------------------
+
+def sweep(case: str, parameter: str, values: Iterable[float], output: str, set: Iterable[str] = ()) -> dict:
+    """A load sweep as `gfmd sweep CASE --set parameter=v1,v2,...`: points solved in order, each
+    warm-started from the previous one, into output/point_NNN/; returns sweep.json (one row of
+    scalar summary keys per point). Points already solved with the same input are reused."""
+    vals = [float(v) for v in values]
+    if not isinstance(parameter, str) or "." not in parameter:
+        raise InputError(f"parameter: a config key section.key (got {parameter!r})")
+    _core.sweep_case(str(case), parameter, vals, list(set), str(output))
+    with open(os.path.join(str(output), "sweep.json")) as f:
+        return json.load(f)
+
+
+def percolation(case: str, direction: str = "x", set: Iterable[str] = (), area_tolerance: float = 0.002,
+                output: str = "") -> dict:
+    """The critical relative contact area at which flow along direction ("x" or "y") stops, as
+    `gfmd percolation`; returns percolation.json's contents (and writes it into output if given)."""
+    return _core.percolation_case(str(case), str(direction), list(set), _positive("area_tolerance", area_tolerance),
+                                  str(output))
+
+
+def ensemble(case: str, output: str, seeds=(0, 7), set: Iterable[str] = ()) -> dict:
+    """Flow over roughness seeds seeds[0]..seeds[1] (inclusive) as `gfmd ensemble --seeds A..B`,
+    into output/seed_N/; returns ensemble.json (per seed, mean, spread, Bruggeman value)."""
+    try:
+        first, last = (int(seeds[0]), int(seeds[1]))
+    except (TypeError, ValueError, IndexError):
+        raise InputError(f"seeds: (first, last) integers (got {seeds!r})") from None
+    return _core.ensemble_case(str(case), first, last, list(set), str(output))

@@ -239,3 +239,68 @@ def test_the_tutorial_runs_top_to_bottom(tmp_path):
     line = next(l for l in p.stdout.splitlines() if l.startswith("contact radius"))
     num, ref = float(line.split()[3].rstrip(",")), float(line.split()[5])
     assert abs(num / ref - 1) < 0.03, line
+
+
+ROUGH_TOML = """[grid]
+nx = 64
+lx = 1.0
+[elastic]
+poisson = 0.3
+[indenter]
+type = "selfaffine"
+hurst = 0.8
+lambda_long = 0.5
+lambda_short = 0.0625
+rms_height = 0.01
+seed = 2
+[load]
+pressure = 0.05
+[output]
+png = false
+"""
+
+
+def cli(*args):
+    p = subprocess.run([os.path.join(BUILD, "gfmd"), *args], capture_output=True, text=True, env=ENV)
+    assert p.returncode == 0, p.stderr
+    return p
+
+
+def numbers_equal(a, b, skip=("time", "seconds", "elapsed")):
+    """Recursively: the same keys and the same numbers, except timings."""
+    if isinstance(a, dict):
+        assert set(a) == set(b)
+        for k in a:
+            if not any(s in k for s in skip):
+                numbers_equal(a[k], b[k], skip)
+    elif isinstance(a, list):
+        assert len(a) == len(b)
+        for x, y in zip(a, b):
+            numbers_equal(x, y, skip)
+    else:
+        assert a == b
+
+
+def test_sweep_percolation_ensemble_match_the_cli(tmp_path):
+    case = tmp_path / "rough.toml"
+    case.write_text(ROUGH_TOML)
+    # sweep: the same sweep.json as gfmd sweep
+    py = gfmd.sweep(str(case), "load.pressure", [0.02, 0.05], output=str(tmp_path / "py_sweep"))
+    cli("sweep", str(case), "--set", "load.pressure=0.02,0.05", "-o", str(tmp_path / "cli_sweep"), "-q")
+    with open(tmp_path / "cli_sweep" / "sweep.json") as f:
+        numbers_equal(py, json.load(f))
+    # percolation along x
+    py = gfmd.percolation(str(case), "x")
+    cli("percolation", str(case), "--direction", "x", "-o", str(tmp_path / "cli_perc"), "-q")
+    with open(tmp_path / "cli_perc" / "percolation.json") as f:
+        numbers_equal(py, json.load(f))
+    assert 0 < py["critical_relative_contact_area"] < 1
+    # ensemble over two seeds
+    py = gfmd.ensemble(str(case), output=str(tmp_path / "py_ens"), seeds=(0, 1))
+    cli("ensemble", str(case), "--seeds", "0..1", "-o", str(tmp_path / "cli_ens"), "-q")
+    with open(tmp_path / "cli_ens" / "ensemble.json") as f:
+        numbers_equal(py, json.load(f))
+    with pytest.raises(gfmd.InputError, match="direction"):
+        gfmd.percolation(str(case), "z")
+    with pytest.raises(gfmd.InputError, match="seeds"):
+        gfmd.ensemble(str(case), output=str(tmp_path / "e2"), seeds=(3,))
