@@ -337,7 +337,7 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
     [solver] keys (tolerance, max_iterations, max_outer, max_tangential, anderson, mixing,
     threads, fft_planner, backend) and the [friction] keys (regularization, creepage,
     stick_step, reference). progress(iteration, friction_step, change) is called about every
-    0.2 s. Ctrl-C raises KeyboardInterrupt within an iteration. The same case through
+    0.2 s; progress=True shows a tqdm bar (plain lines without tqdm). Ctrl-C raises KeyboardInterrupt within an iteration. The same case through
     gfmd.run or `gfmd run` gives the same numbers.
     """
     if not isinstance(topography, Topography):
@@ -352,8 +352,13 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
     if unknown:
         raise InputError(f"{unknown[0]}: unknown keyword argument of gfmd.solve (solver options: "
                          f"{', '.join(sorted(_SOLVER_KEYS))}; friction options: {', '.join(sorted(_FRICTION_KEYS))})")
-    if progress is not None and not callable(progress):
-        raise InputError("progress: must be callable (iteration, friction_step, change)")
+    bar = None
+    if progress is True:
+        progress, bar = _progress_bar()
+    elif progress is not None and progress is not False and not callable(progress):
+        raise InputError("progress: True (a bar) or a callable (iteration, friction_step, change)")
+    elif progress is False:
+        progress = None
     (lk, lv), = loads.items()
     lines = ["[grid]", f"nx = {topography.nx}", f"ny = {topography.ny}", f"lx = {topography.lx!r}",
              f"ly = {topography.ly!r}", "[elastic]",
@@ -369,8 +374,40 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
     lines += [f"{k} = {_toml_value(k, v)}" for k, v in options.items() if k in _SOLVER_KEYS]
     depths = list(stress_depths)
     lines += ["[stress]", f"depths = {_toml_value('stress_depths', depths)}", "[output]", "png = false"]
-    solution = _core.solve_case("\n".join(lines) + "\n", topography.heights, topography.lx, topography.ly, progress)
+    try:
+        solution = _core.solve_case("\n".join(lines) + "\n", topography.heights, topography.lx, topography.ly,
+                                    progress)
+    finally:
+        if bar is not None:
+            bar.close()
     return Result(solution, topography)
+
+
+def _progress_bar():
+    """A tqdm bar over the solver's iterations (or plain lines on stderr without tqdm)."""
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        import sys
+
+        class _Lines:
+            def update(self, it, step, change):
+                sys.stderr.write(f"  iteration {it}  friction step {step}  change {change:.2e}\n")
+
+            def close(self):
+                pass
+
+        lines = _Lines()
+        return lines.update, lines
+
+    bar = tqdm(unit="it", desc="gfmd.solve", leave=False)
+
+    def update(it, step, change):
+        bar.n = it
+        bar.set_postfix(step=step, change=f"{change:.1e}", refresh=False)
+        bar.refresh()
+
+    return update, bar
 
 
 def run(case: str, set: Iterable[str] = (), output: str = "") -> dict:

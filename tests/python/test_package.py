@@ -198,6 +198,10 @@ def test_progress_callback_and_its_exception():
 
     with pytest.raises(ValueError, match="stop here"):
         gfmd.solve(t, body, pressure=0.05, friction=1.0, progress=boom)
+    r = gfmd.solve(t, body, pressure=0.05, friction=1.0, progress=True)  # a bar (tqdm) or lines
+    assert r.summary["converged"]
+    with pytest.raises(gfmd.InputError, match="progress"):
+        gfmd.solve(t, body, pressure=0.05, progress="yes")
 
 
 def test_ctrl_c_raises_keyboard_interrupt_quickly():
