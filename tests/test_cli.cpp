@@ -119,6 +119,14 @@ TEST(Cli, BadInputIsRefusedCleanly) {
       {"tolerance", sub(kGood, "force = 0.01", "force = 0.01\n[solver]\ntolerance = 2"), "",
        "solver.tolerance"},
       {"invalid_utf8", kGood + "# \xff\xfe\n", "", "not valid UTF-8"},
+      // overlong (E0 91 90), surrogate (ED A0 80), above U+10FFFF (F4 90 80 80): refused before
+      // toml11, whose report of them inside a multi-line literal string reads past its buffer
+      {"overlong_utf8",
+       kGood + "[meta]\nnote = \'\'\'a\xe0\x91\x90"
+               "b\'\'\'\n",
+       "", "not valid UTF-8"},
+      {"surrogate_utf8", kGood + "# \xed\xa0\x80\n", "", "not valid UTF-8"},
+      {"beyond_unicode", kGood + "# \xf4\x90\x80\x80\n", "", "not valid UTF-8"},
       {"negative_mu", kGood + "[friction]\ncoefficient = -0.5\n", "", "friction.coefficient"},
       {"regularization", kGood + "[friction]\ncoefficient = 1\nregularization = 1.5\n", "",
        "friction.regularization: must be in [0, 1)"},

@@ -96,6 +96,15 @@ void config_detail::require_utf8(const std::string& s, const std::string& name) 
       throw InputError(name + ":" + std::to_string(line), "not valid UTF-8 text");
     }
     if (i + len > s.size()) throw InputError(name + ":" + std::to_string(line), "not valid UTF-8 text");
+    // The second byte's range (RFC 3629): no overlong forms, no surrogates, nothing above
+    // U+10FFFF. toml11 checks strings the same way, and its report of a bad one in a
+    // multi-line string reads past its buffer (toml11 3.7.1), so none may reach it.
+    if (len > 1) {
+      const auto c1 = static_cast<unsigned char>(s[i + 1]);
+      const unsigned char lo = c == 0xe0 ? 0xa0 : c == 0xf0 ? 0x90 : 0x80;
+      const unsigned char hi = c == 0xed ? 0x9f : c == 0xf4 ? 0x8f : 0xbf;
+      if (c1 < lo || c1 > hi) throw InputError(name + ":" + std::to_string(line), "not valid UTF-8 text");
+    }
     for (std::size_t k = 1; k < len; ++k)
       if ((static_cast<unsigned char>(s[i + k]) & 0xc0) != 0x80)
         throw InputError(name + ":" + std::to_string(line), "not valid UTF-8 text");
