@@ -17,7 +17,7 @@ arrays of shape (ny, nx): row iy is y = iy * ly / ny, column ix is x = ix * lx /
 Case files work as with the command line: gfmd.run("case.toml", set=["grid.nx=512"]).
 """
 from ._core import InputError, SolveError, __version__
-from ._api import ElasticBody, Result, Topography, ensemble, percolation, run, run_toml, solve, sweep
+from ._api import ElasticBody, Result, Topography, ensemble, percolation, run, run_toml, solve, study, sweep
 
 __all__ = [
     "ElasticBody",
@@ -31,5 +31,6 @@ __all__ = [
     "run",
     "run_toml",
     "solve",
+    "study",
     "sweep",
 ]

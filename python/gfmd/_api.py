@@ -11,7 +11,7 @@ from typing import Callable, Iterable, Optional
 import numpy as np
 
 from . import _core
-from ._core import InputError
+from ._core import InputError, SolveError
 
 
 def _positive(name: str, value) -> float:
@@ -451,3 +451,43 @@ def ensemble(case: str, output: str, seeds=(0, 7), set: Iterable[str] = ()) -> d
     except (TypeError, ValueError, IndexError):
         raise InputError(f"seeds: (first, last) integers (got {seeds!r})") from None
     return _core.ensemble_case(str(case), first, last, list(set), str(output))
+
+
+def _package_file(*parts: str) -> str:
+    """A file shipped with the package (installed: gfmd/share, gfmd/bin) or, in the build
+    tree (build/python/gfmd), the build's share/ and program. "" if absent."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    for base in (here, os.path.dirname(os.path.dirname(here))):
+        path = os.path.join(base, *parts)
+        if os.path.exists(path):
+            return path
+    return ""
+
+
+def study(study_file: str, quick: bool = False, output: str = os.path.join("out", "studies")) -> dict:
+    """Runs a figure study (studies/*.toml) as `gfmd study` does: its sweeps or runs (reusing
+    finished results), then its figure (PNG, PDF) and the plotted data (CSV) in
+    output/<name>/<quick|full>/. Returns study.json (figure path, series, wall time, series
+    that stopped early). The study's case paths are relative to the folder above the study
+    file's (the repository root for studies/*.toml). Raises SolveError if a series stopped
+    early (its finished points are drawn), InputError for a missing study file."""
+    import subprocess
+    import sys
+
+    path = os.path.abspath(str(study_file))
+    if not os.path.isfile(path):
+        raise InputError(f"study_file: {study_file}: no such file")
+    script = _package_file("share", "gfmd", "scripts", "study.py")
+    program = _package_file("bin", "gfmd") or _package_file("gfmd")
+    if not script or not program:
+        raise InputError("study: study.py or the gfmd program is not installed with the package")
+    args = [sys.executable, script, path, "-o", str(output)] + (["--quick"] if quick else [])
+    p = subprocess.run(args, env=dict(os.environ, GFMD=os.path.realpath(program)), stderr=subprocess.PIPE,
+                       text=True)
+    name = os.path.splitext(os.path.basename(path))[0]
+    report = os.path.join(str(output), name, "quick" if quick else "full", "study.json")
+    if p.returncode != 0:
+        tail = p.stderr.strip().splitlines()[-1] if p.stderr.strip() else f"exit status {p.returncode}"
+        raise SolveError(f"study {name}: {tail}")
+    with open(report) as f:
+        return json.load(f)

@@ -308,3 +308,24 @@ def test_sweep_percolation_ensemble_match_the_cli(tmp_path):
         gfmd.percolation(str(case), "z")
     with pytest.raises(gfmd.InputError, match="seeds"):
         gfmd.ensemble(str(case), output=str(tmp_path / "e2"), seeds=(3,))
+
+
+def test_study_matches_gfmd_study(tmp_path):
+    # A small sweep study (Hertz, two loads at 64^2) through gfmd.study and through `gfmd study`:
+    # the same plotted data; a missing file is an InputError.
+    case = tmp_path / "case.toml"
+    case.write_text(open(os.path.join(ROOT, "examples", "hertz_nu025.toml")).read()
+                    + "\n[sweep]\nparameter = \"load.force\"\nvalues = [0.005, 0.01]\n"
+                    + "plot = \"relative_contact_area\"\n")
+    st = tmp_path / "small.toml"
+    st.write_text(f'title = "small"\nkind = "sweep"\nx = "load.force"\ny = "relative_contact_area"\n\n'
+                  f'[[series]]\nlabel = "s"\ncase = "{case}"\n\n[quick]\nset = ["grid.nx=64"]\n')
+    rep = gfmd.study(str(st), quick=True, output=str(tmp_path / "py"))
+    assert rep["series"] == ["s"] and not rep["incomplete_series"]
+    cli("study", str(st), "--quick", "-o", str(tmp_path / "cli"))
+    py_csv = (tmp_path / "py" / "small" / "quick" / "small.csv").read_text()
+    cli_csv = (tmp_path / "cli" / "small" / "quick" / "small.csv").read_text()
+    assert py_csv == cli_csv and len(py_csv.splitlines()) == 3
+    assert os.path.isfile(rep["figure"])
+    with pytest.raises(gfmd.InputError, match="no such file"):
+        gfmd.study(str(tmp_path / "nothere.toml"))
