@@ -37,6 +37,12 @@ class CMakeBuild(build_ext):
             build.mkdir(parents=True, exist_ok=True)
             configure = ["cmake", "-S", str(ROOT), "-B", str(build), "-DCMAKE_BUILD_TYPE=Release",
                          "-DGFMD_BUILD_TESTS=OFF", f"-DGFMD_PYTHON={sys.executable}"]
+            try:  # pybind11 from pip (isolated builds); Debian's pybind11-dev has only its CMake files
+                import pybind11
+
+                configure.append(f"-Dpybind11_DIR={pybind11.get_cmake_dir()}")
+            except ImportError:
+                pass
             configure += [a for a in os.environ.get("GFMD_CMAKE_ARGS", "").split(" ") if a]
             subprocess.run(configure, check=True)
         subprocess.run(["cmake", "--build", str(build), "-j", jobs, "--target", "gfmd_python", "gfmd"], check=True)
