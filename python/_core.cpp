@@ -35,11 +35,13 @@ namespace {
 
 py::object json_to_py(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
 
-py::array_t<double> to_array(const gfmd::Grid& g, const gfmd::RealField& f) {
+// A copy of a field as a fresh (ny, nx) array.
+py::array_t<double> to_array(const gfmd::Grid& g, const double* data) {
   py::array_t<double> a({g.ny, g.nx});
-  std::copy(f.begin(), f.end(), a.mutable_data());
+  std::copy(data, data + g.size(), a.mutable_data());
   return a;
 }
+py::array_t<double> to_array(const gfmd::Grid& g, const gfmd::RealField& f) { return to_array(g, f.data()); }
 
 py::dict result(const gfmd::CaseResult& r) {
   py::dict out;
@@ -96,19 +98,25 @@ class SigintToFlag {
   throw py::error_already_set();
 }
 
-gfmd::CaseResult solve(const gfmd::Config& cfg, gfmd::RunOptions ro = {}) {
-  gfmd::CaseResult r;
-  {
-    SigintToFlag guard;
-    ro.stop_request = [] { return g_interrupted.load(); };
-    try {
-      py::gil_scoped_release release;
-      r = gfmd::run_case(cfg, ro);
-    } catch (const gfmd::Interrupted&) {
-      g_interrupted.store(false);
-      raise_keyboard_interrupt();
-    }
+// Runs f(stop) with the GIL released and Ctrl-C as its stop request (solves, flows, studies);
+// gfmd::Interrupted becomes KeyboardInterrupt. f must not touch Python objects.
+template <class F>
+auto interruptible(F&& f) {
+  SigintToFlag guard;
+  try {
+    py::gil_scoped_release release;
+    return f(std::function<bool()>([] { return g_interrupted.load(); }));
+  } catch (const gfmd::Interrupted&) {
+    g_interrupted.store(false);
+    raise_keyboard_interrupt();
   }
+}
+
+gfmd::CaseResult solve(const gfmd::Config& cfg, gfmd::RunOptions ro = {}) {
+  gfmd::CaseResult r = interruptible([&](std::function<bool()> stop) {
+    ro.stop_request = std::move(stop);
+    return gfmd::run_case(cfg, ro);
+  });
   if (!r.info.converged) throw gfmd::SolveError(r.info.status);
   return r;
 }
@@ -243,12 +251,6 @@ gfmd::Topography heights_to_topography(const py::array_t<double, py::array::c_st
   return t;
 }
 
-py::array_t<double> heights_copy(const gfmd::Topography& t) {
-  py::array_t<double> a({t.grid.ny, t.grid.nx});
-  std::copy(t.h.begin(), t.h.end(), a.mutable_data());
-  return a;
-}
-
 // Progress of a solve for a Python callable, at most every 0.2 s; an exception in the
 // callable stops the solve and is raised afterwards.
 struct ProgressRelay {
@@ -301,48 +303,20 @@ py::dict flow_of(const Solution& s, const std::vector<double>& angles, double to
   if (!gfmd::parse_flow_solver(solver, fs)) {
     throw gfmd::InputError("solver", "must be \"auto\", \"amg\" or \"boomeramg\" (got \"" + solver + "\")");
   }
-  gfmd::LeakageResult lk;
-  {
-    SigintToFlag guard;
-    try {
-      py::gil_scoped_release release;
-      lk = gfmd::compute_leakage(s.r.config.grid, s.r.fields.gap.data(), angles, tol, fs,
-                                 [] { return g_interrupted.load(); });
-    } catch (const gfmd::Interrupted&) {
-      g_interrupted.store(false);
-      raise_keyboard_interrupt();
-    }
-  }
+  const gfmd::LeakageResult lk = interruptible([&](const std::function<bool()>& stop) {
+    return gfmd::compute_leakage(s.r.config.grid, s.r.fields.gap.data(), angles, tol, fs, stop);
+  });
   py::dict out;
   out["summary"] = json_to_py(lk.json);
   std::vector<gfmd::NamedField> fields;
   gfmd::append_current_fields(lk, fields);
   py::dict f;
-  for (const auto& nf : fields) {
-    py::array_t<double> a({s.r.config.grid.ny, s.r.config.grid.nx});
-    std::copy(nf.data, nf.data + s.r.config.grid.size(), a.mutable_data());
-    f[py::str(nf.name)] = a;
-  }
+  for (const auto& nf : fields) f[py::str(nf.name)] = to_array(s.r.config.grid, nf.data);
   out["fields"] = f;
   return out;
 }
 
-// Runs a study with the GIL released and Ctrl-C as a stop request; Interrupted becomes
-// KeyboardInterrupt (what the study keeps on disk stays, as with the CLI).
-template <class F>
-nlohmann::json run_study(F&& f) {
-  nlohmann::json j;
-  SigintToFlag guard;
-  try {
-    py::gil_scoped_release release;
-    j = f([] { return g_interrupted.load(); });
-  } catch (const gfmd::Interrupted&) {
-    g_interrupted.store(false);
-    raise_keyboard_interrupt();
-  }
-  return j;
-}
-
+// The studies below run interruptible: on Ctrl-C what a study keeps on disk stays, as with the CLI.
 py::object sweep_case(const std::string& case_path, const std::string& parameter,
                       const std::vector<double>& values, const std::vector<std::string>& set,
                       const std::string& dir) {
@@ -352,7 +326,7 @@ py::object sweep_case(const std::string& case_path, const std::string& parameter
   gfmd::Config cfg = gfmd::load_config(case_path, with_first);
   cfg.sweep.parameter = parameter;
   cfg.sweep.values = values;
-  return json_to_py(run_study([&](const std::function<bool()>& stop) {
+  return json_to_py(interruptible([&](const std::function<bool()>& stop) {
     const gfmd::DirectoryLock lock(dir);
     gfmd::SweepOptions so;
     so.overrides = set;
@@ -366,7 +340,7 @@ py::object percolation_case(const std::string& case_path, const std::string& dir
                             const std::string& dir) {
   if (direction != "x" && direction != "y") throw gfmd::InputError("direction", "must be \"x\" or \"y\"");
   const gfmd::Config cfg = gfmd::load_config(case_path, set);
-  return json_to_py(run_study([&](const std::function<bool()>& stop) {
+  return json_to_py(interruptible([&](const std::function<bool()>& stop) {
     gfmd::PercolationOptions po;
     po.axis = direction == "x" ? 0 : 1;
     po.area_tolerance = area_tolerance;
@@ -386,7 +360,7 @@ py::object ensemble_case(const std::string& case_path, int first, int last,
   eo.last_seed = last;
   eo.overrides = set;
   (void)gfmd::check_ensemble(case_path, eo);
-  return json_to_py(run_study([&](const std::function<bool()>& stop) {
+  return json_to_py(interruptible([&](const std::function<bool()>& stop) {
     eo.stop_request = stop;
     const gfmd::DirectoryLock lock(dir);
     return gfmd::run_ensemble(case_path, dir, eo);
@@ -457,13 +431,15 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "make_hertz",
       [](int nx, int ny, double lx, double ly, double rx, double ry) {
-        return heights_copy(gfmd::make_hertz(gfmd::Grid{nx, ny, lx, ly}, rx, ry));
+        const gfmd::Topography t = gfmd::make_hertz(gfmd::Grid{nx, ny, lx, ly}, rx, ry);
+        return to_array(t.grid, t.h);
       },
       py::arg("nx"), py::arg("ny"), py::arg("lx"), py::arg("ly"), py::arg("radius_x"), py::arg("radius_y"));
   m.def(
       "make_eggcrate",
       [](int nx, int ny, double lx, double ly, double wavelength, double amplitude) {
-        return heights_copy(gfmd::make_eggcrate(gfmd::Grid{nx, ny, lx, ly}, wavelength, amplitude));
+        const gfmd::Topography t = gfmd::make_eggcrate(gfmd::Grid{nx, ny, lx, ly}, wavelength, amplitude);
+        return to_array(t.grid, t.h);
       },
       py::arg("nx"), py::arg("ny"), py::arg("lx"), py::arg("ly"), py::arg("wavelength"),
       py::arg("amplitude"));
@@ -484,7 +460,7 @@ PYBIND11_MODULE(_core, m) {
           py::gil_scoped_release release;
           t = gfmd::make_selfaffine(gfmd::Grid{nx, ny, lx, ly}, p);
         }
-        return heights_copy(t);
+        return to_array(t.grid, t.h);
       },
       py::arg("nx"), py::arg("ny"), py::arg("lx"), py::arg("ly"), py::arg("hurst"), py::arg("lambda_long"),
       py::arg("lambda_short"), py::arg("rms_height"), py::arg("rms_gradient"), py::arg("lambda_rolloff"),
@@ -493,7 +469,7 @@ PYBIND11_MODULE(_core, m) {
       "read_topography",
       [](const std::string& path, double lx, double ly) {
         const gfmd::Topography t = gfmd::read_topography(path, lx, ly);
-        return py::make_tuple(heights_copy(t), t.grid.lx, t.grid.ly);
+        return py::make_tuple(to_array(t.grid, t.h), t.grid.lx, t.grid.ly);
       },
       py::arg("path"), py::arg("lx"), py::arg("ly"));
   m.def(
