@@ -475,15 +475,8 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "statistics",
       [](const py::array_t<double, py::array::c_style>& h, double lx, double ly) {
-        const gfmd::TopographyStats s = gfmd::statistics(heights_to_topography(h, lx, ly, "array"));
-        py::dict d;
-        d["mean"] = s.mean;
-        d["rms_height"] = s.rms_height;
-        d["rms_gradient"] = s.rms_gradient;
-        d["rms_curvature"] = s.rms_curvature;
-        d["min"] = s.min;
-        d["max"] = s.max;
-        return d;
+        return json_to_py(
+            gfmd::topography_stats_json(gfmd::statistics(heights_to_topography(h, lx, ly, "array"))));
       },
       py::arg("heights"), py::arg("lx"), py::arg("ly"));
   m.def("sweep_case", &sweep_case, py::arg("case"), py::arg("parameter"), py::arg("values"), py::arg("set"),

@@ -81,6 +81,15 @@ nlohmann::json observables_json(const Observables& o) {
 
 }  // namespace
 
+nlohmann::json topography_stats_json(const TopographyStats& s) {
+  return {{"mean", s.mean},
+          {"rms_height", s.rms_height},
+          {"rms_gradient", s.rms_gradient},
+          {"rms_curvature", s.rms_curvature},
+          {"min", s.min},
+          {"max", s.max}};
+}
+
 nlohmann::json summary_json(const CaseResult& r) {
   nlohmann::json j = observables_json(r.observables);
   j["iterations"] = r.info.iterations;
@@ -158,13 +167,8 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["threads"] = threads();
   j["backend"] = r.config.backend;
   const auto& s = r.topography_stats;
-  j["topography"] = {{"kind", r.topography.kind},
-                     {"mean", s.mean},
-                     {"rms_height", s.rms_height},
-                     {"rms_gradient", s.rms_gradient},
-                     {"rms_curvature", s.rms_curvature},
-                     {"min", s.min},
-                     {"max", s.max}};
+  j["topography"] = topography_stats_json(s);
+  j["topography"]["kind"] = r.topography.kind;
   j["input"] = r.config.to_json();
   j["units"] =
       "lengths in the unit of grid.lx; pressures, stresses and E* in the unit of elastic.contact_modulus; "

@@ -16,6 +16,8 @@ namespace gfmd {
 
 // summary.json contents.
 nlohmann::json summary_json(const CaseResult& r);
+// A topography's statistics by their summary.json names (summary.json's "topography" adds "kind").
+nlohmann::json topography_stats_json(const TopographyStats& s);
 
 // The file the maps are drawn from when output.png is on but output.fields is off:
 // DIR/.maps.tmp.nc, written by write_outputs with the fields the maps show; the front end
