@@ -208,16 +208,8 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
       sets.push_back(s);
     }
   }
-  gfmd::Config cfg = gfmd::load_config(
-      case_path, param.empty() ? sets : [&] {
-        auto v = sets;
-        v.push_back(param + "=" + gfmd::format_number(values.front()));
-        return v;
-      }());
-  if (!param.empty()) {
-    cfg.sweep.parameter = param;
-    cfg.sweep.values = values;
-  }
+  const gfmd::Config cfg =
+      param.empty() ? gfmd::load_config(case_path, sets) : gfmd::sweep_config(case_path, sets, param, values);
   if (!cfg.sweep.active())
     throw gfmd::InputError(case_path, "nothing to sweep: add --set section.key=v1,v2,... or a [sweep] table");
   if (plot.empty()) plot = cfg.sweep.plot;

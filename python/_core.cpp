@@ -320,12 +320,7 @@ py::dict flow_of(const Solution& s, const std::vector<double>& angles, double to
 py::object sweep_case(const std::string& case_path, const std::string& parameter,
                       const std::vector<double>& values, const std::vector<std::string>& set,
                       const std::string& dir) {
-  if (values.empty()) throw gfmd::InputError("values", "give at least one value");
-  std::vector<std::string> with_first = set;
-  with_first.push_back(parameter + "=" + gfmd::format_number(values.front()));
-  gfmd::Config cfg = gfmd::load_config(case_path, with_first);
-  cfg.sweep.parameter = parameter;
-  cfg.sweep.values = values;
+  const gfmd::Config cfg = gfmd::sweep_config(case_path, set, parameter, values);
   return json_to_py(interruptible([&](const std::function<bool()>& stop) {
     const gfmd::DirectoryLock lock(dir);
     gfmd::SweepOptions so;

@@ -97,6 +97,17 @@ std::string format_value(double v) {
 
 }  // namespace
 
+Config sweep_config(const std::string& case_path, const std::vector<std::string>& overrides,
+                    const std::string& parameter, const std::vector<double>& values) {
+  if (values.empty()) throw InputError("values", "give at least one value to sweep " + parameter + " over");
+  std::vector<std::string> with_first = overrides;
+  with_first.push_back(parameter + "=" + format_number(values.front()));
+  Config cfg = load_config(case_path, with_first);
+  cfg.sweep.parameter = parameter;
+  cfg.sweep.values = values;
+  return cfg;
+}
+
 nlohmann::json run_sweep(const std::string& case_path, const Config& base, const std::string& dir,
                          const SweepOptions& opts) {
   const SweepConfig& sw = base.sweep;

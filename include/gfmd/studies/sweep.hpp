@@ -22,6 +22,12 @@ struct SweepOptions {
   std::function<bool()> stop_request;  // as in RunOptions; the current point keeps a checkpoint
   double checkpoint_interval_s = 60.0;
 };
+// The case of a sweep of `parameter` (section.key) over `values`, given by a front end
+// rather than the case's [sweep] table: the case file with the overrides and the first
+// value applied, its sweep replaced by this one. Throws InputError (no values; bad case).
+Config sweep_config(const std::string& case_path, const std::vector<std::string>& overrides,
+                    const std::string& parameter, const std::vector<double>& values);
+
 nlohmann::json run_sweep(const std::string& case_path, const Config& cfg, const std::string& dir,
                          const SweepOptions& opts);
 
