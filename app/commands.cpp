@@ -320,8 +320,7 @@ int cmd_percolation(const std::string& case_path, std::string out_dir, const std
   if (!quiet) po.log = [](const std::string& m) { std::fprintf(stderr, "  %s\n", m.c_str()); };
   po.stop_request = stop_requested;
   const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
-  const nlohmann::json j = gfmd::find_percolation(cfg, po);
-  gfmd::write_text_atomic((std::filesystem::path(out_dir) / "percolation.json").string(), j.dump(2) + "\n");
+  const nlohmann::json j = gfmd::run_percolation(cfg, po, out_dir);
   std::printf(
       "critical relative contact area along %s: %.4f (pressure %.6g) after %d solves -> "
       "%s/percolation.json\n",

@@ -22,7 +22,6 @@
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
-#include "gfmd/core/files.hpp"
 #include "gfmd/studies/ensemble.hpp"
 #include "gfmd/studies/percolation.hpp"
 #include "gfmd/studies/sweep.hpp"
@@ -342,9 +341,7 @@ py::object percolation_case(const std::string& case_path, const std::string& dir
     po.stop_request = stop;
     if (dir.empty()) return gfmd::find_percolation(cfg, po);
     const gfmd::DirectoryLock lock(dir);
-    nlohmann::json j = gfmd::find_percolation(cfg, po);
-    gfmd::write_text_atomic((std::filesystem::path(dir) / "percolation.json").string(), j.dump(2) + "\n");
-    return j;
+    return gfmd::run_percolation(cfg, po, dir);
   }));
 }
 

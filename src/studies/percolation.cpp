@@ -2,12 +2,14 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <vector>
 
 #include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
 #include "gfmd/flow/flow.hpp"
 #include "gfmd/version.hpp"
 
@@ -87,6 +89,12 @@ nlohmann::json find_percolation(const Config& base, const PercolationOptions& op
   j["input"] = base.to_json();
   j["version"] = kVersion;
   j["git_commit"] = kGitCommit;
+  return j;
+}
+
+nlohmann::json run_percolation(const Config& cfg, const PercolationOptions& opt, const std::string& dir) {
+  nlohmann::json j = find_percolation(cfg, opt);
+  write_text_atomic((std::filesystem::path(dir) / "percolation.json").string(), j.dump(2) + "\n");
   return j;
 }
 

@@ -22,5 +22,8 @@ struct PercolationOptions {
   std::function<bool()> stop_request;  // polled by every solve; true throws gfmd::Interrupted
 };
 nlohmann::json find_percolation(const Config& cfg, const PercolationOptions& opt);
+// find_percolation, its result then written to dir/percolation.json (atomically); the caller
+// holds dir's DirectoryLock.
+nlohmann::json run_percolation(const Config& cfg, const PercolationOptions& opt, const std::string& dir);
 
 }  // namespace gfmd
