@@ -132,8 +132,7 @@ void set_threads(int n) {
     fftw_init_threads();
     g_fftw_threads_ready = true;
   }
-  omp_set_num_threads(n);
-  fftw_plan_with_nthreads(n);
+  omp_set_num_threads(n);  // FFTW's thread count is set per plan, from the backend (FftwEngine)
 }
 
 int threads() { return g_threads > 0 ? g_threads : omp_get_max_threads(); }
