@@ -50,11 +50,12 @@ class Topography:
     """A rigid indenter's heights on a periodic lx x ly cell: h[iy, ix] at x = ix lx/nx, y = iy ly/ny.
 
     Heights point towards the elastic body (asperity peaks are maxima and touch first). Make one
-    with hertz(), eggcrate(), self_affine(), from_array() or read(); the value is immutable.
+    with hertz(), eggcrate(), self_affine(), from_array() or read(); .heights is read-only.
     """
 
     def __init__(self, heights, lx: float, ly: Optional[float] = None, kind: str = "array"):
-        self._h = _heights("heights", heights)
+        # A view, so that marking it read-only leaves the caller's array as it was.
+        self._h = _heights("heights", heights).view()
         self._h.setflags(write=False)
         self.lx = _positive("lx", lx)
         self.ly = _positive("ly", self.lx * self._h.shape[0] / self._h.shape[1] if ly is None else ly)
@@ -113,8 +114,9 @@ class Topography:
     def from_array(cls, heights, lx: float, ly: Optional[float] = None) -> "Topography":
         """Heights (ny, nx) on an lx x ly cell (ly defaults to keeping square cells: lx ny/nx).
 
-        Integer arrays and non-contiguous views are converted (one copy); non-finite values,
-        non-2-D or non-real arrays raise InputError.
+        A C-ordered float64 array is kept, not copied (change it afterwards and the topography
+        changes too); integer arrays and non-contiguous views are converted (one copy);
+        non-finite values, non-2-D or non-real arrays raise InputError.
         """
         return cls(heights, lx, ly, "array")
 
@@ -152,9 +154,7 @@ class Topography:
         return self._h.shape[0]
 
     def _stats(self):
-        if not hasattr(self, "_cached_stats"):
-            self._cached_stats = _core.statistics(self._h, self.lx, self.ly)
-        return self._cached_stats
+        return _core.statistics(self._h, self.lx, self.ly)
 
     def rms_height(self) -> float:
         """Root mean square height about the mean (length)."""

@@ -78,6 +78,9 @@ def test_from_array_converts_or_refuses_naming_the_argument():
     ints = np.arange(12, dtype=np.int32).reshape(3, 4)
     t = gfmd.Topography.from_array(ints, lx=2.0)
     assert t.heights.dtype == np.float64 and t.ly == pytest.approx(1.5)
+    mine = np.zeros((4, 4))
+    gfmd.Topography.from_array(mine, 1.0)
+    assert mine.flags.writeable  # the caller's array is left as it was
     base = np.random.default_rng(0).random((8, 16))
     view = base[:, ::2]  # not C-contiguous
     assert np.array_equal(gfmd.Topography.from_array(view, 1.0).heights, view)
