@@ -46,13 +46,7 @@ bool draw_maps(const std::vector<std::string>& dirs, const std::vector<std::stri
   if (dirs.empty()) return true;
   bool ok = false, staged = false;
   try {
-    std::vector<std::string> args = options;
-    if (dirs.size() == 1 && has_file(dirs.front(), gfmd::kMapsStagingFile)) {
-      args.emplace_back("--fields");
-      args.push_back((fs::path(dirs.front()) / gfmd::kMapsStagingFile).string());
-    }
-    args.emplace_back("--");
-    args.insert(args.end(), dirs.begin(), dirs.end());
+    const std::vector<std::string> args = gfmd::plot_maps_arguments(dirs, options);
     for (const auto& d : dirs) staged = staged || has_file(d, gfmd::kMapsStagingFile);
     ok = !find_script("plot_maps.py").empty() && run_script("plot_maps.py", args, false);
   } catch (const std::exception&) {

@@ -154,14 +154,9 @@ void draw_maps(const std::string& dir) {
             env && *env ? env : py::module_::import("sys").attr("executable").cast<std::string>();
         if (python.empty()) python = "/usr/bin/python3";
         py::list args;
-        for (const auto& a : {python, script, std::string("--profiles")}) args.append(a);
-        std::error_code ec;
-        if (std::filesystem::is_regular_file(staging, ec)) {
-          args.append("--fields");
-          args.append(staging.string());
-        }
-        args.append("--");
-        args.append(dir);
+        args.append(python);
+        args.append(script);
+        for (const auto& a : gfmd::plot_maps_arguments({dir}, {"--profiles"})) args.append(a);
         const py::module_ subprocess = py::module_::import("subprocess");
         const py::object p =
             subprocess.attr("run")(args, py::arg("stdout") = subprocess.attr("DEVNULL"),

@@ -285,6 +285,22 @@ void write_fields_file(const CaseResult& r, const std::string& path, bool maps_o
       "length");
 }
 
+std::vector<std::string> plot_maps_arguments(const std::vector<std::string>& dirs,
+                                             const std::vector<std::string>& options) {
+  std::vector<std::string> args = options;
+  if (dirs.size() == 1) {
+    const fs::path staging = fs::path(dirs.front()) / kMapsStagingFile;
+    std::error_code ec;
+    if (fs::is_regular_file(staging, ec)) {
+      args.emplace_back("--fields");
+      args.push_back(staging.string());
+    }
+  }
+  args.emplace_back("--");
+  args.insert(args.end(), dirs.begin(), dirs.end());
+  return args;
+}
+
 void write_outputs(const CaseResult& r, const std::string& dir) {
   fs::create_directories(dir);
   const Grid& g = r.config.grid;

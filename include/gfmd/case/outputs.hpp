@@ -25,6 +25,12 @@ nlohmann::json topography_stats_json(const TopographyStats& s);
 // that a crash left behind.
 inline constexpr const char* kMapsStagingFile = ".maps.tmp.nc";
 
+// The arguments (after the script) with which scripts/plot_maps.py draws the maps of run
+// directories, for every front end: `options`, then, when there is one directory holding a
+// staging file, --fields and that file, then "--" and the directories.
+std::vector<std::string> plot_maps_arguments(const std::vector<std::string>& dirs,
+                                             const std::vector<std::string>& options);
+
 // The fields of fields.nc (with maps_only: those the maps are drawn from), named and
 // described as there: views into r, except the masks (contact, stick), which are made here
 // and held by the set. Valid while r and the set live; a set is moved, never copied.
