@@ -454,8 +454,8 @@ def ensemble(case: str, output: str, seeds=(0, 7), set: Iterable[str] = ()) -> d
 
 
 def _package_file(*parts: str) -> str:
-    """A file shipped with the package (installed: gfmd/share, gfmd/bin) or, in the build
-    tree (build/python/gfmd), the build's share/ and program. "" if absent."""
+    """A file shipped with the package (installed: gfmd/bin/gfmd) or, in the build tree
+    (build/python/gfmd), the build's. "" if absent."""
     here = os.path.dirname(os.path.abspath(__file__))
     for base in (here, os.path.dirname(os.path.dirname(here))):
         path = os.path.join(base, *parts)
@@ -472,18 +472,16 @@ def study(study_file: str, quick: bool = False, output: str = os.path.join("out"
     file's (the repository root for studies/*.toml). Raises SolveError if a series stopped
     early (its finished points are drawn), InputError for a missing study file."""
     import subprocess
-    import sys
 
     path = os.path.abspath(str(study_file))
     if not os.path.isfile(path):
         raise InputError(f"study_file: {study_file}: no such file")
-    script = _package_file("share", "gfmd", "scripts", "study.py")
     program = _package_file("bin", "gfmd") or _package_file("gfmd")
-    if not script or not program:
-        raise InputError("study: study.py or the gfmd program is not installed with the package")
-    args = [sys.executable, script, path, "-o", str(output)] + (["--quick"] if quick else [])
-    p = subprocess.run(args, env=dict(os.environ, GFMD=os.path.realpath(program)), stderr=subprocess.PIPE,
-                       text=True)
+    if not program:
+        raise InputError("study: the gfmd program is not installed with the package")
+    # `gfmd study` itself (it finds study.py beside it and calls itself back for the runs).
+    args = [program, "study", path, "-o", str(output)] + (["--quick"] if quick else [])
+    p = subprocess.run(args, stderr=subprocess.PIPE, text=True)
     name = os.path.splitext(os.path.basename(path))[0]
     report = os.path.join(str(output), name, "quick" if quick else "full", "study.json")
     if p.returncode != 0:
