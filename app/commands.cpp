@@ -24,6 +24,7 @@
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/io/netcdf.hpp"
+#include "gfmd/studies/curve.hpp"
 #include "gfmd/studies/ensemble.hpp"
 #include "gfmd/studies/percolation.hpp"
 #include "gfmd/studies/sweep.hpp"
@@ -263,6 +264,89 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
                  python_interpreter().c_str());
   else
     std::printf("  plot: %s/sweep_%s.png\n", out_dir.c_str(), plot.c_str());
+  return 0;
+}
+
+int cmd_curve(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
+              const std::string& pressures, bool no_png, bool quiet, bool wait) {
+  // Library errors name the parameter "pressures"; here it is the option --pressures.
+  const auto as_option = [](const gfmd::InputError& e) {
+    return e.where() == "pressures" ? gfmd::InputError("--pressures", e.why()) : e;
+  };
+  gfmd::Config cfg;
+  bool png = false;
+  try {
+    const std::vector<double> ps = gfmd::curve_pressures(gfmd::parse_pressures(pressures));
+    // What the case asks for with the user's overrides (its load, flow and figure settings).
+    const gfmd::Config asked = gfmd::load_config(case_path, sets);
+    png = asked.output.png && !no_png;
+    cfg = gfmd::curve_config(case_path, sets, ps);
+    if (!quiet) {
+      if (!asked.flow.enabled)
+        std::fprintf(stderr, "gfmd: the leakage is switched on for the curve (flow.enabled=true)\n");
+      if (asked.load.mode != gfmd::LoadMode::Pressure)
+        std::fprintf(stderr, "gfmd: the case's load.%s = %s is replaced by the curve's pressures\n",
+                     asked.load.mode == gfmd::LoadMode::Force ? "force" : "approach",
+                     gfmd::format_number(asked.load.value).c_str());
+    }
+  } catch (const gfmd::InputError& e) {
+    throw as_option(e);
+  }
+  // Validates the topography before anything is written.
+  (void)gfmd::make_topography(cfg);
+  if (out_dir.empty())
+    out_dir = (fs::path("out") / (fs::path(case_path).stem().string() + "_curve")).string();
+  const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
+  // The points are a sweep of their own in DIR/points: no gfmd sweep may write there meanwhile.
+  const gfmd::DirectoryLock points_lock((fs::path(out_dir) / "points").string(), wait, stop_requested);
+  ProgressPrinter pp;
+  pp.quiet = quiet;
+  gfmd::CurveOptions co;
+  co.sweep.overrides = sets;
+  co.sweep.progress = [&pp](const gfmd::Progress& p) { pp(p); };
+  co.sweep.stop_request = stop_requested;
+  const auto t0 = std::chrono::steady_clock::now();
+  co.sweep.on_point = [&](int done, int total, const std::string& msg) {
+    pp.done();
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!quiet)
+      std::fprintf(stderr, "[%d/%d] %s (elapsed %.1f s, about %.0f s left)\n", done, total, msg.c_str(), el,
+                   done > 0 ? el / done * (total - done) : 0.0);
+  };
+  const std::string csv = (fs::path(out_dir) / "curve.csv").string();
+  const auto draw = [&] { return png && run_script("plot_curve.py", {csv}, false); };
+  nlohmann::json j;
+  try {
+    j = gfmd::run_curve(case_path, cfg, out_dir, co);
+  } catch (const gfmd::Interrupted& e) {
+    pp.done();
+    std::fprintf(stderr,
+                 "gfmd: curve interrupted (%s); finished points (tabulated in %s/curve.csv) and a checkpoint "
+                 "are kept in %s/points/, run the same command again to continue\n",
+                 e.what(), out_dir.c_str(), out_dir.c_str());
+    return 4;
+  } catch (const gfmd::SolveError&) {
+    // The finished points are tabulated: draw them before reporting the failure.
+    pp.done();
+    if (fs::exists(csv) && draw())
+      std::fprintf(stderr, "gfmd: the finished points are drawn in %s/curve.png\n", out_dir.c_str());
+    throw;
+  }
+  pp.done();
+  std::printf("curve of %s over %zu pressures: %s/curve.csv and curve.json (runs in points/)\n",
+              case_path.c_str(), cfg.sweep.values.size(), out_dir.c_str());
+  const nlohmann::json& perc = j["percolation"];
+  std::printf("  percolation threshold: %s\n", perc["message"].get<std::string>().c_str());
+  for (const auto& [tag, d] : perc["directions"].items())
+    if (d["pressure"] != perc["pressure"] || d["status"] != perc["status"])
+      std::printf("    along %s alone: %s\n", tag.c_str(), d["message"].get<std::string>().c_str());
+  if (png) {
+    if (draw())
+      std::printf("  plot: %s/curve.png\n", out_dir.c_str());
+    else
+      std::fprintf(stderr, "gfmd: warning: could not draw curve.png with matplotlib (%s)\n",
+                   python_interpreter().c_str());
+  }
   return 0;
 }
 

@@ -15,6 +15,11 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
             bool quiet, bool verbose, bool resume, double checkpoint_s, bool wait);
 int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets_in,
               std::string plot, bool quiet, bool wait);
+// gfmd curve: the load curves (area, gap, friction, leakage) of a case over --pressures, with
+// the percolation threshold; curve.csv, curve.json and curve.png (unless no_png or output.png
+// is off) in out_dir.
+int cmd_curve(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
+              const std::string& pressures, bool no_png, bool quiet, bool wait);
 int cmd_flow(const std::string& dir, const std::string& direction, double tol, const std::string& solver,
              bool wait);
 int cmd_percolation(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,

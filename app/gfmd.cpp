@@ -58,6 +58,30 @@ int main(int argc, char** argv) {
   sweep->add_flag("-q,--quiet", quiet, "no progress display");
   sweep->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
 
+  std::string pressures;
+  bool no_png = false;
+  auto* curve = app.add_subcommand(
+      "curve", "load curves of a case: contact area, mean gap, friction and leakage against the pressure");
+  curve->add_option("case", case_path, "case file (TOML)")->required();
+  curve
+      ->add_option("--pressures", pressures,
+                   "mean pressures in units of E*: P1,P2,... where an item may also be FROM:TO:N, N "
+                   "log-spaced values from FROM to TO inclusive (0.001:1:10 gives 10 values; "
+                   "0.001:0.01:4,0.05 mixes both); sorted ascending, each > 0, none twice")
+      ->required();
+  curve->add_option("-o,--output", out_dir, "output directory (default: out/<case name>_curve)");
+  curve->add_option("--set", sets, "override a key: section.key=value (repeatable; not load.*)");
+  curve->add_flag("--no-png", no_png, "no curve.png (as output.png = false)");
+  curve->add_flag("-q,--quiet", quiet, "no progress display");
+  curve->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
+  curve->footer(
+      "Solves the case at each pressure (load.pressure, replacing the case's load), warm-starting each "
+      "point from the previous one, with the leakage switched on (flow.enabled = true) even if the case "
+      "has no [flow]. Writes DIR/curve.csv (one row per pressure), DIR/curve.json (the rows, the "
+      "percolation threshold: where the leakage stops, between the last open and the first sealed point, "
+      "on a log axis) and DIR/curve.png (four panels, threshold marked); the runs of the points are kept "
+      "in DIR/points/ and reused when the same command runs again.");
+
   install_signal_handlers();
   std::vector<double> green_nu{0.0, 0.25, 0.49};
   double green_from = 1e-2, green_to = 1e2;
@@ -122,6 +146,7 @@ int main(int argc, char** argv) {
   try {
     if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet, verbose, resume, checkpoint_s, wait);
     if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet, wait);
+    if (curve->parsed()) return cmd_curve(case_path, out_dir, sets, pressures, no_png, quiet, wait);
     if (flow->parsed()) return cmd_flow(flow_dir, direction, flow_tol, flow_solver, wait);
     if (perc->parsed()) return cmd_percolation(case_path, out_dir, sets, direction, area_tol, quiet, wait);
     if (ens->parsed()) return cmd_ensemble(case_path, out_dir, sets, seeds, quiet, wait);

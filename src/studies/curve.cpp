@@ -1,0 +1,378 @@
+// Load curves: area, gap, friction and leakage against the mean pressure, and the
+// percolation threshold. See include/gfmd/studies/curve.hpp.
+#include "gfmd/studies/curve.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <optional>
+#include <sstream>
+
+#include "gfmd/case/leakage.hpp"
+#include "gfmd/case/run_dir.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
+#include "gfmd/version.hpp"
+
+namespace gfmd {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kPointsDir = "points";
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t");
+  return s.substr(b, e - b + 1);
+}
+
+// A whole token as a double (no trailing characters); nullopt otherwise.
+std::optional<double> to_number(const std::string& tok) {
+  if (tok.empty()) return std::nullopt;
+  char* end = nullptr;
+  const double v = std::strtod(tok.c_str(), &end);
+  if (end != tok.c_str() + tok.size()) return std::nullopt;
+  return v;
+}
+
+// The point's pressure as the sweep passes it on (%.17g reads back exactly).
+std::string pressure_override(double p) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "load.pressure=%.17g", p);
+  return buf;
+}
+
+std::string point_name(std::size_t i) {
+  char name[32];
+  std::snprintf(name, sizeof name, "point_%03zu", i);
+  return name;
+}
+
+std::string csv_number(const nlohmann::json& v) {
+  if (v.is_null()) return "";
+  if (v.is_boolean()) return v.get<bool>() ? "1" : "0";
+  if (v.is_number_float()) return format_number(v.get<double>());
+  return v.dump();
+}
+
+// The leakage's direction tags (x, y, <angle>deg) in the case's order.
+std::vector<std::string> direction_tags(const Config& cfg) {
+  std::vector<std::string> tags;
+  for (double a : cfg.flow.angles) tags.push_back(direction_tag(a));
+  return tags;
+}
+
+// One row of curve.csv from a point's summary.json.
+nlohmann::json curve_row(double p, const nlohmann::json& s, const std::vector<std::string>& tags) {
+  const auto get = [&s](const char* k) { return s.contains(k) ? s[k] : nlohmann::json(); };
+  nlohmann::json row = nlohmann::json::object();
+  row["pressure"] = p;
+  row["relative_contact_area"] = get("relative_contact_area");
+  row["mean_gap"] = get("mean_gap");
+  row["approach"] = get("approach");
+  row["friction_coefficient"] = get("friction_coefficient");
+  row["friction_coefficient_downhill"] = get("friction_coefficient_downhill");
+  const nlohmann::json flow = s.contains("flow") ? s["flow"] : nlohmann::json::object();
+  bool open = false;
+  for (const auto& t : tags) {
+    const auto f = [&flow](const std::string& k) { return flow.contains(k) ? flow[k] : nlohmann::json(); };
+    row["conductivity_" + t] = f("conductivity_" + t);
+    row["flow_factor_" + t] = f("flow_factor_" + t);
+    const bool perc = flow.value("percolates_" + t, false);
+    row["percolates_" + t] = perc;
+    open = open || perc;
+  }
+  row["open"] = open;
+  row["iterations"] = get("iterations");
+  return row;
+}
+
+std::vector<std::string> curve_columns(const std::vector<std::string>& tags) {
+  std::vector<std::string> c = {"pressure", "relative_contact_area", "mean_gap",
+                                "approach", "friction_coefficient",  "friction_coefficient_downhill"};
+  for (const auto& t : tags) {
+    c.push_back("conductivity_" + t);
+    c.push_back("flow_factor_" + t);
+    c.push_back("percolates_" + t);
+  }
+  c.emplace_back("open");
+  c.emplace_back("iterations");
+  return c;
+}
+
+nlohmann::json column_meanings(const std::vector<std::string>& tags) {
+  nlohmann::json m = {
+      {"pressure", "imposed mean pressure (E*)"},
+      {"relative_contact_area", "contact area fraction A/A0 (1)"},
+      {"mean_gap", "mean gap between indenter and deformed surface (length)"},
+      {"approach", "indenter displacement towards the body from first touch (length)"},
+      {"friction_coefficient", "friction coefficient mu from the dissipation (1); empty when frictionless"},
+      {"friction_coefficient_downhill", "mu from mu_c F + downhill force (1); empty when frictionless"},
+      {"open", "1 if the gap percolates along any direction (leakage > 0), else 0"},
+      {"iterations", "iterations of the contact solve"}};
+  for (const auto& t : tags) {
+    m["conductivity_" + t] = "leakage: effective conductivity K_eff = <current . d>/|grad p| along " + t +
+                             " with local conductivity g^3 (length^3); 0 when sealed";
+    m["flow_factor_" + t] = "K_eff / <g>^3 along " + t + " (1)";
+    m["percolates_" + t] = "1 if the open gap wraps around the cell along " + t + ", else 0";
+  }
+  return m;
+}
+
+// The summaries of the curve's finished points, in order, up to the first one missing.
+std::vector<nlohmann::json> finished_points(const std::string& case_path, const Config& cfg,
+                                            const std::vector<std::string>& user_sets,
+                                            const std::string& pdir) {
+  std::vector<nlohmann::json> out;
+  std::vector<std::string> sets = user_sets;
+  for (const auto& s : curve_overrides()) sets.push_back(s);
+  sets.emplace_back();
+  for (std::size_t i = 0; i < cfg.sweep.values.size(); ++i) {
+    sets.back() = pressure_override(cfg.sweep.values[i]);
+    auto s = finished_summary((fs::path(pdir) / point_name(i)).string(), load_config(case_path, sets));
+    if (!s) break;
+    out.push_back(std::move(*s));
+  }
+  return out;
+}
+
+nlohmann::json write_curve_tables(const std::string& case_path, const Config& cfg, const std::string& dir,
+                                  const std::vector<std::string>& user_sets) {
+  const std::string pdir = (fs::path(dir) / kPointsDir).string();
+  const std::vector<nlohmann::json> summaries = finished_points(case_path, cfg, user_sets, pdir);
+  const std::vector<std::string> tags = direction_tags(cfg);
+  const std::vector<std::string> cols = curve_columns(tags);
+  const std::vector<double>& ps = cfg.sweep.values;
+
+  std::ostringstream csv;
+  for (std::size_t k = 0; k < cols.size(); ++k) csv << (k ? "," : "") << cols[k];
+  csv << "\n";
+  nlohmann::json points = nlohmann::json::array();
+  std::vector<double> pressures, areas;
+  std::vector<bool> open;
+  for (std::size_t i = 0; i < summaries.size(); ++i) {
+    const nlohmann::json row = curve_row(ps[i], summaries[i], tags);
+    for (std::size_t k = 0; k < cols.size(); ++k) csv << (k ? "," : "") << csv_number(row[cols[k]]);
+    csv << "\n";
+    points.push_back(row);
+    pressures.push_back(ps[i]);
+    areas.push_back(row["relative_contact_area"].is_number() ? row["relative_contact_area"].get<double>()
+                                                             : 0.0);
+    open.push_back(row["open"].get<bool>());
+  }
+
+  nlohmann::json j;
+  j["case"] = case_path;
+  j["overrides"] = user_sets;
+  j["curve_overrides"] = curve_overrides();
+  j["curve_overrides"].push_back("load.pressure=<each pressure>");
+  // What the case itself asks for, without the curve's overrides.
+  const Config asked = load_config(case_path, user_sets);
+  j["leakage_switched_on"] = !asked.flow.enabled;
+  if (asked.load.mode == LoadMode::Pressure)
+    j["load_replaced"] = nullptr;
+  else
+    j["load_replaced"] = std::string(asked.load.mode == LoadMode::Force ? "load.force" : "load.approach") +
+                         " = " + format_number(asked.load.value);
+  j["pressures"] = ps;
+  j["completed"] = summaries.size();
+  j["total"] = ps.size();
+  j["columns"] = column_meanings(tags);
+  j["column_order"] = cols;
+  j["points"] = points;
+  nlohmann::json perc = curve_threshold(pressures, areas, open);
+  perc["criterion"] =
+      "the leakage stops: the open gap (g > 0) wraps around the cell along no direction, i.e. the contact "
+      "percolates";
+  perc["directions"] = nlohmann::json::object();
+  for (const auto& t : tags) {
+    std::vector<bool> o;
+    for (const auto& row : points) o.push_back(row["percolates_" + t].get<bool>());
+    perc["directions"][t] = curve_threshold(pressures, areas, o);
+  }
+  j["percolation"] = perc;
+  j["points_dir"] = kPointsDir;
+  j["units"] =
+      "lengths in the unit of grid.lx; pressures in the unit of elastic.contact_modulus (E*); conductivity "
+      "in length^3";
+  if (!summaries.empty() && summaries.front().contains("input"))
+    j["input_first_point"] = summaries.front()["input"];
+  j["version"] = kVersion;
+  j["git_commit"] = kGitCommit;
+  write_text_atomic((fs::path(dir) / "curve.csv").string(), csv.str());
+  write_text_atomic((fs::path(dir) / "curve.json").string(), j.dump(2) + "\n");
+  return j;
+}
+
+}  // namespace
+
+std::vector<double> parse_pressures(const std::string& text) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  const auto bad = [](const std::string& why) { throw InputError("pressures", why); };
+  if (trim(text).empty()) bad("give at least one pressure: P1,P2,... or FROM:TO:N");
+  if (trim(text).back() == ',') bad("an empty item in '" + text + "' (two commas, or one at an end)");
+  while (std::getline(ss, item, ',')) {
+    item = trim(item);
+    if (item.empty()) bad("an empty item in '" + text + "' (two commas, or one at an end)");
+    if (item.find(':') == std::string::npos) {
+      const auto v = to_number(item);
+      if (!v) bad("'" + item + "' is not a number");
+      out.push_back(*v);
+      continue;
+    }
+    std::vector<std::string> parts;
+    std::stringstream is(item);
+    std::string part;
+    while (std::getline(is, part, ':')) parts.push_back(trim(part));
+    if (parts.size() != 3 || item.back() == ':')
+      bad("'" + item + "': a range is FROM:TO:N (N log-spaced values from FROM to TO)");
+    const auto from = to_number(parts[0]), to = to_number(parts[1]);
+    const auto n = to_number(parts[2]);
+    if (!from || !to || !n) bad("'" + item + "': FROM, TO and N must be numbers");
+    if (!(*from > 0 && *to > 0 && std::isfinite(*from) && std::isfinite(*to)))
+      bad("'" + item + "': a log-spaced range needs positive, finite FROM and TO");
+    if (!(*n >= 2 && *n <= static_cast<double>(kMaxSweepPoints) && *n == std::floor(*n)))
+      bad("'" + item + "': N must be an integer in [2, " + std::to_string(kMaxSweepPoints) + "]");
+    const int count = static_cast<int>(*n);
+    if (out.size() + static_cast<std::size_t>(count) > static_cast<std::size_t>(kMaxSweepPoints))
+      bad("more than " + std::to_string(kMaxSweepPoints) + " pressures");
+    for (int i = 0; i < count; ++i) {
+      const double t = static_cast<double>(i) / (count - 1);
+      out.push_back(i == 0 ? *from : i == count - 1 ? *to : *from * std::pow(*to / *from, t));
+    }
+  }
+  return out;
+}
+
+std::vector<double> curve_pressures(std::vector<double> ps) {
+  if (ps.empty()) throw InputError("pressures", "give at least one pressure");
+  if (ps.size() > static_cast<std::size_t>(kMaxSweepPoints))
+    throw InputError("pressures", "at most " + std::to_string(kMaxSweepPoints) + " pressures, got " +
+                                      std::to_string(ps.size()));
+  for (double p : ps)
+    if (!(p > 0) || !std::isfinite(p))
+      throw InputError("pressures", "every pressure must be positive and finite, got " + format_number(p));
+  std::sort(ps.begin(), ps.end());
+  for (std::size_t i = 1; i < ps.size(); ++i)
+    if (ps[i] == ps[i - 1])
+      throw InputError("pressures", "the pressure " + format_number(ps[i]) + " is given twice");
+  return ps;
+}
+
+std::vector<std::string> curve_overrides() { return {"flow.enabled=true", "output.png=false"}; }
+
+Config curve_config(const std::string& case_path, const std::vector<std::string>& overrides,
+                    const std::vector<double>& pressures_in) {
+  const std::vector<double> pressures = curve_pressures(pressures_in);
+  for (const auto& s : overrides) {
+    const auto eq = s.find('=');
+    const std::string key = trim(s.substr(0, eq));
+    if (key.rfind("load.", 0) == 0)
+      throw InputError("--set " + s, "the curve sets the load itself (load.pressure from the pressures)");
+    if (key == "flow.enabled" && (eq == std::string::npos || trim(s.substr(eq + 1)) != "true"))
+      throw InputError("--set " + s, "the curve needs the leakage: it switches the flow on itself");
+  }
+  std::vector<std::string> sets = overrides;
+  for (const auto& s : curve_overrides()) sets.push_back(s);
+  // The pressures against this case's E* before any is applied (the case's own load stands
+  // in: a pressure above the limit would otherwise be reported as the key load.pressure).
+  const double limit = kMaxPressureOverModulus * load_config(case_path, sets).elastic.contact_modulus;
+  if (pressures.back() > limit)
+    throw InputError("pressures", "the pressure " + format_number(pressures.back()) + " exceeds 1000 E* (" +
+                                      format_number(limit) + "): not a contact problem");
+  return sweep_config(case_path, sets, "load.pressure", pressures);
+}
+
+nlohmann::json curve_threshold(const std::vector<double>& p, const std::vector<double>& a,
+                               const std::vector<bool>& open) {
+  nlohmann::json j;
+  j["reached"] = false;
+  j["pressure"] = nullptr;
+  j["relative_contact_area"] = nullptr;
+  j["bracket"] = nullptr;
+  const std::size_t n = std::min({p.size(), a.size(), open.size()});
+  bool monotonic = true;
+  for (std::size_t i = 1; i < n; ++i)
+    if (open[i] && !open[i - 1]) monotonic = false;
+  j["monotonic"] = monotonic;
+  j["method"] =
+      "midpoint on a log axis (geometric mean) of the last open and the first sealed pressure; contact area "
+      "interpolated linearly in log p";
+  if (n == 0) {
+    j["status"] = "no_points";
+    j["message"] = "no finished points";
+    return j;
+  }
+  const std::string range = format_number(p.front()) + " .. " + format_number(p[n - 1]);
+  // The last open point; the threshold lies between it and the next (sealed) one.
+  std::size_t last_open = n;
+  for (std::size_t i = 0; i < n; ++i)
+    if (open[i]) last_open = i;
+  if (last_open == n) {
+    j["status"] = "sealed_throughout";
+    j["message"] = "not reached in the range " + range +
+                   ": the gap is already sealed at the smallest pressure (the threshold lies below " +
+                   format_number(p.front()) + ")";
+    return j;
+  }
+  if (last_open == n - 1) {
+    j["status"] = "not_reached";
+    j["message"] = "not reached in the range " + range +
+                   ": the gap still leaks at the largest pressure (the threshold lies above " +
+                   format_number(p[n - 1]) + ")";
+    return j;
+  }
+  const std::size_t lo = last_open, hi = last_open + 1;
+  const double ps = std::sqrt(p[lo] * p[hi]);
+  const double t = std::log(ps / p[lo]) / std::log(p[hi] / p[lo]);
+  const double as = a[lo] + t * (a[hi] - a[lo]);
+  j["status"] = "bracketed";
+  j["reached"] = true;
+  j["pressure"] = ps;
+  j["relative_contact_area"] = as;
+  j["bracket"] = {{"open", {{"pressure", p[lo]}, {"relative_contact_area", a[lo]}}},
+                  {"sealed", {{"pressure", p[hi]}, {"relative_contact_area", a[hi]}}}};
+  char msg[200];
+  std::snprintf(msg, sizeof msg, "the leakage stops at p = %.4g (between %.4g and %.4g), contact area %.4f",
+                ps, p[lo], p[hi], as);
+  j["message"] = msg;
+  return j;
+}
+
+nlohmann::json run_curve(const std::string& case_path, const Config& cfg, const std::string& dir,
+                         const CurveOptions& opts) {
+  if (!cfg.sweep.active() || cfg.sweep.parameter != "load.pressure")
+    throw InputError(case_path, "not a curve: make the configuration with curve_config");
+  fs::create_directories(dir);
+  {
+    // The figure of an earlier curve in this directory goes (the front end draws it anew).
+    std::error_code ec;
+    fs::remove(fs::path(dir) / "curve.png", ec);
+    fs::remove(fs::path(dir) / "curve.pdf", ec);
+  }
+  SweepOptions so = opts.sweep;
+  for (const auto& s : curve_overrides()) so.overrides.push_back(s);
+  const std::string pdir = (fs::path(dir) / kPointsDir).string();
+  const auto tables = [&] { return write_curve_tables(case_path, cfg, dir, opts.sweep.overrides); };
+  try {
+    run_sweep(case_path, cfg, pdir, so);
+  } catch (const SolveError&) {
+    // Interrupted too: the points finished so far are tabulated, then the error goes up.
+    try {
+      (void)tables();
+    } catch (const std::exception&) {
+      // The first error is the one to report.
+    }
+    throw;
+  }
+  return tables();
+}
+
+}  // namespace gfmd
