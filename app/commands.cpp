@@ -149,6 +149,9 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
     throw;
   }
   pp.done();
+  if (r.map_report)
+    for (const std::string& w : r.map_report->warnings)
+      std::fprintf(stderr, "gfmd: warning: %s: %s\n", r.map_report->path.c_str(), w.c_str());
   if (!r.info.converged) {
     char why[512];
     std::snprintf(why, sizeof why,

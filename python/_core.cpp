@@ -22,6 +22,7 @@
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/io/height_map.hpp"
 #include "gfmd/studies/ensemble.hpp"
 #include "gfmd/studies/percolation.hpp"
 #include "gfmd/studies/sweep.hpp"
@@ -452,6 +453,55 @@ PYBIND11_MODULE(_core, m) {
       py::arg("nx"), py::arg("ny"), py::arg("lx"), py::arg("ly"), py::arg("hurst"), py::arg("lambda_long"),
       py::arg("lambda_short"), py::arg("rms_height"), py::arg("rms_gradient"), py::arg("lambda_rolloff"),
       py::arg("seed"));
+  m.def(
+      "read_height_file",
+      [](const std::string& path) {
+        gfmd::HeightMap hm;
+        {
+          py::gil_scoped_release release;
+          hm = gfmd::read_height_file(path);
+        }
+        py::dict d;
+        d["h"] = to_array(gfmd::Grid{hm.nx, hm.ny, 1.0, 1.0}, hm.h);
+        d["lx"] = hm.lx;
+        d["ly"] = hm.ly;
+        d["unit"] = hm.unit;
+        d["format"] = hm.format;
+        d["missing"] = hm.missing;
+        d["first_missing"] = hm.first_missing;
+        return d;
+      },
+      py::arg("path"));
+  m.def(
+      "load_height_map",
+      [](const std::string& path, const std::string& case_unit, const std::string& file_unit, double lx,
+         double ly, const std::vector<long long>& crop, const std::string& missing,
+         const std::string& detrend, const std::string& periodize, int nx, int ny) {
+        gfmd::MapOptions o;
+        o.case_unit = case_unit;
+        o.file_unit = file_unit;
+        o.lx = lx;
+        o.ly = ly;
+        if (!crop.empty()) {
+          if (crop.size() != 4) throw gfmd::InputError("crop", "must be (ix0, iy0, nx, ny)");
+          for (int k = 0; k < 4; ++k) o.crop[static_cast<std::size_t>(k)] = crop[static_cast<std::size_t>(k)];
+        }
+        o.missing = missing;
+        o.detrend = detrend;
+        o.periodize = periodize;
+        o.nx = nx;
+        o.ny = ny;
+        gfmd::MapReport rep;
+        gfmd::Topography t;
+        {
+          py::gil_scoped_release release;
+          t = gfmd::load_height_map(path, o, &rep);
+        }
+        return py::make_tuple(to_array(t.grid, t.h), t.grid.lx, t.grid.ly,
+                              json_to_py(gfmd::map_report_json(rep)));
+      },
+      py::arg("path"), py::arg("case_unit"), py::arg("unit"), py::arg("lx"), py::arg("ly"), py::arg("crop"),
+      py::arg("missing"), py::arg("detrend"), py::arg("periodize"), py::arg("nx"), py::arg("ny"));
   m.def(
       "read_topography",
       [](const std::string& path, double lx, double ly) {

@@ -7,6 +7,7 @@ PKGS=(
   libfftw3-dev            # FFTs (with the threads library)
   libnetcdf-dev           # fields.nc and NetCDF topographies
   libhdf5-dev             # H5dont_atexit (NetCDF-4 storage; see src/io/netcdf.cpp)
+  libzip-dev libxml2-dev  # x3p height maps (ISO 25178-72: zip + XML)
   nlohmann-json3-dev      # summary.json
   libcli11-dev            # command line
   libtoml11-dev           # case files

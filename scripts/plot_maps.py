@@ -18,7 +18,9 @@ DIR/flow.nc when there is one. One PNG per field present, written atomically int
 
 Axes are in the length unit of the case, with the true aspect ratio; Hertz cases are zoomed
 onto the contact. --only draws a subset (names as above without .png; "current" for all
-current maps); --profiles also draws profiles.png from DIR/profiles.csv (plot_profiles.py).
+current maps); --profiles also draws profiles.png from DIR/profiles.csv (plot_profiles.py);
+analysis.png (spectrum, patches, gap and pressure PDFs; plot_analysis.py) is drawn when DIR has
+the analysis tables (name "analysis" for --only).
 Exit status: 0 when every map was drawn, 2 when a fields file is missing or unreadable,
 1 on other errors.
 """
@@ -362,6 +364,11 @@ def plot_dir(d, fields=None, only=None, profiles=False):
         draw(out, view, values, f"flow current density, pressure gradient along {tag}",
              colour_label("$|q|$", units), "plasma", "positive", unit, contact, None, note)
         written.append(out)
+    if wanted("analysis", only) and os.path.isfile(os.path.join(d, "spectrum.csv")):
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        import plot_analysis
+
+        written.append(plot_analysis.main(d))
     if profiles and os.path.isfile(os.path.join(d, "profiles.csv")):
         sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
         import plot_profiles

@@ -639,7 +639,8 @@ TEST_F(TopographyFile, TextErrors) {
     EXPECT_NE(std::string(e.what()).find("aaa..."), std::string::npos) << e.what();
   }
   p = write_text("nan.txt", "1 2\n\n3 nan\n");
-  expect_input_error([&] { (void)gfmd::read_topography(p, 1, 1); }, p, "line 3: non-finite value 'nan'");
+  expect_input_error([&] { (void)gfmd::read_topography(p, 1, 1); }, p,
+                     "1 point has no value (NaN or the file's no-data marker), the first at line 3, value 2");
   p = write_text("inf.txt", "1 -inf\n3 4\n");
   expect_input_error([&] { (void)gfmd::read_topography(p, 1, 1); }, p, "line 1: non-finite");
   p = write_text("huge.txt", "1 1e999\n");
@@ -758,8 +759,9 @@ TEST_F(TopographyFile, NetcdfErrors) {
   std::vector<double> hn = h;
   hn[3 * 16 + 5] = std::numeric_limits<double>::quiet_NaN();
   p = write_nc("nan.nc", 16, 16, hn, s);
-  expect_input_error([&] { (void)gfmd::read_topography(p, 0, 0); }, p,
-                     "non-finite value (NaN or Inf) in 'topography' at (iy, ix) = (3, 5)");
+  expect_input_error(
+      [&] { (void)gfmd::read_topography(p, 0, 0); }, p,
+      "1 point has no value (NaN or the file's no-data marker), the first at (iy, ix) = (3, 5)");
   // No size anywhere.
   p = write_nc("nosize.nc", 16, 16, h, NcSpec{});
   expect_input_error([&] { (void)gfmd::read_topography(p, 0, 0); }, p, "no physical size lx");

@@ -121,11 +121,33 @@ class Topography:
         return cls(heights, lx, ly, "array")
 
     @classmethod
-    def read(cls, path: str, lx: Optional[float] = None, ly: Optional[float] = None) -> "Topography":
-        """A height map file: a text matrix or NetCDF (with its physical size, or give lx, ly)."""
-        h, lx2, ly2 = _core.read_topography(str(path), 0.0 if lx is None else _positive("lx", lx),
-                                            0.0 if ly is None else _positive("ly", ly))
-        return cls(h, lx2, ly2, "file")
+    def read(cls, path: str, lx: Optional[float] = None, ly: Optional[float] = None, *,
+             unit: Optional[str] = None, case_unit: Optional[str] = None, missing: str = "error",
+             detrend: str = "none", periodize: str = "none", crop=None,
+             nx: Optional[int] = None, ny: Optional[int] = None) -> "Topography":
+        """A measured or saved height map: x3p, CSV/TSV/text, .npy, .gwy, .sur or NetCDF.
+
+        The options are those of a case's file indenter (README, "Bring your own surface"):
+        ``unit`` the unit of a file that states none, ``case_unit`` the unit to convert to
+        (metres when the file states units and none is named), ``lx``/``ly`` the map's size
+        (wins over the file's), ``crop=(ix0, iy0, nx, ny)``, ``missing`` ("error", "mean",
+        "interpolate"), ``detrend`` ("none", "mean", "plane"), ``periodize`` ("none",
+        "mirror", "pad"), ``nx``/``ny`` a grid to resample onto. What was done is in
+        ``preprocessing`` (the summary.json record).
+        """
+        h, lx2, ly2, report = _core.load_height_map(
+            str(path), case_unit or "", unit or "",
+            0.0 if lx is None else _positive("lx", lx), 0.0 if ly is None else _positive("ly", ly),
+            [] if crop is None else [int(c) for c in crop], missing, detrend, periodize,
+            0 if nx is None else _count("nx", nx), 0 if ny is None else _count("ny", ny))
+        t = cls(h, lx2, ly2, "file")
+        t._preprocessing = report
+        return t
+
+    @property
+    def preprocessing(self) -> Optional[dict]:
+        """For a map read from a file: its format, units, and what was done to it (else None)."""
+        return getattr(self, "_preprocessing", None)
 
     @staticmethod
     def _grid(nx, lx, ny, ly):

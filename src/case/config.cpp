@@ -20,6 +20,7 @@
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/flow/flow.hpp"
+#include "gfmd/io/height_map.hpp"
 
 namespace gfmd {
 
@@ -260,6 +261,10 @@ Config build(const toml::value& root, const std::string& name, const std::string
   c.grid.ly = grid.number("ly", c.grid.lx);
   c.grid.nx = static_cast<int>(nx);
   c.grid.ny = static_cast<int>(ny);
+  c.length_unit = grid.string("unit", "");
+  if (!c.length_unit.empty() && metres_per_unit(c.length_unit) == 0.0)
+    grid.error("unit",
+               "unknown length unit \"" + c.length_unit + "\" (m, mm, um, nm, pm or A)" + grid.at("unit"));
   // Lengths are bounded so that areas and volumes stay far from under- and overflow.
   if ((grid_lx || !file_indenter) && !(c.grid.lx >= kMinLength && c.grid.lx <= kMaxLength))
     grid.error("lx", "must be a positive length in [1e-30, 1e30]" + grid.at("lx"));
@@ -328,11 +333,43 @@ Config build(const toml::value& root, const std::string& name, const std::string
     } else if (!std::filesystem::path(in.path).is_absolute()) {
       in.path = (std::filesystem::path(base_dir) / in.path).lexically_normal().string();
     }
+    in.unit = ind.string("unit", "");
+    in.missing = ind.string("missing", "error");
+    in.detrend = ind.string("detrend", "none");
+    in.periodize = ind.string("periodize", "none");
+    if (const toml::value* v = ind.raw("crop")) {
+      bool ok = v->is_array() && v->as_array().size() == 4;
+      for (std::size_t k = 0; ok && k < 4; ++k) {
+        const toml::value& e = v->as_array()[k];
+        ok = e.is_integer() && e.as_integer() >= 0 && e.as_integer() <= (1LL << 16);
+        if (ok) in.crop[k] = e.as_integer();
+      }
+      if (!ok)
+        ind.error("crop",
+                  "must be [ix0, iy0, nx, ny]: four integers in [0, 65536] (points of the file)" + where(*v));
+    }
+    const std::pair<const char*, std::string> choices[] = {
+        {"missing", in.missing}, {"detrend", in.detrend}, {"periodize", in.periodize}};
+    for (const auto& [key, value] : choices) {
+      const std::vector<std::string> ok =
+          std::string(key) == "missing"   ? std::vector<std::string>{"error", "mean", "interpolate"}
+          : std::string(key) == "detrend" ? std::vector<std::string>{"none", "mean", "plane"}
+                                          : std::vector<std::string>{"none", "mirror", "pad"};
+      if (std::find(ok.begin(), ok.end(), value) == ok.end())
+        ind.error(key, "\"" + value + "\" is not one of \"" + ok[0] + "\", \"" + ok[1] + "\", \"" + ok[2] +
+                           "\"" + did_you_mean(value, ok) + ind.at(key));
+    }
+    if (!in.unit.empty() && metres_per_unit(in.unit) == 0.0)
+      ind.error("unit", "unknown length unit \"" + in.unit + "\" (m, mm, um, nm, pm or A)" + ind.at("unit"));
     if (!in.path.empty() && (!grid_nx || !grid_ny || !grid_lx || !grid_ly)) {
-      // The grid keys not given come from the map (read once here; the solve reads it again).
+      // The grid keys not given come from the prepared map (read once here; the solve reads it again).
       try {
-        const Topography t = read_topography(in.path, grid_lx ? c.grid.lx : 0.0,
-                                             grid_ly ? c.grid.ly : (grid_lx ? c.grid.lx : 0.0));
+        MapOptions mo = map_options(c);
+        const double k = in.periodize == "none" ? 1.0 : 2.0;  // the cell holds the map k times per side
+        mo.lx = grid_lx ? c.grid.lx / k : 0.0;
+        mo.ly = grid_ly ? c.grid.ly / k : (grid_lx ? c.grid.lx / k : 0.0);
+        mo.nx = mo.ny = 0;
+        const Topography t = in_section("indenter", [&] { return load_height_map(in.path, mo); });
         if (!grid_nx) c.grid.nx = t.grid.nx;
         if (!grid_ny) c.grid.ny = grid_nx ? c.grid.nx : t.grid.ny;  // ny defaults to a given nx
         if (c.grid.nx < 2 || c.grid.ny < 2 || c.grid.nx > (1 << 16) || c.grid.ny > (1 << 16))
@@ -344,9 +381,13 @@ Config build(const toml::value& root, const std::string& name, const std::string
           ind.error("path", "the size of the height map must lie in [1e-30, 1e30]");
       } catch (const InputError& e) {
         const std::string why = e.what();
-        ind.error("path",
-                  why + (why.find("no physical size") != std::string::npos ? " (or give grid.lx and grid.ly)"
-                                                                           : ""));
+        if (e.where().starts_with("indenter."))
+          errors.push_back(why);  // an option of the map, named by in_section
+        else
+          ind.error("path", why + (why.find("no physical size") != std::string::npos &&
+                                           why.find("grid.lx") == std::string::npos
+                                       ? " (or give grid.lx and grid.ly)"
+                                       : ""));
       }
     }
   }
@@ -545,6 +586,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
   Section out(root, "output", errors);
   c.output.fields = out.boolean("fields", true);
   c.output.png = out.boolean("png", true);
+  c.output.analysis = out.boolean("analysis", true);
   out.finish();
 
   // Combinations.

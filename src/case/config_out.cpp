@@ -28,6 +28,7 @@ using config_detail::kSections;
 nlohmann::json Config::to_json() const {
   nlohmann::json j;
   j["grid"] = {{"nx", grid.nx}, {"ny", grid.ny}, {"lx", grid.lx}, {"ly", grid.ly}};
+  if (!length_unit.empty()) j["grid"]["unit"] = length_unit;
   j["elastic"] = {{"contact_modulus", elastic.contact_modulus},
                   {"poisson", elastic.poisson},
                   {"coupling", elastic.coupling}};
@@ -54,6 +55,11 @@ nlohmann::json Config::to_json() const {
     ind["seed"] = s.seed;
   } else {
     ind["path"] = indenter.path;
+    if (!indenter.unit.empty()) ind["unit"] = indenter.unit;
+    ind["missing"] = indenter.missing;
+    ind["detrend"] = indenter.detrend;
+    ind["periodize"] = indenter.periodize;
+    if (indenter.crop[2] > 0) ind["crop"] = indenter.crop;
   }
   j["indenter"] = ind;
   const char* lk = load.mode == LoadMode::Force      ? "force"
@@ -74,7 +80,7 @@ nlohmann::json Config::to_json() const {
                  {"fft_planner", solver.fft_planner == Planner::Measure ? "measure" : "estimate"},
                  {"threads", threads},
                  {"backend", backend}};
-  j["output"] = {{"fields", output.fields}, {"png", output.png}};
+  j["output"] = {{"fields", output.fields}, {"png", output.png}, {"analysis", output.analysis}};
   nlohmann::json pa = false;
   if (stress.post_analysis.size() == 1) pa = stress.post_analysis.front();
   if (stress.post_analysis.size() > 1) pa = stress.post_analysis;
@@ -114,7 +120,24 @@ std::string Config::to_toml() const {
   return os.str();
 }
 
-Topography make_topography(const Config& c) {
+MapOptions map_options(const Config& c) {
+  const IndenterConfig& in = c.indenter;
+  MapOptions o;
+  o.case_unit = c.length_unit;
+  o.file_unit = in.unit;
+  o.crop = in.crop;
+  o.missing = in.missing;
+  o.detrend = in.detrend;
+  o.periodize = in.periodize;
+  const double k = in.periodize == "none" ? 1.0 : 2.0;  // the cell holds the map k times per side
+  o.lx = c.grid.lx / k;
+  o.ly = c.grid.ly / k;
+  o.nx = c.grid.nx;
+  o.ny = c.grid.ny;
+  return o;
+}
+
+Topography make_topography(const Config& c, MapReport* report) {
   const IndenterConfig& in = c.indenter;
   if (in.type == "hertz")
     return in_section("indenter", [&] { return make_hertz(c.grid, in.radius_x, in.radius_y); });
@@ -126,14 +149,7 @@ Topography make_topography(const Config& c) {
     throw InputError("indenter.type",
                      "\"array\" takes its heights from the calling program (Python: gfmd.solve); "
                      "a case file gives type = \"file\" and a path");
-  Topography t = read_topography(in.path, c.grid.lx, c.grid.ly);
-  if (t.grid.nx != c.grid.nx || t.grid.ny != c.grid.ny) {
-    std::ostringstream os;
-    os << "the height map is " << t.grid.nx << " x " << t.grid.ny << " but [grid] asks for " << c.grid.nx
-       << " x " << c.grid.ny;
-    throw InputError(in.path, os.str());
-  }
-  return t;
+  return in_section("indenter", [&] { return load_height_map(in.path, map_options(c), report); });
 }
 
 }  // namespace gfmd

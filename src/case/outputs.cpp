@@ -90,6 +90,33 @@ nlohmann::json topography_stats_json(const TopographyStats& s) {
           {"max", s.max}};
 }
 
+nlohmann::json map_report_json(const MapReport& m) {
+  nlohmann::json j = {{"path", m.path},
+                      {"format", m.format},
+                      {"file_points", {m.file_nx, m.file_ny}},
+                      {"file_unit", m.file_unit},
+                      {"case_unit", m.case_unit},
+                      {"unit_factor", m.unit_factor},
+                      {"missing", {{"method", m.missing}, {"points", m.missing_points}}},
+                      {"detrend", {{"method", m.detrend}}},
+                      {"periodize", {{"method", m.periodize}, {"edge_mismatch", m.edge_mismatch}}},
+                      {"map_points", {m.map_nx, m.map_ny}},
+                      {"map_area_fraction", m.map_area_fraction},
+                      {"grid_points", {m.grid_nx, m.grid_ny}},
+                      {"resampled", m.map_nx != m.grid_nx || m.map_ny != m.grid_ny},
+                      {"lost_gradient_fraction", m.lost_gradient_fraction},
+                      {"warnings", m.warnings}};
+  if (m.file_lx > 0) j["file_size"] = {m.file_lx, m.file_ly};
+  if (m.crop[2] > 0) j["crop"] = m.crop;
+  if (m.missing == "interpolate" && m.missing_points > 0) j["missing"]["sweeps"] = m.fill_iterations;
+  if (m.detrend == "plane" || m.detrend == "mean") {
+    j["detrend"]["removed_mean"] = m.removed_mean;
+    j["detrend"]["removed_slope_x"] = m.removed_slope_x;
+    j["detrend"]["removed_slope_y"] = m.removed_slope_y;
+  }
+  return j;
+}
+
 nlohmann::json summary_json(const CaseResult& r) {
   nlohmann::json j = observables_json(r.observables);
   j["iterations"] = r.info.iterations;
@@ -169,10 +196,13 @@ nlohmann::json summary_json(const CaseResult& r) {
   const auto& s = r.topography_stats;
   j["topography"] = topography_stats_json(s);
   j["topography"]["kind"] = r.topography.kind;
+  if (r.map_report) j["topography"]["preprocessing"] = map_report_json(*r.map_report);
+  if (r.analysis) j["analysis"] = analysis_json(*r.analysis, r.config.grid);
   j["input"] = r.config.to_json();
-  j["units"] =
-      "lengths in the unit of grid.lx; pressures, stresses and E* in the unit of elastic.contact_modulus; "
-      "forces = pressure x length^2";
+  j["units"] = std::string(r.config.length_unit.empty() ? "lengths in the unit of grid.lx"
+                                                        : "lengths in " + r.config.length_unit) +
+               "; pressures, stresses and E* in the unit of elastic.contact_modulus; "
+               "forces = pressure x length^2";
   j["conventions"] = {
       {"topography", "indenter height towards the body (peaks are maxima); initial gap g0 = max(h) - h"},
       {"z", "out of the body towards the indenter; uz < 0 is a depression"},
@@ -312,6 +342,12 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
     write_text_atomic((fs::path(dir) / "profiles.csv").string(), r.profiles_csv);
   if (r.leakage)
     write_leakage(g, *r.leakage, dir, {{"relative_contact_area", r.observables.relative_contact_area}});
+  if (r.analysis) {
+    write_text_atomic((fs::path(dir) / "patches.csv").string(), patches_csv(*r.analysis));
+    write_text_atomic((fs::path(dir) / "distributions.csv").string(), distributions_csv(*r.analysis));
+    write_text_atomic((fs::path(dir) / "spectrum.csv").string(), spectrum_csv(*r.analysis));
+    write_text_atomic((fs::path(dir) / "bands.csv").string(), bands_csv(*r.analysis));
+  }
   // summary.json last: its presence marks a complete run directory.
   write_text_atomic((fs::path(dir) / "summary.json").string(), summary_json(r).dump(2) + "\n");
 }

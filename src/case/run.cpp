@@ -184,6 +184,13 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
                                        " x " + std::to_string(cfg.grid.ny) + " on " +
                                        format_number(cfg.grid.lx) + " x " + format_number(cfg.grid.ly));
     r.topography = std::move(*opts.topography);
+  } else if (cfg.indenter.type == "file") {
+    MapReport rep;
+    r.topography = make_topography(cfg, &rep);
+    const Grid& tg = r.topography.grid;
+    if (tg.nx != cfg.grid.nx || tg.ny != cfg.grid.ny || tg.lx != cfg.grid.lx || tg.ly != cfg.grid.ly)
+      throw std::logic_error("run_case: the prepared height map does not match the case's grid");
+    r.map_report = std::move(rep);
   } else {
     r.topography = make_topography(cfg);
   }
@@ -268,6 +275,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   r.observables = compute_observables(fft, r.topography, cfg.friction, r.fields, r.info);
   if (cfg.friction.coefficient > 0) r.derived = derived_fields(fft, cfg.friction, r.fields);
   if (r.info.converged) compute_stresses(r, fft, opts.keep_stress_fields);
+  if (r.info.converged && cfg.output.analysis) r.analysis = analyse_run(r.topography, r.fields);
   if (r.info.converged && cfg.flow.enabled) {
     r.leakage = compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance,
                                 cfg.flow.solver, opts.stop_request);

@@ -172,21 +172,14 @@ DirectoryLock::~DirectoryLock() {
 }
 
 std::vector<std::string> clear_run_outputs(const std::string& dir, bool keep_checkpoint) {
-  static const std::set<std::string> kNames = {"summary.json",
-                                               "status.json",
-                                               "fields.nc",
-                                               "flow.json",
-                                               "flow.nc",
-                                               "profiles.csv",
-                                               "profiles.png",
-                                               "pressure.png",
-                                               "gap.png",
-                                               "slip_longitudinal.png",
-                                               "slip_transverse.png",
-                                               "dissipation.png",
-                                               "max_principal_stress.png",
-                                               "von_mises.png",
-                                               "checkpoint.bin"};
+  static const std::set<std::string> kNames = {
+      "summary.json",        "status.json",       "fields.nc",
+      "flow.json",           "flow.nc",           "profiles.csv",
+      "patches.csv",         "distributions.csv", "spectrum.csv",
+      "bands.csv",           "analysis.png",      "profiles.png",
+      "pressure.png",        "gap.png",           "slip_longitudinal.png",
+      "slip_transverse.png", "dissipation.png",   "max_principal_stress.png",
+      "von_mises.png",       "checkpoint.bin"};
   std::vector<std::string> removed;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec)) {

@@ -1,34 +1,27 @@
-// Height-map files (text and NetCDF). See include/gfmd/io/height_map.hpp.
+// Height-map files: the format dispatch, the size rules, and what the readers share
+// (bounded binary reading, units, limits). See include/gfmd/io/height_map.hpp.
 #include "gfmd/io/height_map.hpp"
-
-#include <netcdf.h>
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cctype>
-#include <cerrno>
-#include <charconv>
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <limits>
-#include <numbers>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <string_view>
-#include <vector>
 
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
-#include "nc_file.hpp"
+#include "readers.hpp"
 
 namespace gfmd {
 
-namespace {
+namespace io_detail {
 
 std::string num(double v) {
   char buf[64];
@@ -36,34 +29,188 @@ std::string num(double v) {
   return buf;
 }
 
-bool positive_finite(double v) { return v > 0.0 && std::isfinite(v); }
+std::string excerpt(std::string_view s) {
+  std::string out;
+  for (const char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (out.size() >= 37) {
+      out += "...";
+      break;
+    }
+    if (c >= 0x20 && c < 0x7f) {
+      out += ch;
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    }
+  }
+  return out;
+}
 
-}  // namespace
+void check_map_dims(const std::string& path, long long nx, long long ny) {
+  const std::string dims = std::to_string(nx) + " x " + std::to_string(ny);
+  if (nx < 1 || ny < 1) throw InputError(path, "the map is " + dims + " points: it holds no data");
+  if (nx > kMaxMapSide || ny > kMaxMapSide)
+    throw InputError(path, "the map is " + dims + " points; at most " + std::to_string(kMaxMapSide) +
+                               " per side can be read");
+  if (nx * ny > kMaxMapPoints)
+    throw InputError(path, "the map is " + dims + " points (" + std::to_string(nx * ny) + "); at most " +
+                               std::to_string(kMaxMapPoints) + " (2 GiB of heights) can be read");
+}
 
-// ---------------------------------------------------------------------------------------
-// File readers
+double metres_per_unit(std::string_view unit) {
+  std::string u;
+  for (const char c : unit)
+    if (c != ' ') u += c;
+  // Micro: 'u', U+00B5 MICRO SIGN (C2 B5) or U+03BC GREEK SMALL LETTER MU (CE BC).
+  for (const std::string_view micro : {std::string_view("\xC2\xB5"), std::string_view("\xCE\xBC")})
+    if (u.starts_with(micro)) u.replace(0, micro.size(), 1, 'u');
+  if (u == "m") return 1.0;
+  if (u == "cm") return 1e-2;
+  if (u == "mm") return 1e-3;
+  if (u == "um") return 1e-6;
+  if (u == "nm") return 1e-9;
+  if (u == "pm") return 1e-12;
+  if (u == "A" || u == "\xC3\x85" || u == "\xE2\x84\xAB") return 1e-10;  // A, Å (U+00C5, U+212B)
+  std::string lower = u;
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (lower == "metre" || lower == "meter" || lower == "metres" || lower == "meters") return 1.0;
+  if (lower == "micron" || lower == "microns" || lower == "micrometre" || lower == "micrometer" ||
+      lower == "micrometres" || lower == "micrometers")
+    return 1e-6;
+  if (lower == "nanometre" || lower == "nanometer" || lower == "nanometres" || lower == "nanometers")
+    return 1e-9;
+  if (lower == "millimetre" || lower == "millimeter" || lower == "millimetres" || lower == "millimeters")
+    return 1e-3;
+  if (lower == "angstrom" || lower == "angstroms") return 1e-10;
+  return 0.0;
+}
+
+// ---- ByteReader ----
+
+void ByteReader::fail_at(std::size_t at, const std::string& why) const {
+  throw InputError(path_, "offset " + std::to_string(at) + ": " + why);
+}
+
+void ByteReader::need(std::size_t n, const char* what) {
+  if (n > remaining())
+    fail("the file ends inside " + std::string(what) + " (" + std::to_string(n) + " bytes needed, " +
+         std::to_string(remaining()) + " left): truncated file?");
+}
+
+void ByteReader::seek(std::size_t pos) {
+  if (pos > b_.size())
+    fail("a position beyond the end of the file (" + std::to_string(pos) + " of " +
+         std::to_string(b_.size()) + " bytes) was asked for: truncated or corrupt file");
+  pos_ = pos;
+}
+
+void ByteReader::skip(std::size_t n) {
+  need(n, "a field");
+  pos_ += n;
+}
+
+std::string_view ByteReader::bytes(std::size_t n) {
+  need(n, "a block of data");
+  const std::string_view v = b_.substr(pos_, n);
+  pos_ += n;
+  return v;
+}
 
 namespace {
+template <typename T>
+T load_le(std::string_view b) {
+  std::array<unsigned char, sizeof(T)> raw{};
+  std::memcpy(raw.data(), b.data(), sizeof(T));
+  if constexpr (std::endian::native == std::endian::big) std::reverse(raw.begin(), raw.end());
+  T v;
+  std::memcpy(&v, raw.data(), sizeof(T));
+  return v;
+}
+}  // namespace
 
-bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f' || c == '\r'; }
+std::uint8_t ByteReader::u8() {
+  need(1, "a byte");
+  return static_cast<std::uint8_t>(b_[pos_++]);
+}
+std::uint16_t ByteReader::u16le() {
+  need(2, "a 16-bit integer");
+  const auto v = load_le<std::uint16_t>(b_.substr(pos_));
+  pos_ += 2;
+  return v;
+}
+std::int16_t ByteReader::i16le() { return static_cast<std::int16_t>(u16le()); }
+std::uint32_t ByteReader::u32le() {
+  need(4, "a 32-bit integer");
+  const auto v = load_le<std::uint32_t>(b_.substr(pos_));
+  pos_ += 4;
+  return v;
+}
+std::int32_t ByteReader::i32le() { return static_cast<std::int32_t>(u32le()); }
+std::uint64_t ByteReader::u64le() {
+  need(8, "a 64-bit integer");
+  const auto v = load_le<std::uint64_t>(b_.substr(pos_));
+  pos_ += 8;
+  return v;
+}
+float ByteReader::f32le() { return std::bit_cast<float>(u32le()); }
+double ByteReader::f64le() { return std::bit_cast<double>(u64le()); }
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && is_blank(s.front())) s.remove_prefix(1);
-  while (!s.empty() && is_blank(s.back())) s.remove_suffix(1);
+std::string ByteReader::cstring(std::size_t max_len) {
+  const std::size_t start = pos_;
+  const std::size_t limit = std::min(remaining(), max_len + 1);
+  const std::size_t nul = b_.substr(pos_, limit).find('\0');
+  if (nul == std::string_view::npos) {
+    if (limit == remaining() && remaining() <= max_len)
+      fail("the file ends inside a string: truncated file?");
+    fail_at(start, "a string longer than " + std::to_string(max_len) + " bytes ('" +
+                       excerpt(b_.substr(start, 40)) + "'): corrupt file?");
+  }
+  std::string s(b_.substr(pos_, nul));
+  pos_ += nul + 1;
   return s;
 }
 
-enum class ParseStatus { Ok, NotNumber, OutOfRange };
+}  // namespace io_detail
 
-// Parses the whole token as a double (an optional leading '+' is accepted).
-ParseStatus parse_double(std::string_view tok, double& v) {
-  if (tok.size() > 1 && tok.front() == '+' && tok[1] != '-' && tok[1] != '+') tok.remove_prefix(1);
-  const char* first = tok.data();
-  const char* last = tok.data() + tok.size();
-  const auto [ptr, ec] = std::from_chars(first, last, v, std::chars_format::general);
-  if (ec == std::errc::result_out_of_range && ptr == last) return ParseStatus::OutOfRange;
-  if (ec != std::errc() || ptr != last || tok.empty()) return ParseStatus::NotNumber;
-  return ParseStatus::Ok;
+// ---------------------------------------------------------------------------------------
+// Dispatch
+
+namespace {
+
+using namespace io_detail;
+
+enum class Format { Text, NetCdf, X3p, Npy, Gwy, Sur };
+
+Format detect(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::array<char, 12> m{};
+  in.read(m.data(), m.size());
+  const std::string_view head(m.data(), static_cast<std::size_t>(in.gcount()));
+  if (head.starts_with("PK\x03\x04") || head.starts_with("PK\x05\x06")) return Format::X3p;
+  if (head.starts_with("GWYP")) return Format::Gwy;
+  if (head.starts_with("DIGITAL SURF") || head.starts_with("DSCOMPRESSED")) return Format::Sur;
+  if (head.starts_with("\x93NUMPY")) return Format::Npy;
+  if (head.size() >= 4 && head.starts_with("CDF") && (head[3] == 1 || head[3] == 2 || head[3] == 5))
+    return Format::NetCdf;
+  if (head.starts_with("\x89HDF\r\n\x1a\n")) return Format::NetCdf;
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".nc") return Format::NetCdf;
+  const auto binary_ext = [&](const char* e, const char* what) {
+    if (ext == e)
+      throw InputError(path, std::string("the file's name says ") + what +
+                                 " but it does not start with that format's signature ('" + excerpt(head) +
+                                 "'): wrong or damaged file");
+  };
+  binary_ext(".x3p", "x3p (a zip archive)");
+  binary_ext(".npy", "NumPy .npy");
+  binary_ext(".gwy", "Gwyddion .gwy");
+  binary_ext(".sur", "Digital Surf .sur");
+  return Format::Text;
 }
 
 void check_readable(const std::string& path) {
@@ -74,7 +221,7 @@ void check_readable(const std::string& path) {
   require_regular_file(path, "topography file");
 }
 
-double choose_size(const std::string& path, const char* name, double arg, std::optional<double> from_file,
+double choose_size(const std::string& path, const char* name, double arg, double from_file,
                    const std::string& how_in_file) {
   if (arg > 0.0) {
     if (!std::isfinite(arg))
@@ -82,470 +229,68 @@ double choose_size(const std::string& path, const char* name, double arg, std::o
     return arg;  // the caller's value wins over the file
   }
   if (std::isnan(arg)) throw InputError(path, std::string(name) + " is NaN");
-  if (from_file) return *from_file;
+  if (from_file > 0.0) return from_file;
   throw InputError(path, std::string("no physical size ") + name + ": the file has no " + how_in_file +
                              " and no " + name + " > 0 was given");
 }
 
-// ---- text ----
-
-// Recognises "# lx = v" / "# ly: v" (after the '#'); returns 'x', 'y' or 0 (plain comment).
-char header_key(std::string_view rest, std::string_view& value) {
-  rest = trim(rest);
-  if (rest.size() < 2) return 0;
-  const char c0 = static_cast<char>(std::tolower(static_cast<unsigned char>(rest[0])));
-  const char c1 = static_cast<char>(std::tolower(static_cast<unsigned char>(rest[1])));
-  if (c0 != 'l' || (c1 != 'x' && c1 != 'y')) return 0;
-  std::string_view after = trim(rest.substr(2));
-  if (after.empty() || (after.front() != '=' && after.front() != ':')) return 0;
-  value = trim(after.substr(1));
-  return c1;
-}
-
-// A token as quoted in an error: at most 40 characters.
-std::string excerpt(std::string_view tok) {
-  return tok.size() <= 40 ? std::string(tok) : std::string(tok.substr(0, 37)) + "...";
-}
-
-HeightMap read_text(const std::string& path, double lx_arg, double ly_arg) {
-  // A text map is at most ~25 bytes per value; 1 GiB holds 2^25 values at ~30 B.
-  const std::string text = read_regular_file(path, std::size_t{1} << 30, "topography file");
-  std::vector<double> data;
-  int nx = 0, ny = 0;
-  long first_row_line = 0;
-  std::optional<double> hdr[2];
-  long hdr_line[2] = {0, 0};
-  long lineno = 0;
-  std::size_t next = 0;
-  while (next < text.size()) {
-    const std::size_t eol = std::min(text.find('\n', next), text.size());
-    const std::string_view line(text.data() + next, eol - next);
-    next = eol + 1;
-    ++lineno;
-    const std::string_view s = trim(line);
-    if (s.empty()) continue;
-    if (s.front() == '#') {
-      std::string_view value;
-      const char key = header_key(s.substr(1), value);
-      if (key == 0) continue;
-      const int k = key == 'x' ? 0 : 1;
-      const std::string name = key == 'x' ? "lx" : "ly";
-      if (hdr[k])
-        throw InputError(path, "line " + std::to_string(lineno) + ": " + name +
-                                   " given twice (first on line " + std::to_string(hdr_line[k]) + ")");
-      double v = 0.0;
-      if (parse_double(value, v) != ParseStatus::Ok || !positive_finite(v))
-        throw InputError(path, "line " + std::to_string(lineno) + ": invalid " + name + " header value '" +
-                                   excerpt(value) + "' (expected a positive number)");
-      hdr[k] = v;
-      hdr_line[k] = lineno;
-      continue;
-    }
-    // Data row: values separated by blanks, or by commas or semicolons (CSV; blanks around
-    // them allowed). A row uses one separator.
-    const char sep = s.find(',') != std::string_view::npos   ? ','
-                     : s.find(';') != std::string_view::npos ? ';'
-                                                             : ' ';
-    int count = 0;
-    std::size_t pos = 0;
-    while (pos <= s.size()) {
-      std::string_view tok;
-      if (sep == ' ') {
-        while (pos < s.size() && is_blank(s[pos])) ++pos;
-        if (pos >= s.size()) break;
-        std::size_t end = pos;
-        while (end < s.size() && !is_blank(s[end])) ++end;
-        tok = s.substr(pos, end - pos);
-        pos = end;
-      } else {
-        const std::size_t end = std::min(s.find(sep, pos), s.size());
-        tok = trim(s.substr(pos, end - pos));
-        pos = end + 1;
-        if (tok.empty() && end == s.size() && count > 0) break;  // one trailing separator
-        if (tok.empty())
-          throw InputError(path, "line " + std::to_string(lineno) + ": empty value " +
-                                     std::to_string(count + 1) + " between '" + std::string(1, sep) +
-                                     "' separators");
-      }
-      ++count;
-      double v = 0.0;
-      const ParseStatus st = parse_double(tok, v);
-      if (st == ParseStatus::NotNumber)
-        throw InputError(path, "line " + std::to_string(lineno) + ": non-numeric value '" + excerpt(tok) +
-                                   "' (value " + std::to_string(count) + ")");
-      if (st == ParseStatus::OutOfRange || !std::isfinite(v))
-        throw InputError(path, "line " + std::to_string(lineno) + ": non-finite value '" + excerpt(tok) +
-                                   "' (value " + std::to_string(count) + "); NaN and Inf are not allowed");
-      data.push_back(v);
-    }
-    if (ny == 0) {
-      nx = count;
-      first_row_line = lineno;
-    } else if (count != nx) {
-      throw InputError(path, "ragged rows: line " + std::to_string(lineno) + " has " + std::to_string(count) +
-                                 " values but the first data row (line " + std::to_string(first_row_line) +
-                                 ") has " + std::to_string(nx));
-    }
-    ++ny;
-  }
-  if (ny == 0)
-    throw InputError(path, lineno == 0 ? "the file is empty (no data)"
-                                       : "no data rows in the file (only comments or blank lines)");
-
-  HeightMap t;
-  t.nx = nx;
-  t.ny = ny;
-  t.lx = choose_size(path, "lx", lx_arg, hdr[0], "'# lx = <value>' header line");
-  t.ly = choose_size(path, "ly", ly_arg, hdr[1], "'# ly = <value>' header line");
-  t.h.assign(data.begin(), data.end());
-  return t;
-}
-
-// ---- NetCDF ----
-
-using io_detail::NcFile;
-
-// netcdf-c (4.9) reads the data of a truncated classic-format file (CDF-1/2/5) as zeros
-// without reporting an error. We therefore parse the classic header (big-endian; see the
-// NetCDF classic format specification) to find where every variable's data ends and
-// compare with the file size. Returns the number of bytes the header implies (0 when it
-// cannot be determined, e.g. a streamed record count), or throws on a malformed header.
-class ClassicHeader {
- public:
-  struct NeedMore {};  // thrown when the bytes given end inside the header
-
-  ClassicHeader(const std::string& path, std::vector<unsigned char> bytes, bool complete)
-      : path_(path), b_(std::move(bytes)), complete_(complete) {}
-
-  std::uint64_t required_size() {
-    if (b_.size() < 4) fail();
-    const int version = b_[3];
-    wide_ = version == 5;                         // CDF-5: 64-bit counts
-    wide_offset_ = version == 2 || version == 5;  // CDF-2/5: 64-bit begin
-    const std::uint64_t numrecs = count();
-    const bool streaming = !wide_ && numrecs == 0xFFFFFFFFull;
-    // Dimensions.
-    std::vector<std::uint64_t> dim_len;
-    const std::uint64_t ndims = list_header(0x0A);
-    for (std::uint64_t i = 0; i < ndims; ++i) {
-      skip_name();
-      dim_len.push_back(count());
-    }
-    skip_atts();
-    struct Var {
-      std::uint64_t size, vsize, begin;
-      bool record;
-    };
-    std::vector<Var> vars;
-    const std::uint64_t nvars = list_header(0x0B);
-    for (std::uint64_t v = 0; v < nvars; ++v) {
-      skip_name();
-      const std::uint64_t nd = count();
-      bool record = false;
-      std::uint64_t elems = 1;
-      for (std::uint64_t d = 0; d < nd; ++d) {
-        const std::uint64_t id = count();
-        if (id >= dim_len.size()) fail();
-        if (d == 0 && dim_len[id] == 0)
-          record = true;
-        else
-          elems = mul(elems, dim_len[id]);
-      }
-      skip_atts();
-      const std::uint64_t tsize = type_size(static_cast<int>(u32()));
-      const std::uint64_t vsize = count();
-      const std::uint64_t begin = wide_offset_ ? u64() : u32();
-      vars.push_back({mul(elems, tsize), vsize, begin, record});
-    }
-    std::uint64_t need = pos_;
-    std::uint64_t recsize = 0;
-    int nrec = 0;
-    for (const auto& v : vars)
-      if (v.record) {
-        recsize += v.vsize;
-        ++nrec;
-      }
-    for (const auto& v : vars) {
-      if (!v.record) {
-        need = std::max(need, v.begin + v.size);
-      } else if (!streaming && numrecs > 0) {
-        const std::uint64_t rs = nrec == 1 ? v.size : recsize;
-        need = std::max(need, v.begin + (numrecs - 1) * rs + v.size);
-      }
-    }
-    return need;
-  }
-
- private:
-  [[noreturn]] void fail() const {
-    if (!complete_) throw NeedMore{};
-    throw InputError(path_, std::string("corrupt NetCDF header: ") + nc_strerror(NC_ETRUNC));
-  }
-  std::uint64_t u32() {
-    if (pos_ + 4 > b_.size()) fail();
-    std::uint64_t v = 0;
-    for (int i = 0; i < 4; ++i) v = (v << 8) | b_[pos_++];
-    return v;
-  }
-  std::uint64_t u64() { return (u32() << 32) | u32(); }
-  std::uint64_t count() { return wide_ ? u64() : u32(); }
-  static std::uint64_t pad4(std::uint64_t n) { return (n + 3) / 4 * 4; }
-  std::uint64_t mul(std::uint64_t a, std::uint64_t b) const {
-    if (b != 0 && a > std::numeric_limits<std::uint64_t>::max() / b) fail();
-    return a * b;
-  }
-  void skip(std::uint64_t n) {
-    if (n > b_.size() - pos_) fail();
-    pos_ += n;
-  }
-  // A list: tag (or ZERO for absent) and element count.
-  std::uint64_t list_header(std::uint64_t tag) {
-    const std::uint64_t t = u32();
-    const std::uint64_t n = count();
-    if (t == 0 && n == 0) return 0;
-    if (t != tag) fail();
-    return n;
-  }
-  void skip_name() { skip(pad4(count())); }
-  static std::uint64_t type_size(int type) {
-    switch (type) {
-      case NC_BYTE:
-      case NC_CHAR:
-      case NC_UBYTE:
-        return 1;
-      case NC_SHORT:
-      case NC_USHORT:
-        return 2;
-      case NC_INT:
-      case NC_UINT:
-      case NC_FLOAT:
-        return 4;
-      case NC_DOUBLE:
-      case NC_INT64:
-      case NC_UINT64:
-        return 8;
-      default:
-        return 0;
-    }
-  }
-  void skip_atts() {
-    const std::uint64_t n = list_header(0x0C);
-    for (std::uint64_t i = 0; i < n; ++i) {
-      skip_name();
-      const std::uint64_t ts = type_size(static_cast<int>(u32()));
-      if (ts == 0) fail();
-      skip(pad4(mul(count(), ts)));
-    }
-  }
-
-  std::string path_;
-  std::vector<unsigned char> b_;
-  bool complete_ = true;
-  std::size_t pos_ = 4;
-  bool wide_ = false, wide_offset_ = false;
-};
-
-void check_classic_not_truncated(const std::string& path) {
-  std::error_code ec;
-  const std::uint64_t size = std::filesystem::file_size(path, ec);
-  if (ec) throw InputError(path, "cannot determine the file size: " + ec.message());
-  // The header has no length field: parse the first 64 KiB, and the whole file if the
-  // header is longer than that.
-  for (std::uint64_t chunk : {std::uint64_t{1} << 16, size}) {
-    std::ifstream in(path, std::ios::binary);
-    std::vector<unsigned char> bytes(static_cast<std::size_t>(std::min(chunk, size)));
-    in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    if (static_cast<std::uint64_t>(in.gcount()) != bytes.size()) throw InputError(path, "read error");
-    const bool complete = bytes.size() == size;
-    try {
-      const std::uint64_t need = ClassicHeader(path, std::move(bytes), complete).required_size();
-      if (need > size)
-        throw InputError(path, "the file has " + std::to_string(size) + " bytes but its header describes " +
-                                   std::to_string(need) + " (" + nc_strerror(NC_ETRUNC) + ")");
-      return;
-    } catch (const ClassicHeader::NeedMore&) {
-      // read the whole file
-    }
-  }
-}
-
-bool numeric_type(nc_type t) {
-  switch (t) {
-    case NC_BYTE:
-    case NC_SHORT:
-    case NC_INT:
-    case NC_FLOAT:
-    case NC_DOUBLE:
-    case NC_UBYTE:
-    case NC_USHORT:
-    case NC_UINT:
-    case NC_INT64:
-    case NC_UINT64:
-      return true;
-    default:
-      return false;
-  }
-}
-
-// Scalar numeric attribute of a variable (or NC_GLOBAL); nullopt if absent.
-std::optional<double> nc_scalar_att(const NcFile& f, int varid, const char* name) {
-  nc_type type{};
-  std::size_t len = 0;
-  if (nc_inq_att(f.id(), varid, name, &type, &len) != NC_NOERR) return std::nullopt;
-  if (!numeric_type(type) || len != 1)
-    throw InputError(f.path(), std::string("attribute '") + name + "' must be a single number");
-  double v = 0.0;
-  f.check(nc_get_att_double(f.id(), varid, name, &v),
-          std::string("NetCDF error while reading attribute ") + name);
-  return v;
-}
-
-// Cell length along a dimension from a 1-D coordinate variable: spacing * count.
-std::optional<double> nc_coordinate_length(const NcFile& f, int dimid, const char* fallback) {
-  char dimname[NC_MAX_NAME + 1] = {};
-  std::size_t n = 0;
-  f.check(nc_inq_dim(f.id(), dimid, dimname, &n), "NetCDF error while reading a dimension");
-  for (const char* name : {static_cast<const char*>(dimname), fallback}) {
-    int varid = -1;
-    if (nc_inq_varid(f.id(), name, &varid) != NC_NOERR) continue;
-    int ndims = 0;
-    int dims[NC_MAX_VAR_DIMS];
-    nc_type type{};
-    f.check(nc_inq_var(f.id(), varid, nullptr, &type, &ndims, dims, nullptr),
-            "NetCDF error while reading a coordinate variable");
-    if (ndims != 1 || !numeric_type(type)) continue;
-    std::size_t len = 0;
-    f.check(nc_inq_dimlen(f.id(), dims[0], &len), "NetCDF error while reading a dimension");
-    if (len != n || n < 2) continue;
-    std::vector<double> c(n);
-    f.check(nc_get_var_double(f.id(), varid, c.data()),
-            std::string("NetCDF error while reading coordinate variable ") + name);
-    const double d = (c[n - 1] - c[0]) / static_cast<double>(n - 1);
-    bool uniform = positive_finite(d);
-    for (std::size_t i = 0; uniform && i + 1 < n; ++i) uniform = std::abs((c[i + 1] - c[i]) - d) <= 1e-6 * d;
-    if (!uniform)
-      throw InputError(f.path(),
-                       std::string("coordinate variable '") + name +
-                           "' is not uniformly increasing, so the cell size cannot be taken from it");
-    return d * static_cast<double>(n);
-  }
-  return std::nullopt;
-}
-
-HeightMap read_netcdf(const std::string& path, double lx_arg, double ly_arg) {
-  NcFile f(path);
-  f.check(f.open_read(), "cannot read the NetCDF file");
-  int format = 0;
-  f.check(nc_inq_format(f.id(), &format), "NetCDF error while reading the format");
-  if (format == NC_FORMAT_CLASSIC || format == NC_FORMAT_64BIT_OFFSET || format == NC_FORMAT_CDF5)
-    check_classic_not_truncated(path);
-  int varid = -1;
-  std::string varname;
-  for (const char* name : {"topography", "height", "heights"}) {
-    if (nc_inq_varid(f.id(), name, &varid) == NC_NOERR) {
-      varname = name;
-      break;
-    }
-  }
-  if (varname.empty()) {
-    std::string present;
-    int nvars = 0;
-    f.check(nc_inq_nvars(f.id(), &nvars), "NetCDF error while listing variables");
-    for (int v = 0; v < nvars; ++v) {
-      char name[NC_MAX_NAME + 1] = {};
-      f.check(nc_inq_varname(f.id(), v, name), "NetCDF error while listing variables");
-      present += (present.empty() ? "" : ", ") + std::string(name);
-    }
-    throw InputError(path, "no variable named 'topography', 'height' or 'heights' (variables present: " +
-                               (present.empty() ? std::string("none") : present) + ")");
-  }
-  nc_type type{};
-  int ndims = 0;
-  int dims[NC_MAX_VAR_DIMS];
-  f.check(nc_inq_var(f.id(), varid, nullptr, &type, &ndims, dims, nullptr),
-          "NetCDF error while reading variable " + varname);
-  if (ndims != 2)
-    throw InputError(
-        path, "variable '" + varname + "' has " + std::to_string(ndims) + " dimensions; expected 2 (y, x)");
-  if (!numeric_type(type)) throw InputError(path, "variable '" + varname + "' is not numeric");
-  std::size_t ny = 0, nx = 0;
-  f.check(nc_inq_dimlen(f.id(), dims[0], &ny), "NetCDF error while reading dimension lengths");
-  f.check(nc_inq_dimlen(f.id(), dims[1], &nx), "NetCDF error while reading dimension lengths");
-  if (nx == 0 || ny == 0) throw InputError(path, "variable '" + varname + "' is empty (no data)");
-  if (nx > static_cast<std::size_t>(std::numeric_limits<int>::max()) ||
-      ny > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    throw InputError(path, "variable '" + varname + "' is too large");
-
-  HeightMap t;
-  t.nx = static_cast<int>(nx);
-  t.ny = static_cast<int>(ny);
-  t.h.resize(nx * ny);
-  f.check(nc_get_var_double(f.id(), varid, t.h.data()), "NetCDF error while reading variable " + varname);
-
-  // Fill value (missing data) for floating-point variables.
-  std::optional<double> fill;
-  if (type == NC_DOUBLE || type == NC_FLOAT) {
-    int no_fill = 0;
-    if (type == NC_DOUBLE) {
-      double fv = 0.0;
-      if (nc_inq_var_fill(f.id(), varid, &no_fill, &fv) == NC_NOERR && !no_fill) fill = fv;
-    } else {
-      float fv = 0.0f;
-      if (nc_inq_var_fill(f.id(), varid, &no_fill, &fv) == NC_NOERR && !no_fill)
-        fill = static_cast<double>(fv);
-    }
-  }
-  for (std::size_t i = 0; i < t.h.size(); ++i) {
-    const double v = t.h[i];
-    const std::string where = "(iy, ix) = (" + std::to_string(i / nx) + ", " + std::to_string(i % nx) + ")";
-    if (!std::isfinite(v))
-      throw InputError(path, "non-finite value (NaN or Inf) in '" + varname + "' at " + where);
-    if (fill && v == *fill)
-      throw InputError(path, "missing value (equal to the fill value) in '" + varname + "' at " + where);
-  }
-  const auto scale = nc_scalar_att(f, varid, "scale_factor");
-  const auto offset = nc_scalar_att(f, varid, "add_offset");
-  if (scale || offset) {
-    const double a = scale.value_or(1.0), b = offset.value_or(0.0);
-    for (double& v : t.h) v = v * a + b;
-  }
-
-  auto size_from_file = [&](const char* name, int dimid, const char* coord) -> std::optional<double> {
-    std::optional<double> v = nc_scalar_att(f, varid, name);
-    if (!v) v = nc_scalar_att(f, NC_GLOBAL, name);
-    if (v && !positive_finite(*v))
-      throw InputError(path, std::string("attribute '") + name + "' must be positive (got " + num(*v) + ")");
-    if (!v) v = nc_coordinate_length(f, dimid, coord);
-    return v;
-  };
-  const std::string how = "attribute 'lx'/'ly' or 1-D coordinate variable";
-  t.lx =
-      choose_size(path, "lx", lx_arg, lx_arg > 0.0 ? std::nullopt : size_from_file("lx", dims[1], "x"), how);
-  t.ly =
-      choose_size(path, "ly", ly_arg, ly_arg > 0.0 ? std::nullopt : size_from_file("ly", dims[0], "y"), how);
-  return t;
-}
-
-bool looks_like_netcdf(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext == ".nc") return true;
-  std::ifstream in(path, std::ios::binary);
-  std::array<char, 8> m{};
-  in.read(m.data(), m.size());
-  const std::size_t got = static_cast<std::size_t>(in.gcount());
-  if (got >= 4 && m[0] == 'C' && m[1] == 'D' && m[2] == 'F' && (m[3] == 1 || m[3] == 2 || m[3] == 5))
-    return true;
-  static constexpr char hdf5[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
-  return got == 8 && std::equal(m.begin(), m.end(), hdf5);
+std::string size_source(const std::string& format) {
+  if (format == "text") return "'# lx = <value>' header line";
+  if (format == "netcdf") return "attribute 'lx'/'ly' or 1-D coordinate variable";
+  return "physical size (" + format + " files never carry one)";
 }
 
 }  // namespace
 
-HeightMap read_height_map(const std::string& path, double lx, double ly) {
+double metres_per_unit(std::string_view unit) { return io_detail::metres_per_unit(unit); }
+
+HeightMap read_height_file(const std::string& path) {
   check_readable(path);
-  return looks_like_netcdf(path) ? read_netcdf(path, lx, ly) : read_text(path, lx, ly);
+  HeightMap m;
+  switch (detect(path)) {
+    case Format::NetCdf:
+      m = read_netcdf_map(path);
+      break;
+    case Format::X3p:
+      m = read_x3p(path);
+      break;
+    case Format::Npy:
+      m = read_npy(path);
+      break;
+    case Format::Gwy:
+      m = read_gwy(path);
+      break;
+    case Format::Sur:
+      m = read_sur(path);
+      break;
+    case Format::Text:
+      m = read_text_map(path);
+      break;
+  }
+  if (m.h.size() != static_cast<std::size_t>(m.nx) * static_cast<std::size_t>(m.ny))
+    throw InputError(path, "internal error: the reader returned a map of the wrong size");
+  std::size_t missing = 0;
+  for (const double v : m.h) {
+    if (std::isnan(v))
+      ++missing;
+    else if (!std::isfinite(v))
+      throw InputError(path, "an infinite height: not a height map value");
+  }
+  m.missing = missing;
+  return m;
+}
+
+HeightMap read_height_map(const std::string& path, double lx, double ly) {
+  HeightMap m = read_height_file(path);
+  if (m.missing > 0)
+    throw InputError(path, std::to_string(m.missing) + " point" + (m.missing == 1 ? " has" : "s have") +
+                               " no value (NaN or the file's no-data marker), the first at " +
+                               m.first_missing +
+                               "; set indenter.missing = \"interpolate\" or \"mean\" to fill them");
+  const std::string how = size_source(m.format);
+  m.lx = choose_size(path, "lx", lx, m.lx, how);
+  m.ly = choose_size(path, "ly", ly, m.ly, how);
+  return m;
 }
 
 }  // namespace gfmd

@@ -1,6 +1,7 @@
 // Case files (TOML): one file per case, every key checked, defaults filled in.
 #pragma once
 
+#include <array>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "gfmd/core/grid.hpp"
 #include "gfmd/elastic/elastic.hpp"
 #include "gfmd/flow/flow.hpp"
+#include "gfmd/surface/measured.hpp"
 #include "gfmd/surface/topography.hpp"
 
 namespace gfmd {
@@ -30,11 +32,18 @@ struct IndenterConfig {
   double wavelength = 0.0, amplitude = 0.0;
   SelfAffineParams selfaffine;
   std::string path;  // file: resolved against the case file's folder
+  // file: preparation of a measured map (surface/measured.hpp, MapOptions)
+  std::string unit;                           // the file's length unit when it states none
+  std::string missing = "error";              // error | mean | interpolate
+  std::string detrend = "none";               // none | mean | plane
+  std::string periodize = "none";             // none | mirror | pad
+  std::array<long long, 4> crop{0, 0, 0, 0};  // ix0, iy0, nx, ny (nx = 0: no crop)
 };
 
 struct OutputConfig {
-  bool fields = true;  // fields.nc
-  bool png = true;     // PNG maps
+  bool fields = true;    // fields.nc
+  bool png = true;       // PNG maps
+  bool analysis = true;  // patches, distributions, spectrum (analysis.hpp): summary + CSV (+ analysis.png)
 };
 
 struct SweepConfig {
@@ -67,6 +76,7 @@ std::vector<double> parse_flow_directions(const std::string& text);
 
 struct Config {
   Grid grid;
+  std::string length_unit;  // grid.unit: the unit of every length of the case ("" = none named)
   ElasticParams elastic;
   IndenterConfig indenter;
   LoadParams load;
@@ -96,7 +106,9 @@ Config parse_config(const std::string& toml_text, const std::string& name,
                     const std::vector<std::string>& overrides = {}, const std::string& base_dir = ".");
 
 // Builds the indenter's topography of a configuration.
-Topography make_topography(const Config& cfg);
+Topography make_topography(const Config& cfg, MapReport* report = nullptr);
+// The options of a file indenter's map for the case's grid.
+MapOptions map_options(const Config& cfg);
 
 // Runs f; a ParameterError from the library becomes InputError("<section>.<parameter>"):
 // how physics errors come to name config keys, here in the case layer only.

@@ -17,6 +17,8 @@ namespace gfmd {
 // summary.json contents.
 nlohmann::json summary_json(const CaseResult& r);
 // A topography's statistics by their summary.json names (summary.json's "topography" adds "kind").
+// What a file indenter's map went through (MapReport), as summary.json's topography.preprocessing.
+nlohmann::json map_report_json(const MapReport& m);
 nlohmann::json topography_stats_json(const TopographyStats& s);
 
 // The file the maps are drawn from when output.png is on but output.fields is off:

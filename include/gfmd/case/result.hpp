@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "gfmd/case/analysis.hpp"
 #include "gfmd/case/config.hpp"
 #include "gfmd/case/leakage.hpp"
 #include "gfmd/contact/observables.hpp"
@@ -24,6 +25,7 @@ struct CaseResult {
   Config config;
   Topography topography;
   TopographyStats topography_stats;
+  std::optional<MapReport> map_report;  // a file indenter: how its map was prepared
   ContactFields fields;
   SolveInfo info;
   Observables observables;
@@ -60,6 +62,7 @@ struct CaseResult {
   };
   std::vector<Subsurface> subsurface;
   std::optional<LeakageResult> leakage;  // [flow], after a converged solve
+  std::optional<RunAnalysis> analysis;   // output.analysis, after a converged solve
   CheckpointProgress resumed;            // earlier sessions' work, included in info (RunOptions::resumed)
 };
 

@@ -1,40 +1,68 @@
-// Height-map files: plain text and NetCDF, read into the grid's row-major layout.
+// Height-map files: measured or generated topographies in instrument and array formats,
+// read into the grid's row-major layout (x fastest, row iy = 0 first).
 #pragma once
 
+#include <cstddef>
 #include <string>
+#include <string_view>
 
 #include "gfmd/core/fft.hpp"
 
 namespace gfmd {
 
-// A height map as read: nx x ny values, x fastest, and the physical size of the map.
+// A height map as a file gives it.
 struct HeightMap {
   int nx = 0, ny = 0;
-  double lx = 0.0, ly = 0.0;
-  RealField h;
+  double lx = 0.0, ly = 0.0;  // physical size from the file; 0 where the file gives none
+  RealField h;                // nx * ny heights; NaN where the file has no value (a missing point)
+  std::string format;         // "text", "netcdf", "x3p", "npy", "gwy" or "sur"
+  // "m" when the file states its units: lx, ly and h are then converted to metres.
+  // "" when it states none: the values are as written.
+  std::string unit;
+  std::size_t missing = 0;    // number of NaN points in h
+  std::string first_missing;  // where the first one is, in the file's terms ("line 3, value 2")
 };
 
-// Reads a height map (heights towards the body, see surface/topography.hpp). Files whose name ends in ".nc"
-// (any case) or that start with a NetCDF/HDF5 signature are read as NetCDF, everything else as text.
+// Reads a height map of any supported format, chosen by the file's signature (x3p: a zip
+// archive; gwy: "GWYP"; sur: "DIGITAL SURF"; npy: "\x93NUMPY"; NetCDF/HDF5) or, failing
+// that, by its extension (.nc; everything else is text). Heights are towards the body
+// (see surface/topography.hpp): larger = protrudes further. Missing points are returned
+// as NaN and counted; infinite values are an error.
 //
-// Text format: one data row per line, row iy (the y index, iy = 0 first) holding nx
-// whitespace-separated numbers for ix = 0..nx-1; every data row must have the same count.
-// Blank lines are ignored. A line whose first non-blank character is '#' is a comment,
-// except header lines "# lx = <number>" and "# ly = <number>" (':' may replace '=')
-// that give the physical size of the cell; they may appear anywhere, at most once each.
-// Values are heights in the convention above (larger = towards the body), used as is.
-//
-// NetCDF: a 2-D numeric variable named "topography" (else "height", else "heights") with
-// dimensions (y, x); CF packing attributes scale_factor/add_offset are applied; values
-// equal to the variable's fill value are rejected. Size: attribute "lx"/"ly" of the
-// variable, else global attribute, else 1-D coordinate variables (named like the
-// dimension, else "x"/"y") of uniform increasing spacing: L = spacing * count.
-//
-// lx, ly > 0 given here win over the file (a mismatch with the file is not an error);
-// lx, ly <= 0 take the size from the file, and it is an error if the file has none.
-// Every problem throws InputError(path, reason): missing/unreadable file, empty file,
-// ragged rows (line number and counts), non-numeric token (line number), NaN/Inf
-// (line number, or index for NetCDF), missing size, NetCDF errors (netcdf's message).
+// Formats and where their sizes and units come from:
+//  text   one data row per line (row iy), values separated by blanks, commas, semicolons
+//         or tabs (one separator per row); blank lines ignored; '#' starts a comment, except
+//         header lines "# lx = <number> [unit]", "# ly = ...", "# unit = <unit>" (the unit of
+//         the heights, and of lx/ly when they name none); ':' may replace '='. A value
+//         "nan" (any case) is a missing point; an empty value between separators is an error.
+//  netcdf a 2-D numeric variable "topography" (else "height", else "heights"), dims (y, x);
+//         scale_factor/add_offset applied; the fill value marks missing points; size from
+//         attributes lx/ly (of the variable, else global) or uniform 1-D coordinates; unit
+//         from the variable's "units" attribute (and the coordinates' when present).
+//  x3p    ISO 25178-72: main.xml (Record1 axes: CX, CY increments in metres; Record3 data
+//         link to bindata/data.bin or inline <DataList>; Z data type I, L, F or D with the
+//         Z axis increment and offset); NaN (F, D) or an absent <Datum> marks missing points.
+//  npy    NumPy array file, 2-D, C or Fortran order, float32/64 or int8..64 of either
+//         byte order; no size, no unit.
+//  gwy    Gwyddion: the first channel (/0/data GwyDataField): xres, yres, xreal, yreal, and
+//         the SI units of x/y and z (si_unit_xy, si_unit_z) with their power of ten.
+//  sur    Digital Surf: a single surface object; point spacings, their units and the z
+//         unit and scale from the 512-byte header; the no-data value marks missing points.
+// Every problem throws InputError(path, reason) with the line, offset or index and a short
+// excerpt: unreadable, truncated or malformed files, dimensions out of range (checked before
+// any allocation: at most 65536 points per side and 2^28 in all), NaN where a format has
+// no missing points, unknown units.
+HeightMap read_height_file(const std::string& path);
+
+// Metres per unit of a length unit as files and cases write it: m, cm, mm, um (also µm, in
+// either Unicode spelling, and micron), nm, pm, A (also Å, angstrom); 0 for anything else.
+double metres_per_unit(std::string_view unit);
+
+// The reader as a height field for a grid: read_height_file, then the size rules:
+// lx, ly > 0 given here win over the file (a mismatch is not an error); lx, ly <= 0 take the
+// size from the file, and it is an error if the file has none. Missing points are an error
+// here (the count and the first one named). Values are used as written or, where the file
+// states units, in metres.
 HeightMap read_height_map(const std::string& path, double lx, double ly);
 
 }  // namespace gfmd
