@@ -229,7 +229,10 @@ HeightMap read_gwy(const std::string& path) {
   }
   if (data.empty())
     r.fail_at(top.at, "the file has no image channel (no '/N/data' GwyDataField in its GwyContainer)");
-  const auto& [channel, f] = *data.begin();
+  // Named, not a structured binding: clang 14 (the sanitizer and fuzz builds) cannot capture
+  // one in the lambdas below.
+  const auto& channel = data.begin()->first;
+  const auto& f = data.begin()->second;
   const Field* mask = masks.count(channel) ? &masks.at(channel) : nullptr;
   if (mask && (mask->xres != f.xres || mask->yres != f.yres))
     r.fail_at(mask->at, "the mask '" + mask->key + "' is " + std::to_string(mask->xres) + " x " +
