@@ -276,7 +276,10 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     }
     for (double& c : col) c /= ny;  // = column total / ly
     for (double& r : row) r /= nx;  // = row total / lx
-    const double scale = std::max(std::abs(mqx), std::abs(mqy));
+    // Without a path through the cell the current is zero up to round-off: judged against the
+    // current of a uniform film of the mean gap instead of against that round-off.
+    const double film = res.mean_gap * res.mean_gap * res.mean_gap;
+    const double scale = std::max(std::abs(mqx), std::abs(mqy)) + (res.percolates ? 0.0 : film);
     double dev = 0.0;
     for (double c : col) dev = std::max(dev, std::abs(c - mqx));
     for (double r : row) dev = std::max(dev, std::abs(r - mqy));

@@ -116,7 +116,9 @@ struct FlowResult {
   // x-faces (cross-section perpendicular to x) and through every row of y-faces.
   // Reported is max(max_col |F_col - <F_col>| / ly, max_row |F_row - <F_row>| / lx) / S,
   // S = max(|<F_col>| / ly, |<F_row>| / lx) (the larger mean current density), so that a
-  // component with (nearly) zero mean flow is judged relative to the main flow;
+  // component with (nearly) zero mean flow is judged relative to the main flow; in a
+  // direction that does not percolate S also adds <g>^3 (the current of a uniform film of
+  // the mean gap), so that round-off currents are not judged against themselves;
   // 0 if there is no flow at all.
   double conservation_error = 0.0;
   int iterations = 0;  // PCG iterations of the linear solve (0 if nothing to solve)
