@@ -23,6 +23,7 @@
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/io/height_map.hpp"
+#include "gfmd/studies/curve.hpp"
 #include "gfmd/studies/ensemble.hpp"
 #include "gfmd/studies/percolation.hpp"
 #include "gfmd/studies/sweep.hpp"
@@ -341,6 +342,20 @@ py::object percolation_case(const std::string& case_path, const std::string& dir
   }));
 }
 
+py::object curve_case(const std::string& case_path, const std::vector<double>& pressures,
+                      const std::vector<std::string>& set, const std::string& dir) {
+  const std::vector<double> ps = gfmd::curve_pressures(pressures);
+  const gfmd::Config cfg = gfmd::curve_config(case_path, set, ps);
+  return json_to_py(interruptible([&](const std::function<bool()>& stop) {
+    const gfmd::DirectoryLock lock(dir);
+    const gfmd::DirectoryLock points_lock((std::filesystem::path(dir) / "points").string());
+    gfmd::CurveOptions co;
+    co.sweep.overrides = set;
+    co.sweep.stop_request = stop;
+    return gfmd::run_curve(case_path, cfg, dir, co);
+  }));
+}
+
 py::object ensemble_case(const std::string& case_path, int first, int last,
                          const std::vector<std::string>& set, const std::string& dir) {
   gfmd::EnsembleOptions eo;
@@ -520,6 +535,7 @@ PYBIND11_MODULE(_core, m) {
         py::arg("output"));
   m.def("percolation_case", &percolation_case, py::arg("case"), py::arg("direction"), py::arg("set"),
         py::arg("area_tolerance"), py::arg("output"));
+  m.def("curve_case", &curve_case, py::arg("case"), py::arg("pressures"), py::arg("set"), py::arg("output"));
   m.def("ensemble_case", &ensemble_case, py::arg("case"), py::arg("first_seed"), py::arg("last_seed"),
         py::arg("set"), py::arg("output"));
 }

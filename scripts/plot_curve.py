@@ -65,6 +65,7 @@ def main():
         with open(meta_path) as f:
             meta = json.load(f)
     perc = meta.get("percolation", {})
+    unit = meta.get("input_first_point", {}).get("grid", {}).get("unit") or "length"
     head = list(rows[0].keys())
     tags = [c[len("conductivity_"):] for c in head if c.startswith("conductivity_")]
 
@@ -82,7 +83,7 @@ def main():
     gaps = [b for _, b in xy]
     if len(gaps) > 1 and min(gaps) > 0 and max(gaps) / min(gaps) > 50:
         g_ax.set_yscale("log")
-    g_ax.set_ylabel(r"mean gap $\langle g\rangle$ (length)")
+    g_ax.set_ylabel(r"mean gap $\langle g\rangle$ (" + unit + ")")
     g_ax.set_title("mean gap", fontsize=9)
 
     mu = pairs(p, column(rows, "friction_coefficient"))
@@ -120,7 +121,7 @@ def main():
                          label=f"flow along {t} stops, p = {d['pressure']:.3g}")
     if positive:
         k_ax.set_yscale("log")
-    k_ax.set_ylabel(r"leakage: conductivity $K_\mathrm{eff}$ (length$^3$)")
+    k_ax.set_ylabel(r"leakage: conductivity $K_\mathrm{eff}$ (" + unit + "$^3$)")
     k_ax.set_title("leakage (Reynolds flow through the gap)", fontsize=9)
 
     for ax in axes.flat:

@@ -17,7 +17,7 @@ arrays of shape (ny, nx): row iy is y = iy * ly / ny, column ix is x = ix * lx /
 Case files work as with the command line: gfmd.run("case.toml", set=["grid.nx=512"]).
 """
 from ._core import InputError, SolveError, __version__
-from ._api import ElasticBody, Result, Topography, ensemble, percolation, run, run_toml, solve, study, sweep
+from ._api import ElasticBody, Result, Topography, curve, ensemble, percolation, run, run_toml, solve, study, sweep
 
 __all__ = [
     "ElasticBody",
@@ -26,6 +26,7 @@ __all__ = [
     "SolveError",
     "Topography",
     "__version__",
+    "curve",
     "ensemble",
     "percolation",
     "run",

@@ -465,6 +465,18 @@ def percolation(case: str, direction: str = "x", set: Iterable[str] = (), area_t
                                   str(output))
 
 
+def curve(case: str, pressures, output: str, set: Iterable[str] = ()) -> dict:
+    """Load curves as `gfmd curve`: the case solved at each mean pressure (/E*, sorted, warm
+    started, leakage on) into output/points/; writes output/curve.csv and curve.json (the
+    figure curve.png is drawn by `gfmd curve`) and returns curve.json (rows under "points",
+    the percolation threshold under "percolation")."""
+    try:
+        ps = [float(p) for p in pressures]
+    except (TypeError, ValueError):
+        raise InputError(f"pressures: a list of numbers (got {pressures!r})") from None
+    return _core.curve_case(str(case), ps, list(set), str(output))
+
+
 def ensemble(case: str, output: str, seeds=(0, 7), set: Iterable[str] = ()) -> dict:
     """Flow over roughness seeds seeds[0]..seeds[1] (inclusive) as `gfmd ensemble --seeds A..B`,
     into output/seed_N/; returns ensemble.json (per seed, mean, spread, Bruggeman value)."""
