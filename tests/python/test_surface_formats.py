@@ -328,3 +328,61 @@ def test_case_file_runs_a_measured_map(tmp_path):
                        capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     assert "not periodic" in r.stderr
+
+
+def test_readme_round_trip_with_the_shipped_map(tmp_path):
+    """The README's "Bring your own surface" example: the shipped x3p is what its generator
+    makes, and `gfmd run examples/measured_x3p.toml` prepares it as the README says and writes
+    the analysis."""
+    root = os.path.join(os.path.dirname(__file__), "..", "..")
+    shipped = os.path.join(root, "examples", "surfaces", "ground_steel.x3p")
+    env = dict(os.environ)
+    import shutil
+    shutil.copy(os.path.join(root, "examples", "surfaces", "make_ground_steel.py"), tmp_path)
+    gen = tmp_path / "make_ground_steel.py"
+    gen.write_text(gen.read_text().replace('os.path.join(here, "..", "..", "tests", "python")',
+                                           repr(os.path.abspath(os.path.dirname(__file__)))))
+    subprocess.run(["/usr/bin/python3", str(gen)], check=True, capture_output=True, env=env)
+    a, b = _core.read_height_file(shipped), _core.read_height_file(str(tmp_path / "ground_steel.x3p"))
+    assert a["missing"] == b["missing"] == 37
+    assert np.array_equal(np.isnan(a["h"]), np.isnan(b["h"])) and np.allclose(a["h"], b["h"], equal_nan=True,
+                                                                              rtol=0, atol=0)
+    out = tmp_path / "x3p"
+    r = subprocess.run([GFMD, "run", os.path.join(root, "examples", "measured_x3p.toml"), "-o", str(out), "-q",
+                        "--set", "output.png=false"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    s = json.loads((out / "summary.json").read_text())
+    pre = s["topography"]["preprocessing"]
+    assert pre["missing"]["points"] == 37 and pre["grid_points"] == [512, 512] and pre["unit_factor"] == 1e6
+    assert pre["detrend"]["removed_slope_x"] == pytest.approx(1.93e-3, rel=0.01)  # the 2 mrad written
+    an = s["analysis"]
+    assert an["patches"]["count"] > 100 and not an["patches"]["percolating"]
+    assert 0 < an["gap"]["median"] < an["gap"]["max"] and 0 < an["pressure"]["median"] < an["pressure"]["p90"]
+    assert 0 < an["spectrum"]["hurst"] < 1
+    for name in ("patches.csv", "distributions.csv", "spectrum.csv", "bands.csv", "flow.json"):
+        assert (out / name).is_file(), name
+    rows = (out / "patches.csv").read_text().splitlines()
+    assert len(rows) == an["patches"]["count"] + 1
+    areas = [float(x.split(",")[1]) for x in rows[1:]]
+    assert areas == sorted(areas, reverse=True) and areas[0] == pytest.approx(an["patches"]["largest_area"])
+    assert sum(areas) == pytest.approx(s["relative_contact_area"] * 256.0 ** 2, rel=1e-12)
+
+
+def test_python_curve_matches_the_command(tmp_path):
+    """gfmd.curve gives the rows and threshold `gfmd curve` gives for the same case."""
+    root = os.path.join(os.path.dirname(__file__), "..", "..")
+    case = os.path.join(root, "examples", "eggcrate.toml")
+    sets = ["grid.nx=64", "output.fields=false"]
+    got = gfmd.curve(case, [0.1, 0.02, 0.05], str(tmp_path / "py"), set=sets)
+    cmd = [GFMD, "curve", case, "--pressures", "0.02,0.05,0.1", "-o", str(tmp_path / "cli"), "-q", "--no-png"]
+    for s in sets:
+        cmd += ["--set", s]
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    want = json.loads((tmp_path / "cli" / "curve.json").read_text())
+    assert got["pressures"] == [0.02, 0.05, 0.1]
+    assert (tmp_path / "py" / "curve.csv").read_text() == (tmp_path / "cli" / "curve.csv").read_text()
+    assert got["percolation"]["status"] == want["percolation"]["status"]
+    with pytest.raises(gfmd.InputError, match="pressures"):
+        gfmd.curve(case, [0.1, -1], str(tmp_path / "bad"))
+    assert not (tmp_path / "bad").exists()
