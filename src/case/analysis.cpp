@@ -79,7 +79,9 @@ nlohmann::json analysis_json(const RunAnalysis& a, const Grid& g) {
   std::size_t singles = 0;
   for (const std::size_t c : p.cells) singles += c == 1 ? 1 : 0;
   patches["single_cell_patches"] = singles;
-  if (p.count > 0) patches["median_area"] = p.areas[p.count / 2];
+  if (p.count > 0)  // areas are sorted descending
+    patches["median_area"] =
+        p.count % 2 ? p.areas[p.count / 2] : 0.5 * (p.areas[p.count / 2 - 1] + p.areas[p.count / 2]);
   nlohmann::json j = {{"patches", patches},
                       {"gap", histogram_json(a.gap)},
                       {"pressure", histogram_json(a.pressure)},

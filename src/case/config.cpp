@@ -367,7 +367,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
         MapOptions mo = map_options(c);
         const double k = in.periodize == "none" ? 1.0 : 2.0;  // the cell holds the map k times per side
         mo.lx = grid_lx ? c.grid.lx / k : 0.0;
-        mo.ly = grid_ly ? c.grid.ly / k : (grid_lx ? c.grid.lx / k : 0.0);
+        mo.ly = grid_ly ? c.grid.ly / k : 0.0;  // the file's ly, else lx ny / nx (load_height_map)
         mo.nx = mo.ny = 0;
         const Topography t = in_section("indenter", [&] { return load_height_map(in.path, mo); });
         if (!grid_nx) c.grid.nx = t.grid.nx;
@@ -375,7 +375,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
         if (c.grid.nx < 2 || c.grid.ny < 2 || c.grid.nx > (1 << 16) || c.grid.ny > (1 << 16))
           ind.error("path", "the height map must have 2 to 65536 points along x and y");
         if (!grid_lx) c.grid.lx = t.grid.lx;
-        if (!grid_ly) c.grid.ly = grid_lx ? c.grid.lx : t.grid.ly;
+        if (!grid_ly) c.grid.ly = t.grid.ly;
         if (!(c.grid.lx >= kMinLength && c.grid.lx <= kMaxLength && c.grid.ly >= kMinLength &&
               c.grid.ly <= kMaxLength))
           ind.error("path", "the size of the height map must lie in [1e-30, 1e30]");

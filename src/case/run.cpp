@@ -275,7 +275,28 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   r.observables = compute_observables(fft, r.topography, cfg.friction, r.fields, r.info);
   if (cfg.friction.coefficient > 0) r.derived = derived_fields(fft, cfg.friction, r.fields);
   if (r.info.converged) compute_stresses(r, fft, opts.keep_stress_fields);
-  if (r.info.converged && cfg.output.analysis) r.analysis = analyse_run(r.topography, r.fields);
+  if (r.info.converged && r.map_report && r.map_report->periodize == "pad") {
+    // The padding (every cell outside the map's corner quarter) must carry no load.
+    const Grid& g = cfg.grid;
+    double outside = 0.0, total = 0.0;
+    for (int iy = 0; iy < g.ny; ++iy)
+      for (int ix = 0; ix < g.nx; ++ix) {
+        const double p = r.fields.pressure[static_cast<std::size_t>(iy) * g.nx + ix];
+        total += p;
+        if (ix >= g.nx / 2 || iy >= g.ny / 2) outside += p;
+      }
+    if (outside > 0.0)
+      throw InputError(
+          "indenter.periodize",
+          "\"pad\": the padding around the map came into contact (" + format_number(100.0 * outside / total) +
+              " % of the load): the body's deformation at this load exceeds the pad's depth; use "
+              "periodize = \"mirror\"");
+  }
+  if (r.info.converged && cfg.output.analysis) {
+    r.analysis = analyse_run(r.topography, r.fields);
+    // A padded cell's spectrum is the pad's step, not the surface's: no Hurst fit.
+    if (r.map_report && r.map_report->periodize == "pad") r.analysis->rough = false;
+  }
   if (r.info.converged && cfg.flow.enabled) {
     r.leakage = compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance,
                                 cfg.flow.solver, opts.stop_request);

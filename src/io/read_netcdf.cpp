@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -82,10 +83,10 @@ class ClassicHeader {
       }
     for (const auto& v : vars) {
       if (!v.record) {
-        need = std::max(need, v.begin + v.size);
+        need = std::max(need, add(v.begin, v.size));
       } else if (!streaming && numrecs > 0) {
         const std::uint64_t rs = nrec == 1 ? v.size : recsize;
-        need = std::max(need, v.begin + (numrecs - 1) * rs + v.size);
+        need = std::max(need, add(add(v.begin, mul(numrecs - 1, rs)), v.size));
       }
     }
     return need;
@@ -105,6 +106,10 @@ class ClassicHeader {
   std::uint64_t u64() { return (u32() << 32) | u32(); }
   std::uint64_t count() { return wide_ ? u64() : u32(); }
   static std::uint64_t pad4(std::uint64_t n) { return (n + 3) / 4 * 4; }
+  std::uint64_t add(std::uint64_t a, std::uint64_t b) const {
+    if (a > std::numeric_limits<std::uint64_t>::max() - b) fail();
+    return a + b;
+  }
   std::uint64_t mul(std::uint64_t a, std::uint64_t b) const {
     if (b != 0 && a > std::numeric_limits<std::uint64_t>::max() / b) fail();
     return a * b;
@@ -166,7 +171,9 @@ void check_classic_not_truncated(const std::string& path) {
   if (ec) throw InputError(path, "cannot determine the file size: " + ec.message());
   // The header has no length field: parse the first 64 KiB, and the whole file if the
   // header is longer than that.
-  for (std::uint64_t chunk : {std::uint64_t{1} << 16, size}) {
+  // A header is at most 16 MiB here: longer ones (names of megabytes) are refused, not read whole.
+  constexpr std::uint64_t kMaxHeader = std::uint64_t{16} << 20;
+  for (std::uint64_t chunk : {std::uint64_t{1} << 16, kMaxHeader}) {
     std::ifstream in(path, std::ios::binary);
     std::vector<unsigned char> bytes(static_cast<std::size_t>(std::min(chunk, size)));
     in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
@@ -179,7 +186,9 @@ void check_classic_not_truncated(const std::string& path) {
                                    std::to_string(need) + " (" + nc_strerror(NC_ETRUNC) + ")");
       return;
     } catch (const ClassicHeader::NeedMore&) {
-      // read the whole file
+      if (chunk == kMaxHeader)
+        throw InputError(
+            path, "corrupt NetCDF header: longer than 16 MiB (" + std::string(nc_strerror(NC_ENOTNC)) + ")");
     }
   }
 }
@@ -322,25 +331,59 @@ HeightMap read_netcdf_map(const std::string& path) {
   t.h.resize(nx * ny);
   f.check(nc_get_var_double(f.id(), varid, t.h.data()), "NetCDF error while reading variable " + varname);
 
-  // Fill value (missing data) for floating-point variables.
+  // Missing data: the fill value (the _FillValue attribute or the type's default) of any
+  // numeric type, and a CF "missing_value" attribute, compared before scaling.
   std::optional<double> fill;
-  if (type == NC_DOUBLE || type == NC_FLOAT) {
+  {
     int no_fill = 0;
-    if (type == NC_DOUBLE) {
-      double fv = 0.0;
-      if (nc_inq_var_fill(f.id(), varid, &no_fill, &fv) == NC_NOERR && !no_fill) fill = fv;
-    } else {
-      float fv = 0.0f;
-      if (nc_inq_var_fill(f.id(), varid, &no_fill, &fv) == NC_NOERR && !no_fill)
-        fill = static_cast<double>(fv);
+    alignas(8) unsigned char fv[8] = {};
+    if (nc_inq_var_fill(f.id(), varid, &no_fill, fv) == NC_NOERR && !no_fill) {
+      const auto as = [&fv]<typename T>(T) {
+        T v;
+        std::memcpy(&v, fv, sizeof v);
+        return static_cast<double>(v);
+      };
+      switch (type) {
+        case NC_BYTE:
+          fill = as(static_cast<signed char>(0));
+          break;
+        case NC_UBYTE:
+          fill = as(static_cast<unsigned char>(0));
+          break;
+        case NC_SHORT:
+          fill = as(static_cast<short>(0));
+          break;
+        case NC_USHORT:
+          fill = as(static_cast<unsigned short>(0));
+          break;
+        case NC_INT:
+          fill = as(0);
+          break;
+        case NC_UINT:
+          fill = as(0u);
+          break;
+        case NC_INT64:
+          fill = as(0LL);
+          break;
+        case NC_UINT64:
+          fill = as(0ULL);
+          break;
+        case NC_FLOAT:
+          fill = as(0.0f);
+          break;
+        default:
+          fill = as(0.0);
+          break;
+      }
     }
   }
+  const std::optional<double> missing_value = nc_scalar_att(f, varid, "missing_value");
   for (std::size_t i = 0; i < t.h.size(); ++i) {
     double& v = t.h[i];
     if (std::isinf(v))
       throw InputError(path, "infinite value in '" + varname + "' at (iy, ix) = (" + std::to_string(i / nx) +
                                  ", " + std::to_string(i % nx) + ")");
-    if (std::isnan(v) || (fill && v == *fill)) {
+    if (std::isnan(v) || (fill && v == *fill) || (missing_value && v == *missing_value)) {
       v = std::nan("");
       if (t.first_missing.empty())
         t.first_missing = "(iy, ix) = (" + std::to_string(i / nx) + ", " + std::to_string(i % nx) + ")";

@@ -146,7 +146,9 @@ HeightMap read_text_map(const std::string& path) {
           throw InputError(path, at_line() + "empty value " + std::to_string(count + 1) + " between '" +
                                      std::string(1, sep) + "' separators");
       }
-      ++count;
+      if (++count > kMaxMapSide)
+        throw InputError(path, at_line() + "more than " + std::to_string(kMaxMapSide) +
+                                   " values in a row: at most that many points per side can be read");
       double v = 0.0;
       const ParseStatus st = parse_double(tok, v);
       if (st == ParseStatus::NotNumber)
@@ -166,6 +168,9 @@ HeightMap read_text_map(const std::string& path) {
                                    " values (2 GiB of heights): too large to read");
       data.push_back(v);
     }
+    if (ny + 1 > kMaxMapSide)
+      throw InputError(path, at_line() + "more than " + std::to_string(kMaxMapSide) +
+                                 " data rows: at most that many points per side can be read");
     if (ny == 0) {
       nx = count;
       first_row_line = lineno;

@@ -256,9 +256,9 @@ HeightMap read_x3p(const std::string& path) {
       const std::string vname = text(valid);
       const long long vsize = zip.size(vname);
       const std::size_t vwant = (n + 7) / 8;
-      if (vsize < 0 || static_cast<std::size_t>(vsize) < vwant)
-        x.fail(valid, "the valid-points member '" + excerpt(vname) + "' is missing or shorter than " +
-                          std::to_string(vwant) + " bytes");
+      if (vsize < 0 || static_cast<std::size_t>(vsize) != vwant)
+        x.fail(valid, "the valid-points member '" + excerpt(vname) + "' is missing or not " +
+                          std::to_string(vwant) + " bytes long (one bit per point)");
       const std::string bits = zip.read(vname, static_cast<std::size_t>(vsize));
       for (std::size_t i = 0; i < n; ++i)
         if (!((static_cast<unsigned char>(bits[i / 8]) >> (i % 8)) & 1)) note_missing(i);

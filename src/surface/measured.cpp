@@ -7,6 +7,7 @@
 #include <complex>
 #include <cstdio>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -63,7 +64,7 @@ void fit_plane(const Grid& g, const RealField& h, double& a, double& b, double& 
 // Harmonic (Laplace) fill of the NaN points from their valid neighbours inside the map
 // (not across its edges): successive over-relaxation until the largest change is below
 // 1e-12 of the height range. Returns the sweeps used.
-int harmonic_fill(const Grid& g, RealField& h, double mean, double range) {
+int harmonic_fill(const std::string& path, const Grid& g, RealField& h, double mean, double range) {
   std::vector<std::size_t> holes;
   for (std::size_t i = 0; i < h.size(); ++i)
     if (std::isnan(h[i])) {
@@ -71,7 +72,10 @@ int harmonic_fill(const Grid& g, RealField& h, double mean, double range) {
       h[i] = mean;
     }
   const double tol = 1e-12 * std::max(range, std::numeric_limits<double>::min());
-  const double omega = 1.9;
+  // Over-relaxation near its optimum 2 / (1 + pi / w) for holes of width w ~ sqrt(count):
+  // sweeps grow like w, not w^2.
+  const double w = std::max(2.0, std::sqrt(static_cast<double>(holes.size())));
+  const double omega = 2.0 / (1.0 + std::numbers::pi / w);
   const int max_sweeps = 100000;
   for (int sweep = 1; sweep <= max_sweeps; ++sweep) {
     double change = 0.0;
@@ -89,9 +93,9 @@ int harmonic_fill(const Grid& g, RealField& h, double mean, double range) {
     }
     if (change <= tol) return sweep;
   }
-  throw InputError("missing",
+  throw InputError(path,
                    "the harmonic fill of " + std::to_string(holes.size()) +
-                       " missing points did not converge in 100000 sweeps; use missing = \"mean\"");
+                       " missing points did not converge in 100000 sweeps; use indenter.missing = \"mean\"");
 }
 
 // Root mean square jump across the cell's edges (last column to first, last row to first).
@@ -196,7 +200,7 @@ Topography load_height_map(const std::string& path, const MapOptions& o, MapRepo
   rep.crop = o.crop;
   if (o.crop[2] > 0 || o.crop[3] > 0) {
     const auto [x0, y0, cx, cy] = o.crop;
-    if (x0 < 0 || y0 < 0 || cx < 2 || cy < 2 || x0 + cx > m.nx || y0 + cy > m.ny)
+    if (x0 < 0 || y0 < 0 || cx < 2 || cy < 2 || cx > m.nx || cy > m.ny || x0 > m.nx - cx || y0 > m.ny - cy)
       throw ParameterError("crop", "[ix0, iy0, nx, ny] = [" + std::to_string(x0) + ", " + std::to_string(y0) +
                                        ", " + std::to_string(cx) + ", " + std::to_string(cy) +
                                        "] does not lie inside the map of " + std::to_string(m.nx) + " x " +
@@ -225,6 +229,13 @@ Topography load_height_map(const std::string& path, const MapOptions& o, MapRepo
   // Missing points and detrending, over the valid points.
   std::size_t missing = 0;
   std::string first = m.first_missing;
+  if (o.crop[2] > 0 || o.crop[3] > 0) {  // the first missing point inside the crop, in the file's indices
+    first.clear();
+    for (std::size_t i = 0; i < h.size() && first.empty(); ++i)
+      if (std::isnan(h[i]))
+        first = "(iy, ix) = (" + std::to_string(o.crop[1] + static_cast<long long>(i) / g.nx) + ", " +
+                std::to_string(o.crop[0] + static_cast<long long>(i) % g.nx) + ") of the file";
+  }
   for (const double v : h) missing += std::isnan(v) ? 1 : 0;
   rep.missing = o.missing;
   rep.missing_points = missing;
@@ -260,7 +271,7 @@ Topography load_height_map(const std::string& path, const MapOptions& o, MapRepo
       for (double& v : h)
         if (std::isnan(v)) v = mean;
     } else {
-      rep.fill_iterations = harmonic_fill(g, h, mean, hi - lo);
+      rep.fill_iterations = harmonic_fill(path, g, h, mean, hi - lo);
     }
   }
 
@@ -275,7 +286,12 @@ Topography load_height_map(const std::string& path, const MapOptions& o, MapRepo
                                             ") exceeds 65536 points per side; crop the map first");
     Grid d{2 * g.nx, 2 * g.ny, 2 * g.lx, 2 * g.ly};
     RealField p(d.size());
-    const double floor_value = before.min - (before.max - before.min);
+    if (4LL * g.nx * g.ny > (1LL << 28))
+      throw ParameterError("periodize", "the doubled map (" + std::to_string(2 * g.nx) + " x " +
+                                            std::to_string(2 * g.ny) +
+                                            ") exceeds 2^28 points; crop the map first");
+    // Far below the map (ten height ranges): the run checks that it never touches.
+    const double floor_value = before.min - 10.0 * (before.max - before.min);
     for (int iy = 0; iy < d.ny; ++iy)
       for (int ix = 0; ix < d.nx; ++ix) {
         const int sx = ix < g.nx ? ix : 2 * g.nx - 1 - ix, sy = iy < g.ny ? iy : 2 * g.ny - 1 - iy;
