@@ -14,6 +14,19 @@ def save(fig, base):
     plt.close(fig)
 
 
+def save_png(fig, path):
+    """Writes path as PNG (to a temporary name, then renamed; the temporary file is removed
+    if drawing fails) and closes fig."""
+    tmp = f"{path}.tmp.{os.getpid()}"
+    try:
+        fig.savefig(tmp, format="png")
+        os.replace(tmp, path)
+    finally:
+        plt.close(fig)
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
 def write_csv(path, head, rows):
     with open(path + ".tmp", "w", newline="") as fh:
         w = csv.writer(fh)

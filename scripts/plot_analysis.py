@@ -16,22 +16,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+import figure_io  # noqa: E402 (beside this script)
+
 
 def read_csv(path):
     with open(path, newline="") as fh:
         rows = list(csv.DictReader(fh))
     return rows
-
-
-def save_atomic(fig, path):
-    tmp = f"{path}.tmp.{os.getpid()}"
-    try:
-        fig.savefig(tmp, format="png")
-        os.replace(tmp, path)
-    finally:
-        plt.close(fig)
-        if os.path.exists(tmp):
-            os.remove(tmp)
 
 
 def main(d):
@@ -86,7 +77,7 @@ def main(d):
         ax.set_title(f"{name} distribution ({where}, {stats.get('samples', 0)} points)")
     fig.tight_layout()
     out = os.path.join(d, "analysis.png")
-    save_atomic(fig, out)
+    figure_io.save_png(fig, out)
     return out
 
 

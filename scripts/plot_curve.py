@@ -14,6 +14,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import figure_io  # noqa: E402 (beside this script)
+
 
 def number(text):
     """A CSV cell as a float (None when empty)."""
@@ -142,16 +144,11 @@ def main():
     fig.tight_layout()
     out = args.output or os.path.join(here, "curve.png")
     if args.pdf:
-        import figure_io  # noqa: E402 (beside this script)
-
         base = out[:-4] if out.endswith(".png") else out
         figure_io.save(fig, base)
         print(base + ".png")
         return
-    tmp = out + ".tmp.png"
-    fig.savefig(tmp)
-    os.replace(tmp, out)
-    plt.close(fig)
+    figure_io.save_png(fig, out)
     print(out)
 
 

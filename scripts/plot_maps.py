@@ -38,6 +38,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
+import figure_io  # noqa: E402 (beside this script)
+
 try:
     import tomllib
 except ImportError:  # Python < 3.11: the indenter type comes from summary.json then
@@ -223,17 +225,6 @@ def subtitle(summary):
     return ",  ".join(parts)
 
 
-def save_atomic(fig, path):
-    tmp = f"{path}.tmp.{os.getpid()}"
-    try:
-        fig.savefig(tmp, format="png")
-        os.replace(tmp, path)
-    finally:
-        plt.close(fig)
-        if os.path.exists(tmp):
-            os.remove(tmp)
-
-
 def figure(aspect):
     """A figure whose map axes have the data's aspect ratio (height / width) and a colour bar
     beside them, laid out by hand (a layout engine would double the drawing time)."""
@@ -292,7 +283,7 @@ def draw(path, view, values, title, label, cmap, kind, unit, contact, stick=None
     ax.set_xlabel(f"x{u}")
     ax.set_ylabel(f"y{u}")
     ax.set_title(title + (f"\n{note}" if note else ""), fontsize=9)
-    save_atomic(fig, path)
+    figure_io.save_png(fig, path)
 
 
 def fields_file(d, given=None):
