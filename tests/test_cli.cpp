@@ -15,23 +15,10 @@
 #include "test_util.hpp"
 
 namespace fs = std::filesystem;
+using gfmd::testing::Outcome;
+using gfmd::testing::run_gfmd;
 
 namespace {
-
-struct Outcome {
-  int code;
-  std::string output;
-};
-
-Outcome run_gfmd(const std::string& args) {
-  const std::string cmd = std::string(GFMD_EXE) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (pipe && fgets(buf.data(), buf.size(), pipe)) out += buf.data();
-  const int status = pipe ? pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
 
 fs::path scratch(const std::string& name) { return gfmd::testing::scratch_dir("cli_test", name); }
 using gfmd::testing::write_file;

@@ -18,7 +18,9 @@
 #include "test_util.hpp"
 
 namespace fs = std::filesystem;
+using gfmd::testing::Outcome;
 using gfmd::testing::read_file;
+using gfmd::testing::run_gfmd;
 using gfmd::testing::write_file;
 
 namespace {
@@ -73,21 +75,6 @@ Table read_csv(const fs::path& p) {
 }
 
 nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(read_file(p)); }
-
-struct Outcome {
-  int code;
-  std::string output;
-};
-
-Outcome run_gfmd(const std::string& args) {
-  const std::string cmd = std::string("OMP_WAIT_POLICY=PASSIVE ") + GFMD_EXE + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (pipe && fgets(buf.data(), buf.size(), pipe)) out += buf.data();
-  const int status = pipe ? pclose(pipe) : -1;
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
 
 }  // namespace
 
