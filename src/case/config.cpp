@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 #include <toml.hpp>
+#include <tuple>
 
 #include "config_detail.hpp"
 #include "gfmd/core/backend.hpp"
@@ -348,13 +349,11 @@ Config build(const toml::value& root, const std::string& name, const std::string
         ind.error("crop",
                   "must be [ix0, iy0, nx, ny]: four integers in [0, 65536] (points of the file)" + where(*v));
     }
-    const std::pair<const char*, std::string> choices[] = {
-        {"missing", in.missing}, {"detrend", in.detrend}, {"periodize", in.periodize}};
-    for (const auto& [key, value] : choices) {
-      const std::vector<std::string> ok =
-          std::string(key) == "missing"   ? std::vector<std::string>{"error", "mean", "interpolate"}
-          : std::string(key) == "detrend" ? std::vector<std::string>{"none", "mean", "plane"}
-                                          : std::vector<std::string>{"none", "mirror", "pad"};
+    const std::tuple<const char*, const std::string&, const std::vector<std::string>&> choices[] = {
+        {"missing", in.missing, kMissingMethods},
+        {"detrend", in.detrend, kDetrendMethods},
+        {"periodize", in.periodize, kPeriodizeMethods}};
+    for (const auto& [key, value, ok] : choices) {
       if (std::find(ok.begin(), ok.end(), value) == ok.end())
         ind.error(key, "\"" + value + "\" is not one of \"" + ok[0] + "\", \"" + ok[1] + "\", \"" + ok[2] +
                            "\"" + did_you_mean(value, ok) + ind.at(key));

@@ -280,13 +280,16 @@ HeightMap read_height_file(const std::string& path) {
   return m;
 }
 
+std::string missing_points_message(std::size_t count, const std::string& first) {
+  return std::to_string(count) + " point" + (count == 1 ? " has" : "s have") +
+         " no value (NaN or the file's no-data marker)" +
+         (first.empty() ? std::string() : ", the first at " + first) +
+         "; set indenter.missing = \"interpolate\" or \"mean\" to fill them";
+}
+
 HeightMap read_height_map(const std::string& path, double lx, double ly) {
   HeightMap m = read_height_file(path);
-  if (m.missing > 0)
-    throw InputError(path, std::to_string(m.missing) + " point" + (m.missing == 1 ? " has" : "s have") +
-                               " no value (NaN or the file's no-data marker), the first at " +
-                               m.first_missing +
-                               "; set indenter.missing = \"interpolate\" or \"mean\" to fill them");
+  if (m.missing > 0) throw InputError(path, missing_points_message(m.missing, m.first_missing));
   const std::string how = size_source(m.format);
   m.lx = choose_size(path, "lx", lx, m.lx, how);
   m.ly = choose_size(path, "ly", ly, m.ly, how);

@@ -140,23 +140,26 @@ RealField resample(const Grid& from, const RealField& h, const Grid& to) {
   return out;
 }
 
-bool one_of(const std::string& v, std::initializer_list<const char*> allowed) {
-  for (const char* a : allowed)
-    if (v == a) return true;
-  return false;
+// statistics() of a field held here: lent to a Topography and taken back, not copied.
+TopographyStats stats_of(const Grid& g, RealField& h) {
+  Topography t{g, std::move(h), "file"};
+  const TopographyStats s = statistics(t);
+  h = std::move(t.h);
+  return s;
+}
+
+void check_choice(const char* name, const std::string& v, const std::vector<std::string>& allowed) {
+  if (std::find(allowed.begin(), allowed.end(), v) != allowed.end()) return;
+  throw ParameterError(name, "must be \"" + allowed[0] + "\", \"" + allowed[1] + "\" or \"" + allowed[2] +
+                                 "\" (got \"" + v + "\")");
 }
 
 }  // namespace
 
 Topography load_height_map(const std::string& path, const MapOptions& o, MapReport* report) {
-  if (!one_of(o.missing, {"error", "mean", "interpolate"}))
-    throw ParameterError("missing",
-                         "must be \"error\", \"mean\" or \"interpolate\" (got \"" + o.missing + "\")");
-  if (!one_of(o.detrend, {"none", "mean", "plane"}))
-    throw ParameterError("detrend", "must be \"none\", \"mean\" or \"plane\" (got \"" + o.detrend + "\")");
-  if (!one_of(o.periodize, {"none", "mirror", "pad"}))
-    throw ParameterError("periodize",
-                         "must be \"none\", \"mirror\" or \"pad\" (got \"" + o.periodize + "\")");
+  check_choice("missing", o.missing, kMissingMethods);
+  check_choice("detrend", o.detrend, kDetrendMethods);
+  check_choice("periodize", o.periodize, kPeriodizeMethods);
   for (const auto& [key, u] : {std::pair{"unit", o.file_unit}, std::pair{"case_unit", o.case_unit}})
     if (!u.empty() && metres_per_unit(u) == 0.0)
       throw ParameterError(key, "unknown length unit \"" + u + "\" (m, mm, um, nm, pm or A)");
@@ -240,11 +243,7 @@ Topography load_height_map(const std::string& path, const MapOptions& o, MapRepo
   rep.missing = o.missing;
   rep.missing_points = missing;
   if (missing == h.size()) throw InputError(path, "every point of the map is missing");
-  if (missing > 0 && o.missing == "error")
-    throw InputError(path, std::to_string(missing) + " point" + (missing == 1 ? " has" : "s have") +
-                               " no value (NaN or the file's no-data marker)" +
-                               (first.empty() ? std::string() : ", the first at " + first) +
-                               "; set indenter.missing = \"interpolate\" or \"mean\" to fill them");
+  if (missing > 0 && o.missing == "error") throw InputError(path, missing_points_message(missing, first));
   rep.detrend = o.detrend;
   if (o.detrend != "none") {
     double a = 0, b = 0, c = 0;
@@ -276,7 +275,7 @@ Topography load_height_map(const std::string& path, const MapOptions& o, MapRepo
   }
 
   // Periodicity.
-  const TopographyStats before = statistics(Topography{g, h, "file"});
+  const TopographyStats before = stats_of(g, h);
   rep.edge_mismatch = before.rms_height > 0 ? edge_jump(g, h) / before.rms_height : 0.0;
   rep.periodize = o.periodize;
   if (o.periodize == "mirror" || o.periodize == "pad") {
@@ -316,8 +315,8 @@ Topography load_height_map(const std::string& path, const MapOptions& o, MapRepo
     const Grid to{nx, ny, g.lx, g.ly};
     RealField r = resample(g, h, to);
     if (nx < g.nx || ny < g.ny) {
-      const double g2 = std::pow(statistics(Topography{g, h, "file"}).rms_gradient, 2);
-      const double r2 = std::pow(statistics(Topography{to, r, "file"}).rms_gradient, 2);
+      const double g2 = std::pow(stats_of(g, h).rms_gradient, 2);
+      const double r2 = std::pow(stats_of(to, r).rms_gradient, 2);
       rep.lost_gradient_fraction = g2 > 0 ? std::max(0.0, 1.0 - r2 / g2) : 0.0;
       if (rep.lost_gradient_fraction > 0.01)
         rep.warnings.push_back("resampling " + std::to_string(g.nx) + " x " + std::to_string(g.ny) +

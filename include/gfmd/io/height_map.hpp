@@ -54,6 +54,10 @@ struct HeightMap {
 // no missing points, unknown units.
 HeightMap read_height_file(const std::string& path);
 
+// Why a map with missing points cannot be solved as it is: their count, the first one
+// (omitted when `first` is empty) and the indenter.missing values that fill them.
+std::string missing_points_message(std::size_t count, const std::string& first);
+
 // Metres per unit of a length unit as files and cases write it: m, cm, mm, um (also µm, in
 // either Unicode spelling, and micron), nm, pm, A (also Å, angstrom); 0 for anything else.
 double metres_per_unit(std::string_view unit);

@@ -11,6 +11,11 @@
 
 namespace gfmd {
 
+// The values MapOptions::missing, detrend and periodize may take (the case file's checks use them too).
+inline const std::vector<std::string> kMissingMethods{"error", "mean", "interpolate"};
+inline const std::vector<std::string> kDetrendMethods{"none", "mean", "plane"};
+inline const std::vector<std::string> kPeriodizeMethods{"none", "mirror", "pad"};
+
 struct MapOptions {
   // The case's length unit ("" = none named). With a file that states its units the map is
   // converted to it (metres when none is named); with a file that states none, `file_unit`
