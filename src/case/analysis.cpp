@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <numeric>
 #include <sstream>
 
 namespace gfmd {
@@ -64,21 +65,17 @@ RunAnalysis analyse_run(const Topography& topo, const ContactFields& f) {
 nlohmann::json analysis_json(const RunAnalysis& a, const Grid& g) {
   const PatchStats& p = a.patches;
   const double cell = g.lx * g.ly;
+  const double perimeter = std::accumulate(p.perimeters.begin(), p.perimeters.end(), 0.0);
+  const auto singles = std::count(p.cells.begin(), p.cells.end(), std::size_t{1});
   nlohmann::json patches = {{"count", p.count},
                             {"largest_area", p.largest_area},
                             {"largest_area_fraction", cell > 0 ? p.largest_area / cell : 0.0},
                             {"mean_area", p.count ? p.contact_area / static_cast<double>(p.count) : 0.0},
-                            {"total_perimeter", 0.0},
+                            {"total_perimeter", perimeter},
                             {"percolating", p.percolating},
                             {"percolates_x", p.percolates_x},
                             {"percolates_y", p.percolates_y},
-                            {"single_cell_patches", 0}};
-  double perimeter = 0.0;
-  for (const double v : p.perimeters) perimeter += v;
-  patches["total_perimeter"] = perimeter;
-  std::size_t singles = 0;
-  for (const std::size_t c : p.cells) singles += c == 1 ? 1 : 0;
-  patches["single_cell_patches"] = singles;
+                            {"single_cell_patches", singles}};
   if (p.count > 0)  // areas are sorted descending
     patches["median_area"] =
         p.count % 2 ? p.areas[p.count / 2] : 0.5 * (p.areas[p.count / 2 - 1] + p.areas[p.count / 2]);
