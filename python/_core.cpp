@@ -518,13 +518,6 @@ PYBIND11_MODULE(_core, m) {
       py::arg("path"), py::arg("case_unit"), py::arg("unit"), py::arg("lx"), py::arg("ly"), py::arg("crop"),
       py::arg("missing"), py::arg("detrend"), py::arg("periodize"), py::arg("nx"), py::arg("ny"));
   m.def(
-      "read_topography",
-      [](const std::string& path, double lx, double ly) {
-        const gfmd::Topography t = gfmd::read_topography(path, lx, ly);
-        return py::make_tuple(to_array(t.grid, t.h), t.grid.lx, t.grid.ly);
-      },
-      py::arg("path"), py::arg("lx"), py::arg("ly"));
-  m.def(
       "statistics",
       [](const py::array_t<double, py::array::c_style>& h, double lx, double ly) {
         return json_to_py(
