@@ -13,6 +13,7 @@ PKGS=(
   libtoml11-dev           # case files
   libgtest-dev libgmock-dev libbenchmark-dev
   libhypre-dev            # Reynolds flow linear solves
+  libopenmpi-dev openmpi-bin libfftw3-mpi-dev   # distributed runs: mpirun, FFTW-MPI (docs/mpi.md)
   python3-numpy python3-matplotlib python3-netcdf4 python3-pytest pybind11-dev python3-dev
   python3-pip python3-setuptools python3-wheel python3-tqdm   # pip install . (offline) and progress bars
   clang-14 libclang-rt-14-dev libomp-14-dev   # fuzzing (libFuzzer) and sanitizers

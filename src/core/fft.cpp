@@ -19,6 +19,7 @@
 
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/files.hpp"
+#include "gfmd/core/mpi.hpp"
 
 namespace gfmd {
 
@@ -191,6 +192,11 @@ class FftwEngine final : public FftEngine {
 }  // namespace
 
 std::unique_ptr<FftEngine> make_fftw_engine(const Grid& grid, Planner planner, int threads) {
+  if (grid.is_slab()) {
+    if (g_threads == 0) set_threads(0);
+    std::lock_guard lock(planner_mutex());
+    return mpi::make_fftw_mpi_engine(grid, threads);
+  }
   return std::make_unique<FftwEngine>(grid, planner, threads);
 }
 

@@ -1,15 +1,19 @@
 // Deterministic reductions over the current backend: each row is summed serially, the row
 // sums are added in row order, so the result does not depend on the backend or on the
-// number of its workers.
+// number of its workers. On a slab (a distributed run) the row sums of every process are
+// gathered first (mpi::all_rows) and every process adds all ny rows in the same order: the
+// same bits as one process.
 #pragma once
 
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/grid.hpp"
+#include "gfmd/core/mpi.hpp"
 
 namespace gfmd {
 
@@ -18,16 +22,19 @@ namespace gfmd {
 // depend on the number of threads.
 template <std::size_t K, class F>
 std::array<double, K> grid_sums(const Grid& g, F&& f) {
-  std::vector<std::array<double, K>> rows(static_cast<std::size_t>(g.ny));
-  for_rows(g.ny, [&](int iy) {
+  const int rows = g.rows();
+  std::vector<double> part(static_cast<std::size_t>(rows) * K);
+  for_rows(rows, [&](int iy) {
     std::array<double, K> s{};
     const std::size_t base = static_cast<std::size_t>(iy) * g.nx;
     for (int ix = 0; ix < g.nx; ++ix) f(base + ix, s);
-    rows[iy] = s;
+    std::copy(s.begin(), s.end(), part.begin() + static_cast<std::ptrdiff_t>(iy * K));
   });
+  if (g.is_slab()) part = mpi::all_rows(g, part, K);
   std::array<double, K> total{};
-  for (const auto& r : rows)
-    for (std::size_t k = 0; k < K; ++k) total[k] += r[k];
+  const std::size_t all = part.size() / K;
+  for (std::size_t r = 0; r < all; ++r)
+    for (std::size_t k = 0; k < K; ++k) total[k] += part[r * K + k];
   return total;
 }
 
@@ -40,15 +47,18 @@ double grid_sum(const Grid& g, F&& f) {
 // As grid_sums with a run-time number k of sums: f(i, acc) adds into acc[0..k-1].
 template <class F>
 std::vector<double> grid_sums(const Grid& g, std::size_t k, F&& f) {
-  std::vector<double> rows(static_cast<std::size_t>(g.ny) * k, 0.0);
-  for_rows(g.ny, [&](int iy) {
+  const int rows_here = g.rows();
+  std::vector<double> rows(static_cast<std::size_t>(rows_here) * k, 0.0);
+  for_rows(rows_here, [&](int iy) {
     double* s = rows.data() + static_cast<std::size_t>(iy) * k;
     const std::size_t base = static_cast<std::size_t>(iy) * g.nx;
     for (int ix = 0; ix < g.nx; ++ix) f(base + ix, s);
   });
+  if (g.is_slab()) rows = mpi::all_rows(g, rows, k);
   std::vector<double> total(k, 0.0);
-  for (int iy = 0; iy < g.ny; ++iy)
-    for (std::size_t j = 0; j < k; ++j) total[j] += rows[static_cast<std::size_t>(iy) * k + j];
+  const std::size_t all = k > 0 ? rows.size() / k : 0;
+  for (std::size_t iy = 0; iy < all; ++iy)
+    for (std::size_t j = 0; j < k; ++j) total[j] += rows[iy * k + j];
   return total;
 }
 
@@ -71,11 +81,36 @@ std::vector<double> range_sums(std::size_t len, std::size_t k, F&& f) {
   return total;
 }
 
-// max over all points of f(i) (deterministic regardless of threads).
+// Sums over the entries of a list whose entries belong to grid rows (a list of grid points):
+// row r's entries are order[start[r]] .. order[start[r + 1] - 1], in list order, for the rows
+// held here (start has g.rows() + 1 items). Each row's entries are summed serially and the
+// row sums added in row order (gathered over the processes on a slab), so the results depend
+// neither on the threads nor on the processes, as long as each row lists the same entries
+// in the same order. f(e, acc) adds entry e's contributions into acc[0..k-1].
+template <class F>
+std::vector<double> row_grouped_sums(const Grid& g, const std::vector<std::uint32_t>& start,
+                                     const std::vector<std::uint32_t>& order, std::size_t k, F&& f) {
+  const int rows_here = g.rows();
+  std::vector<double> rows(static_cast<std::size_t>(rows_here) * k, 0.0);
+  for_rows(rows_here, [&](int r) {
+    double* s = rows.data() + static_cast<std::size_t>(r) * k;
+    for (std::uint32_t j = start[static_cast<std::size_t>(r)]; j < start[static_cast<std::size_t>(r) + 1];
+         ++j)
+      f(static_cast<std::size_t>(order[j]), s);
+  });
+  if (g.is_slab()) rows = mpi::all_rows(g, rows, k);
+  std::vector<double> total(k, 0.0);
+  const std::size_t all = k > 0 ? rows.size() / k : 0;
+  for (std::size_t r = 0; r < all; ++r)
+    for (std::size_t j = 0; j < k; ++j) total[j] += rows[r * k + j];
+  return total;
+}
+
+// max over all points of f(i) (deterministic regardless of threads and processes).
 template <class F>
 double grid_max(const Grid& g, F&& f, double init) {
-  std::vector<double> rows(static_cast<std::size_t>(g.ny), init);
-  for_rows(g.ny, [&](int iy) {
+  std::vector<double> rows(static_cast<std::size_t>(g.rows()), init);
+  for_rows(g.rows(), [&](int iy) {
     double m = init;
     const std::size_t base = static_cast<std::size_t>(iy) * g.nx;
     for (int ix = 0; ix < g.nx; ++ix) {
@@ -87,7 +122,7 @@ double grid_max(const Grid& g, F&& f, double init) {
   double m = init;
   for (double r : rows)
     if (r > m) m = r;
-  return m;
+  return g.is_slab() ? mpi::max_all(m) : m;
 }
 
 }  // namespace gfmd

@@ -1,0 +1,82 @@
+// Distributed runs: the processes started by mpirun and the slabs of rows they hold.
+//
+// One program serves serial and distributed runs. Started by mpirun (or any launcher that
+// sets OpenMPI's or PMI's rank variables), gfmd joins MPI (init) and a case's fields are
+// split into slabs of whole rows, the block distribution FFTW-MPI uses for its r2c
+// transforms (slab_of): every grid pass then runs on the rows a process holds, every FFT is
+// an FFTW-MPI transform, and every reduction gathers the row partials of all processes and
+// adds them in row order (all_rows), so that sums do not depend on the number of
+// processes. Without mpirun, or in a build without MPI (GFMD_WITH_MPI off), there is one
+// process and nothing here communicates.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gfmd/core/fft.hpp"
+#include "gfmd/core/grid.hpp"
+
+namespace gfmd::mpi {
+
+// Whether this build can run distributed.
+bool built();
+// Whether a launcher started this process as one of several ranks (its environment says so).
+bool launched();
+// Joins MPI when launched (thread support: funnelled), and readies FFTW-MPI. Idempotent.
+// Returns the number of processes.
+int init(int* argc, char*** argv);
+// Leaves MPI if init joined it (called at exit by the program).
+void finalize();
+int rank();
+int size();
+// Wall time this process has spent in the reductions' collectives so far (benchmarks).
+double reduction_seconds();
+// True on the process that writes outputs (rank 0, or the only process).
+inline bool root() { return rank() == 0; }
+// True when a case's fields are split over more than one process.
+inline bool distributed() { return size() > 1; }
+
+// The slab of `whole` this process holds in a run over size() processes (FFTW-MPI's block
+// distribution of ny rows; the last processes may hold fewer rows, or none when ny is not
+// a multiple of the block). A whole grid when there is one process.
+Grid slab_of(const Grid& whole);
+// The first row and row count of every process for `whole` (index = rank).
+std::vector<int> slab_starts(const Grid& whole);
+std::vector<int> slab_rows(const Grid& whole);
+
+// Row partials of a slab gathered from every process: `local` holds k values per row held
+// here (slab.rows() rows); the result holds k values for each of the ny rows of the cell, in
+// row order, on every process. The identity for a whole grid.
+std::vector<double> all_rows(const Grid& slab, const std::vector<double>& local, std::size_t k);
+// Largest value over the processes (exact).
+double max_all(double v);
+// Sum over the processes of integer counts (exact).
+std::uint64_t sum_all(std::uint64_t v);
+// Processes of this run on this machine (the launcher's local size; 1 without one).
+int processes_on_this_machine();
+// Every process's value, by rank, on every process.
+std::vector<double> all_values(double v);
+// Peak resident memory of this process so far (VmHWM), in bytes; 0 where unknown.
+double peak_resident_bytes();
+// The logical AND of `ok` over the processes (a collective; every process must call it).
+bool all_ok(bool ok);
+// The largest exit code over the processes: every rank exits with the same code.
+int agree_exit(int code);
+// Rank 0's string on every process.
+std::string broadcast(const std::string& s);
+
+// The whole field on rank 0 from the slabs of every process (empty elsewhere); costs the
+// whole field's memory on rank 0.
+RealField gather(const Grid& slab, const RealField& local);
+std::vector<unsigned char> gather(const Grid& slab, const std::vector<unsigned char>& local);
+// This process's rows of a whole field (every process holds `whole`).
+RealField rows_of(const Grid& slab, const RealField& whole);
+
+// FFTW-MPI's plans on a slab (the engine of every FFT made on a slab grid, core/fft.cpp).
+// Estimate planning only: every process must make the same plan.
+std::unique_ptr<FftEngine> make_fftw_mpi_engine(const Grid& slab, int threads);
+
+}  // namespace gfmd::mpi

@@ -1,0 +1,337 @@
+// Distributed runs over MPI: joining, slabs, gathers and the FFTW-MPI engine. See
+// include/gfmd/core/mpi.hpp. Without GFMD_WITH_MPI every function is its one-process form.
+#include "gfmd/core/mpi.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#ifdef GFMD_WITH_MPI
+#include <fftw3-mpi.h>
+#include <mpi.h>
+#endif
+
+namespace gfmd::mpi {
+
+bool launched() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS"})
+    if (const char* s = std::getenv(v); s && *s) return true;
+  return false;
+}
+
+int processes_on_this_machine() {
+  for (const char* v : {"OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS", "PMI_LOCAL_SIZE"})
+    if (const char* s = std::getenv(v); s && *s) {
+      const int n = std::atoi(s);
+      if (n > 0) return n;
+    }
+  return 1;
+}
+
+double peak_resident_bytes() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("VmHWM:", 0) == 0) return 1024.0 * std::strtod(line.c_str() + 6, nullptr);
+  return 0.0;
+}
+
+#ifdef GFMD_WITH_MPI
+
+namespace {
+bool g_joined = false;  // init joined MPI (and so finalize leaves it)
+int g_rank = 0, g_size = 1;
+double g_reduction_seconds = 0.0;
+
+// Adds the wall time of its scope to the reductions' total (benchmarks).
+struct ReductionTimer {
+  double t0 = MPI_Wtime();
+  ~ReductionTimer() { g_reduction_seconds += MPI_Wtime() - t0; }
+};
+
+void check(int rc, const char* what) {
+  if (rc != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
+}
+}  // namespace
+
+bool built() { return true; }
+
+int init(int* argc, char*** argv) {
+  if (g_joined || !launched()) return g_size;
+  int initialised = 0;
+  MPI_Initialized(&initialised);
+  if (!initialised) {
+    int provided = 0;
+    check(MPI_Init_thread(argc, argv, MPI_THREAD_SERIALIZED, &provided), "MPI_Init_thread");
+  }
+  g_joined = true;
+  MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+  // FFTW-MPI needs FFTW's threads first (plans inside a rank use its OpenMP threads).
+  fftw_init_threads();
+  fftw_mpi_init();
+  return g_size;
+}
+
+void finalize() {
+  if (!g_joined) return;
+  g_joined = false;
+  int finalised = 0;
+  MPI_Finalized(&finalised);
+  if (!finalised) {
+    fftw_mpi_cleanup();
+    MPI_Finalize();
+  }
+  g_rank = 0;
+  g_size = 1;
+}
+
+int rank() { return g_rank; }
+int size() { return g_size; }
+double reduction_seconds() { return g_reduction_seconds; }
+
+namespace {
+// This process's rows of FFTW-MPI's distribution of the r2c half spectrum (ny x nxh), which is
+// also that of the real field; and the complex elements its plans need.
+struct Local {
+  std::ptrdiff_t rows = 0, start = 0, alloc = 0;
+};
+Local local_rows(const Grid& whole) {
+  Local l;
+  l.alloc = fftw_mpi_local_size_2d(whole.ny, whole.nxh(), MPI_COMM_WORLD, &l.rows, &l.start);
+  return l;
+}
+}  // namespace
+
+std::vector<int> slab_starts(const Grid& whole) {
+  if (g_size == 1) return {0};
+  const int mine = static_cast<int>(local_rows(whole).start);
+  std::vector<int> all(static_cast<std::size_t>(g_size));
+  check(MPI_Allgather(&mine, 1, MPI_INT, all.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  return all;
+}
+
+std::vector<int> slab_rows(const Grid& whole) {
+  if (g_size == 1) return {whole.ny};
+  const int mine = static_cast<int>(local_rows(whole).rows);
+  std::vector<int> all(static_cast<std::size_t>(g_size));
+  check(MPI_Allgather(&mine, 1, MPI_INT, all.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  return all;
+}
+
+Grid slab_of(const Grid& whole) {
+  Grid g = whole.whole();
+  if (g_size == 1) return g;
+  const Local l = local_rows(whole);
+  g.y0 = static_cast<int>(l.start);
+  g.slab_rows = static_cast<int>(l.rows);
+  return g;
+}
+
+namespace {
+// Counts and displacements of every process's rows, times `per_row` elements.
+void row_layout(const Grid& slab, std::size_t per_row, std::vector<int>& counts, std::vector<int>& displs) {
+  const Grid w = slab.whole();
+  const std::vector<int> starts = slab_starts(w), rows = slab_rows(w);
+  counts.resize(rows.size());
+  displs.resize(rows.size());
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const std::size_t c = static_cast<std::size_t>(rows[r]) * per_row;
+    const std::size_t d = static_cast<std::size_t>(starts[r]) * per_row;
+    if (c > static_cast<std::size_t>(INT32_MAX) || d > static_cast<std::size_t>(INT32_MAX))
+      throw std::runtime_error("MPI: a slab of more than 2^31 elements (use more processes)");
+    counts[r] = static_cast<int>(c);
+    displs[r] = static_cast<int>(d);
+  }
+}
+}  // namespace
+
+std::vector<double> all_rows(const Grid& slab, const std::vector<double>& local, std::size_t k) {
+  if (!slab.is_slab()) return local;
+  const ReductionTimer timer;
+  std::vector<int> counts, displs;
+  row_layout(slab, k, counts, displs);
+  std::vector<double> all(static_cast<std::size_t>(slab.ny) * k);
+  check(MPI_Allgatherv(local.data(), counts[static_cast<std::size_t>(g_rank)], MPI_DOUBLE, all.data(),
+                       counts.data(), displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
+        "MPI_Allgatherv");
+  return all;
+}
+
+double max_all(double v) {
+  if (g_size == 1) return v;
+  const ReductionTimer timer;
+  double m = v;
+  check(MPI_Allreduce(&v, &m, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
+  return m;
+}
+
+std::uint64_t sum_all(std::uint64_t v) {
+  if (g_size == 1) return v;
+  const ReductionTimer timer;
+  std::uint64_t s = v;
+  check(MPI_Allreduce(&v, &s, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce");
+  return s;
+}
+
+std::vector<double> all_values(double v) {
+  std::vector<double> all(static_cast<std::size_t>(g_size), v);
+  if (g_size > 1)
+    check(MPI_Allgather(&v, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, MPI_COMM_WORLD), "MPI_Allgather");
+  return all;
+}
+
+bool all_ok(bool ok) {
+  if (g_size == 1) return ok;
+  const ReductionTimer timer;
+  int mine = ok ? 1 : 0, all = 0;
+  check(MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD), "MPI_Allreduce");
+  return all == 1;
+}
+
+int agree_exit(int code) {
+  if (g_size == 1) return code;
+  int all = code;
+  if (MPI_Allreduce(&code, &all, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD) != MPI_SUCCESS) return code ? code : 1;
+  return all;
+}
+
+std::string broadcast(const std::string& s) {
+  if (g_size == 1) return s;
+  unsigned long long n = s.size();
+  check(MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD), "MPI_Bcast");
+  std::string out = g_rank == 0 ? s : std::string(n, '\0');
+  if (n > 0) check(MPI_Bcast(out.data(), static_cast<int>(n), MPI_CHAR, 0, MPI_COMM_WORLD), "MPI_Bcast");
+  return out;
+}
+
+namespace {
+template <class Vec>
+Vec gather_impl(const Grid& slab, const Vec& local, MPI_Datatype type) {
+  if (!slab.is_slab()) return local;
+  std::vector<int> counts, displs;
+  row_layout(slab, static_cast<std::size_t>(slab.nx), counts, displs);
+  Vec all;
+  if (g_rank == 0) all.resize(slab.size());
+  check(MPI_Gatherv(local.data(), counts[static_cast<std::size_t>(g_rank)], type, all.data(), counts.data(),
+                    displs.data(), type, 0, MPI_COMM_WORLD),
+        "MPI_Gatherv");
+  return all;
+}
+}  // namespace
+
+RealField gather(const Grid& slab, const RealField& local) { return gather_impl(slab, local, MPI_DOUBLE); }
+std::vector<unsigned char> gather(const Grid& slab, const std::vector<unsigned char>& local) {
+  return gather_impl(slab, local, MPI_UNSIGNED_CHAR);
+}
+
+namespace {
+// FFTW-MPI's r2c/c2r plans on a slab. Its real arrays have rows padded to 2 (nx/2 + 1) and
+// its arrays may need more than the slab's elements, so the plans run on buffers of their
+// own and the fields are copied in and out (one pass each way).
+class FftwMpiEngine final : public FftEngine {
+ public:
+  FftwMpiEngine(const Grid& g, int threads) : g_(g) {
+    const Local l = local_rows(g.whole());
+    if (l.rows != g.rows() || l.start != g.y0)
+      throw std::logic_error("FFTW-MPI: the grid's slab is not this process's rows");
+    alloc_ = std::max<std::ptrdiff_t>(l.alloc, 1);
+    rbuf_ = fftw_alloc_real(static_cast<std::size_t>(2 * alloc_));
+    cbuf_ = fftw_alloc_complex(static_cast<std::size_t>(alloc_));
+    if (!rbuf_ || !cbuf_) {
+      destroy();
+      throw std::bad_alloc();
+    }
+    fftw_plan_with_nthreads(threads);
+    r2c_ = fftw_mpi_plan_dft_r2c_2d(g.ny, g.nx, rbuf_, cbuf_, MPI_COMM_WORLD, FFTW_ESTIMATE);
+    c2r_ = fftw_mpi_plan_dft_c2r_2d(g.ny, g.nx, cbuf_, rbuf_, MPI_COMM_WORLD, FFTW_ESTIMATE);
+    if (!r2c_ || !c2r_) {
+      destroy();
+      throw std::runtime_error("FFTW-MPI could not make a plan");
+    }
+  }
+  ~FftwMpiEngine() override { destroy(); }
+  FftwMpiEngine(const FftwMpiEngine&) = delete;
+  FftwMpiEngine& operator=(const FftwMpiEngine&) = delete;
+
+  void forward(const double* in, cplx* out) override {
+    const int nx = g_.nx, rows = g_.rows();
+    const std::size_t pad = 2 * static_cast<std::size_t>(g_.nxh());
+    for (int r = 0; r < rows; ++r)
+      std::memcpy(rbuf_ + r * pad, in + static_cast<std::size_t>(r) * nx, sizeof(double) * nx);
+    fftw_execute(r2c_);
+    if (rows > 0) std::memcpy(static_cast<void*>(out), cbuf_, sizeof(fftw_complex) * g_.spectral_size());
+  }
+  void backward_unscaled(cplx* in, double* out) override {
+    const int nx = g_.nx, rows = g_.rows();
+    const std::size_t pad = 2 * static_cast<std::size_t>(g_.nxh());
+    if (rows > 0) std::memcpy(cbuf_, static_cast<const void*>(in), sizeof(fftw_complex) * g_.spectral_size());
+    fftw_execute(c2r_);
+    for (int r = 0; r < rows; ++r)
+      std::memcpy(out + static_cast<std::size_t>(r) * nx, rbuf_ + r * pad, sizeof(double) * nx);
+  }
+
+ private:
+  void destroy() {
+    if (r2c_) fftw_destroy_plan(r2c_);
+    if (c2r_) fftw_destroy_plan(c2r_);
+    if (rbuf_) fftw_free(rbuf_);
+    if (cbuf_) fftw_free(cbuf_);
+    r2c_ = c2r_ = nullptr;
+    rbuf_ = nullptr;
+    cbuf_ = nullptr;
+  }
+  Grid g_;
+  std::ptrdiff_t alloc_ = 0;
+  double* rbuf_ = nullptr;
+  fftw_complex* cbuf_ = nullptr;
+  fftw_plan r2c_ = nullptr, c2r_ = nullptr;
+};
+}  // namespace
+
+std::unique_ptr<FftEngine> make_fftw_mpi_engine(const Grid& slab, int threads) {
+  return std::make_unique<FftwMpiEngine>(slab, threads);
+}
+
+#else  // one process
+
+bool built() { return false; }
+int init(int*, char***) { return 1; }
+void finalize() {}
+int rank() { return 0; }
+int size() { return 1; }
+double reduction_seconds() { return 0.0; }
+Grid slab_of(const Grid& whole) { return whole.whole(); }
+std::vector<int> slab_starts(const Grid&) { return {0}; }
+std::vector<int> slab_rows(const Grid& whole) { return {whole.ny}; }
+std::vector<double> all_rows(const Grid& slab, const std::vector<double>& local, std::size_t) {
+  if (slab.is_slab()) throw std::logic_error("a slab grid in a build without MPI");
+  return local;
+}
+double max_all(double v) { return v; }
+std::vector<double> all_values(double v) { return {v}; }
+std::uint64_t sum_all(std::uint64_t v) { return v; }
+bool all_ok(bool ok) { return ok; }
+int agree_exit(int code) { return code; }
+std::string broadcast(const std::string& s) { return s; }
+RealField gather(const Grid&, const RealField& local) { return local; }
+std::vector<unsigned char> gather(const Grid&, const std::vector<unsigned char>& local) { return local; }
+std::unique_ptr<FftEngine> make_fftw_mpi_engine(const Grid&, int) {
+  throw std::logic_error("a slab grid in a build without MPI");
+}
+
+#endif
+
+RealField rows_of(const Grid& slab, const RealField& whole) {
+  if (!slab.is_slab()) return whole;
+  const auto first = whole.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(slab.y0) * slab.nx);
+  return RealField(first, first + static_cast<std::ptrdiff_t>(slab.local_size()));
+}
+
+}  // namespace gfmd::mpi
