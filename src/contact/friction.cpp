@@ -119,13 +119,14 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
   // At a fixed point y = tau and z = tau + gamma v(tau), the projection form of Coulomb's
   // law: tau = mu_c p v/|v| where the point slips, |tau| <= mu_c p where v = 0 (stick).
   // Per step: 2 forward and 2 inverse FFTs and two fused passes over the grid.
-  const std::size_t n = grid_.size();
+  const std::size_t n = grid_.local_size();  // points held here
   const double th = fric_.direction_deg * std::numbers::pi / 180.0;
   const double ex = std::cos(th), ey = std::sin(th);
   const double xi = fric_.creepage;
   const double mu = fric_.coefficient;
   const double gamma = gamma_;
-  const double scale = 1.0 / static_cast<double>(n);
+  const double scale = 1.0 / static_cast<double>(grid_.size());
+  const bool has_q0 = grid_.y0 == 0 && grid_.rows() > 0;  // the q = 0 mode is held here
   RealField& yx = r1_;
   RealField& yy = r2_;
   // b': slip velocity caused by the pressure (zero without coupling), times gamma.
@@ -189,8 +190,10 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
     fft_.forward(yx.data(), s2_.data());
     fft_.forward(yy.data(), s3_.data());
     body_.slip_resolvent(s2_.data(), s3_.data(), ex, ey, gamma, scale);
-    s2_[0] += cx;  // the rigid slip gamma xi e_s: the q = 0 mode, where the resolvent is 1
-    s3_[0] += cy;
+    if (has_q0) {
+      s2_[0] += cx;  // the rigid slip gamma xi e_s: the q = 0 mode, where the resolvent is 1
+      s3_[0] += cy;
+    }
     fft_.backward_unscaled_destroying(s2_.data(), yx.data());
     fft_.backward_unscaled_destroying(s3_.data(), yy.data());
     // The change |y - tau| and the size |tau| (L1); the relaxed step z <- z + beta (y - tau).

@@ -32,7 +32,8 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
   // Per iteration: two compliance products (2 forward + 2 inverse FFTs) and four fused
   // pointwise passes (A, C, D, E below; 17 reads and writes of 8 bytes per point, 16 when
   // w = 0); the work arrays are members (no allocation here).
-  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.size());
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(grid_.size());         // points of the cell
+  const std::ptrdiff_t nl = static_cast<std::ptrdiff_t>(grid_.local_size());  // points held here
   const bool load_ctrl = load.mode != LoadMode::Approach;
   const double pbar = load.mode == LoadMode::Force ? load.value / grid_.area() : load.value;
   const double delta_imp = load_ctrl ? 0.0 : load.value;
@@ -50,7 +51,7 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     }
   } else if (!(psum > 0)) {
     const double kk = inter_.hard_wall ? body_.params().contact_modulus / grid_.dx() : k_;
-    for (std::ptrdiff_t i = 0; i < n; ++i) p[i] = kk * std::max(0.0, delta_imp + w[i] - g0_[i]);
+    for (std::ptrdiff_t i = 0; i < nl; ++i) p[i] = kk * std::max(0.0, delta_imp + w[i] - g0_[i]);
   }
 
   RealField& g = cg_g_;
@@ -61,7 +62,7 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
   const auto apply_pending = [&] {
     if (pending == 1.0) return;
     const double f = pending;
-    parallel_for(n, [&](std::ptrdiff_t i) { p[i] *= f; });
+    parallel_for(nl, [&](std::ptrdiff_t i) { p[i] *= f; });
     pending = 1.0;
   };
   PKResult res{0, 1.0, 0.0, false};
@@ -109,7 +110,7 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
         res.delta = delta_imp;
         return res;
       }
-      parallel_for(n, [&](std::ptrdiff_t i) { p[i] = std::max(0.0, -g[i]) * (ik > 0 ? k_ : 1.0); });
+      parallel_for(nl, [&](std::ptrdiff_t i) { p[i] = std::max(0.0, -g[i]) * (ik > 0 ? k_ : 1.0); });
       conjugate = false;
       continue;
     }

@@ -13,6 +13,7 @@
 #include "gfmd/contact/anderson.hpp"
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/core/mpi.hpp"
 #include "gfmd/core/reduce.hpp"
 #include "solver_detail.hpp"
 
@@ -28,8 +29,9 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
       inter_(inter),
       fric_(fric),
       sp_(solver),
-      g0_(body.grid().size()) {
-  if (topo.grid.nx != grid_.nx || topo.grid.ny != grid_.ny)
+      g0_(body.grid().local_size()) {
+  // On a slab (a distributed run) the topography holds this process's rows of heights.
+  if (topo.grid.nx != grid_.nx || topo.grid.ny != grid_.ny || topo.h.size() != grid_.local_size())
     throw ParameterError("topo", "the topography's grid does not match the elastic body's");
   if (inter_.hard_wall) {
     k_ = std::numeric_limits<double>::infinity();
@@ -38,18 +40,18 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
     k_ = inter_.stiffness > 0 ? inter_.stiffness : 2.0 * body.params().contact_modulus / grid_.dx();
     inv_k_ = 1.0 / k_;
   }
-  double hmax = -std::numeric_limits<double>::infinity();
-  for (double v : topo.h) hmax = std::max(hmax, v);
+  const double hmax = grid_max(
+      grid_, [&](std::size_t i) { return topo.h[i]; }, -std::numeric_limits<double>::infinity());
   for (std::size_t i = 0; i < g0_.size(); ++i) g0_[i] = hmax - topo.h[i];
-  double m = 0, m2 = 0;
-  for (double v : g0_) {
-    m += v;
-    m2 += v * v;
-  }
-  m /= static_cast<double>(g0_.size());
-  g0_rms_ = std::sqrt(std::max(0.0, m2 / static_cast<double>(g0_.size()) - m * m));
+  const auto sums = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
+    acc[0] += g0_[i];
+    acc[1] += g0_[i] * g0_[i];
+  });
+  const double points = static_cast<double>(grid_.size());
+  const double m = sums[0] / points;
+  g0_rms_ = std::sqrt(std::max(0.0, sums[1] / points - m * m));
   for (auto* s : {&s1_, &s2_, &s3_}) s->resize(grid_.spectral_size());
-  for (auto* f : {&cg_g_, &cg_t_, &cg_r_}) f->assign(grid_.size(), 0.0);
+  for (auto* f : {&cg_g_, &cg_t_, &cg_r_}) f->assign(grid_.local_size(), 0.0);
   czz_n_.resize(body.modes().size());
   for (std::size_t k = 0; k < czz_n_.size(); ++k)
     czz_n_[k] = body.modes()[k].czz / static_cast<double>(grid_.size());
@@ -95,7 +97,9 @@ double ContactSolver::residual(const ContactFields& f, double delta) {
 }
 
 void ContactSolver::poll(const ContactFields* f, const std::function<void()>& settle) {
-  const bool stop = stop_ && stop_();
+  bool stop = stop_ && stop_();
+  // Every process polls at the same steps; a request seen by one stops them all.
+  if (grid_.is_slab()) stop = !mpi::all_ok(!stop);
   bool save = false;
   double now = 0.0;
   if (checkpoint_ && f) {
@@ -116,7 +120,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
   const double fft_seconds0 = fft_.seconds();
   current_ = &f;
   last_checkpoint_ = std::chrono::duration<double>(t0.time_since_epoch()).count();
-  const std::size_t n = grid_.size();
+  const std::size_t n = grid_.local_size();  // points held here
   for (auto* fld : {&f.pressure, &f.tx, &f.ty})
     if (fld->size() != n) fld->assign(n, 0.0);
   // The displacements and the gap follow from (p, tau) at the end: their memory is given
@@ -156,10 +160,30 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         in_supp[i] = 1;
         supp.push_back(static_cast<std::uint32_t>(i));
       }
+    // The mixer's sums go by grid row (the same sums on any number of processes): the
+    // support's entries listed row by row, in their order of entry (rebuilt as it grows).
+    std::vector<std::uint32_t> row_start, row_order;
+    const auto group_support = [&] {
+      row_start.assign(static_cast<std::size_t>(grid_.rows()) + 1, 0);
+      const auto nx = static_cast<std::uint32_t>(grid_.nx);
+      for (const std::uint32_t i : supp) ++row_start[i / nx + 1];
+      for (std::size_t r = 1; r < row_start.size(); ++r) row_start[r] += row_start[r - 1];
+      row_order.resize(2 * supp.size());
+      std::vector<std::uint32_t> next(row_start.begin(), row_start.end() - 1);
+      // Entries 2j and 2j + 1 (tau_x and tau_y of support point j) stay together.
+      for (std::size_t j = 0; j < supp.size(); ++j) {
+        const std::uint32_t at = next[supp[j] / nx]++;
+        row_order[2 * at] = static_cast<std::uint32_t>(2 * j);
+        row_order[2 * at + 1] = static_cast<std::uint32_t>(2 * j + 1);
+      }
+      for (auto& v : row_start) v *= 2;
+    };
     std::optional<AndersonMixer> mixer;  // none: plain relaxation
     if (sp_.anderson > 0) {
       mixer.emplace(sp_.anderson);
       mixer->resize(2 * supp.size());
+      group_support();
+      mixer->group_by_rows(&grid_, &row_start, &row_order);
     }
     double err = 1.0, best = std::numeric_limits<double>::infinity();
     int since_best = 0;
@@ -261,7 +285,10 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
             in_supp[i] = 1;
             supp.push_back(static_cast<std::uint32_t>(i));
           }
-        if (mixer) mixer->resize(2 * supp.size());
+        if (mixer) {
+          mixer->resize(2 * supp.size());
+          group_support();
+        }
       }
       // The exact law's splitting variable follows the mixed traction: z <- z + (tau_mixed -
       // tau), so the next stick-slip solve starts from the mixed iterate (z - tau = gamma v
@@ -310,6 +337,10 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
           vmin = std::min(vmin, v);
           if (v < slow) ++nslow;
         }
+      if (grid_.is_slab()) {
+        nslow = mpi::sum_all(nslow);
+        vmin = -mpi::max_all(-vmin);
+      }
       if (nslow > 0 && fric_.regularization < slow) {
         std::ostringstream os;
         os << info.status << "; " << nslow << " contact points slip slower than " << slow << " v0 (minimum "
@@ -330,7 +361,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
           ++ns;
         }
       }
-      info.stick_points = ns;
+      info.stick_points = grid_.is_slab() ? mpi::sum_all(ns) : ns;
     }
     if (!pk.converged && info.converged) {
       info.converged = false;

@@ -7,6 +7,7 @@
 
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/core/mpi.hpp"
 
 namespace gfmd {
 
@@ -85,9 +86,11 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params)
   const double h = params_.thickness;
   const bool half = params_.half_space();
   const int nxh = grid.nxh();
-  for_rows(grid.ny, [&](int iky) {
+  // The rows of the half spectrum held here (all of them unless the grid is a slab).
+  for_rows(grid.rows(), [&](int row) {
+    const int iky = grid.y0 + row;
     for (int ikx = 0; ikx < nxh; ++ikx) {
-      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
+      const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
       const double qx = grid.qx(ikx), qy = grid.qy(iky);
       const double q = std::hypot(qx, qy);
       if (q == 0.0) {
@@ -120,12 +123,14 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params)
     c0_zz_ = h * (1.0 - 2.0 * nu) / (om * om * es);
     c0_t_ = h / params_.shear_modulus();
   }
-  modes_[0].czz = c0_zz_;
-  modes_[0].cxx = modes_[0].cyy = c0_t_;
+  if (grid.y0 == 0 && grid.rows() > 0) {  // the q = 0 mode
+    modes_[0].czz = c0_zz_;
+    modes_[0].cxx = modes_[0].cyy = c0_t_;
+  }
 }
 
 std::array<cplx, 9> ElasticBody::compliance(int ikx, int iky) const {
-  const ComplianceMode& m = modes_[static_cast<std::size_t>(iky) * grid_.nxh() + ikx];
+  const ComplianceMode& m = modes_[static_cast<std::size_t>(iky - grid_.y0) * grid_.nxh() + ikx];
   const cplx i(0.0, 1.0);
   return {cplx(m.cxx), cplx(m.cxy), i * m.cxz,  //
           cplx(m.cxy), cplx(m.cyy), i * m.cyz,  //
@@ -190,17 +195,18 @@ void ElasticBody::displacement(const cplx* tx, const cplx* ty, const cplx* tz, c
 }
 
 namespace {
-// f(iky, k, m, d) for every mode of the half spectrum, rows in parallel: k its index, m its
-// compliance, d = e.q the wavenumber of the derivative along (ex, ey) (Nyquist modes: 0).
+// f(row, k, m, d) for every mode of the half spectrum held here, rows in parallel: row its
+// local row, k its index, m its compliance, d = e.q the wavenumber of the derivative along
+// (ex, ey) (Nyquist modes: 0).
 template <class F>
 void for_each_slope_mode(const Grid& g, const std::vector<ComplianceMode>& modes, double ex, double ey,
                          F&& f) {
   const int nxh = g.nxh();
-  for_rows(g.ny, [&](int iky) {
-    const double dy = ey * g.qy_deriv(iky);
+  for_rows(g.rows(), [&](int row) {
+    const double dy = ey * g.qy_deriv(g.y0 + row);
     for (int ikx = 0; ikx < nxh; ++ikx) {
-      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
-      f(iky, k, modes[k], ex * g.qx_deriv(ikx) + dy);
+      const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
+      f(row, k, modes[k], ex * g.qx_deriv(ikx) + dy);
     }
   });
 }
@@ -219,13 +225,14 @@ void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, 
 
 double ElasticBody::slip_operator_norm(double ex, double ey) const {
   // max over modes of |d| times the largest eigenvalue of C_tt (real symmetric 2x2).
-  std::vector<double> rows(static_cast<std::size_t>(grid_.ny), 0.0);
-  for_each_slope_mode(grid_, modes_, ex, ey, [&](int iky, std::size_t, const ComplianceMode& m, double d) {
+  std::vector<double> rows(static_cast<std::size_t>(grid_.rows()), 0.0);
+  for_each_slope_mode(grid_, modes_, ex, ey, [&](int row, std::size_t, const ComplianceMode& m, double d) {
     const double tr = 0.5 * (m.cxx + m.cyy), df = 0.5 * (m.cxx - m.cyy);
-    double& r = rows[static_cast<std::size_t>(iky)];
+    double& r = rows[static_cast<std::size_t>(row)];
     r = std::max(r, std::abs(d) * (tr + std::sqrt(df * df + m.cxy * m.cxy)));
   });
-  return *std::max_element(rows.begin(), rows.end());
+  const double mine = rows.empty() ? 0.0 : *std::max_element(rows.begin(), rows.end());
+  return grid_.is_slab() ? mpi::max_all(mine) : mine;
 }
 
 void ElasticBody::slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale) const {

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "gfmd/core/backend.hpp"
@@ -40,6 +41,16 @@ class AndersonMixer {
     have_prev_ = false;
   }
 
+  // Sums over the entries by grid row (reduce.hpp, row_grouped_sums) instead of in blocks of
+  // the list: the mixing then does not depend on how the grid is split over processes. The
+  // arguments must outlive the steps that use them and list every entry; nullptr: blocks.
+  void group_by_rows(const Grid* grid, const std::vector<std::uint32_t>* start,
+                     const std::vector<std::uint32_t>* order) {
+    grid_ = grid;
+    start_ = start;
+    order_ = order;
+  }
+
   // One step over entries 0..len-1 (len == size()): x(e) is the current iterate, g(e) its
   // image G(x), out(e, v) receives the mixed iterate. Entries may be updated in parallel.
   template <class X, class G, class Out>
@@ -61,6 +72,9 @@ class AndersonMixer {
   std::vector<double> gram_;                 // <dF_a, dF_b> by slot
   std::vector<std::size_t> slots_;           // ring slots in use, oldest first
   bool have_prev_ = false;
+  const Grid* grid_ = nullptr;
+  const std::vector<std::uint32_t>* start_ = nullptr;
+  const std::vector<std::uint32_t>* order_ = nullptr;
 };
 
 // Solves the small (regularised) normal equations M x = rhs of the least-squares problem
@@ -90,7 +104,7 @@ void AndersonMixer::step(double omega, X&& x, G&& g, Out&& out) {
     for (std::size_t r = 0; r < h; ++r) hist[r] = df_[slots_[r]].data();
     // One pass stores the new differences and forms the new Gram row, acc[0..h-1] =
     // <dF_r, dF_new>, and dF^T f, acc[h..2h-1] = <dF_r, f>.
-    const auto sums = range_sums(len, 2 * h, [&](std::size_t e, double* acc) {
+    const auto entry = [&](std::size_t e, double* acc) {
       const double xi = x(e);
       const double fi = g(e) - xi;
       const float dfi = static_cast<float>(fi - fprev_[e]);
@@ -103,7 +117,9 @@ void AndersonMixer::step(double omega, X&& x, G&& g, Out&& out) {
         acc[r] += hr * static_cast<double>(dfi);
         acc[h + r] += hr * fi;
       }
-    });
+    };
+    const auto sums =
+        grid_ ? row_grouped_sums(*grid_, *start_, *order_, 2 * h, entry) : range_sums(len, 2 * h, entry);
     const auto mm = static_cast<std::size_t>(m_);
     for (std::size_t r = 0; r < h; ++r) gram_[slots_[r] * mm + slot] = gram_[slot * mm + slots_[r]] = sums[r];
     rhs.assign(sums.begin() + static_cast<std::ptrdiff_t>(h), sums.end());
