@@ -23,6 +23,7 @@
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
+#include "gfmd/core/mpi.hpp"
 #include "gfmd/io/netcdf.hpp"
 #include "gfmd/studies/curve.hpp"
 #include "gfmd/studies/ensemble.hpp"
@@ -75,6 +76,28 @@ std::string sets_note(const std::vector<std::string>& sets) {
   return t + "]";
 }
 
+namespace {
+// A rank other than 0 of a distributed run: waits for rank 0's directory, takes its part of
+// the solves and leaves the outputs to rank 0. Its exit code follows the solve's outcome,
+// which every rank shares.
+int run_follower(const gfmd::Config& cfg) {
+  if (!gfmd::mpi::all_ok(true)) throw QuietExit{1};
+  gfmd::RunOptions opts;
+  opts.stop_request = stop_requested;
+  gfmd::CaseResult r;
+  try {
+    r = gfmd::run_case(cfg, opts);
+  } catch (const gfmd::InputError&) {
+    throw QuietExit{2};
+  } catch (const gfmd::Interrupted&) {
+    throw QuietExit{4};
+  } catch (const gfmd::SolveError&) {
+    throw QuietExit{3};
+  }
+  return r.info.converged ? 0 : 3;
+}
+}  // namespace
+
 int cmd_run(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
             bool quiet, bool verbose, bool resume, double checkpoint_s, bool wait) {
   const gfmd::Config cfg = gfmd::load_config(case_path, sets);
@@ -83,6 +106,25 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   namespace fs = std::filesystem;
   // Validates the topography before anything is written.
   (void)gfmd::make_topography(cfg);
+  if (gfmd::mpi::distributed()) {
+    if (resume)
+      throw gfmd::InputError("--resume",
+                             "a distributed run (mpirun) writes no checkpoints yet; run without --resume");
+    if (!gfmd::mpi::root()) return run_follower(cfg);
+  }
+  // Rank 0 of a distributed run tells the others whether the directory is ready (it
+  // holds the lock and cleared it) before they start the solve: false if anything below
+  // throws first.
+  struct ReadyAgreement {
+    bool told = false;
+    void tell() {
+      told = true;
+      (void)gfmd::mpi::all_ok(true);
+    }
+    ~ReadyAgreement() {
+      if (!told) (void)gfmd::mpi::all_ok(false);
+    }
+  } ready;
   const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
   const std::string ckpt = (fs::path(out_dir) / "checkpoint.bin").string();
   gfmd::ContactFields warm;
@@ -108,6 +150,7 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   // The run owns its directory: what an earlier run wrote there goes first.
   gfmd::clear_run_outputs(out_dir, have_warm);
   gfmd::write_status(out_dir, "running");
+  ready.tell();
   ProgressPrinter pp;
   pp.quiet = quiet;
   pp.verbose = verbose;

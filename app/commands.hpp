@@ -8,6 +8,11 @@
 
 namespace gfmd::cli {
 
+// Ends a follower rank of a distributed run with `code`, its reason reported by rank 0.
+struct QuietExit {
+  int code;
+};
+
 // " [with --set a=1 b=2]": errors name the overrides, the case file alone does not say what ran.
 std::string sets_note(const std::vector<std::string>& sets);
 

@@ -11,12 +11,14 @@
 #include "child.hpp"
 #include "commands.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/core/mpi.hpp"
 #include "gfmd/version.hpp"
 #include "maps.hpp"
 
 using namespace gfmd::cli;
 
-int main(int argc, char** argv) {
+namespace {
+int run_main(int argc, char** argv) {
   CLI::App app{"gfmd: steady sliding contacts with full elastic coupling"};
   app.set_version_flag("--version", std::string(gfmd::kVersion) + " (" + gfmd::kGitCommit + ")");
   app.require_subcommand(1);
@@ -143,6 +145,18 @@ int main(int argc, char** argv) {
     return rc == 0 ? 0 : 2;
   }
   const auto with_sets = [&sets]() { return sets_note(sets); };
+  // Under mpirun only `run` is distributed; the other commands would have every process
+  // write the same directory.
+  if (gfmd::mpi::distributed() && !run->parsed()) {
+    if (gfmd::mpi::root())
+      std::fprintf(stderr,
+                   "gfmd: error: only `gfmd run` runs under mpirun with more than one process (%d here); "
+                   "run this command without mpirun\n",
+                   gfmd::mpi::size());
+    return 2;
+  }
+  // An error every process meets alike (the same input) is reported once, by rank 0.
+  const bool report_common = gfmd::mpi::root();
   try {
     if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet, verbose, resume, checkpoint_s, wait);
     if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet, wait);
@@ -154,14 +168,15 @@ int main(int argc, char** argv) {
     if (green->parsed()) return cmd_green(green_nu, green_from, green_to, green_points, out_dir);
     if (study->parsed()) return cmd_study(study_path, study_quick, out_dir);
   } catch (const gfmd::InputError& e) {
-    std::fprintf(stderr, "gfmd: error: %s%s\n", e.what(), with_sets().c_str());
+    if (report_common) std::fprintf(stderr, "gfmd: error: %s%s\n", e.what(), with_sets().c_str());
     return 2;
   } catch (const gfmd::Interrupted& e) {
     std::fprintf(stderr, "gfmd: %s; stopped on request%s\n", e.what(), with_sets().c_str());
     return 4;
   } catch (const gfmd::SolveError& e) {
-    std::fprintf(stderr, "gfmd: error: %s: %s%s%s\n", case_path.c_str(), e.what(), with_sets().c_str(),
-                 run->parsed() ? "; no results written" : "");
+    if (report_common)
+      std::fprintf(stderr, "gfmd: error: %s: %s%s%s\n", case_path.c_str(), e.what(), with_sets().c_str(),
+                   run->parsed() ? "; no results written" : "");
     return 3;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr,
@@ -169,9 +184,30 @@ int main(int argc, char** argv) {
                  "available; lower grid.nx or free memory)\n",
                  with_sets().c_str());
     return 1;
+  } catch (const gfmd::cli::QuietExit& e) {
+    return e.code;  // a follower rank whose reason rank 0 reports
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "gfmd: error: %s%s\n", e.what(), with_sets().c_str());
+    if (gfmd::mpi::distributed())
+      std::fprintf(stderr, "gfmd (rank %d of %d): error: %s%s\n", gfmd::mpi::rank(), gfmd::mpi::size(),
+                   e.what(), with_sets().c_str());
+    else
+      std::fprintf(stderr, "gfmd: error: %s%s\n", e.what(), with_sets().c_str());
     return 1;
   }
   return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Started by mpirun: join the other processes first (core/mpi.hpp); every process then
+  // exits with the same code.
+  try {
+    gfmd::mpi::init(&argc, &argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "gfmd: error: %s\n", e.what());
+    return 1;
+  }
+  const int code = gfmd::mpi::agree_exit(run_main(argc, argv));
+  gfmd::mpi::finalize();
+  return code;
 }

@@ -20,6 +20,7 @@
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
+#include "gfmd/core/mpi.hpp"
 #include "gfmd/flow/flow.hpp"
 #include "gfmd/io/height_map.hpp"
 
@@ -606,12 +607,25 @@ Config build(const toml::value& root, const std::string& name, const std::string
         errors.push_back("load.force: " + os.str() + load.at("force"));
       }
     }
-    const double mem = estimated_memory_bytes(c.grid);
-    const MemoryLimit lim = memory_limit();
+    if (mpi::size() > c.grid.ny)
+      errors.push_back("grid.ny: the grid has " + std::to_string(c.grid.ny) + " rows but the run has " +
+                       std::to_string(mpi::size()) +
+                       " processes (mpirun -np): each process needs at least one row; run with at most " +
+                       std::to_string(c.grid.ny) + " processes");
+    const double mem = estimated_memory_bytes(c.grid, mpi::size());
+    MemoryLimit lim = memory_limit();
+    // The processes of a distributed run on this machine share its memory (and its cgroup);
+    // a per-process limit (ulimit) applies to each alone.
+    const int here = mpi::processes_on_this_machine();
+    if (here > 1 && lim.source.find("ulimit") == std::string::npos) {
+      lim.bytes /= here;
+      lim.source += ", shared by " + std::to_string(here) + " processes";
+    }
     if (lim.bytes > 0 && mem > lim.bytes) {
       std::ostringstream os;
-      os << "a " << c.grid.nx << " x " << c.grid.ny << " grid needs about " << mem / 1e9
-         << " GB, more than the " << lim.bytes / 1e9 << " GB allowed here (" << lim.source << ")";
+      os << "a " << c.grid.nx << " x " << c.grid.ny << " grid needs about " << mem / 1e9 << " GB"
+         << (mpi::size() > 1 ? " per process (over " + std::to_string(mpi::size()) + ")" : std::string())
+         << ", more than the " << lim.bytes / 1e9 << " GB allowed here (" << lim.source << ")";
       errors.push_back("grid.nx: " + os.str());
     }
   }

@@ -64,14 +64,18 @@ MemoryLimit memory_limit() {
   return best;
 }
 
-double estimated_memory_bytes(const Grid& grid) {
+double estimated_memory_bytes(const Grid& grid, int processes) {
   // Peak of a sliding solve (BENCHMARKS.md, memory budget): topography, pressure and two
   // tractions, g0, w, the traction image, three CG fields (11 real fields), three complex
   // half-spectra, the compliance tables (56 B/mode) and the Anderson history on the
   // traction's support (196 B per support point; allowance: half the grid in contact).
   const double n = static_cast<double>(grid.size());
   const double ns = static_cast<double>(grid.spectral_size());
-  return n * (8.0 * 11.0 + 0.5 * 196.0) + ns * (3.0 * 16.0 + 56.0);
+  const double solve = n * (8.0 * 11.0 + 0.5 * 196.0) + ns * (3.0 * 16.0 + 56.0);
+  if (processes <= 1) return solve;
+  // Distributed: each process holds its share of the solve and, while the topography is
+  // made, the whole map with its spectrum and phases (32 B per point; docs/mpi.md).
+  return solve / processes + 32.0 * n;
 }
 
 // TOML is UTF-8 text. Checking it first also keeps malformed bytes away from toml11

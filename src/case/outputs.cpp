@@ -193,6 +193,17 @@ nlohmann::json summary_json(const CaseResult& r) {
       std::isinf(r.info.stiffness) ? nlohmann::json("inf") : nlohmann::json(r.info.stiffness);
   j["threads"] = threads();
   j["backend"] = r.config.backend;
+  j["mpi_ranks"] = r.mpi_ranks;
+  if (!r.solve_peak_bytes.empty()) {
+    nlohmann::json per_rank = nlohmann::json::array();
+    for (double b : r.solve_peak_bytes) per_rank.push_back(b / 1048576.0);
+    j["mpi"] = {
+        {"ranks", r.mpi_ranks},
+        {"solve_peak_memory_mib", per_rank},
+        {"rank0_peak_memory_mib", r.peak_bytes / 1048576.0},
+        {"reduction_time_s", r.reduction_seconds},
+        {"decomposition", "slabs of rows (FFTW-MPI); observables, stresses, analysis and flow on rank 0"}};
+  }
   const auto& s = r.topography_stats;
   j["topography"] = topography_stats_json(s);
   j["topography"]["kind"] = r.topography.kind;

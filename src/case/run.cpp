@@ -22,6 +22,7 @@
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
+#include "gfmd/core/mpi.hpp"
 #include "gfmd/io/netcdf.hpp"
 #include "gfmd/version.hpp"
 namespace gfmd {
@@ -168,6 +169,31 @@ void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
 
 bool outputs_need_stress_fields(const Config& cfg) { return cfg.output.fields || cfg.output.png; }
 
+namespace {
+// This process's rows of the fields a solve starts from (a warm start held whole).
+ContactFields slab_rows(const Grid& slab, const ContactFields& whole) {
+  ContactFields f;
+  f.pressure = mpi::rows_of(slab, whole.pressure);
+  f.tx = mpi::rows_of(slab, whole.tx);
+  f.ty = mpi::rows_of(slab, whole.ty);
+  return f;
+}
+// The whole solution on rank 0 from the slabs (empty fields elsewhere).
+ContactFields gather_fields(const Grid& slab, const ContactFields& f) {
+  ContactFields w;
+  for (auto [to, from] : {std::pair{&w.pressure, &f.pressure},
+                          {&w.tx, &f.tx},
+                          {&w.ty, &f.ty},
+                          {&w.ux, &f.ux},
+                          {&w.uy, &f.uy},
+                          {&w.uz, &f.uz},
+                          {&w.gap, &f.gap}})
+    if (!from->empty()) *to = mpi::gather(slab, *from);
+  if (!f.stick.empty()) w.stick = mpi::gather(slab, f.stick);
+  return w;
+}
+}  // namespace
+
 CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   set_threads(cfg.threads);
   const Backend* chosen = find_backend(cfg.backend);
@@ -175,6 +201,15 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   const BackendScope on_backend(*chosen);
   CaseResult r;
   r.config = cfg;
+  // A distributed run (mpirun): the solves run on slabs of rows, one per process; rank 0
+  // gathers the solution and does everything after the solve (observables, stresses,
+  // analysis, flow) on the whole grid.
+  const bool distributed = mpi::distributed();
+  r.mpi_ranks = mpi::size();
+  if (distributed && cfg.grid.ny < mpi::size())  // load_config refuses such a case first
+    throw InputError("grid.ny", "fewer rows than processes (" + std::to_string(cfg.grid.ny) + " < " +
+                                    std::to_string(mpi::size()) + ")");
+  const Grid slab = distributed ? mpi::slab_of(cfg.grid) : cfg.grid;
   if (cfg.indenter.type == "array" && opts.topography) {
     const Grid& tg = opts.topography->grid;
     if (tg.nx != cfg.grid.nx || tg.ny != cfg.grid.ny || tg.lx != cfg.grid.lx || tg.ly != cfg.grid.ly)
@@ -195,10 +230,19 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     r.topography = make_topography(cfg);
   }
   r.topography_stats = statistics(r.topography);
+  // The heights the solves see: this process's rows in a distributed run (rank 0 keeps the
+  // whole map for the analysis; the other ranks give it back).
+  Topography slab_topo;
+  if (distributed) {
+    slab_topo = Topography{slab, mpi::rows_of(slab, r.topography.h), r.topography.kind};
+    if (!mpi::root()) RealField().swap(r.topography.h);
+  }
+  const Topography& topo = distributed ? slab_topo : r.topography;
   // The body and the solvers live only as long as the solves: the stage after them
   // (stresses, flow) gets the memory back.
-  auto body = std::make_unique<ElasticBody>(cfg.grid, cfg.elastic);
-  if (opts.warm_start && opts.warm_start->pressure.size() == cfg.grid.size()) r.fields = *opts.warm_start;
+  auto body = std::make_unique<ElasticBody>(slab, cfg.elastic);
+  if (opts.warm_start && opts.warm_start->pressure.size() == cfg.grid.size())
+    r.fields = distributed ? slab_rows(slab, *opts.warm_start) : *opts.warm_start;
   // Work counted into checkpoints: earlier sessions, the finished reference solve and the
   // solver running now.
   const auto t_start = std::chrono::steady_clock::now();
@@ -217,13 +261,14 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     running = &s;
     if (opts.progress) s.set_progress(opts.progress);
     if (opts.stop_request) s.set_stop_request(opts.stop_request);
-    if (!opts.checkpoint_path.empty()) s.set_checkpoint(save, opts.checkpoint_interval_s);
+    // Checkpoints hold whole fields: not written by a distributed run (yet).
+    if (!opts.checkpoint_path.empty() && !distributed) s.set_checkpoint(save, opts.checkpoint_interval_s);
   };
   if (cfg.friction.coefficient > 0 && cfg.friction_reference) {
     // Frictionless reference at the same load; it also warm-starts the sliding solve.
     FrictionParams none = cfg.friction;
     none.coefficient = 0.0;
-    ContactSolver ref(*body, r.topography, cfg.interaction, none, cfg.solver);
+    ContactSolver ref(*body, topo, cfg.interaction, none, cfg.solver);
     hook(ref);
     ContactFields rf = r.fields;
     SolveInfo ref_info;
@@ -241,17 +286,31 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
       return r;
     }
     CaseResult::Reference& rr = r.reference.emplace();
-    rr.observables = compute_observables(ref.fft(), r.topography, none, rf, ref_info);
     rr.info = ref_info;
-    if (!cfg.stress.post_analysis.empty()) {
-      rr.pressure = rf.pressure;
-      rr.ux = std::move(rf.ux);
-      rr.uy = std::move(rf.uy);
+    if (distributed) {
+      // Observables and stresses of the reference come from the whole fields on rank 0.
+      ContactFields whole = gather_fields(slab, rf);
+      if (mpi::root()) {
+        const FFT whole_fft(cfg.grid, cfg.solver.fft_planner);
+        rr.observables = compute_observables(whole_fft, r.topography, none, whole, ref_info);
+        if (!cfg.stress.post_analysis.empty()) {
+          rr.pressure = std::move(whole.pressure);
+          rr.ux = std::move(whole.ux);
+          rr.uy = std::move(whole.uy);
+        }
+      }
+    } else {
+      rr.observables = compute_observables(ref.fft(), r.topography, none, rf, ref_info);
+      if (!cfg.stress.post_analysis.empty()) {
+        rr.pressure = rf.pressure;
+        rr.ux = std::move(rf.ux);
+        rr.uy = std::move(rf.uy);
+      }
     }
     if (!opts.warm_start) r.fields.pressure = std::move(rf.pressure);
   }
   {
-    ContactSolver solver(*body, r.topography, cfg.interaction, cfg.friction, cfg.solver);
+    ContactSolver solver(*body, topo, cfg.interaction, cfg.friction, cfg.solver);
     hook(solver);
     try {
       r.info = solver.solve(cfg.load, r.fields);
@@ -271,6 +330,16 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     r.resumed = opts.resumed;
   }
   body.reset();
+  if (mpi::launched()) {
+    r.solve_peak_bytes = mpi::all_values(mpi::peak_resident_bytes());
+    r.reduction_seconds = mpi::all_values(mpi::reduction_seconds());
+  }
+  if (distributed) {
+    r.fields = gather_fields(slab, r.fields);
+    slab_topo = Topography{};
+    // Only rank 0 goes on: it holds the whole solution.
+    if (!mpi::root()) return r;
+  }
   const FFT fft(cfg.grid, cfg.solver.fft_planner);
   r.observables = compute_observables(fft, r.topography, cfg.friction, r.fields, r.info);
   if (cfg.friction.coefficient > 0) r.derived = derived_fields(fft, cfg.friction, r.fields);
@@ -301,6 +370,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     r.leakage = compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance,
                                 cfg.flow.solver, opts.stop_request);
   }
+  if (mpi::launched()) r.peak_bytes = mpi::peak_resident_bytes();
   return r;
 }
 

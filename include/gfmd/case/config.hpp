@@ -122,7 +122,8 @@ decltype(auto) in_section(const std::string& section, F&& f) {
 }
 
 // Estimated peak memory of a solve in bytes.
-double estimated_memory_bytes(const Grid& grid);
+// Per process when the run is split over `processes` (mpirun).
+double estimated_memory_bytes(const Grid& grid, int processes = 1);
 
 // The memory a solve may use here: the smallest of 80% of the physical memory, MemAvailable,
 // 80% of a cgroup limit and 80% of RLIMIT_AS / RLIMIT_DATA (bytes 0: none known), and which.
