@@ -194,14 +194,14 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["threads"] = threads();
   j["backend"] = r.config.backend;
   j["mpi_ranks"] = r.mpi_ranks;
-  if (!r.solve_peak_bytes.empty()) {
+  if (const auto& u = r.mpi_usage) {
     nlohmann::json per_rank = nlohmann::json::array();
-    for (double b : r.solve_peak_bytes) per_rank.push_back(b / 1048576.0);
+    for (double b : u->solve_peak_bytes) per_rank.push_back(b / 1048576.0);
     j["mpi"] = {
         {"ranks", r.mpi_ranks},
         {"solve_peak_memory_mib", per_rank},
-        {"rank0_peak_memory_mib", r.peak_bytes / 1048576.0},
-        {"reduction_time_s", r.reduction_seconds},
+        {"rank0_peak_memory_mib", u->peak_bytes / 1048576.0},
+        {"reduction_time_s", u->reduction_seconds},
         {"decomposition", "slabs of rows (FFTW-MPI); observables, stresses, analysis and flow on rank 0"}};
   }
   const auto& s = r.topography_stats;

@@ -171,7 +171,7 @@ bool outputs_need_stress_fields(const Config& cfg) { return cfg.output.fields ||
 
 namespace {
 // This process's rows of the fields a solve starts from (a warm start held whole).
-ContactFields slab_rows(const Grid& slab, const ContactFields& whole) {
+ContactFields warm_start_rows(const Grid& slab, const ContactFields& whole) {
   ContactFields f;
   f.pressure = mpi::rows_of(slab, whole.pressure);
   f.tx = mpi::rows_of(slab, whole.tx);
@@ -206,9 +206,6 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   // analysis, flow) on the whole grid.
   const bool distributed = mpi::distributed();
   r.mpi_ranks = mpi::size();
-  if (distributed && cfg.grid.ny < mpi::size())  // load_config refuses such a case first
-    throw InputError("grid.ny", "fewer rows than processes (" + std::to_string(cfg.grid.ny) + " < " +
-                                    std::to_string(mpi::size()) + ")");
   const Grid slab = distributed ? mpi::slab_of(cfg.grid) : cfg.grid;
   if (cfg.indenter.type == "array" && opts.topography) {
     const Grid& tg = opts.topography->grid;
@@ -242,7 +239,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   // (stresses, flow) gets the memory back.
   auto body = std::make_unique<ElasticBody>(slab, cfg.elastic);
   if (opts.warm_start && opts.warm_start->pressure.size() == cfg.grid.size())
-    r.fields = distributed ? slab_rows(slab, *opts.warm_start) : *opts.warm_start;
+    r.fields = distributed ? warm_start_rows(slab, *opts.warm_start) : *opts.warm_start;
   // Work counted into checkpoints: earlier sessions, the finished reference solve and the
   // solver running now.
   const auto t_start = std::chrono::steady_clock::now();
@@ -330,10 +327,9 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     r.resumed = opts.resumed;
   }
   body.reset();
-  if (mpi::launched()) {
-    r.solve_peak_bytes = mpi::all_values(mpi::peak_resident_bytes());
-    r.reduction_seconds = mpi::all_values(mpi::reduction_seconds());
-  }
+  if (mpi::launched())
+    r.mpi_usage = CaseResult::MpiUsage{mpi::all_values(mpi::peak_resident_bytes()),
+                                       mpi::all_values(mpi::reduction_seconds())};
   if (distributed) {
     r.fields = gather_fields(slab, r.fields);
     slab_topo = Topography{};
@@ -370,7 +366,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     r.leakage = compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance,
                                 cfg.flow.solver, opts.stop_request);
   }
-  if (mpi::launched()) r.peak_bytes = mpi::peak_resident_bytes();
+  if (r.mpi_usage) r.mpi_usage->peak_bytes = mpi::peak_resident_bytes();
   return r;
 }
 

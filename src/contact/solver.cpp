@@ -337,10 +337,8 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
           vmin = std::min(vmin, v);
           if (v < slow) ++nslow;
         }
-      if (grid_.is_slab()) {
-        nslow = mpi::sum_all(nslow);
-        vmin = -mpi::max_all(-vmin);
-      }
+      nslow = mpi::sum_all(grid_, nslow);
+      vmin = -mpi::max_all(grid_, -vmin);
       if (nslow > 0 && fric_.regularization < slow) {
         std::ostringstream os;
         os << info.status << "; " << nslow << " contact points slip slower than " << slow << " v0 (minimum "
@@ -361,7 +359,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
           ++ns;
         }
       }
-      info.stick_points = grid_.is_slab() ? mpi::sum_all(ns) : ns;
+      info.stick_points = mpi::sum_all(grid_, ns);
     }
     if (!pk.converged && info.converged) {
       info.converged = false;

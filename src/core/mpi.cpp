@@ -7,10 +7,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #ifdef GFMD_WITH_MPI
 #include <fftw3-mpi.h>
@@ -109,22 +111,6 @@ Local local_rows(const Grid& whole) {
 }
 }  // namespace
 
-std::vector<int> slab_starts(const Grid& whole) {
-  if (g_size == 1) return {0};
-  const int mine = static_cast<int>(local_rows(whole).start);
-  std::vector<int> all(static_cast<std::size_t>(g_size));
-  check(MPI_Allgather(&mine, 1, MPI_INT, all.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
-  return all;
-}
-
-std::vector<int> slab_rows(const Grid& whole) {
-  if (g_size == 1) return {whole.ny};
-  const int mine = static_cast<int>(local_rows(whole).rows);
-  std::vector<int> all(static_cast<std::size_t>(g_size));
-  check(MPI_Allgather(&mine, 1, MPI_INT, all.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
-  return all;
-}
-
 Grid slab_of(const Grid& whole) {
   Grid g = whole.whole();
   if (g_size == 1) return g;
@@ -135,15 +121,37 @@ Grid slab_of(const Grid& whole) {
 }
 
 namespace {
+// The first row and the row count of every process for `whole` (index = rank). Asked once per
+// grid (one collective) and kept: every reduction on a slab needs it.
+struct Layout {
+  std::vector<int> starts, rows;
+};
+const Layout& layout(const Grid& whole) {
+  static std::mutex mutex;
+  static std::map<std::pair<int, int>, Layout> known;
+  const std::lock_guard lock(mutex);
+  const auto key = std::pair{whole.nx, whole.ny};
+  if (const auto it = known.find(key); it != known.end()) return it->second;
+  const Local l = local_rows(whole);
+  const int mine[2] = {static_cast<int>(l.start), static_cast<int>(l.rows)};
+  std::vector<int> all(2 * static_cast<std::size_t>(g_size));
+  check(MPI_Allgather(mine, 2, MPI_INT, all.data(), 2, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  Layout lay;
+  for (std::size_t r = 0; r < static_cast<std::size_t>(g_size); ++r) {
+    lay.starts.push_back(all[2 * r]);
+    lay.rows.push_back(all[2 * r + 1]);
+  }
+  return known.emplace(key, std::move(lay)).first->second;
+}
+
 // Counts and displacements of every process's rows, times `per_row` elements.
 void row_layout(const Grid& slab, std::size_t per_row, std::vector<int>& counts, std::vector<int>& displs) {
-  const Grid w = slab.whole();
-  const std::vector<int> starts = slab_starts(w), rows = slab_rows(w);
-  counts.resize(rows.size());
-  displs.resize(rows.size());
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    const std::size_t c = static_cast<std::size_t>(rows[r]) * per_row;
-    const std::size_t d = static_cast<std::size_t>(starts[r]) * per_row;
+  const Layout& lay = layout(slab.whole());
+  counts.resize(lay.rows.size());
+  displs.resize(lay.rows.size());
+  for (std::size_t r = 0; r < lay.rows.size(); ++r) {
+    const std::size_t c = static_cast<std::size_t>(lay.rows[r]) * per_row;
+    const std::size_t d = static_cast<std::size_t>(lay.starts[r]) * per_row;
     if (c > static_cast<std::size_t>(INT32_MAX) || d > static_cast<std::size_t>(INT32_MAX))
       throw std::runtime_error("MPI: a slab of more than 2^31 elements (use more processes)");
     counts[r] = static_cast<int>(c);
@@ -164,16 +172,16 @@ std::vector<double> all_rows(const Grid& slab, const std::vector<double>& local,
   return all;
 }
 
-double max_all(double v) {
-  if (g_size == 1) return v;
+double max_all(const Grid& g, double v) {
+  if (!g.is_slab()) return v;
   const ReductionTimer timer;
   double m = v;
   check(MPI_Allreduce(&v, &m, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
   return m;
 }
 
-std::uint64_t sum_all(std::uint64_t v) {
-  if (g_size == 1) return v;
+std::uint64_t sum_all(const Grid& g, std::uint64_t v) {
+  if (!g.is_slab()) return v;
   const ReductionTimer timer;
   std::uint64_t s = v;
   check(MPI_Allreduce(&v, &s, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce");
@@ -200,15 +208,6 @@ int agree_exit(int code) {
   int all = code;
   if (MPI_Allreduce(&code, &all, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD) != MPI_SUCCESS) return code ? code : 1;
   return all;
-}
-
-std::string broadcast(const std::string& s) {
-  if (g_size == 1) return s;
-  unsigned long long n = s.size();
-  check(MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD), "MPI_Bcast");
-  std::string out = g_rank == 0 ? s : std::string(n, '\0');
-  if (n > 0) check(MPI_Bcast(out.data(), static_cast<int>(n), MPI_CHAR, 0, MPI_COMM_WORLD), "MPI_Bcast");
-  return out;
 }
 
 namespace {
@@ -308,18 +307,15 @@ int rank() { return 0; }
 int size() { return 1; }
 double reduction_seconds() { return 0.0; }
 Grid slab_of(const Grid& whole) { return whole.whole(); }
-std::vector<int> slab_starts(const Grid&) { return {0}; }
-std::vector<int> slab_rows(const Grid& whole) { return {whole.ny}; }
 std::vector<double> all_rows(const Grid& slab, const std::vector<double>& local, std::size_t) {
   if (slab.is_slab()) throw std::logic_error("a slab grid in a build without MPI");
   return local;
 }
-double max_all(double v) { return v; }
+double max_all(const Grid&, double v) { return v; }
 std::vector<double> all_values(double v) { return {v}; }
-std::uint64_t sum_all(std::uint64_t v) { return v; }
+std::uint64_t sum_all(const Grid&, std::uint64_t v) { return v; }
 bool all_ok(bool ok) { return ok; }
 int agree_exit(int code) { return code; }
-std::string broadcast(const std::string& s) { return s; }
 RealField gather(const Grid&, const RealField& local) { return local; }
 std::vector<unsigned char> gather(const Grid&, const std::vector<unsigned char>& local) { return local; }
 std::unique_ptr<FftEngine> make_fftw_mpi_engine(const Grid&, int) {

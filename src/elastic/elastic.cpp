@@ -232,7 +232,7 @@ double ElasticBody::slip_operator_norm(double ex, double ey) const {
     r = std::max(r, std::abs(d) * (tr + std::sqrt(df * df + m.cxy * m.cxy)));
   });
   const double mine = rows.empty() ? 0.0 : *std::max_element(rows.begin(), rows.end());
-  return grid_.is_slab() ? mpi::max_all(mine) : mine;
+  return mpi::max_all(grid_, mine);
 }
 
 void ElasticBody::slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale) const {

@@ -65,13 +65,16 @@ struct CaseResult {
   // Processes the solve ran on (mpirun; core/mpi.hpp). In a distributed run only rank 0's
   // result is whole: the other ranks return after the solve with `info` alone.
   int mpi_ranks = 1;
-  // Under mpirun (any number of processes): the peak resident memory of every rank at the end
-  // of the solves, and rank 0's at the end of the run (bytes; summary.json "mpi").
-  std::vector<double> solve_peak_bytes;
-  double peak_bytes = 0.0;
-  std::vector<double> reduction_seconds;  // per rank: time in the reductions' collectives
-  std::optional<RunAnalysis> analysis;    // output.analysis, after a converged solve
-  CheckpointProgress resumed;             // earlier sessions' work, included in info (RunOptions::resumed)
+  // Under mpirun (any number of processes; summary.json "mpi"): per rank, the peak resident
+  // memory at the end of the solves (bytes) and the time in the reductions' collectives; rank
+  // 0's peak at the end of the run.
+  struct MpiUsage {
+    std::vector<double> solve_peak_bytes, reduction_seconds;
+    double peak_bytes = 0.0;
+  };
+  std::optional<MpiUsage> mpi_usage;
+  std::optional<RunAnalysis> analysis;  // output.analysis, after a converged solve
+  CheckpointProgress resumed;           // earlier sessions' work, included in info (RunOptions::resumed)
 };
 
 }  // namespace gfmd

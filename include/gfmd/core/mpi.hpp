@@ -13,7 +13,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
-#include <string>
 #include <vector>
 
 #include "gfmd/core/fft.hpp"
@@ -43,18 +42,16 @@ inline bool distributed() { return size() > 1; }
 // distribution of ny rows; the last processes may hold fewer rows, or none when ny is not
 // a multiple of the block). A whole grid when there is one process.
 Grid slab_of(const Grid& whole);
-// The first row and row count of every process for `whole` (index = rank).
-std::vector<int> slab_starts(const Grid& whole);
-std::vector<int> slab_rows(const Grid& whole);
 
 // Row partials of a slab gathered from every process: `local` holds k values per row held
 // here (slab.rows() rows); the result holds k values for each of the ny rows of the cell, in
 // row order, on every process. The identity for a whole grid.
 std::vector<double> all_rows(const Grid& slab, const std::vector<double>& local, std::size_t k);
-// Largest value over the processes (exact).
-double max_all(double v);
-// Sum over the processes of integer counts (exact).
-std::uint64_t sum_all(std::uint64_t v);
+// Over the processes that share the slab grid `g` (exact): the largest value, the sum of
+// integer counts. v itself for a whole grid, which one process holds alone (rank 0's
+// post-processing, or a run without mpirun).
+double max_all(const Grid& g, double v);
+std::uint64_t sum_all(const Grid& g, std::uint64_t v);
 // Processes of this run on this machine (the launcher's local size; 1 without one).
 int processes_on_this_machine();
 // Every process's value, by rank, on every process.
@@ -65,8 +62,6 @@ double peak_resident_bytes();
 bool all_ok(bool ok);
 // The largest exit code over the processes: every rank exits with the same code.
 int agree_exit(int code);
-// Rank 0's string on every process.
-std::string broadcast(const std::string& s);
 
 // The whole field on rank 0 from the slabs of every process (empty elsewhere); costs the
 // whole field's memory on rank 0.

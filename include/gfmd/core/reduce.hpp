@@ -9,6 +9,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "gfmd/core/backend.hpp"
@@ -16,6 +17,17 @@
 #include "gfmd/core/mpi.hpp"
 
 namespace gfmd {
+
+// The row partials rows[r * k + j] (k per row) of the rows held here, gathered from every
+// process on a slab, added in row order: the one way every reduction below ends.
+inline std::vector<double> add_rows(const Grid& g, std::vector<double> rows, std::size_t k) {
+  if (g.is_slab()) rows = mpi::all_rows(g, rows, k);
+  std::vector<double> total(k, 0.0);
+  const std::size_t all = k > 0 ? rows.size() / k : 0;
+  for (std::size_t r = 0; r < all; ++r)
+    for (std::size_t j = 0; j < k; ++j) total[j] += rows[r * k + j];
+  return total;
+}
 
 // K sums in one pass: f(i, acc) adds point i's contributions into acc[0..K-1]. Same
 // sums each row serially and adds the row sums in row order, so the results do not
@@ -30,11 +42,9 @@ std::array<double, K> grid_sums(const Grid& g, F&& f) {
     for (int ix = 0; ix < g.nx; ++ix) f(base + ix, s);
     std::copy(s.begin(), s.end(), part.begin() + static_cast<std::ptrdiff_t>(iy * K));
   });
-  if (g.is_slab()) part = mpi::all_rows(g, part, K);
+  const std::vector<double> sums = add_rows(g, std::move(part), K);
   std::array<double, K> total{};
-  const std::size_t all = part.size() / K;
-  for (std::size_t r = 0; r < all; ++r)
-    for (std::size_t k = 0; k < K; ++k) total[k] += part[r * K + k];
+  std::copy(sums.begin(), sums.end(), total.begin());
   return total;
 }
 
@@ -54,12 +64,7 @@ std::vector<double> grid_sums(const Grid& g, std::size_t k, F&& f) {
     const std::size_t base = static_cast<std::size_t>(iy) * g.nx;
     for (int ix = 0; ix < g.nx; ++ix) f(base + ix, s);
   });
-  if (g.is_slab()) rows = mpi::all_rows(g, rows, k);
-  std::vector<double> total(k, 0.0);
-  const std::size_t all = k > 0 ? rows.size() / k : 0;
-  for (std::size_t iy = 0; iy < all; ++iy)
-    for (std::size_t j = 0; j < k; ++j) total[j] += rows[iy * k + j];
-  return total;
+  return add_rows(g, std::move(rows), k);
 }
 
 // As the run-time grid_sums over the indices 0..len-1 of a list (not a grid): blocks of a
@@ -98,12 +103,7 @@ std::vector<double> row_grouped_sums(const Grid& g, const std::vector<std::uint3
          ++j)
       f(static_cast<std::size_t>(order[j]), s);
   });
-  if (g.is_slab()) rows = mpi::all_rows(g, rows, k);
-  std::vector<double> total(k, 0.0);
-  const std::size_t all = k > 0 ? rows.size() / k : 0;
-  for (std::size_t r = 0; r < all; ++r)
-    for (std::size_t j = 0; j < k; ++j) total[j] += rows[r * k + j];
-  return total;
+  return add_rows(g, std::move(rows), k);
 }
 
 // max over all points of f(i) (deterministic regardless of threads and processes).
@@ -122,7 +122,7 @@ double grid_max(const Grid& g, F&& f, double init) {
   double m = init;
   for (double r : rows)
     if (r > m) m = r;
-  return g.is_slab() ? mpi::max_all(m) : m;
+  return mpi::max_all(g, m);
 }
 
 }  // namespace gfmd
