@@ -14,6 +14,7 @@
 #include <functional>
 #include <iostream>
 #include <new>
+#include <optional>
 #include <sstream>
 
 #include "child.hpp"
@@ -77,11 +78,23 @@ std::string sets_note(const std::vector<std::string>& sets) {
 }
 
 namespace {
+// What rank 0 of a distributed run tells the others once it has looked at the output
+// directory: go on with the solve, stop (it failed), or stop with success (--resume of a
+// case already solved).
+constexpr int kDirectoryReady = 1, kDirectoryFailed = 2, kNothingToDo = 3;
+
 // A rank other than 0 of a distributed run: waits for rank 0's directory, takes its part of
 // the solves and leaves the outputs to rank 0. Its exit code follows the solve's outcome,
 // which every rank shares.
 int run_follower(const gfmd::Config& cfg) {
-  if (!gfmd::mpi::all_ok(true)) throw QuietExit{1};
+  switch (gfmd::mpi::from_root(0)) {
+    case kDirectoryReady:
+      break;
+    case kNothingToDo:
+      return 0;
+    default:
+      throw QuietExit{1};
+  }
   gfmd::RunOptions opts;
   opts.stop_request = stop_requested;
   gfmd::CaseResult r;
@@ -106,23 +119,18 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   namespace fs = std::filesystem;
   // Validates the topography before anything is written.
   (void)gfmd::make_topography(cfg);
-  if (gfmd::mpi::distributed()) {
-    if (resume)
-      throw gfmd::InputError("--resume",
-                             "a distributed run (mpirun) writes no checkpoints yet; run without --resume");
-    if (!gfmd::mpi::root()) return run_follower(cfg);
-  }
-  // Rank 0 of a distributed run tells the others whether the directory is ready (it
-  // holds the lock and cleared it) before they start the solve: false if anything below
-  // throws first.
+  if (gfmd::mpi::distributed() && !gfmd::mpi::root()) return run_follower(cfg);
+  // Rank 0 of a distributed run tells the others what it found in the directory before they
+  // start the solve: ready (it holds the lock and cleared it), nothing to do, or failed (if
+  // anything below throws first).
   struct ReadyAgreement {
     bool told = false;
-    void tell() {
+    void tell(int what) {
       told = true;
-      (void)gfmd::mpi::all_ok(true);
+      (void)gfmd::mpi::from_root(what);
     }
     ~ReadyAgreement() {
-      if (!told) (void)gfmd::mpi::all_ok(false);
+      if (!told) (void)gfmd::mpi::from_root(kDirectoryFailed);
     }
   } ready;
   const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
@@ -134,6 +142,7 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
     if (gfmd::finished_summary(out_dir, cfg)) {
       std::printf("%s: already solved in %s/ (summary.json); nothing to do\n", case_path.c_str(),
                   out_dir.c_str());
+      ready.tell(kNothingToDo);
       return 0;
     }
     const std::string before = gfmd::read_status(out_dir);
@@ -150,7 +159,7 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   // The run owns its directory: what an earlier run wrote there goes first.
   gfmd::clear_run_outputs(out_dir, have_warm);
   gfmd::write_status(out_dir, "running");
-  ready.tell();
+  ready.tell(kDirectoryReady);
   ProgressPrinter pp;
   pp.quiet = quiet;
   pp.verbose = verbose;
@@ -263,9 +272,12 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   if (out_dir.empty())
     out_dir = (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_sweep"))
                   .string();
-  const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
+  // Under mpirun rank 0 alone holds the directory, prints and draws; every process solves.
+  const bool root = gfmd::mpi::root();
+  std::optional<gfmd::DirectoryLock> lock;
+  gfmd::on_root([&] { lock.emplace(out_dir, wait, stop_requested); });
   ProgressPrinter pp;
-  pp.quiet = quiet;
+  pp.quiet = quiet || !root;
   gfmd::SweepOptions so;
   so.overrides = sets;
   so.progress = [&pp](const gfmd::Progress& p) { pp(p); };
@@ -274,9 +286,9 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   so.on_point = [&](int done, int total, const std::string& msg) {
     pp.done();
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (!quiet)
-      std::fprintf(stderr, "[%d/%d] %s (elapsed %.1f s, about %.0f s left)\n", done, total, msg.c_str(), el,
-                   el / done * (total - done));
+    if (pp.quiet) return;
+    std::fprintf(stderr, "[%d/%d] %s (elapsed %.1f s, about %.0f s left)\n", done, total, msg.c_str(), el,
+                 el / done * (total - done));
   };
   // The sweep re-reads the case for every point; [sweep] given on the command line is
   // passed on through the overrides-free config copy.
@@ -288,6 +300,7 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
     gfmd::run_sweep(case_path, cfg, out_dir, so);
   } catch (const gfmd::Interrupted& e) {
     pp.done();
+    if (!root) return 4;
     std::fprintf(stderr,
                  "gfmd: sweep interrupted (%s); finished points and a checkpoint are kept in %s/, run the "
                  "same command again to continue\n",
@@ -296,12 +309,14 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   } catch (const gfmd::SolveError&) {
     // The finished points are kept: draw them before reporting the failure.
     pp.done();
+    if (!root) throw;
     (void)draw_maps(runs_needing_maps(out_dir), {});
     if (std::filesystem::exists(std::filesystem::path(out_dir) / "sweep.csv") && draw())
       std::fprintf(stderr, "gfmd: the finished points are drawn in %s/sweep_%s.png\n", out_dir.c_str(),
                    plot.c_str());
     throw;
   }
+  if (!root) return 0;
   (void)draw_maps(runs_needing_maps(out_dir), {});
   std::printf("sweep of %s over %zu values: tables in %s/sweep.csv and sweep.json\n",
               cfg.sweep.parameter.c_str(), cfg.sweep.values.size(), out_dir.c_str());
@@ -447,10 +462,14 @@ int cmd_percolation(const std::string& case_path, std::string out_dir, const std
   gfmd::PercolationOptions po;
   po.axis = direction == "x" ? 0 : 1;
   po.area_tolerance = area_tol;
-  if (!quiet) po.log = [](const std::string& m) { std::fprintf(stderr, "  %s\n", m.c_str()); };
+  // Under mpirun rank 0 alone holds the directory and prints; every process solves.
+  const bool root = gfmd::mpi::root();
+  if (!quiet && root) po.log = [](const std::string& m) { std::fprintf(stderr, "  %s\n", m.c_str()); };
   po.stop_request = stop_requested;
-  const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
+  std::optional<gfmd::DirectoryLock> lock;
+  gfmd::on_root([&] { lock.emplace(out_dir, wait, stop_requested); });
   const nlohmann::json j = gfmd::run_percolation(cfg, po, out_dir);
+  if (!root) return 0;
   std::printf(
       "critical relative contact area along %s: %.4f (pressure %.6g) after %d solves -> "
       "%s/percolation.json\n",
@@ -474,10 +493,15 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
     out_dir =
         (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_ensemble"))
             .string();
-  const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
+  // Under mpirun rank 0 alone holds the directory, prints and draws; every process solves.
+  const bool root = gfmd::mpi::root();
+  std::optional<gfmd::DirectoryLock> lock;
+  gfmd::on_root([&] { lock.emplace(out_dir, wait, stop_requested); });
   eo.stop_request = stop_requested;
-  if (!quiet) eo.on_seed = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };
+  if (!quiet && root)
+    eo.on_seed = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };
   const nlohmann::json j = gfmd::run_ensemble(case_path, out_dir, eo);
+  if (!root) return 0;
   (void)draw_maps(runs_needing_maps(out_dir), {});
   const bool pairs = j.contains("frictionless");
   std::printf("%s/ensemble.json: K_x = %.4e, K_y = %.4e (Bruggeman over %d seeds)", out_dir.c_str(),

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
 #include <new>
 #include <string>
 #include <vector>
@@ -141,18 +142,22 @@ int run_main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);  // prints help/version or the usage error
+    // Prints help/version or the usage error: once, by rank 0, under mpirun.
+    std::ostream none(nullptr);
+    const bool prints = gfmd::mpi::root();
+    const int rc = app.exit(e, prints ? std::cout : none, prints ? std::cerr : none);
     return rc == 0 ? 0 : 2;
   }
   const auto with_sets = [&sets]() { return sets_note(sets); };
-  // Under mpirun only `run` is distributed; the other commands would have every process
-  // write the same directory.
-  if (gfmd::mpi::distributed() && !run->parsed()) {
+  // Under mpirun the commands that solve cases are distributed (every process solves, rank
+  // 0 writes); the others would have every process write the same directory.
+  if (gfmd::mpi::distributed() && !(run->parsed() || sweep->parsed() || perc->parsed() || ens->parsed())) {
     if (gfmd::mpi::root())
-      std::fprintf(stderr,
-                   "gfmd: error: only `gfmd run` runs under mpirun with more than one process (%d here); "
-                   "run this command without mpirun\n",
-                   gfmd::mpi::size());
+      std::fprintf(
+          stderr,
+          "gfmd: error: only `gfmd run`, `sweep`, `percolation` and `ensemble` run under mpirun with "
+          "more than one process (%d here); run this command without mpirun\n",
+          gfmd::mpi::size());
     return 2;
   }
   // An error every process meets alike (the same input) is reported once, by rank 0.
@@ -186,6 +191,8 @@ int run_main(int argc, char** argv) {
     return 1;
   } catch (const gfmd::cli::QuietExit& e) {
     return e.code;  // a follower rank whose reason rank 0 reports
+  } catch (const gfmd::StoppedWithRoot& e) {
+    return e.code();  // likewise, stopped inside the library
   } catch (const std::exception& e) {
     if (gfmd::mpi::distributed())
       std::fprintf(stderr, "gfmd (rank %d of %d): error: %s%s\n", gfmd::mpi::rank(), gfmd::mpi::size(),

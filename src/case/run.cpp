@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -17,6 +18,7 @@
 #include <numbers>
 #include <set>
 #include <sstream>
+#include <type_traits>
 
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/backend.hpp"
@@ -171,11 +173,13 @@ bool outputs_need_stress_fields(const Config& cfg) { return cfg.output.fields ||
 
 namespace {
 // This process's rows of the fields a solve starts from (a warm start held whole).
+// This process's rows of the warm start that rank 0 holds (a checkpoint it read, a sweep's
+// previous point): pressure and tractions, scattered by rows.
 ContactFields warm_start_rows(const Grid& slab, const ContactFields& whole) {
   ContactFields f;
-  f.pressure = mpi::rows_of(slab, whole.pressure);
-  f.tx = mpi::rows_of(slab, whole.tx);
-  f.ty = mpi::rows_of(slab, whole.ty);
+  f.pressure = mpi::scatter(slab, whole.pressure);
+  f.tx = mpi::scatter(slab, whole.tx);
+  f.ty = mpi::scatter(slab, whole.ty);
   return f;
 }
 // The whole solution on rank 0 from the slabs (empty fields elsewhere).
@@ -192,7 +196,74 @@ ContactFields gather_fields(const Grid& slab, const ContactFields& f) {
   if (!f.stick.empty()) w.stick = mpi::gather(slab, f.stick);
   return w;
 }
+// Everything after the solve, on the whole solution: observables, derived fields, stresses,
+// the checks of a padded map, the run's analysis and the leakage.
+void after_solve(const Config& cfg, const RunOptions& opts, CaseResult& r) {
+  const FFT fft(cfg.grid, cfg.solver.fft_planner);
+  r.observables = compute_observables(fft, r.topography, cfg.friction, r.fields, r.info);
+  if (cfg.friction.coefficient > 0) r.derived = derived_fields(fft, cfg.friction, r.fields);
+  if (r.info.converged) compute_stresses(r, fft, opts.keep_stress_fields);
+  if (r.info.converged && r.map_report && r.map_report->periodize == "pad") {
+    // The padding (every cell outside the map's corner quarter) must carry no load.
+    const Grid& g = cfg.grid;
+    double outside = 0.0, total = 0.0;
+    for (int iy = 0; iy < g.ny; ++iy)
+      for (int ix = 0; ix < g.nx; ++ix) {
+        const double p = r.fields.pressure[static_cast<std::size_t>(iy) * g.nx + ix];
+        total += p;
+        if (ix >= g.nx / 2 || iy >= g.ny / 2) outside += p;
+      }
+    if (outside > 0.0)
+      throw InputError(
+          "indenter.periodize",
+          "\"pad\": the padding around the map came into contact (" + format_number(100.0 * outside / total) +
+              " % of the load): the body's deformation at this load exceeds the pad's depth; use "
+              "periodize = \"mirror\"");
+  }
+  if (r.info.converged && cfg.output.analysis) {
+    r.analysis = analyse_run(r.topography, r.fields);
+    // A padded cell's spectrum is the pad's step, not the surface's: no Hurst fit.
+    if (r.map_report && r.map_report->periodize == "pad") r.analysis->rough = false;
+  }
+  if (r.info.converged && cfg.flow.enabled) {
+    r.leakage = compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance,
+                                cfg.flow.solver, opts.stop_request);
+  }
+  if (r.mpi_usage) r.mpi_usage->peak_bytes = mpi::peak_resident_bytes();
+}
+
+// The results a study decides on, from rank 0 to every process (a collective): the
+// observables and the leakage's figures, so that every process takes the same next step.
+void share_from_root(CaseResult& r) {
+  static_assert(std::is_trivially_copyable_v<Observables>);
+  std::string bytes(reinterpret_cast<const char*>(&r.observables), sizeof(Observables));
+  bytes = mpi::from_root(bytes);
+  std::memcpy(static_cast<void*>(&r.observables), bytes.data(), sizeof(Observables));
+  const std::string leak = mpi::from_root(r.leakage ? r.leakage->json.dump() : std::string());
+  if (!mpi::root() && !leak.empty()) r.leakage.emplace().json = nlohmann::json::parse(leak);
+}
 }  // namespace
+
+void rethrow_from_root(const std::exception_ptr& failure) {
+  if (!mpi::distributed()) return;
+  enum Kind : int { kNone, kInput, kSolve, kInterrupted, kOther };
+  int kind = kNone;
+  if (failure) try {
+      std::rethrow_exception(failure);
+    } catch (const InputError&) {
+      kind = kInput;
+    } catch (const Interrupted&) {
+      kind = kInterrupted;
+    } catch (const SolveError&) {
+      kind = kSolve;
+    } catch (...) {
+      kind = kOther;
+    }
+  kind = mpi::from_root(kind);
+  if (kind == kNone) return;
+  if (failure) std::rethrow_exception(failure);
+  throw StoppedWithRoot(kind == kInput ? 2 : kind == kSolve ? 3 : kind == kInterrupted ? 4 : 1);
+}
 
 CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   set_threads(cfg.threads);
@@ -238,8 +309,14 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   // The body and the solvers live only as long as the solves: the stage after them
   // (stresses, flow) gets the memory back.
   auto body = std::make_unique<ElasticBody>(slab, cfg.elastic);
-  if (opts.warm_start && opts.warm_start->pressure.size() == cfg.grid.size())
-    r.fields = distributed ? warm_start_rows(slab, *opts.warm_start) : *opts.warm_start;
+  // A distributed run starts warm when rank 0 has a warm start: the others get its rows.
+  bool warm = opts.warm_start && opts.warm_start->pressure.size() == cfg.grid.size();
+  if (distributed) {
+    warm = mpi::from_root(warm ? 1 : 0) == 1;
+    if (warm) r.fields = warm_start_rows(slab, mpi::root() ? *opts.warm_start : ContactFields{});
+  } else if (warm) {
+    r.fields = *opts.warm_start;
+  }
   // Work counted into checkpoints: earlier sessions, the finished reference solve and the
   // solver running now.
   const auto t_start = std::chrono::steady_clock::now();
@@ -251,15 +328,37 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     p.wall_time_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     return p;
   };
+  // Checkpoints hold the whole pressure and tractions, so that a run resumes on any number
+  // of processes: a distributed run gathers them on rank 0, which writes the file (24 bytes
+  // per point of the cell there, and the file's image as much again, while it writes). Every
+  // process takes part when rank 0 has a checkpoint path.
+  const bool checkpoints =
+      distributed ? mpi::from_root(opts.checkpoint_path.empty() ? 0 : 1) == 1 : !opts.checkpoint_path.empty();
   const auto save = [&](const ContactFields& f) {
-    if (!opts.checkpoint_path.empty()) write_checkpoint(opts.checkpoint_path, cfg, f, progress_now());
+    if (!checkpoints) return;
+    if (!distributed) {
+      write_checkpoint(opts.checkpoint_path, cfg, f, progress_now());
+      return;
+    }
+    ContactFields whole;
+    whole.pressure = mpi::gather(slab, f.pressure);
+    whole.tx = mpi::gather(slab, f.tx);
+    whole.ty = mpi::gather(slab, f.ty);
+    std::string failure;
+    if (mpi::root()) try {
+        write_checkpoint(opts.checkpoint_path, cfg, whole, progress_now());
+      } catch (const std::exception& e) {
+        failure = e.what();
+      }
+    // A checkpoint rank 0 could not write stops every process (none may wait for it).
+    failure = mpi::from_root(failure);
+    if (!failure.empty()) throw std::runtime_error("checkpoint " + opts.checkpoint_path + ": " + failure);
   };
   const auto hook = [&](ContactSolver& s) {
     running = &s;
     if (opts.progress) s.set_progress(opts.progress);
     if (opts.stop_request) s.set_stop_request(opts.stop_request);
-    // Checkpoints hold whole fields: not written by a distributed run (yet).
-    if (!opts.checkpoint_path.empty() && !distributed) s.set_checkpoint(save, opts.checkpoint_interval_s);
+    if (checkpoints) s.set_checkpoint(save, opts.checkpoint_interval_s);
   };
   if (cfg.friction.coefficient > 0 && cfg.friction_reference) {
     // Frictionless reference at the same load; it also warm-starts the sliding solve.
@@ -304,7 +403,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
         rr.uy = std::move(rf.uy);
       }
     }
-    if (!opts.warm_start) r.fields.pressure = std::move(rf.pressure);
+    if (!warm) r.fields.pressure = std::move(rf.pressure);
   }
   {
     ContactSolver solver(*body, topo, cfg.interaction, cfg.friction, cfg.solver);
@@ -330,43 +429,22 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   if (mpi::launched())
     r.mpi_usage = CaseResult::MpiUsage{mpi::all_values(mpi::peak_resident_bytes()),
                                        mpi::all_values(mpi::reduction_seconds())};
-  if (distributed) {
-    r.fields = gather_fields(slab, r.fields);
-    slab_topo = Topography{};
-    // Only rank 0 goes on: it holds the whole solution.
-    if (!mpi::root()) return r;
+  if (!distributed) {
+    after_solve(cfg, opts, r);
+    return r;
   }
-  const FFT fft(cfg.grid, cfg.solver.fft_planner);
-  r.observables = compute_observables(fft, r.topography, cfg.friction, r.fields, r.info);
-  if (cfg.friction.coefficient > 0) r.derived = derived_fields(fft, cfg.friction, r.fields);
-  if (r.info.converged) compute_stresses(r, fft, opts.keep_stress_fields);
-  if (r.info.converged && r.map_report && r.map_report->periodize == "pad") {
-    // The padding (every cell outside the map's corner quarter) must carry no load.
-    const Grid& g = cfg.grid;
-    double outside = 0.0, total = 0.0;
-    for (int iy = 0; iy < g.ny; ++iy)
-      for (int ix = 0; ix < g.nx; ++ix) {
-        const double p = r.fields.pressure[static_cast<std::size_t>(iy) * g.nx + ix];
-        total += p;
-        if (ix >= g.nx / 2 || iy >= g.ny / 2) outside += p;
-      }
-    if (outside > 0.0)
-      throw InputError(
-          "indenter.periodize",
-          "\"pad\": the padding around the map came into contact (" + format_number(100.0 * outside / total) +
-              " % of the load): the body's deformation at this load exceeds the pad's depth; use "
-              "periodize = \"mirror\"");
-  }
-  if (r.info.converged && cfg.output.analysis) {
-    r.analysis = analyse_run(r.topography, r.fields);
-    // A padded cell's spectrum is the pad's step, not the surface's: no Hurst fit.
-    if (r.map_report && r.map_report->periodize == "pad") r.analysis->rough = false;
-  }
-  if (r.info.converged && cfg.flow.enabled) {
-    r.leakage = compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance,
-                                cfg.flow.solver, opts.stop_request);
-  }
-  if (r.mpi_usage) r.mpi_usage->peak_bytes = mpi::peak_resident_bytes();
+  r.fields = gather_fields(slab, r.fields);
+  slab_topo = Topography{};
+  // Rank 0 holds the whole solution and does the rest; the others wait for the results the
+  // studies decide on, or for its error.
+  std::exception_ptr failure;
+  if (mpi::root()) try {
+      after_solve(cfg, opts, r);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+  rethrow_from_root(failure);
+  share_from_root(r);
   return r;
 }
 

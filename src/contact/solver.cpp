@@ -98,13 +98,18 @@ double ContactSolver::residual(const ContactFields& f, double delta) {
 
 void ContactSolver::poll(const ContactFields* f, const std::function<void()>& settle) {
   bool stop = stop_ && stop_();
-  // Every process polls at the same steps; a request seen by one stops them all.
-  if (grid_.is_slab()) stop = !mpi::all_ok(!stop);
   bool save = false;
   double now = 0.0;
   if (checkpoint_ && f) {
     now = std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
     save = now - last_checkpoint_ >= checkpoint_interval_s_;
+  }
+  // Every process polls at the same steps: a stop request seen by one stops them all, and
+  // rank 0's clock says when a checkpoint is due (saving one is a collective).
+  if (grid_.is_slab()) {
+    const unsigned all = mpi::any_bits((stop ? 1u : 0u) | (save && mpi::root() ? 2u : 0u));
+    stop = (all & 1u) != 0;
+    save = (all & 2u) != 0;
   }
   if ((stop || save) && settle) settle();
   if (stop) throw Interrupted("interrupted at iteration " + std::to_string(total_it_));

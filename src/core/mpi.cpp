@@ -210,6 +210,29 @@ int agree_exit(int code) {
   return all;
 }
 
+unsigned any_bits(unsigned bits) {
+  if (g_size == 1) return bits;
+  const ReductionTimer timer;
+  unsigned all = bits;
+  check(MPI_Allreduce(&bits, &all, 1, MPI_UNSIGNED, MPI_BOR, MPI_COMM_WORLD), "MPI_Allreduce");
+  return all;
+}
+
+int from_root(int v) {
+  if (g_size > 1) check(MPI_Bcast(&v, 1, MPI_INT, 0, MPI_COMM_WORLD), "MPI_Bcast");
+  return v;
+}
+
+std::string from_root(const std::string& text) {
+  if (g_size == 1) return text;
+  if (text.size() > static_cast<std::size_t>(INT32_MAX))
+    throw std::runtime_error("MPI: a text of over 2 GiB");
+  const int n = from_root(static_cast<int>(text.size()));
+  std::string t = g_rank == 0 ? text : std::string(static_cast<std::size_t>(n), '\0');
+  if (n > 0) check(MPI_Bcast(t.data(), n, MPI_CHAR, 0, MPI_COMM_WORLD), "MPI_Bcast");
+  return t;
+}
+
 namespace {
 template <class Vec>
 Vec gather_impl(const Grid& slab, const Vec& local, MPI_Datatype type) {
@@ -226,6 +249,18 @@ Vec gather_impl(const Grid& slab, const Vec& local, MPI_Datatype type) {
 }  // namespace
 
 RealField gather(const Grid& slab, const RealField& local) { return gather_impl(slab, local, MPI_DOUBLE); }
+
+RealField scatter(const Grid& slab, const RealField& whole) {
+  if (!slab.is_slab()) return whole;
+  std::vector<int> counts, displs;
+  row_layout(slab, static_cast<std::size_t>(slab.nx), counts, displs);
+  if (g_rank == 0 && whole.size() != slab.size()) throw std::logic_error("mpi::scatter: not a whole field");
+  RealField local(slab.local_size());
+  check(MPI_Scatterv(g_rank == 0 ? whole.data() : nullptr, counts.data(), displs.data(), MPI_DOUBLE,
+                     local.data(), counts[static_cast<std::size_t>(g_rank)], MPI_DOUBLE, 0, MPI_COMM_WORLD),
+        "MPI_Scatterv");
+  return local;
+}
 std::vector<unsigned char> gather(const Grid& slab, const std::vector<unsigned char>& local) {
   return gather_impl(slab, local, MPI_UNSIGNED_CHAR);
 }
@@ -316,6 +351,10 @@ std::vector<double> all_values(double v) { return {v}; }
 std::uint64_t sum_all(const Grid&, std::uint64_t v) { return v; }
 bool all_ok(bool ok) { return ok; }
 int agree_exit(int code) { return code; }
+unsigned any_bits(unsigned bits) { return bits; }
+int from_root(int v) { return v; }
+std::string from_root(const std::string& text) { return text; }
+RealField scatter(const Grid&, const RealField& whole) { return whole; }
 RealField gather(const Grid&, const RealField& local) { return local; }
 std::vector<unsigned char> gather(const Grid&, const std::vector<unsigned char>& local) { return local; }
 std::unique_ptr<FftEngine> make_fftw_mpi_engine(const Grid&, int) {

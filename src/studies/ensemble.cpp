@@ -12,6 +12,7 @@
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
+#include "gfmd/core/mpi.hpp"
 #include "gfmd/flow/flow.hpp"
 #include "gfmd/version.hpp"
 
@@ -47,29 +48,40 @@ nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir
       const std::string d =
           (fs::path(dir) / ((variant ? "frictionless_seed_" : "seed_") + std::to_string(seed))).string();
       double x = 0, y = 0, a = 0;
-      bool reused = false;
-      // A seed finished earlier with the same input is read back (as sweep points are).
-      if (const auto old = finished_summary(d, c)) {
-        std::ifstream fj(fs::path(d) / "flow.json");
-        try {
-          const nlohmann::json fl = nlohmann::json::parse(fj);
-          x = fl.at("conductivity_x").get<double>();
-          y = fl.at("conductivity_y").get<double>();
-          a = old->at("relative_contact_area").get<double>();
-          reused = true;
-        } catch (const std::exception&) {
-          reused = false;  // incomplete: solve again
+      // A seed finished earlier with the same input is read back (as sweep points are); under
+      // mpirun rank 0 reads it and hands the figures on.
+      std::string found;
+      if (mpi::root())
+        if (const auto old = finished_summary(d, c)) {
+          std::ifstream fj(fs::path(d) / "flow.json");
+          try {
+            const nlohmann::json fl = nlohmann::json::parse(fj);
+            found = nlohmann::json::array({fl.at("conductivity_x").get<double>(),
+                                           fl.at("conductivity_y").get<double>(),
+                                           old->at("relative_contact_area").get<double>()})
+                        .dump();
+          } catch (const std::exception&) {
+            found.clear();  // incomplete: solve again
+          }
         }
-      }
-      if (!reused) {
+      found = mpi::from_root(found);
+      const bool reused = !found.empty();
+      if (reused) {
+        const nlohmann::json v = nlohmann::json::parse(found);
+        x = v[0];
+        y = v[1];
+        a = v[2];
+      } else {
         RunOptions ro;
         ro.keep_stress_fields = outputs_need_stress_fields(c);
         ro.stop_request = opts.stop_request;
         const CaseResult r = run_case(c, ro);
         if (!r.info.converged) throw SolveError("seed " + std::to_string(seed) + ": " + r.info.status);
-        fs::create_directories(d);
-        clear_run_outputs(d);
-        write_outputs(r, d);
+        on_root([&] {
+          fs::create_directories(d);
+          clear_run_outputs(d);
+          write_outputs(r, d);
+        });
         x = r.leakage->json["conductivity_x"];
         y = r.leakage->json["conductivity_y"];
         a = r.observables.relative_contact_area;
@@ -126,7 +138,7 @@ nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir
   j["input"] = probe.to_json();
   j["version"] = kVersion;
   j["git_commit"] = kGitCommit;
-  write_text_atomic((fs::path(dir) / "ensemble.json").string(), j.dump(2) + "\n");
+  on_root([&] { write_text_atomic((fs::path(dir) / "ensemble.json").string(), j.dump(2) + "\n"); });
   return j;
 }
 

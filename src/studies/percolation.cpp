@@ -10,6 +10,7 @@
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
+#include "gfmd/core/mpi.hpp"
 #include "gfmd/flow/flow.hpp"
 #include "gfmd/version.hpp"
 
@@ -35,7 +36,8 @@ nlohmann::json find_percolation(const Config& base, const PercolationOptions& op
     CaseResult r = run_case(c, ro);
     if (!r.info.converged)
       throw SolveError("percolation: solve at pressure " + format_number(p) + ": " + r.info.status);
-    const bool perc = percolates(c.grid, r.fields.gap.data(), opt.axis);
+    // Rank 0 holds the gap of a distributed run and tells the others.
+    const bool perc = mpi::from_root(mpi::root() && percolates(c.grid, r.fields.gap.data(), opt.axis)) == 1;
     hist.push_back({p, r.observables.relative_contact_area, perc});
     warm = std::move(r.fields);
     have = true;
@@ -94,7 +96,9 @@ nlohmann::json find_percolation(const Config& base, const PercolationOptions& op
 
 nlohmann::json run_percolation(const Config& cfg, const PercolationOptions& opt, const std::string& dir) {
   nlohmann::json j = find_percolation(cfg, opt);
-  write_text_atomic((std::filesystem::path(dir) / "percolation.json").string(), j.dump(2) + "\n");
+  on_root([&] {
+    write_text_atomic((std::filesystem::path(dir) / "percolation.json").string(), j.dump(2) + "\n");
+  });
   return j;
 }
 

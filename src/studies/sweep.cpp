@@ -16,6 +16,7 @@
 #include <iterator>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -24,6 +25,7 @@
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
+#include "gfmd/core/mpi.hpp"
 #include "gfmd/io/netcdf.hpp"
 #include "gfmd/version.hpp"
 namespace gfmd {
@@ -113,8 +115,11 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   const SweepConfig& sw = base.sweep;
   if (!sw.active())
     throw InputError(case_path, "no sweep: give [sweep] parameter and values, or --set key=v1,v2,...");
-  fs::create_directories(dir);
-  {
+  // Under mpirun every process takes part in every solve; rank 0 alone reads and writes the
+  // directory and tells the others what it found there.
+  const bool root = mpi::root();
+  on_root([&] {
+    fs::create_directories(dir);
     // What an earlier, longer or differently plotted sweep left: points beyond this sweep's
     // last and its plots (the tables are rewritten below).
     std::error_code ec;
@@ -127,7 +132,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       else if (name.rfind("sweep_", 0) == 0 && e.path().extension() == ".png")
         fs::remove(e.path(), ec);
     }
-  }
+  });
   std::vector<nlohmann::json> summaries;
   ContactFields warm;
   bool have_warm = false;
@@ -139,8 +144,10 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     char name[32];
     std::snprintf(name, sizeof name, "point_%03d", i);
     const std::string pdir = (fs::path(dir) / name).string();
-    if (auto old = finished_summary(pdir, cfg)) {
-      summaries.push_back(std::move(*old));
+    std::optional<nlohmann::json> old;
+    if (root) old = finished_summary(pdir, cfg);
+    if (mpi::from_root(old ? 1 : 0) == 1) {
+      if (root) summaries.push_back(std::move(*old));
       have_warm = false;
       if (opts.on_point) opts.on_point(i + 1, total, std::string(name) + " reused (finished earlier)");
       continue;
@@ -150,17 +157,19 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     ro.stop_request = opts.stop_request;
     ro.checkpoint_interval_s = opts.checkpoint_interval_s;
     ro.keep_stress_fields = outputs_need_stress_fields(cfg);
-    fs::create_directories(pdir);
+    on_root([&] { fs::create_directories(pdir); });
     ro.checkpoint_path = (fs::path(pdir) / "checkpoint.bin").string();
     ContactFields resumed;
-    if (read_checkpoint(ro.checkpoint_path, cfg, resumed)) {
+    const bool from_checkpoint =
+        mpi::from_root(root && read_checkpoint(ro.checkpoint_path, cfg, resumed)) == 1;
+    if (from_checkpoint) {
       ro.warm_start = &resumed;
     } else if (have_warm) {
       ro.warm_start = &warm;
     }
     CaseResult r = run_case(cfg, ro);
     bool retried = false;
-    if (!r.info.converged && ro.warm_start == &warm) {
+    if (!r.info.converged && !from_checkpoint && have_warm) {
       // Started from the previous point's solution, the friction fixed point can fall into
       // a limit cycle that a start from the frictionless solution avoids: try that once.
       if (opts.on_point)
@@ -170,17 +179,21 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       retried = true;
     }
     std::error_code ec;
-    fs::remove(ro.checkpoint_path, ec);
+    if (root) fs::remove(ro.checkpoint_path, ec);
     if (!r.info.converged) {
-      fs::remove(pdir, ec);  // only if empty: no bare point directory is left behind
-      write_sweep_tables(dir, sw.parameter, sw.values, summaries);
+      on_root([&] {
+        fs::remove(pdir, ec);  // only if empty: no bare point directory is left behind
+        write_sweep_tables(dir, sw.parameter, sw.values, summaries);
+      });
       throw SolveError(std::string(name) + " (" + sw.parameter + " = " + format_number(sw.values[i]) +
                        "): " + r.info.status + "; the " + std::to_string(i) + " finished points are kept");
     }
-    clear_run_outputs(pdir);  // a point recomputed owns its directory, as a run does
-    write_outputs(r, pdir);
-    summaries.push_back(summary_json(r));
-    write_sweep_tables(dir, sw.parameter, sw.values, summaries);
+    on_root([&] {
+      clear_run_outputs(pdir);  // a point recomputed owns its directory, as a run does
+      write_outputs(r, pdir);
+      summaries.push_back(summary_json(r));
+      write_sweep_tables(dir, sw.parameter, sw.values, summaries);
+    });
     warm = std::move(r.fields);
     have_warm = cfg.grid.size() == base.grid.size();
     if (opts.on_point) {
@@ -190,7 +203,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       opts.on_point(i + 1, total, msg);
     }
   }
-  write_sweep_tables(dir, sw.parameter, sw.values, summaries);
+  on_root([&] { write_sweep_tables(dir, sw.parameter, sw.values, summaries); });
   nlohmann::json j;
   j["points"] = summaries.size();
   return j;

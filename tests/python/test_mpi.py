@@ -9,7 +9,9 @@ divide evenly are among the cases; a sliding case with stick and a leakage case 
 import json
 import os
 import shutil
+import signal
 import subprocess
+import time
 
 import numpy as np
 import pytest
@@ -179,6 +181,43 @@ def test_sliding_rough_with_leakage(tmp_path):
         assert fb["flow_factor_" + d] == pytest.approx(fa["flow_factor_" + d], rel=1e-8, abs=1e-300)
 
 
+def test_interrupted_run_resumes_on_another_process_count(tmp_path):
+    """A distributed run writes whole-field checkpoints (gathered on rank 0): stopped under
+    -np 2, it resumes under -np 3 and ends where an uninterrupted serial run ends (the
+    tolerances of tests/test_robustness.cpp's serial resume: mu to 1e-7, area to 1e-12)."""
+    case = tmp_path / "thin.toml"
+    case.write_text(THIN_STICK.replace("nx = 128", "nx = 256").replace("ny = 126", "ny = 250")
+                    .replace("ly = 1.96875", "ly = 1.953125").replace("[stress]\ndepths = [0.01]\n", ""))
+    out = tmp_path / "mpi"
+    cmd = [MPIRUN, "-np", "2", "--oversubscribe", "--bind-to", "none", GFMD, "run", str(case), "-o", str(out), "-q",
+           "--checkpoint-interval", "0.1"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+    for _ in range(1200):
+        if (out / "checkpoint.bin").exists() or proc.poll() is not None:
+            break
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)  # mpirun passes it on to every rank
+    _, err = proc.communicate(timeout=120)
+    assert (out / "status.json").exists(), err
+    if (out / "summary.json").exists():
+        pytest.skip("the run finished before it could be interrupted")
+    with open(out / "status.json") as f:
+        assert json.load(f)["status"] == "interrupted"
+    assert err.count("continue with --resume") == 1  # rank 0 alone reports
+    assert (out / "checkpoint.bin").exists()
+    p = run(case, out, 3, ["--resume"])
+    assert p.returncode == 0, p.stderr
+    assert not (out / "checkpoint.bin").exists()
+    assert run(case, tmp_path / "serial").returncode == 0
+    a, b = summary(tmp_path / "serial"), summary(out)
+    assert b["mpi_ranks"] == 3 and b["resumed"]["iterations_before"] > 0
+    assert b["friction_coefficient"] == pytest.approx(a["friction_coefficient"], abs=1e-7)
+    assert b["relative_contact_area"] == pytest.approx(a["relative_contact_area"], abs=1e-12)
+    # Once solved, --resume under mpirun has nothing to do: success, one message.
+    p = run(case, out, 2, ["--resume"])
+    assert p.returncode == 0 and p.stdout.count("nothing to do") == 1
+
+
 def test_more_ranks_than_rows_is_refused_by_rank_zero(tmp_path):
     case = tmp_path / "hertz.toml"
     case.write_text(HERTZ.replace("ny = 50", "ny = 2").replace("ly = 3.125", "ly = 4.0").replace("nx = 64", "nx = 2"))
@@ -188,12 +227,78 @@ def test_more_ranks_than_rows_is_refused_by_rank_zero(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
+def mpi_cmd(ranks, *args):
+    return subprocess.run([MPIRUN, "-np", str(ranks), "--oversubscribe", "--bind-to", "none", GFMD, *map(str, args)],
+                          capture_output=True, text=True, env=ENV, timeout=600)
+
+
+def serial_cmd(*args):
+    return subprocess.run([GFMD, *map(str, args)], capture_output=True, text=True, env=ENV, timeout=600)
+
+
+def test_sweep_under_mpirun_matches_serial(tmp_path):
+    """Every process solves every point (warm-started from the previous one, which rank 0
+    holds and scatters); rank 0 alone writes. Same iterations, observables to 1e-12."""
+    case = tmp_path / "thin.toml"
+    case.write_text(THIN_STICK.replace("[stress]\ndepths = [0.01]\n", ""))
+    sets = ["--set", "load.pressure=0.05,0.1,0.3", "-q"]
+    assert serial_cmd("sweep", case, "-o", tmp_path / "serial", *sets).returncode == 0
+    p = mpi_cmd(3, "sweep", case, "-o", tmp_path / "mpi", *sets)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.count("sweep of load.pressure") == 1
+    with open(tmp_path / "serial" / "sweep.json") as f:
+        a = json.load(f)["points"]
+    with open(tmp_path / "mpi" / "sweep.json") as f:
+        b = json.load(f)["points"]
+    assert len(a) == len(b) == 3
+    for x, y in zip(a, b):
+        assert y["iterations"] == x["iterations"] and y["mpi_ranks"] == 3
+        for k in OBSERVABLES:
+            if k in x:
+                assert y[k] == pytest.approx(x[k], rel=1e-12, abs=1e-300), k
+    assert summary(tmp_path / "mpi" / "point_002")["mpi_ranks"] == 3
+
+
+def test_percolation_and_ensemble_under_mpirun_match_serial(tmp_path):
+    case = tmp_path / "flow.toml"
+    case.write_text(ROUGH_FLOW.replace("nx = 96", "nx = 64"))
+    assert serial_cmd("percolation", case, "--direction", "x", "-o", tmp_path / "p1", "-q").returncode == 0
+    p = mpi_cmd(3, "percolation", case, "--direction", "x", "-o", tmp_path / "p3", "-q")
+    assert p.returncode == 0, p.stderr
+    with open(tmp_path / "p1" / "percolation.json") as f:
+        a = json.load(f)
+    with open(tmp_path / "p3" / "percolation.json") as f:
+        b = json.load(f)
+    # The same bisection: the same pressures, the same verdicts, areas to 1e-12.
+    assert [h["pressure"] for h in b["history"]] == [h["pressure"] for h in a["history"]]
+    assert [h["percolates"] for h in b["history"]] == [h["percolates"] for h in a["history"]]
+    assert b["critical_relative_contact_area"] == pytest.approx(a["critical_relative_contact_area"], rel=1e-12)
+
+    assert serial_cmd("ensemble", case, "--seeds", "0..1", "-o", tmp_path / "e1", "-q").returncode == 0
+    p = mpi_cmd(2, "ensemble", case, "--seeds", "0..1", "-o", tmp_path / "e2", "-q")
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.count("ensemble.json") == 1
+    with open(tmp_path / "e1" / "ensemble.json") as f:
+        a = json.load(f)
+    with open(tmp_path / "e2" / "ensemble.json") as f:
+        b = json.load(f)
+    for x, y in zip(a["seeds"], b["seeds"]):
+        assert y["relative_contact_area"] == pytest.approx(x["relative_contact_area"], rel=1e-12)
+        # The flow's PCG stops at its tolerance: gaps that differ by round-off give
+        # conductivities that differ at that level (1e-8 of the largest), not 1e-12.
+        for k in ("conductivity_x", "conductivity_y"):
+            assert y[k] == pytest.approx(x[k], rel=1e-6), k
+    assert (tmp_path / "e2" / "seed_1" / "flow.json").exists()
+
+
 def test_other_commands_refuse_mpirun(tmp_path):
     case = tmp_path / "hertz.toml"
     case.write_text(HERTZ)
-    p = subprocess.run([MPIRUN, "-np", "2", "--oversubscribe", GFMD, "sweep", str(case), "--set",
-                        "load.force=0.01,0.02", "-o", str(tmp_path / "sw")], capture_output=True, text=True, env=ENV,
-                       timeout=120)
+    p = mpi_cmd(2, "curve", case, "--pressures", "0.01,0.02", "-o", tmp_path / "cv")
     assert p.returncode == 2
-    assert p.stderr.count("only `gfmd run` runs under mpirun") == 1
-    assert not (tmp_path / "sw").exists()
+    assert p.stderr.count("run under mpirun") == 1
+    assert not (tmp_path / "cv").exists()
+    # A bad option: one message (rank 0's), exit 2.
+    p = mpi_cmd(2, "run", case, "-o", tmp_path / "r", "--checkpoint-interval", "0.01")
+    assert p.returncode == 2
+    assert p.stderr.count("--checkpoint-interval") == 1

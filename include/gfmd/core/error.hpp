@@ -40,6 +40,17 @@ class Interrupted : public SolveError {
   using SolveError::SolveError;
 };
 
+// A process of a distributed run that stops because rank 0 failed after the solve: rank 0
+// reports why, this process only exits, with the code rank 0's error gives.
+class StoppedWithRoot : public std::runtime_error {
+ public:
+  explicit StoppedWithRoot(int code) : std::runtime_error("stopped with rank 0"), code_(code) {}
+  [[nodiscard]] int code() const { return code_; }
+
+ private:
+  int code_;
+};
+
 // The shortest text that reads back as exactly v (std::to_chars): for messages and for
 // values passed on as text (sweep points), where six fixed decimals would lose 1e-7.
 inline std::string format_number(double v) {

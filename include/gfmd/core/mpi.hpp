@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "gfmd/core/fft.hpp"
@@ -62,6 +63,12 @@ double peak_resident_bytes();
 bool all_ok(bool ok);
 // The largest exit code over the processes: every rank exits with the same code.
 int agree_exit(int code);
+// The bitwise OR of `bits` over the processes (a collective): one call agrees several flags.
+unsigned any_bits(unsigned bits);
+// Rank 0's value on every process (a collective; the others' arguments are ignored): how rank
+// 0 hands on what it alone decided or read (a directory's state, a study's results as JSON).
+int from_root(int v);
+std::string from_root(const std::string& text);
 
 // The whole field on rank 0 from the slabs of every process (empty elsewhere); costs the
 // whole field's memory on rank 0.
@@ -69,6 +76,10 @@ RealField gather(const Grid& slab, const RealField& local);
 std::vector<unsigned char> gather(const Grid& slab, const std::vector<unsigned char>& local);
 // This process's rows of a whole field (every process holds `whole`).
 RealField rows_of(const Grid& slab, const RealField& whole);
+// This process's rows of a whole field that only rank 0 holds (a collective; `whole` is read
+// on rank 0 only): a warm start or a checkpoint rank 0 read, handed out without copying the
+// whole field to every process.
+RealField scatter(const Grid& slab, const RealField& whole);
 
 // FFTW-MPI's plans on a slab (the engine of every FFT made on a slab grid, core/fft.cpp).
 // Estimate planning only: every process must make the same plan.
