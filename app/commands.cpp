@@ -342,7 +342,7 @@ int cmd_curve(const std::string& case_path, std::string out_dir, const std::vect
     const gfmd::Config asked = gfmd::load_config(case_path, sets);
     png = asked.output.png && !no_png;
     cfg = gfmd::curve_config(case_path, sets, ps);
-    if (!quiet) {
+    if (!quiet && gfmd::mpi::root()) {
       if (!asked.flow.enabled)
         std::fprintf(stderr, "gfmd: the leakage is switched on for the curve (flow.enabled=true)\n");
       if (asked.load.mode != gfmd::LoadMode::Pressure)
@@ -357,11 +357,16 @@ int cmd_curve(const std::string& case_path, std::string out_dir, const std::vect
   (void)gfmd::make_topography(cfg);
   if (out_dir.empty())
     out_dir = (fs::path("out") / (fs::path(case_path).stem().string() + "_curve")).string();
-  const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
-  // The points are a sweep of their own in DIR/points: no gfmd sweep may write there meanwhile.
-  const gfmd::DirectoryLock points_lock((fs::path(out_dir) / "points").string(), wait, stop_requested);
+  // Under mpirun rank 0 alone holds the directories, prints and draws; every process solves.
+  const bool root = gfmd::mpi::root();
+  std::optional<gfmd::DirectoryLock> lock, points_lock;
+  gfmd::on_root([&] {
+    lock.emplace(out_dir, wait, stop_requested);
+    // The points are a sweep of their own in DIR/points: no gfmd sweep may write there meanwhile.
+    points_lock.emplace((fs::path(out_dir) / "points").string(), wait, stop_requested);
+  });
   ProgressPrinter pp;
-  pp.quiet = quiet;
+  pp.quiet = quiet || !root;
   gfmd::CurveOptions co;
   co.sweep.overrides = sets;
   co.sweep.progress = [&pp](const gfmd::Progress& p) { pp(p); };
@@ -370,7 +375,7 @@ int cmd_curve(const std::string& case_path, std::string out_dir, const std::vect
   co.sweep.on_point = [&](int done, int total, const std::string& msg) {
     pp.done();
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (!quiet)
+    if (!pp.quiet)
       std::fprintf(stderr, "[%d/%d] %s (elapsed %.1f s, about %.0f s left)\n", done, total, msg.c_str(), el,
                    done > 0 ? el / done * (total - done) : 0.0);
   };
@@ -381,6 +386,7 @@ int cmd_curve(const std::string& case_path, std::string out_dir, const std::vect
     j = gfmd::run_curve(case_path, cfg, out_dir, co);
   } catch (const gfmd::Interrupted& e) {
     pp.done();
+    if (!root) return 4;
     std::fprintf(stderr,
                  "gfmd: curve interrupted (%s); finished points (tabulated in %s/curve.csv) and a checkpoint "
                  "are kept in %s/points/, run the same command again to continue\n",
@@ -389,11 +395,12 @@ int cmd_curve(const std::string& case_path, std::string out_dir, const std::vect
   } catch (const gfmd::SolveError&) {
     // The finished points are tabulated: draw them before reporting the failure.
     pp.done();
-    if (fs::exists(csv) && draw())
+    if (root && fs::exists(csv) && draw())
       std::fprintf(stderr, "gfmd: the finished points are drawn in %s/curve.png\n", out_dir.c_str());
     throw;
   }
   pp.done();
+  if (!root) return 0;
   std::printf("curve of %s over %zu pressures: %s/curve.csv and curve.json (runs in points/)\n",
               case_path.c_str(), cfg.sweep.values.size(), out_dir.c_str());
   const nlohmann::json& perc = j["percolation"];

@@ -151,12 +151,13 @@ int run_main(int argc, char** argv) {
   const auto with_sets = [&sets]() { return sets_note(sets); };
   // Under mpirun the commands that solve cases are distributed (every process solves, rank
   // 0 writes); the others would have every process write the same directory.
-  if (gfmd::mpi::distributed() && !(run->parsed() || sweep->parsed() || perc->parsed() || ens->parsed())) {
+  if (gfmd::mpi::distributed() &&
+      !(run->parsed() || sweep->parsed() || curve->parsed() || perc->parsed() || ens->parsed())) {
     if (gfmd::mpi::root())
       std::fprintf(
           stderr,
-          "gfmd: error: only `gfmd run`, `sweep`, `percolation` and `ensemble` run under mpirun with "
-          "more than one process (%d here); run this command without mpirun\n",
+          "gfmd: error: only `gfmd run`, `sweep`, `curve`, `percolation` and `ensemble` run under mpirun "
+          "with more than one process (%d here); run this command without mpirun\n",
           gfmd::mpi::size());
     return 2;
   }

@@ -11,9 +11,11 @@
 #include <sstream>
 
 #include "gfmd/case/leakage.hpp"
+#include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
+#include "gfmd/core/mpi.hpp"
 #include "gfmd/version.hpp"
 
 namespace gfmd {
@@ -350,29 +352,35 @@ nlohmann::json run_curve(const std::string& case_path, const Config& cfg, const 
                          const CurveOptions& opts) {
   if (!cfg.sweep.active() || cfg.sweep.parameter != "load.pressure")
     throw InputError(case_path, "not a curve: make the configuration with curve_config");
-  fs::create_directories(dir);
-  {
+  // Under mpirun every process solves the points (run_sweep); rank 0 alone writes and reads
+  // the directory, and the tables' JSON is its (empty on the others).
+  on_root([&] {
+    fs::create_directories(dir);
     // The figure of an earlier curve in this directory goes (the front end draws it anew).
     std::error_code ec;
     fs::remove(fs::path(dir) / "curve.png", ec);
     fs::remove(fs::path(dir) / "curve.pdf", ec);
-  }
+  });
   SweepOptions so = opts.sweep;
   for (const auto& s : curve_overrides()) so.overrides.push_back(s);
   const std::string pdir = (fs::path(dir) / kPointsDir).string();
-  const auto tables = [&] { return write_curve_tables(case_path, cfg, dir, opts.sweep.overrides); };
+  nlohmann::json j;
+  const auto tables = [&] {
+    on_root([&] { j = write_curve_tables(case_path, cfg, dir, opts.sweep.overrides); });
+  };
   try {
     run_sweep(case_path, cfg, pdir, so);
   } catch (const SolveError&) {
     // Interrupted too: the points finished so far are tabulated, then the error goes up.
-    try {
-      (void)tables();
-    } catch (const std::exception&) {
-      // The first error is the one to report.
-    }
+    if (mpi::root()) try {
+        j = write_curve_tables(case_path, cfg, dir, opts.sweep.overrides);
+      } catch (const std::exception&) {
+        // The first error is the one to report.
+      }
     throw;
   }
-  return tables();
+  tables();
+  return j;
 }
 
 }  // namespace gfmd

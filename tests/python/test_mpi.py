@@ -290,14 +290,26 @@ def test_percolation_and_ensemble_under_mpirun_match_serial(tmp_path):
             assert y[k] == pytest.approx(x[k], rel=1e-6), k
     assert (tmp_path / "e2" / "seed_1" / "flow.json").exists()
 
+    # A load curve (a sweep with leakage and the threshold read from its points' files).
+    pressures = ["--pressures", "0.02,0.05,0.1", "--no-png", "-q"]
+    assert serial_cmd("curve", case, "-o", tmp_path / "c1", *pressures).returncode == 0
+    p = mpi_cmd(2, "curve", case, "-o", tmp_path / "c2", *pressures)
+    assert p.returncode == 0, p.stderr
+    with open(tmp_path / "c1" / "curve.json") as f:
+        a = json.load(f)["percolation"]
+    with open(tmp_path / "c2" / "curve.json") as f:
+        b = json.load(f)["percolation"]
+    assert b["status"] == a["status"] and b["pressure"] == pytest.approx(a["pressure"], rel=1e-12)
+
 
 def test_other_commands_refuse_mpirun(tmp_path):
     case = tmp_path / "hertz.toml"
     case.write_text(HERTZ)
-    p = mpi_cmd(2, "curve", case, "--pressures", "0.01,0.02", "-o", tmp_path / "cv")
+    assert serial_cmd("run", case, "-o", tmp_path / "one", "-q").returncode == 0
+    p = mpi_cmd(2, "flow", tmp_path / "one", "--direction", "x")
     assert p.returncode == 2
-    assert p.stderr.count("run under mpirun") == 1
-    assert not (tmp_path / "cv").exists()
+    assert p.stderr.count("under mpirun") == 1
+    assert not (tmp_path / "one" / "flow.json").exists()
     # A bad option: one message (rank 0's), exit 2.
     p = mpi_cmd(2, "run", case, "-o", tmp_path / "r", "--checkpoint-interval", "0.01")
     assert p.returncode == 2
