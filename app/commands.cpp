@@ -13,8 +13,8 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <memory>
 #include <new>
-#include <optional>
 #include <sstream>
 
 #include "child.hpp"
@@ -78,6 +78,14 @@ std::string sets_note(const std::vector<std::string>& sets) {
 }
 
 namespace {
+// The lock of an output directory: held by rank 0 alone under mpirun, its outcome (taken, or
+// refused) agreed with the other processes; the lock itself in one process.
+std::unique_ptr<gfmd::DirectoryLock> lock_on_root(const std::string& dir, bool wait) {
+  std::unique_ptr<gfmd::DirectoryLock> lock;
+  gfmd::on_root([&] { lock = std::make_unique<gfmd::DirectoryLock>(dir, wait, stop_requested); });
+  return lock;
+}
+
 // What rank 0 of a distributed run tells the others once it has looked at the output
 // directory: go on with the solve, stop (it failed), or stop with success (--resume of a
 // case already solved).
@@ -274,8 +282,7 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
                   .string();
   // Under mpirun rank 0 alone holds the directory, prints and draws; every process solves.
   const bool root = gfmd::mpi::root();
-  std::optional<gfmd::DirectoryLock> lock;
-  gfmd::on_root([&] { lock.emplace(out_dir, wait, stop_requested); });
+  const auto lock = lock_on_root(out_dir, wait);
   ProgressPrinter pp;
   pp.quiet = quiet || !root;
   gfmd::SweepOptions so;
@@ -359,12 +366,9 @@ int cmd_curve(const std::string& case_path, std::string out_dir, const std::vect
     out_dir = (fs::path("out") / (fs::path(case_path).stem().string() + "_curve")).string();
   // Under mpirun rank 0 alone holds the directories, prints and draws; every process solves.
   const bool root = gfmd::mpi::root();
-  std::optional<gfmd::DirectoryLock> lock, points_lock;
-  gfmd::on_root([&] {
-    lock.emplace(out_dir, wait, stop_requested);
-    // The points are a sweep of their own in DIR/points: no gfmd sweep may write there meanwhile.
-    points_lock.emplace((fs::path(out_dir) / "points").string(), wait, stop_requested);
-  });
+  const auto lock = lock_on_root(out_dir, wait);
+  // The points are a sweep of their own in DIR/points: no gfmd sweep may write there meanwhile.
+  const auto points_lock = lock_on_root((fs::path(out_dir) / "points").string(), wait);
   ProgressPrinter pp;
   pp.quiet = quiet || !root;
   gfmd::CurveOptions co;
@@ -473,8 +477,7 @@ int cmd_percolation(const std::string& case_path, std::string out_dir, const std
   const bool root = gfmd::mpi::root();
   if (!quiet && root) po.log = [](const std::string& m) { std::fprintf(stderr, "  %s\n", m.c_str()); };
   po.stop_request = stop_requested;
-  std::optional<gfmd::DirectoryLock> lock;
-  gfmd::on_root([&] { lock.emplace(out_dir, wait, stop_requested); });
+  const auto lock = lock_on_root(out_dir, wait);
   const nlohmann::json j = gfmd::run_percolation(cfg, po, out_dir);
   if (!root) return 0;
   std::printf(
@@ -502,8 +505,7 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
             .string();
   // Under mpirun rank 0 alone holds the directory, prints and draws; every process solves.
   const bool root = gfmd::mpi::root();
-  std::optional<gfmd::DirectoryLock> lock;
-  gfmd::on_root([&] { lock.emplace(out_dir, wait, stop_requested); });
+  const auto lock = lock_on_root(out_dir, wait);
   eo.stop_request = stop_requested;
   if (!quiet && root)
     eo.on_seed = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };

@@ -172,7 +172,6 @@ void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
 bool outputs_need_stress_fields(const Config& cfg) { return cfg.output.fields || cfg.output.png; }
 
 namespace {
-// This process's rows of the fields a solve starts from (a warm start held whole).
 // This process's rows of the warm start that rank 0 holds (a checkpoint it read, a sweep's
 // previous point): pressure and tractions, scattered by rows.
 ContactFields warm_start_rows(const Grid& slab, const ContactFields& whole) {
@@ -344,15 +343,8 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     whole.pressure = mpi::gather(slab, f.pressure);
     whole.tx = mpi::gather(slab, f.tx);
     whole.ty = mpi::gather(slab, f.ty);
-    std::string failure;
-    if (mpi::root()) try {
-        write_checkpoint(opts.checkpoint_path, cfg, whole, progress_now());
-      } catch (const std::exception& e) {
-        failure = e.what();
-      }
     // A checkpoint rank 0 could not write stops every process (none may wait for it).
-    failure = mpi::from_root(failure);
-    if (!failure.empty()) throw std::runtime_error("checkpoint " + opts.checkpoint_path + ": " + failure);
+    on_root([&] { write_checkpoint(opts.checkpoint_path, cfg, whole, progress_now()); });
   };
   const auto hook = [&](ContactSolver& s) {
     running = &s;

@@ -365,21 +365,19 @@ nlohmann::json run_curve(const std::string& case_path, const Config& cfg, const 
   for (const auto& s : curve_overrides()) so.overrides.push_back(s);
   const std::string pdir = (fs::path(dir) / kPointsDir).string();
   nlohmann::json j;
-  const auto tables = [&] {
-    on_root([&] { j = write_curve_tables(case_path, cfg, dir, opts.sweep.overrides); });
-  };
+  const auto tables = [&] { j = write_curve_tables(case_path, cfg, dir, opts.sweep.overrides); };
   try {
     run_sweep(case_path, cfg, pdir, so);
   } catch (const SolveError&) {
     // Interrupted too: the points finished so far are tabulated, then the error goes up.
     if (mpi::root()) try {
-        j = write_curve_tables(case_path, cfg, dir, opts.sweep.overrides);
+        tables();
       } catch (const std::exception&) {
         // The first error is the one to report.
       }
     throw;
   }
-  tables();
+  on_root(tables);
   return j;
 }
 
