@@ -126,7 +126,7 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
     out_dir = (std::filesystem::path("out") / std::filesystem::path(case_path).stem()).string();
   namespace fs = std::filesystem;
   // Validates the topography before anything is written.
-  (void)gfmd::make_topography(cfg);
+  (void)gfmd::make_topography_here(cfg);
   if (gfmd::mpi::distributed() && !gfmd::mpi::root()) return run_follower(cfg);
   // Rank 0 of a distributed run tells the others what it found in the directory before they
   // start the solve: ready (it holds the lock and cleared it), nothing to do, or failed (if
@@ -177,6 +177,7 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   opts.checkpoint_path = ckpt;
   opts.checkpoint_interval_s = checkpoint_s;
   opts.keep_stress_fields = gfmd::outputs_need_stress_fields(cfg);
+  opts.whole_solution = false;  // the outputs ask for the fields they write (keep_stress_fields)
   if (have_warm) {
     opts.warm_start = &warm;
     opts.resumed = done;
@@ -361,7 +362,7 @@ int cmd_curve(const std::string& case_path, std::string out_dir, const std::vect
     throw as_option(e);
   }
   // Validates the topography before anything is written.
-  (void)gfmd::make_topography(cfg);
+  (void)gfmd::make_topography_here(cfg);
   if (out_dir.empty())
     out_dir = (fs::path("out") / (fs::path(case_path).stem().string() + "_curve")).string();
   // Under mpirun rank 0 alone holds the directories, prints and draws; every process solves.

@@ -202,7 +202,8 @@ nlohmann::json summary_json(const CaseResult& r) {
         {"solve_peak_memory_mib", per_rank},
         {"rank0_peak_memory_mib", u->peak_bytes / 1048576.0},
         {"reduction_time_s", u->reduction_seconds},
-        {"decomposition", "slabs of rows (FFTW-MPI); observables, stresses, analysis and flow on rank 0"}};
+        {"decomposition",
+         "slabs of rows (FFTW-MPI); observables and stresses on the slabs; analysis and flow on rank 0"}};
   }
   const auto& s = r.topography_stats;
   j["topography"] = topography_stats_json(s);

@@ -25,6 +25,7 @@
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/core/mpi.hpp"
+#include "gfmd/core/reduce.hpp"
 #include "gfmd/io/netcdf.hpp"
 #include "gfmd/version.hpp"
 namespace gfmd {
@@ -34,40 +35,48 @@ namespace fs = std::filesystem;
 namespace {
 // Line profiles through the pressure maximum along and across the sliding direction
 // (nearest grid point on the line), as in the paper's SM Fig. 2. Needs the surface stress
-// tensor; the principal values are evaluated at the line points only.
-std::string profiles_table(const CaseResult& r) {
-  const Grid& g = r.config.grid;
-  const std::size_t n = g.size();
-  std::size_t imax = 0;
-  for (std::size_t i = 1; i < n; ++i)
-    if (r.fields.pressure[i] > r.fields.pressure[imax]) imax = i;
+// tensor; the principal values are evaluated at the line points only. The fields are those
+// held here (the whole cell, or a slab: the line points' values are picked from the
+// processes that hold them, and every process makes the same table).
+std::string profiles_table(const Grid& g, const CaseResult& r) {
+  const std::size_t imax = grid_argmax(g, [&](std::size_t i) { return r.fields.pressure[i]; }).first;
   const int cx = static_cast<int>(imax % g.nx), cy = static_cast<int>(imax / g.nx);
   const double th = r.config.friction.direction_deg * std::numbers::pi / 180.0;
   const double ex = std::cos(th), ey = std::sin(th);
   const DerivedFields& d = r.derived;
-  std::vector<std::pair<std::string, const double*>> cols = {{"ux", r.fields.ux.data()},
-                                                             {"uy", r.fields.uy.data()},
-                                                             {"uz", r.fields.uz.data()},
-                                                             {"pressure", r.fields.pressure.data()}};
-  if (!d.dissipation.empty()) {
-    cols.push_back({"dissipation", d.dissipation.data()});
-    cols.push_back({"slip_longitudinal", d.slip_longitudinal.data()});
-    cols.push_back({"slip_transverse", d.slip_transverse.data()});
+  std::vector<std::pair<std::string, const RealField*>> cols = {
+      {"ux", &r.fields.ux}, {"uy", &r.fields.uy}, {"uz", &r.fields.uz}, {"pressure", &r.fields.pressure}};
+  if (r.config.friction.coefficient > 0) {
+    cols.push_back({"dissipation", &d.dissipation});
+    cols.push_back({"slip_longitudinal", &d.slip_longitudinal});
+    cols.push_back({"slip_transverse", &d.slip_transverse});
   }
   const StressField& st = r.stress;
+  const std::size_t stress_from = cols.size();
   for (const auto& c : std::vector<std::pair<std::string, const RealField*>>{{"sigma_xx", &st.xx},
                                                                              {"sigma_yy", &st.yy},
                                                                              {"sigma_zz", &st.zz},
                                                                              {"sigma_xy", &st.xy},
                                                                              {"sigma_xz", &st.xz},
                                                                              {"sigma_yz", &st.yz}})
-    cols.push_back({c.first, c.second->data()});
+    cols.push_back(c);
   static const char* const kPrincipal[] = {"sigma_1", "von_mises", "e1_x", "e1_y", "e1_z"};
-  const auto principal_at = [&](std::size_t i) {
-    const Principal3 e = principal(st.xx[i], st.yy[i], st.zz[i], st.xy[i], st.xz[i], st.yz[i]);
-    return std::array<double, 5>{e.s1, von_mises(st.xx[i], st.yy[i], st.zz[i], st.xy[i], st.xz[i], st.yz[i]),
-                                 e.e1[0], e.e1[1], e.e1[2]};
+  // The line points: for each distance, the point along and the point across.
+  const int half = std::min(g.nx, g.ny) / 2;
+  const double ds = std::min(g.dx(), g.dy());
+  const auto at = [&](double sx, double sy) {
+    const int ix = ((cx + static_cast<int>(std::lround(sx / g.dx()))) % g.nx + g.nx) % g.nx;
+    const int iy = ((cy + static_cast<int>(std::lround(sy / g.dy()))) % g.ny + g.ny) % g.ny;
+    return static_cast<std::size_t>(iy) * g.nx + ix;
   };
+  std::vector<std::size_t> points;
+  for (int k = -half; k < half; ++k) {
+    const double sdist = k * ds;
+    points.push_back(at(sdist * ex, sdist * ey));
+    points.push_back(at(-sdist * ey, sdist * ex));
+  }
+  std::vector<std::vector<double>> values;
+  for (const auto& c : cols) values.push_back(mpi::pick(g, *c.second, points));
   std::ostringstream os;
   os.precision(10);
   os << "# profiles through the pressure maximum at (" << g.x(cx) << ", " << g.y(cy)
@@ -78,43 +87,40 @@ std::string profiles_table(const CaseResult& r) {
     for (const char* c : kPrincipal) os << "," << c << "_" << dir_name;
   }
   os << "\n";
-  const int half = std::min(g.nx, g.ny) / 2;
-  const double ds = std::min(g.dx(), g.dy());
-  const auto at = [&](double sx, double sy) {
-    const int ix = ((cx + static_cast<int>(std::lround(sx / g.dx()))) % g.nx + g.nx) % g.nx;
-    const int iy = ((cy + static_cast<int>(std::lround(sy / g.dy()))) % g.ny + g.ny) % g.ny;
-    return static_cast<std::size_t>(iy) * g.nx + ix;
-  };
-  for (int k = -half; k < half; ++k) {
-    const double sdist = k * ds;
-    os << sdist;
-    for (const std::size_t i : {at(sdist * ex, sdist * ey), at(-sdist * ey, sdist * ex)}) {
-      for (const auto& c : cols) os << "," << c.second[i];
-      for (double v : principal_at(i)) os << "," << v;
+  for (int k = -half, row = 0; k < half; ++k, ++row) {
+    os << k * ds;
+    for (int line = 0; line < 2; ++line) {
+      const std::size_t j = 2 * static_cast<std::size_t>(row) + line;
+      for (const auto& v : values) os << "," << v[j];
+      const auto sv = [&](std::size_t c) { return values[stress_from + c][j]; };
+      const Principal3 e = principal(sv(0), sv(1), sv(2), sv(3), sv(4), sv(5));
+      for (double v : {e.s1, von_mises(sv(0), sv(1), sv(2), sv(3), sv(4), sv(5)), e.e1[0], e.e1[1], e.e1[2]})
+        os << "," << v;
     }
     os << "\n";
   }
   return os.str();
 }
 
-// Stresses, their summaries and the profiles table. With keep_fields false only the
-// summaries and the table stay (the full fields are what fields.nc and the PNG maps show).
-void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
+// Stresses, their summaries and the profiles table, on the fields held here (fft's grid).
+// With keep_fields false only the summaries and the table stay (the full fields are what
+// fields.nc and the PNG maps show).
+void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, bool keep_fields) {
   const Config& cfg = r.config;
+  const Grid& g = fft.grid();
   r.stress = surface_stress(fft, cfg.elastic, r.fields);
   r.principal = principal(r.stress, keep_fields ? PrincipalParts::All : PrincipalParts::SummaryOnly);
-  r.stress_summary = summarize(cfg.grid, r.principal, cfg.stress.high_tension_fraction);
+  r.stress_summary = summarize(g, r.principal, cfg.stress.high_tension_fraction);
   // Fraction of the cells with s1 >= half its maximum (the full solution's here, while its
   // field is still there; each post-analysis's below).
-  const auto above_half = [&cfg](const RealField& s1, double max) {
+  const auto above_half = [&g](const RealField& s1, double max) {
     if (!(max > 0)) return 0.0;
-    std::size_t k = 0;
-    for (double v : s1) k += v >= 0.5 * max ? 1 : 0;
-    return static_cast<double>(k) / static_cast<double>(cfg.grid.size());
+    return grid_sum(g, [&](std::size_t i) { return s1[i] >= 0.5 * max ? 1.0 : 0.0; }) /
+           static_cast<double>(g.size());
   };
   if (!cfg.stress.post_analysis.empty())
     r.area_above_half_max = above_half(r.principal.s1, r.stress_summary->max_tensile_stress);
-  if (cfg.stress.profiles) r.profiles_csv = profiles_table(r);
+  if (cfg.stress.profiles) r.profiles_csv = profiles_table(g, r);
   if (!keep_fields) {
     r.stress = StressField{};
     r.principal = PrincipalField{};
@@ -123,7 +129,7 @@ void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
     // The frictionless solution: the reference solve (kept for this alone), or the solution
     // itself without friction, or (no reference kept) a frictionless solve now.
     ContactFields rf;
-    if (r.reference && !r.reference->pressure.empty()) {
+    if (r.reference) {  // run_case kept its pressure and displacements for this
       rf.pressure = std::move(r.reference->pressure);
       rf.ux = std::move(r.reference->ux);
       rf.uy = std::move(r.reference->uy);
@@ -132,11 +138,11 @@ void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
       rf.ux = r.fields.ux;
       rf.uy = r.fields.uy;
     }
-    const ElasticBody body(cfg.grid, cfg.elastic);
-    if (rf.pressure.empty()) {
+    const ElasticBody body(g, cfg.elastic);
+    if (!r.reference && cfg.friction.coefficient > 0) {
       FrictionParams none = cfg.friction;
       none.coefficient = 0.0;
-      ContactSolver ref(body, r.topography, cfg.interaction, none, cfg.solver);
+      ContactSolver ref(body, topo, cfg.interaction, none, cfg.solver);
       const SolveInfo info = ref.solve(cfg.load, rf);
       if (!info.converged) throw SolveError("post-analysis reference: " + info.status);
     }
@@ -150,7 +156,7 @@ void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
       }
       CaseResult::PostAnalysis pa;
       pa.kind = kind;
-      pa.summary = summarize(cfg.grid, pp, cfg.stress.high_tension_fraction);
+      pa.summary = summarize(g, pp, cfg.stress.high_tension_fraction);
       pa.area_above_half_max = above_half(pp.s1, pa.summary.max_tensile_stress);
       pa.s1 = std::move(pp.s1);
       r.post_analyses.push_back(std::move(pa));
@@ -163,8 +169,7 @@ void compute_stresses(CaseResult& r, const FFT& fft, bool keep_fields) {
     } catch (const ParameterError& e) {
       throw InputError("stress.depths", e.why() + " (depth " + format_number(d) + ")");
     }
-    r.subsurface.push_back(
-        {d, summarize(cfg.grid, pf, cfg.stress.high_tension_fraction), pf.von_mises, pf.s1});
+    r.subsurface.push_back({d, summarize(g, pf, cfg.stress.high_tension_fraction), pf.von_mises, pf.s1});
   }
 }
 }  // namespace
@@ -181,67 +186,130 @@ ContactFields warm_start_rows(const Grid& slab, const ContactFields& whole) {
   f.ty = mpi::scatter(slab, whole.ty);
   return f;
 }
-// The whole solution on rank 0 from the slabs (empty fields elsewhere).
-ContactFields gather_fields(const Grid& slab, const ContactFields& f) {
-  ContactFields w;
-  for (auto [to, from] : {std::pair{&w.pressure, &f.pressure},
-                          {&w.tx, &f.tx},
-                          {&w.ty, &f.ty},
-                          {&w.ux, &f.ux},
-                          {&w.uy, &f.uy},
-                          {&w.uz, &f.uz},
-                          {&w.gap, &f.gap}})
-    if (!from->empty()) *to = mpi::gather(slab, *from);
-  if (!f.stick.empty()) w.stick = mpi::gather(slab, f.stick);
-  return w;
-}
-// Everything after the solve, on the whole solution: observables, derived fields, stresses,
-// the checks of a padded map, the run's analysis and the leakage.
-void after_solve(const Config& cfg, const RunOptions& opts, CaseResult& r) {
-  const FFT fft(cfg.grid, cfg.solver.fft_planner);
-  r.observables = compute_observables(fft, r.topography, cfg.friction, r.fields, r.info);
+// Everything after the solve that works on the fields where they are -- the whole cell in
+// one process, this process's slab in a distributed run, where every process calls it (its
+// passes, transforms and reductions are collectives): observables, derived fields, stresses
+// with their summaries and profiles, the check of a padded map. grid: the fields' grid.
+void after_solve_here(const Config& cfg, const RunOptions& opts, const Grid& grid, const Topography& topo,
+                      CaseResult& r) {
+  const FFT fft(grid, cfg.solver.fft_planner);
+  r.observables = compute_observables(fft, topo, cfg.friction, r.fields, r.info);
   if (cfg.friction.coefficient > 0) r.derived = derived_fields(fft, cfg.friction, r.fields);
-  if (r.info.converged) compute_stresses(r, fft, opts.keep_stress_fields);
-  if (r.info.converged && r.map_report && r.map_report->periodize == "pad") {
+  if (r.info.converged) compute_stresses(r, fft, topo, opts.keep_stress_fields);
+  const bool padded = cfg.indenter.type == "file" && cfg.indenter.periodize == "pad";
+  if (r.info.converged && padded) {
     // The padding (every cell outside the map's corner quarter) must carry no load.
-    const Grid& g = cfg.grid;
-    double outside = 0.0, total = 0.0;
-    for (int iy = 0; iy < g.ny; ++iy)
-      for (int ix = 0; ix < g.nx; ++ix) {
-        const double p = r.fields.pressure[static_cast<std::size_t>(iy) * g.nx + ix];
-        total += p;
-        if (ix >= g.nx / 2 || iy >= g.ny / 2) outside += p;
-      }
-    if (outside > 0.0)
+    const auto s = grid_sums<2>(grid, [&](std::size_t i, std::array<double, 2>& acc) {
+      const double p = r.fields.pressure[i];
+      const int ix = static_cast<int>(i % grid.nx), iy = grid.y0 + static_cast<int>(i / grid.nx);
+      acc[0] += p;
+      if (ix >= grid.nx / 2 || iy >= grid.ny / 2) acc[1] += p;
+    });
+    if (s[1] > 0.0)
       throw InputError(
           "indenter.periodize",
-          "\"pad\": the padding around the map came into contact (" + format_number(100.0 * outside / total) +
+          "\"pad\": the padding around the map came into contact (" + format_number(100.0 * s[1] / s[0]) +
               " % of the load): the body's deformation at this load exceeds the pad's depth; use "
               "periodize = \"mirror\"");
   }
+}
+
+// What needs the whole cell at once, in one process (rank 0 of a distributed run): the run's
+// analysis (patches, distributions, spectrum) and the leakage.
+void after_solve_whole(const Config& cfg, const RunOptions& opts, CaseResult& r) {
   if (r.info.converged && cfg.output.analysis) {
     r.analysis = analyse_run(r.topography, r.fields);
     // A padded cell's spectrum is the pad's step, not the surface's: no Hurst fit.
-    if (r.map_report && r.map_report->periodize == "pad") r.analysis->rough = false;
+    if (cfg.indenter.type == "file" && cfg.indenter.periodize == "pad") r.analysis->rough = false;
   }
   if (r.info.converged && cfg.flow.enabled) {
     r.leakage = compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance,
                                 cfg.flow.solver, opts.stop_request);
   }
-  if (r.mpi_usage) r.mpi_usage->peak_bytes = mpi::peak_resident_bytes();
 }
 
-// The results a study decides on, from rank 0 to every process (a collective): the
-// observables and the leakage's figures, so that every process takes the same next step.
-void share_from_root(CaseResult& r) {
-  static_assert(std::is_trivially_copyable_v<Observables>);
-  std::string bytes(reinterpret_cast<const char*>(&r.observables), sizeof(Observables));
-  bytes = mpi::from_root(bytes);
-  std::memcpy(static_cast<void*>(&r.observables), bytes.data(), sizeof(Observables));
+// Gathers on rank 0 each field of the list that any process holds (a collective: a process
+// with no rows holds empty fields); rank 0 then holds the whole fields, the others none.
+void gather_on_root(const Grid& slab, const std::vector<RealField*>& fields) {
+  for (RealField* f : fields)
+    if (mpi::any_bits(f->empty() ? 0u : 1u) != 0) *f = mpi::gather(slab, *f);
+}
+
+// What rank 0 of a distributed run needs whole after the distributed post-processing: every
+// field when the whole solution is asked for (outputs with fields, a study's warm start, a
+// library caller), else only what the analysis and the leakage read (pressure and gap;
+// the topography for the analysis). The rest stays in slabs and is dropped.
+void gather_for_root(const Config& cfg, const RunOptions& opts, const Grid& slab, Topography& slab_topo,
+                     CaseResult& r) {
+  const bool analysis = r.info.converged && cfg.output.analysis;
+  const bool flow = r.info.converged && cfg.flow.enabled;
+  if (!opts.whole_solution && !opts.keep_stress_fields) {
+    std::vector<RealField*> need;
+    if (analysis) need = {&r.fields.pressure, &r.fields.gap};
+    if (flow && !analysis) need = {&r.fields.gap};
+    gather_on_root(slab, need);
+    const bool topography = analysis && cfg.indenter.type != "array";
+    if (topography) r.topography = Topography{cfg.grid, mpi::gather(slab, slab_topo.h), slab_topo.kind};
+    // Nothing else whole: the slabs go, so that rank 0 holds no more than the others.
+    ContactFields kept;
+    if (analysis || flow) kept.gap = std::move(r.fields.gap);
+    if (analysis) kept.pressure = std::move(r.fields.pressure);
+    if (!mpi::root()) kept = ContactFields{};
+    r.fields = std::move(kept);
+    r.derived = DerivedFields{};
+    for (auto& pa : r.post_analyses) RealField().swap(pa.s1);
+    for (auto& ss : r.subsurface) {
+      RealField().swap(ss.s1);
+      RealField().swap(ss.von_mises);
+    }
+    return;
+  }
+  ContactFields& f = r.fields;
+  gather_on_root(slab, {&f.pressure, &f.tx, &f.ty, &f.ux, &f.uy, &f.uz, &f.gap});
+  if (mpi::any_bits(f.stick.empty() ? 0u : 1u) != 0) f.stick = mpi::gather(slab, f.stick);
+  DerivedFields& d = r.derived;
+  gather_on_root(slab, {&d.slip_longitudinal, &d.slip_transverse, &d.dissipation});
+  StressField& st = r.stress;
+  PrincipalField& pr = r.principal;
+  gather_on_root(slab, {&st.xx, &st.yy, &st.zz, &st.xy, &st.xz, &st.yz, &pr.s1, &pr.s2, &pr.s3, &pr.e1x,
+                        &pr.e1y, &pr.e1z, &pr.von_mises});
+  for (auto& pa : r.post_analyses) gather_on_root(slab, {&pa.s1});
+  for (auto& ss : r.subsurface) gather_on_root(slab, {&ss.von_mises, &ss.s1});
+  if (cfg.indenter.type != "array")
+    r.topography = Topography{cfg.grid, mpi::gather(slab, slab_topo.h), slab_topo.kind};
+}
+
+// The leakage's figures, which a study decides on, from rank 0 to every process (a
+// collective), so that every process takes the same next step.
+void share_leakage_from_root(CaseResult& r) {
   const std::string leak = mpi::from_root(r.leakage ? r.leakage->json.dump() : std::string());
   if (!mpi::root() && !leak.empty()) r.leakage.emplace().json = nlohmann::json::parse(leak);
 }
 }  // namespace
+
+Topography make_topography_here(const Config& cfg, MapReport* report) {
+  if (!mpi::distributed()) return make_topography(cfg, report);
+  const Grid slab = mpi::slab_of(cfg.grid);
+  if (cfg.indenter.type != "file") {
+    // FFTW-MPI's transforms have serial FFTW's bits on grids whose sides are powers of two
+    // (tests/python/test_mpi.py), so there each process makes its rows alone. On other grids
+    // they differ by round-off, which the solve would carry into every result at the
+    // tolerance's level: there every process makes the whole map, as one process does, and
+    // keeps its rows (32 bytes per point of the whole grid while it is made).
+    const auto pow2 = [](int n) { return n > 0 && (n & (n - 1)) == 0; };
+    if (!pow2(cfg.grid.nx) || !pow2(cfg.grid.ny)) {
+      const Topography whole = make_topography(cfg, report);
+      return Topography{slab, mpi::rows_of(slab, whole.h), whole.kind};
+    }
+    Config on_slab = cfg;
+    on_slab.grid = slab;
+    return make_topography(on_slab, report);
+  }
+  // A height map: rank 0 reads and prepares it (the whole map, there only) and hands out rows.
+  Topography whole;
+  on_root([&] { whole = make_topography(cfg, report); });
+  return Topography{slab, mpi::scatter(slab, whole.h), "file"};
+}
 
 void rethrow_from_root(const std::exception_ptr& failure) {
   if (!mpi::distributed()) return;
@@ -264,7 +332,15 @@ void rethrow_from_root(const std::exception_ptr& failure) {
   throw StoppedWithRoot(kind == kInput ? 2 : kind == kSolve ? 3 : kind == kInterrupted ? 4 : 1);
 }
 
-CaseResult run_case(const Config& cfg, const RunOptions& opts) {
+CaseResult run_case(const Config& cfg, const RunOptions& options) {
+  // Under mpirun rank 0's options hold for all: the post-processing's collectives depend on
+  // which fields are kept.
+  RunOptions opts = options;
+  if (mpi::distributed()) {
+    const int flags = mpi::from_root((opts.keep_stress_fields ? 1 : 0) | (opts.whole_solution ? 2 : 0));
+    opts.keep_stress_fields = (flags & 1) != 0;
+    opts.whole_solution = (flags & 2) != 0;
+  }
   set_threads(cfg.threads);
   const Backend* chosen = find_backend(cfg.backend);
   if (chosen == nullptr) throw std::invalid_argument("run_case: unknown backend " + cfg.backend);
@@ -277,6 +353,9 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
   const bool distributed = mpi::distributed();
   r.mpi_ranks = mpi::size();
   const Grid slab = distributed ? mpi::slab_of(cfg.grid) : cfg.grid;
+  // The heights the solves see: this process's rows in a distributed run (made on the slab;
+  // rank 0 gathers the whole map after the solve for the analysis).
+  Topography slab_topo;
   if (cfg.indenter.type == "array" && opts.topography) {
     const Grid& tg = opts.topography->grid;
     if (tg.nx != cfg.grid.nx || tg.ny != cfg.grid.ny || tg.lx != cfg.grid.lx || tg.ly != cfg.grid.ly)
@@ -286,25 +365,15 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
                                        " x " + std::to_string(cfg.grid.ny) + " on " +
                                        format_number(cfg.grid.lx) + " x " + format_number(cfg.grid.ly));
     r.topography = std::move(*opts.topography);
-  } else if (cfg.indenter.type == "file") {
-    MapReport rep;
-    r.topography = make_topography(cfg, &rep);
-    const Grid& tg = r.topography.grid;
-    if (tg.nx != cfg.grid.nx || tg.ny != cfg.grid.ny || tg.lx != cfg.grid.lx || tg.ly != cfg.grid.ly)
-      throw std::logic_error("run_case: the prepared height map does not match the case's grid");
-    r.map_report = std::move(rep);
+    if (distributed) slab_topo = Topography{slab, mpi::rows_of(slab, r.topography.h), r.topography.kind};
   } else {
-    r.topography = make_topography(cfg);
-  }
-  r.topography_stats = statistics(r.topography);
-  // The heights the solves see: this process's rows in a distributed run (rank 0 keeps the
-  // whole map for the analysis; the other ranks give it back).
-  Topography slab_topo;
-  if (distributed) {
-    slab_topo = Topography{slab, mpi::rows_of(slab, r.topography.h), r.topography.kind};
-    if (!mpi::root()) RealField().swap(r.topography.h);
+    MapReport rep;
+    Topography& made = distributed ? slab_topo : r.topography;
+    made = make_topography_here(cfg, &rep);
+    if (cfg.indenter.type == "file" && mpi::root()) r.map_report = std::move(rep);
   }
   const Topography& topo = distributed ? slab_topo : r.topography;
+  r.topography_stats = statistics(topo);
   // The body and the solvers live only as long as the solves: the stage after them
   // (stresses, flow) gets the memory back.
   auto body = std::make_unique<ElasticBody>(slab, cfg.elastic);
@@ -371,29 +440,19 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     if (!ref_info.converged) {
       r.info = ref_info;
       r.info.status += " (frictionless reference)";
+      if (distributed) r.topography = Topography{cfg.grid, mpi::gather(slab, slab_topo.h), slab_topo.kind};
       return r;
     }
     CaseResult::Reference& rr = r.reference.emplace();
     rr.info = ref_info;
-    if (distributed) {
-      // Observables and stresses of the reference come from the whole fields on rank 0.
-      ContactFields whole = gather_fields(slab, rf);
-      if (mpi::root()) {
-        const FFT whole_fft(cfg.grid, cfg.solver.fft_planner);
-        rr.observables = compute_observables(whole_fft, r.topography, none, whole, ref_info);
-        if (!cfg.stress.post_analysis.empty()) {
-          rr.pressure = std::move(whole.pressure);
-          rr.ux = std::move(whole.ux);
-          rr.uy = std::move(whole.uy);
-        }
-      }
-    } else {
-      rr.observables = compute_observables(ref.fft(), r.topography, none, rf, ref_info);
-      if (!cfg.stress.post_analysis.empty()) {
-        rr.pressure = rf.pressure;
-        rr.ux = std::move(rf.ux);
-        rr.uy = std::move(rf.uy);
-      }
+    // The reference's observables on the fields as they are (a slab in a distributed run);
+    // its pressure and in-plane displacements are kept, where they are, for the post-analysis
+    // stresses only.
+    rr.observables = compute_observables(ref.fft(), topo, none, rf, ref_info);
+    if (!cfg.stress.post_analysis.empty()) {
+      rr.pressure = rf.pressure;
+      rr.ux = std::move(rf.ux);
+      rr.uy = std::move(rf.uy);
     }
     if (!warm) r.fields.pressure = std::move(rf.pressure);
   }
@@ -422,21 +481,37 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts) {
     r.mpi_usage = CaseResult::MpiUsage{mpi::all_values(mpi::peak_resident_bytes()),
                                        mpi::all_values(mpi::reduction_seconds())};
   if (!distributed) {
-    after_solve(cfg, opts, r);
+    after_solve_here(cfg, opts, cfg.grid, r.topography, r);
+    after_solve_whole(cfg, opts, r);
+    if (r.mpi_usage) r.mpi_usage->peak_bytes = mpi::peak_resident_bytes();
     return r;
   }
-  r.fields = gather_fields(slab, r.fields);
-  slab_topo = Topography{};
-  // Rank 0 holds the whole solution and does the rest; the others wait for the results the
-  // studies decide on, or for its error.
+  // Every process post-processes its slab; rank 0 alone reports an error of it (they all meet
+  // the same ones: the same inputs, the same reductions).
   std::exception_ptr failure;
+  try {
+    after_solve_here(cfg, opts, slab, slab_topo, r);
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  if (mpi::any_bits(failure ? 1u : 0u) != 0) {
+    rethrow_from_root(mpi::root() ? failure : nullptr);
+    // Rank 0 went through: a process of its own failed (it reports), the others stop.
+    if (failure) std::rethrow_exception(failure);
+    throw StoppedWithRoot(1);
+  }
+  gather_for_root(cfg, opts, slab, slab_topo, r);
+  slab_topo = Topography{};
+  // Rank 0 does what needs the whole cell; the others wait for the leakage's figures, or for
+  // its error.
   if (mpi::root()) try {
-      after_solve(cfg, opts, r);
+      after_solve_whole(cfg, opts, r);
     } catch (...) {
       failure = std::current_exception();
     }
   rethrow_from_root(failure);
-  share_from_root(r);
+  share_leakage_from_root(r);
+  if (r.mpi_usage) r.mpi_usage->peak_bytes = mpi::peak_resident_bytes();
   return r;
 }
 

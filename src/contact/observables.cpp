@@ -18,10 +18,11 @@ void directional_derivative(const FFT& fft, double ex, double ey, const RealFiel
   SpecField s = fft.spec_field();
   fft.forward(in.data(), s.data());
   const int nxh = g.nxh();
-  for_rows(g.ny, [&](int iky) {
+  for_rows(g.rows(), [&](int row) {
+    const double qy = g.qy_deriv(g.y0 + row);
     for (int ikx = 0; ikx < nxh; ++ikx) {
-      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
-      s[k] *= cplx(0.0, ex * g.qx_deriv(ikx) + ey * g.qy_deriv(iky));
+      const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
+      s[k] *= cplx(0.0, ex * g.qx_deriv(ikx) + ey * qy);
     }
   });
   out.resize(in.size());
@@ -66,7 +67,7 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     // sliding direction), [3] cells in contact slipping slower than eps (regularised law),
     // [4] cells that stick, [5] sum tau_x, [6] sum tau_y.
     const double ex = std::cos(th), ey = std::sin(th), eps = fric.regularization;
-    const bool has_stick = f.stick.size() == g.size();
+    const bool has_stick = f.stick.size() == g.local_size();
     const auto s = grid_sums<7>(g, [&](std::size_t i, std::array<double, 7>& acc) {
       const double p = f.pressure[i], tx = f.tx[i], ty = f.ty[i];
       acc[0] += tx * vx[i] + ty * vy[i];
@@ -94,25 +95,22 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     o.energy_balance_error_exact = std::abs(o.friction_force - o.friction_force_drive) / o.friction_force;
     o.mean_tangential_traction_x = s[5] / n;
     o.mean_tangential_traction_y = s[6] / n;
-    double vmax = 0, vmin = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < g.size(); ++i)
-      if (f.pressure[i] > 0) {
-        const double v = std::hypot(vx[i], vy[i]);
-        vmax = std::max(vmax, v);
-        vmin = std::min(vmin, v);
-      }
-    o.max_slip_velocity = vmax;
+    const double inf = std::numeric_limits<double>::infinity();
+    o.max_slip_velocity = grid_max(
+        g, [&](std::size_t i) { return f.pressure[i] > 0 ? std::hypot(vx[i], vy[i]) : 0.0; }, 0.0);
+    const double vmin = -grid_max(
+        g, [&](std::size_t i) { return f.pressure[i] > 0 ? -std::hypot(vx[i], vy[i]) : -inf; }, -inf);
     o.min_slip_velocity = std::isfinite(vmin) ? vmin : 0.0;
   }
-  // Geometry relative to the highest point of the indenter.
-  std::size_t apex = 0;
-  for (std::size_t i = 1; i < g.size(); ++i)
-    if (topo.h[i] > topo.h[apex]) apex = i;
+  // Geometry relative to the highest point of the indenter (the first in row-major order).
+  const std::size_t apex = grid_argmax(g, [&](std::size_t i) { return topo.h[i]; }).first;
   const int ax = static_cast<int>(apex % g.nx), ay = static_cast<int>(apex / g.nx);
   const double th = fric.direction_deg * std::numbers::pi / 180.0;
   const double ex = std::cos(th), ey = std::sin(th);
-  const auto rel = [&](int ix, int iy, double& l, double& t) {
-    int dx = ix - ax, dy = iy - ay;
+  // Longitudinal and transverse coordinates from the apex of the point with the global index
+  // gi (the nearest periodic image).
+  const auto rel = [&](std::size_t gi, double& l, double& t) {
+    int dx = static_cast<int>(gi % g.nx) - ax, dy = static_cast<int>(gi / g.nx) - ay;
     if (dx > g.nx / 2) dx -= g.nx;
     if (dx < -g.nx / 2) dx += g.nx;
     if (dy > g.ny / 2) dy -= g.ny;
@@ -121,30 +119,36 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     l = x * ex + y * ey;
     t = -x * ey + y * ex;
   };
-  double m0 = 0, ml = 0, mt = 0, lmin = 1e300, lmax = -1e300, tmin = 1e300, tmax = -1e300, pmax = -1;
-  for (int iy = 0; iy < g.ny; ++iy)
-    for (int ix = 0; ix < g.nx; ++ix) {
-      const double p = f.pressure[static_cast<std::size_t>(iy) * g.nx + ix];
-      if (!(p > 0)) continue;
-      double l, t;
-      rel(ix, iy, l, t);
-      m0 += p;
-      ml += p * l;
-      mt += p * t;
-      lmin = std::min(lmin, l);
-      lmax = std::max(lmax, l);
-      tmin = std::min(tmin, t);
-      tmax = std::max(tmax, t);
-      if (p > pmax) {
-        pmax = p;
-        o.pressure_max_shift = l;
-      }
-    }
-  if (m0 > 0) {
-    o.centroid_shift = ml / m0;
-    o.centroid_shift_transverse = mt / m0;
-    o.contact_extent_longitudinal = lmax - lmin + g.dx();
-    o.contact_extent_transverse = tmax - tmin + g.dy();
+  const std::size_t first = static_cast<std::size_t>(g.y0) * g.nx;
+  const auto m = grid_sums<3>(g, [&](std::size_t i, std::array<double, 3>& acc) {
+    const double p = f.pressure[i];
+    if (!(p > 0)) return;
+    double l, t;
+    rel(first + i, l, t);
+    acc[0] += p;
+    acc[1] += p * l;
+    acc[2] += p * t;
+  });
+  // The largest of sign * l (along) or sign * t (across) over the contact.
+  const auto extreme = [&](double sign, bool along) {
+    return grid_max(
+        g,
+        [&](std::size_t i) {
+          if (!(f.pressure[i] > 0)) return -1e300;
+          double l, t;
+          rel(first + i, l, t);
+          return sign * (along ? l : t);
+        },
+        -1e300);
+  };
+  if (m[0] > 0) {
+    o.centroid_shift = m[1] / m[0];
+    o.centroid_shift_transverse = m[2] / m[0];
+    o.contact_extent_longitudinal = extreme(1, true) + extreme(-1, true) + g.dx();
+    o.contact_extent_transverse = extreme(1, false) + extreme(-1, false) + g.dy();
+    double l, t;
+    rel(grid_argmax(g, [&](std::size_t i) { return f.pressure[i]; }).first, l, t);
+    o.pressure_max_shift = l;
   }
   return o;
 }
@@ -155,7 +159,7 @@ DerivedFields derived_fields(const FFT& fft, const FrictionParams& fric, const C
   slip_velocity(fft, fric, f.ux, f.uy, vx, vy);
   const double th = fric.direction_deg * std::numbers::pi / 180.0;
   const double ex = std::cos(th), ey = std::sin(th);
-  const std::size_t n = fft.grid().size();
+  const std::size_t n = fft.grid().local_size();
   d.slip_longitudinal.resize(n);
   d.slip_transverse.resize(n);
   d.dissipation.resize(n);

@@ -21,6 +21,14 @@
 
 namespace gfmd::mpi {
 
+namespace {
+std::vector<double> pick_whole(const RealField& whole, const std::vector<std::size_t>& points) {
+  std::vector<double> values(points.size());
+  for (std::size_t k = 0; k < points.size(); ++k) values[k] = whole.at(points[k]);
+  return values;
+}
+}  // namespace
+
 bool launched() {
   for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS"})
     if (const char* s = std::getenv(v); s && *s) return true;
@@ -265,6 +273,23 @@ std::vector<unsigned char> gather(const Grid& slab, const std::vector<unsigned c
   return gather_impl(slab, local, MPI_UNSIGNED_CHAR);
 }
 
+std::vector<double> pick(const Grid& slab, const RealField& local, const std::vector<std::size_t>& points) {
+  if (!slab.is_slab()) return pick_whole(local, points);
+  // The holder of each point puts its bits, the others zero bits: a bitwise OR gives every
+  // value exactly (signed zeros and NaNs included).
+  const std::size_t lo = static_cast<std::size_t>(slab.y0) * slab.nx, n = slab.local_size();
+  std::vector<std::uint64_t> bits(points.size(), 0);
+  for (std::size_t k = 0; k < points.size(); ++k)
+    if (points[k] >= lo && points[k] - lo < n) std::memcpy(&bits[k], &local[points[k] - lo], sizeof(double));
+  if (!bits.empty())
+    check(MPI_Allreduce(MPI_IN_PLACE, bits.data(), static_cast<int>(bits.size()), MPI_UINT64_T, MPI_BOR,
+                        MPI_COMM_WORLD),
+          "MPI_Allreduce");
+  std::vector<double> values(points.size());
+  std::memcpy(values.data(), bits.data(), bits.size() * sizeof(double));
+  return values;
+}
+
 namespace {
 // FFTW-MPI's r2c/c2r plans on a slab. Its real arrays have rows padded to 2 (nx/2 + 1) and
 // its arrays may need more than the slab's elements, so the plans run on buffers of their
@@ -357,6 +382,9 @@ std::string from_root(const std::string& text) { return text; }
 RealField scatter(const Grid&, const RealField& whole) { return whole; }
 RealField gather(const Grid&, const RealField& local) { return local; }
 std::vector<unsigned char> gather(const Grid&, const std::vector<unsigned char>& local) { return local; }
+std::vector<double> pick(const Grid&, const RealField& local, const std::vector<std::size_t>& points) {
+  return pick_whole(local, points);
+}
 std::unique_ptr<FftEngine> make_fftw_mpi_engine(const Grid&, int) {
   throw std::logic_error("a slab grid in a build without MPI");
 }

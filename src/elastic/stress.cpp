@@ -54,6 +54,7 @@
 
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/core/reduce.hpp"
 #include "stress_detail.hpp"
 namespace gfmd {
 
@@ -62,11 +63,11 @@ using namespace stress_detail;
 StressField surface_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f) {
   el.validate();
   const Grid& g = fft.grid();
-  const std::size_t n = g.size();
+  const std::size_t n = g.local_size();
   require_size(f.pressure, n, "pressure");
   require_size(f.ux, n, "ux");
   require_size(f.uy, n, "uy");
-  const bool has_tx = present(f.tx, n, "tx"), has_ty = present(f.ty, n, "ty");
+  const bool has_tx = present(f.tx, g, "tx"), has_ty = present(f.ty, g, "ty");
 
   SpecField U = fft.spec_field(), V = fft.spec_field(), W = fft.spec_field();
   fft.forward(f.ux.data(), U.data());
@@ -75,10 +76,11 @@ StressField surface_stress(const FFT& fft, const ElasticParams& el, const Contac
   const cplx i(0.0, 1.0);
   // One strain component at a time: W = its spectrum, synthesised in place.
   const auto strain = [&](int comp, RealField& out) {
-    for_rows(g.ny, [&](int iky) {
+    for_rows(g.rows(), [&](int row) {
+      const double qy = g.qy_deriv(g.y0 + row);
       for (int ikx = 0; ikx < nxh; ++ikx) {
-        const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
-        const double qx = g.qx_deriv(ikx), qy = g.qy_deriv(iky);
+        const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
+        const double qx = g.qx_deriv(ikx);
         W[k] = comp == 0 ? i * qx * U[k] : comp == 1 ? i * qy * V[k] : i * qy * U[k] + i * qx * V[k];
       }
     });
@@ -106,7 +108,7 @@ StressField surface_stress(const FFT& fft, const ElasticParams& el, const Contac
 
 StressField paper_post_analysis_stress(const FFT& fft, const ElasticParams& el,
                                        const ContactFields& frictionless, double mu, double angle_deg) {
-  const std::size_t n = fft.grid().size();
+  const std::size_t n = fft.grid().local_size();
   require_size(frictionless.pressure, n, "pressure");
   require_size(frictionless.ux, n, "ux");
   require_size(frictionless.uy, n, "uy");
@@ -130,7 +132,7 @@ StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const 
   const Grid& g = fft.grid();
   if (g.nx != body.grid().nx || g.ny != body.grid().ny || g.lx != body.grid().lx || g.ly != body.grid().ly)
     throw std::invalid_argument("post_analysis_stress: FFT and body are on different grids");
-  const std::size_t n = g.size();
+  const std::size_t n = g.local_size();
   require_size(pressure, n, "pressure");
   const double a = angle_deg * std::numbers::pi / 180.0;
   const double ex = std::cos(a), ey = std::sin(a);
@@ -306,29 +308,24 @@ PrincipalField principal(const StressField& s, PrincipalParts parts) {
 }
 
 StressSummary summarize(const Grid& g, const PrincipalField& p, double high_tension_fraction) {
-  const std::size_t n = g.size();
+  const std::size_t n = g.local_size();
   if (p.s1.size() != n || p.von_mises.size() != n)
     throw std::invalid_argument("summarize: principal field does not match the grid");
   StressSummary s;
   s.high_tension_fraction_of = high_tension_fraction;
-  if (n == 0) return s;
-  std::size_t it = 0, iv = 0;
-  for (std::size_t k = 1; k < n; ++k) {
-    if (p.s1[k] > p.s1[it]) it = k;
-    if (p.von_mises[k] > p.von_mises[iv]) iv = k;
-  }
-  s.max_tensile_stress = p.s1[it];
+  if (g.size() == 0) return s;
+  const auto [it, vt] = grid_argmax(g, [&](std::size_t k) { return p.s1[k]; });
+  const auto [iv, vv] = grid_argmax(g, [&](std::size_t k) { return p.von_mises[k]; });
+  s.max_tensile_stress = vt;
   s.max_tensile_ix = static_cast<int>(it % g.nx);
   s.max_tensile_iy = static_cast<int>(it / g.nx);
-  s.max_von_mises = p.von_mises[iv];
+  s.max_von_mises = vv;
   s.max_von_mises_ix = static_cast<int>(iv % g.nx);
   s.max_von_mises_iy = static_cast<int>(iv / g.nx);
   if (s.max_tensile_stress > 0.0) {
     const double thr = high_tension_fraction * s.max_tensile_stress;
-    std::size_t count = 0;
-    for (std::size_t k = 0; k < n; ++k)
-      if (p.s1[k] >= thr) ++count;
-    s.high_tension_area_fraction = static_cast<double>(count) / static_cast<double>(n);
+    const double count = grid_sum(g, [&](std::size_t k) { return p.s1[k] >= thr ? 1.0 : 0.0; });
+    s.high_tension_area_fraction = count / static_cast<double>(g.size());
   }
   return s;
 }

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 
+#include "gfmd/core/mpi.hpp"
 #include "gfmd/elastic/stress.hpp"
 
 namespace gfmd::stress_detail {
@@ -12,10 +13,13 @@ inline void require_size(const RealField& f, std::size_t n, const char* what) {
     throw std::invalid_argument(std::string("stress: field '") + what + "' has the wrong size");
 }
 
-inline bool present(const RealField& f, std::size_t n, const char* what) {
-  if (f.empty()) return false;
-  require_size(f, n, what);
-  return true;
+// Whether an optional field is given (sized for the rows held here). On a slab every process
+// must take the same branch (the transforms that follow are collectives), so the processes
+// agree: a process that holds no rows learns it from the others.
+inline bool present(const RealField& f, const Grid& g, const char* what) {
+  const bool here = !f.empty();
+  if (here) require_size(f, g.local_size(), what);
+  return g.is_slab() ? mpi::any_bits(here ? 1u : 0u) != 0 : here;
 }
 
 inline StressField make_stress(std::size_t n) {

@@ -196,9 +196,9 @@ void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFi
   el.validate();
   check_depth(el, depth);
   const Grid& g = fft.grid();
-  const std::size_t n = g.size();
+  const std::size_t n = g.local_size();
   require_size(f.pressure, n, "pressure");
-  const bool has_tx = present(f.tx, n, "tx"), has_ty = present(f.ty, n, "ty");
+  const bool has_tx = present(f.tx, g, "tx"), has_ty = present(f.ty, g, "ty");
   RealField tz(n);
   for (std::size_t i = 0; i < n; ++i) tz[i] = -f.pressure[i];
   SpecField TZ = fft.spec_field(), TX, TY;
@@ -217,9 +217,10 @@ void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFi
     for (auto& s : *u) s = fft.spec_field();
   const int nxh = g.nxh();
   const bool evenx = g.nx % 2 == 0, eveny = g.ny % 2 == 0;
-  for_rows(g.ny, [&](int iky) {
+  for_rows(g.rows(), [&](int row) {
+    const int iky = g.y0 + row;
     for (int ikx = 0; ikx < nxh; ++ikx) {
-      const std::size_t k = static_cast<std::size_t>(iky) * nxh + ikx;
+      const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
       const double qx = g.qx(ikx), qy = g.qy(iky), q = std::hypot(qx, qy);
       const ModeResponse r = mode_response(q, depth, el);
       const double c = q > 0 ? qx / q : 1.0, s = q > 0 ? qy / q : 0.0;
@@ -305,7 +306,7 @@ ModeResponse mode_response(double q, double depth, const ElasticParams& el) {
 StressField subsurface_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f, double depth) {
   std::array<SpecField, 6> sig;
   subsurface_spectra(fft, el, f, depth, &sig, nullptr);
-  StressField s = make_stress(fft.grid().size());
+  StressField s = make_stress(fft.grid().local_size());
   RealField* out[6] = {&s.xx, &s.yy, &s.zz, &s.xy, &s.xz, &s.yz};
   for (int m = 0; m < 6; ++m) fft.backward(sig[m].data(), out[m]->data());
   return s;
@@ -318,7 +319,7 @@ DisplacementField subsurface_displacement(const FFT& fft, const ElasticParams& e
   DisplacementField d;
   RealField* out[3] = {&d.ux, &d.uy, &d.uz};
   for (int m = 0; m < 3; ++m) {
-    out[m]->assign(fft.grid().size(), 0.0);
+    out[m]->assign(fft.grid().local_size(), 0.0);
     fft.backward(u[m].data(), out[m]->data());
   }
   return d;

@@ -51,21 +51,20 @@ void validate_grid(const Grid& g) {
 
 bool positive_finite(double v) { return v > 0.0 && std::isfinite(v); }
 
-// Deterministic sum over the r2c half spectrum: f(ikx, iky, index). Rows are summed
-// serially and the row sums added in row order (independent of the thread count).
+// Deterministic sum over the rows of the r2c half spectrum held here: f(ikx, iky, index), iky
+// the global row, index into the local spectrum. Rows are summed serially and the row sums
+// added in row order over every process (independent of the threads and processes).
 template <class F>
 double spectral_sum(const Grid& g, F&& f) {
   const int nxh = g.nxh();
-  std::vector<double> rows(static_cast<std::size_t>(g.ny));
-  for_rows(g.ny, [&](int iky) {
+  std::vector<double> rows(static_cast<std::size_t>(g.rows()));
+  for_rows(g.rows(), [&](int row) {
     double s = 0.0;
-    const std::size_t base = static_cast<std::size_t>(iky) * nxh;
-    for (int ikx = 0; ikx < nxh; ++ikx) s += f(ikx, iky, base + ikx);
-    rows[iky] = s;
+    const std::size_t base = static_cast<std::size_t>(row) * nxh;
+    for (int ikx = 0; ikx < nxh; ++ikx) s += f(ikx, g.y0 + row, base + ikx);
+    rows[static_cast<std::size_t>(row)] = s;
   });
-  double total = 0.0;
-  for (double r : rows) total += r;
-  return total;
+  return add_rows(g, std::move(rows), 1)[0];
 }
 
 struct SpectralMoments {
@@ -123,15 +122,15 @@ Topography make_hertz(const Grid& grid, double rx, double ry) {
     throw ParameterError("radius_x", "radius of curvature must be > 0 (got " + num(rx) + ")");
   if (!positive_finite(ry))
     throw ParameterError("radius_y", "radius of curvature must be > 0 (got " + num(ry) + ")");
-  Topography t{grid, RealField(grid.size()), "hertz"};
+  Topography t{grid, RealField(grid.local_size()), "hertz"};
   const int cx = grid.nx / 2, cy = grid.ny / 2;
   const double dx = grid.dx(), dy = grid.dy();
-  for_rows(grid.ny, [&](int iy) {
-    const double y = (iy - cy) * dy;
+  for_rows(grid.rows(), [&](int row) {
+    const double y = (grid.y0 + row - cy) * dy;
     const double hy = (y * y) / (2.0 * ry);
     for (int ix = 0; ix < grid.nx; ++ix) {
       const double x = (ix - cx) * dx;
-      t.h[static_cast<std::size_t>(iy) * grid.nx + ix] = -(x * x) / (2.0 * rx) - hy;
+      t.h[static_cast<std::size_t>(row) * grid.nx + ix] = -(x * x) / (2.0 * rx) - hy;
     }
   });
   return t;
@@ -161,10 +160,10 @@ Topography make_eggcrate(const Grid& grid, double wavelength, double amplitude) 
     cx[ix] = std::cos(kTwoPi * static_cast<double>((ix * mx) % grid.nx) / grid.nx);
   for (int iy = 0; iy < grid.ny; ++iy)
     cy[iy] = std::cos(kTwoPi * static_cast<double>((iy * my) % grid.ny) / grid.ny);
-  Topography t{grid, RealField(grid.size()), "eggcrate"};
-  for_rows(grid.ny, [&](int iy) {
+  Topography t{grid, RealField(grid.local_size()), "eggcrate"};
+  for_rows(grid.rows(), [&](int row) {
     for (int ix = 0; ix < grid.nx; ++ix)
-      t.h[static_cast<std::size_t>(iy) * grid.nx + ix] = amplitude * (cx[ix] + cy[iy]);
+      t.h[static_cast<std::size_t>(row) * grid.nx + ix] = amplitude * (cx[ix] + cy[grid.y0 + row]);
   });
   return t;
 }
@@ -228,52 +227,66 @@ Topography make_selfaffine(const Grid& g, const SelfAffineParams& p) {
 
   const int nxh = g.nxh();
   const std::size_t ns = g.spectral_size();
-  // Phases: one uniform per half-spectrum mode, iky outer, ikx inner (documented order).
-  std::vector<double> u(ns);
+  const std::size_t first = static_cast<std::size_t>(g.y0) * nxh;
+  // Phases: one uniform per half-spectrum mode of the whole cell, iky outer, ikx inner (the
+  // documented order). A slab keeps its own rows' draws, and those of the two columns whose
+  // modes pair with another row's (kx = 0 and nx/2, for the Hermitian symmetry below): every
+  // process draws the whole sequence, at 8 bytes per mode of its rows.
+  const int last_col = g.nx % 2 == 0 && g.nx / 2 > 0 ? g.nx / 2 : -1;
+  std::vector<double> u(ns), u_first(static_cast<std::size_t>(g.ny)), u_last(static_cast<std::size_t>(g.ny));
   {
     Rng rng(p.seed);
-    for (auto& v : u) v = rng.uniform();
+    for (int iky = 0; iky < g.ny; ++iky)
+      for (int ikx = 0; ikx < nxh; ++ikx) {
+        const double v = rng.uniform();
+        const std::size_t i = static_cast<std::size_t>(iky) * nxh + ikx;
+        if (i >= first && i - first < ns) u[i - first] = v;
+        if (ikx == 0) u_first[static_cast<std::size_t>(iky)] = v;
+        if (ikx == last_col) u_last[static_cast<std::size_t>(iky)] = v;
+      }
   }
+  const auto mode = [&](int ikx, int iky, double phase) {
+    const double a = amplitude(ikx, iky);
+    const double phi = kTwoPi * phase;
+    return a == 0.0 ? cplx(0.0, 0.0) : cplx(a * std::cos(phi), a * std::sin(phi));
+  };
 
   FFT fft(g);
   SpecField spec = fft.spec_field();
-  std::vector<int> in_band(static_cast<std::size_t>(g.ny), 0);
-  for_rows(g.ny, [&](int iky) {
+  std::vector<double> in_band(static_cast<std::size_t>(g.rows()), 0.0);
+  for_rows(g.rows(), [&](int row) {
     int count = 0;
     for (int ikx = 0; ikx < nxh; ++ikx) {
-      const std::size_t i = static_cast<std::size_t>(iky) * nxh + ikx;
-      const double a = amplitude(ikx, iky);
-      const double phi = kTwoPi * u[i];
-      spec[i] = a == 0.0 ? cplx(0.0, 0.0) : cplx(a * std::cos(phi), a * std::sin(phi));
-      count += a != 0.0;
+      const std::size_t i = static_cast<std::size_t>(row) * nxh + ikx;
+      spec[i] = mode(ikx, g.y0 + row, u[i]);
+      count += amplitude(ikx, g.y0 + row) != 0.0;
     }
-    in_band[iky] = count;
+    in_band[static_cast<std::size_t>(row)] = count;
   });
-  int modes = 0;
-  for (int c : in_band) modes += c;
-  if (modes == 0)
+  if (add_rows(g, std::move(in_band), 1)[0] == 0.0)
     throw InputError(
         "indenter.lambda_short",
         "no Fourier mode of the grid has a wavelength between lambda_short = " + num(p.lambda_short) +
             " and lambda_long = " + num(p.lambda_long) + "; widen the band");
 
   // Hermitian symmetry on the columns that hold both q and -q: kx = 0 and kx = nx/2.
-  std::vector<int> columns{0};
-  if (g.nx % 2 == 0 && g.nx / 2 > 0) columns.push_back(g.nx / 2);
-  for (int col : columns) {
-    for (int iky = 0; iky < g.ny; ++iky) {
-      const std::size_t i = static_cast<std::size_t>(iky) * nxh + col;
+  for (int col : {0, last_col}) {
+    if (col < 0) continue;
+    const std::vector<double>& uc = col == 0 ? u_first : u_last;
+    for (int row = 0; row < g.rows(); ++row) {
+      const int iky = g.y0 + row;
+      const std::size_t i = static_cast<std::size_t>(row) * nxh + col;
       const int partner = (g.ny - iky) % g.ny;
       if (partner == iky) {  // self-conjugate: ky = 0 or ky = ny/2
         const double a = amplitude(col, iky);
-        spec[i] = cplx(std::cos(kTwoPi * u[i]) >= 0.0 ? a : -a, 0.0);
+        spec[i] = cplx(std::cos(kTwoPi * uc[static_cast<std::size_t>(iky)]) >= 0.0 ? a : -a, 0.0);
       } else if (g.ky(iky) < 0) {
-        spec[i] = std::conj(spec[static_cast<std::size_t>(partner) * nxh + col]);
+        spec[i] = std::conj(mode(col, partner, uc[static_cast<std::size_t>(partner)]));
       }
     }
   }
 
-  Topography t{g, RealField(g.size()), "selfaffine"};
+  Topography t{g, RealField(g.local_size()), "selfaffine"};
   fft.backward(spec.data(), t.h.data());
 
   double factor = 1.0;
@@ -293,7 +306,7 @@ Topography make_selfaffine(const Grid& g, const SelfAffineParams& p) {
 
 TopographyStats statistics(const Topography& t) {
   const Grid& g = t.grid;
-  if (g.nx < 1 || g.ny < 1 || t.h.size() != g.size())
+  if (g.nx < 1 || g.ny < 1 || t.h.size() != g.local_size())
     throw std::invalid_argument("statistics: the height field does not match the grid");
   TopographyStats s;
   s.mean = real_mean(g, t.h);

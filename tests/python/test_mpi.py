@@ -181,6 +181,124 @@ def test_sliding_rough_with_leakage(tmp_path):
         assert fb["flow_factor_" + d] == pytest.approx(fa["flow_factor_" + d], rel=1e-8, abs=1e-300)
 
 
+@pytest.mark.parametrize("ranks", [3, 4])
+def test_surface_made_on_slabs_has_the_serial_bits(tmp_path, ranks):
+    """On a power-of-two grid every process makes only its rows of the self-affine surface
+    (its phases from the one random sequence, its slab of the synthesis by FFTW-MPI): the
+    heights rank 0 gathers, the surface statistics and the whole solution equal one process's
+    to the last bit (64 rows over 3 processes: slabs of 22, 22 and 20 rows)."""
+    case = tmp_path / "rough64.toml"
+    case.write_text(ROUGH_FLOW.replace("nx = 96", "nx = 64").replace("[flow]\nenabled = true\n", ""))
+    assert run(case, tmp_path / "serial").returncode == 0
+    p = run(case, tmp_path / "mpi", ranks)
+    assert p.returncode == 0, p.stderr
+    a, b = same_solution(tmp_path / "serial", tmp_path / "mpi", ranks)
+    assert b["topography"] == a["topography"]
+    for k in ("friction_coefficient", "relative_contact_area", "mean_gap", "centroid_shift", "pressure_max_shift",
+              "contact_extent_longitudinal", "contact_extent_transverse", "max_slip_velocity"):
+        assert b[k] == a[k], k
+    import netCDF4
+    with netCDF4.Dataset(tmp_path / "serial" / "fields.nc") as x, netCDF4.Dataset(tmp_path / "mpi" / "fields.nc") as y:
+        for v in ("topography", "pressure", "traction_x", "uz"):
+            assert np.array_equal(np.array(x[v][:]), np.array(y[v][:])), v
+
+
+LEAN = """[grid]
+nx = 64
+ny = 50
+lx = 1.0
+ly = 0.78125
+[elastic]
+poisson = 0.45
+thickness = 0.2
+[indenter]
+type = "selfaffine"
+hurst = 0.7
+lambda_long = 0.5
+lambda_short = 0.05
+rms_height = 0.01
+seed = 3
+[load]
+pressure = 0.05
+[friction]
+coefficient = 0.5
+[flow]
+enabled = true
+[stress]
+post_analysis = ["consistent", "paper"]
+depths = [0.01, 0.05]
+profiles = true
+[solver]
+threads = 1
+[output]
+fields = false
+png = false
+analysis = true
+"""
+
+TIMINGS = ("wall_time_s", "fft_time_s", "time_per_iteration_s", "setup_seconds_x", "setup_seconds_y",
+           "solve_seconds_x", "solve_seconds_y", "mpi_ranks", "mpi")
+
+
+def same_numbers(a, b, rel, path=""):
+    """Every number of a (a summary.json or flow.json) in b to rel, but the timings and the MPI
+    block; strings and lists element by element."""
+    if isinstance(a, dict):
+        for k, v in a.items():
+            if k not in TIMINGS:
+                assert k in b, path + k
+                same_numbers(v, b[k], rel, path + k + ".")
+    elif isinstance(a, list):
+        assert len(a) == len(b), path
+        for i, (x, y) in enumerate(zip(a, b)):
+            same_numbers(x, y, rel, path + str(i) + ".")
+    elif isinstance(a, float):
+        assert b == pytest.approx(a, rel=rel, abs=1e-300), path
+    else:
+        assert b == a, path
+
+
+def test_post_processing_on_slabs_matches_serial(tmp_path):
+    """Without field outputs every process post-processes its slab (observables, surface,
+    subsurface and both post-analysis stresses, the profiles through the pressure maximum) and
+    rank 0 gathers only the pressure, gap and heights for the analysis and the leakage: every
+    figure of summary.json and flow.json as in one process, the tables alike."""
+    case = tmp_path / "lean.toml"
+    case.write_text(LEAN)
+    assert run(case, tmp_path / "serial").returncode == 0
+    p = run(case, tmp_path / "mpi", 3)
+    assert p.returncode == 0, p.stderr
+    a, b = summary(tmp_path / "serial"), summary(tmp_path / "mpi")
+    assert len(a["subsurface"]) == 2 and "post_analysis_paper" in a and "analysis" in a
+    same_numbers(a, b, 1e-12)
+    with open(tmp_path / "serial" / "flow.json") as f, open(tmp_path / "mpi" / "flow.json") as g:
+        same_numbers(json.load(f), json.load(g), 1e-8)
+    for name in ("profiles.csv", "patches.csv", "distributions.csv", "spectrum.csv", "bands.csv"):
+        x = np.genfromtxt(tmp_path / "serial" / name, delimiter=",", skip_header=1)
+        y = np.genfromtxt(tmp_path / "mpi" / name, delimiter=",", skip_header=1)
+        assert x.shape == y.shape and x.size > 0, name
+        assert np.allclose(y, x, rtol=1e-12, atol=1e-15, equal_nan=True), name
+    assert not (tmp_path / "mpi" / "fields.nc").exists()
+
+
+@pytest.mark.parametrize("fields", ["false", "true"])
+def test_a_process_without_rows_takes_part(tmp_path, fields):
+    """9 rows over 4 processes: FFTW-MPI's blocks of 3 rows leave the last process none. It
+    still takes part in every transform and reduction of the solve and the post-processing."""
+    case = tmp_path / "tiny.toml"
+    case.write_text(LEAN.replace("nx = 64\nny = 50\nlx = 1.0\nly = 0.78125", "nx = 16\nny = 9\nlx = 4.0\nly = 2.25")
+                    .replace('type = "selfaffine"', 'type = "hertz"\nradius_x = 1.0\nradius_y = 1.0')
+                    .replace("hurst = 0.7\nlambda_long = 0.5\nlambda_short = 0.05\nrms_height = 0.01\nseed = 3\n", "")
+                    .replace("pressure = 0.05", "pressure = 0.02").replace("[flow]\nenabled = true\n", "")
+                    .replace("fields = false", "fields = " + fields))
+    assert run(case, tmp_path / "serial").returncode == 0
+    p = run(case, tmp_path / "mpi", 4)
+    assert p.returncode == 0, p.stderr
+    same_numbers(summary(tmp_path / "serial"), summary(tmp_path / "mpi"), 1e-12)
+    if fields == "true":
+        same_solution(tmp_path / "serial", tmp_path / "mpi", 4)
+
+
 def test_interrupted_run_resumes_on_another_process_count(tmp_path):
     """A distributed run writes whole-field checkpoints (gathered on rank 0): stopped under
     -np 2, it resumes under -np 3 and ends where an uninterrupted serial run ends (the

@@ -21,6 +21,11 @@ struct RunOptions {
   // false: the stress fields are reduced to their summaries (less memory); the CLI sets
   // it from outputs_need_stress_fields.
   bool keep_stress_fields = true;
+  // Under mpirun: whether rank 0 gets the whole solution (every field gathered: a study's
+  // warm start, a library caller). false (gfmd run without field outputs): the
+  // post-processing runs on the slabs and rank 0 gathers only what the analysis and the
+  // leakage read, so that it holds about what the other processes hold.
+  bool whole_solution = true;
   // Counts of the earlier sessions of a resumed run (from read_checkpoint): added to the
   // result's iterations and wall time, and carried into the next checkpoint.
   CheckpointProgress resumed;
@@ -33,11 +38,19 @@ struct RunOptions {
 bool outputs_need_stress_fields(const Config& cfg);
 
 // Solves a case. Throws InputError for bad input and SolveError for a failed solve.
-// Under mpirun (every process calls it with the same case) the solve is distributed and
-// rank 0 alone gets the whole result; the others get the fields empty but the solve's info,
-// the observables and the leakage's figures (RunOptions are read on rank 0: its warm start
-// and checkpoint path hold for all).
+// Under mpirun (every process calls it with the same case) the solve and the
+// post-processing (observables, stresses, profiles) are distributed; rank 0 alone gets the
+// whole fields (see RunOptions::whole_solution) and does the analysis and the leakage; every
+// process gets the solve's info, the observables, the stress summaries and the leakage's
+// figures (RunOptions are read on rank 0: its warm start and checkpoint path hold for all).
 CaseResult run_case(const Config& cfg, const RunOptions& opts = {});
+
+// The indenter's heights this process holds: the whole map in one process; under mpirun the
+// rows of its slab (mpi::slab_of), made on the slab (analytic and self-affine surfaces: every
+// process makes its rows, a collective), or, for a height map, read and prepared by rank 0
+// alone and scattered (its errors agreed: rethrow_from_root). `report` is filled where the
+// map was read (rank 0). The CLI validates a case's topography with it before writing.
+Topography make_topography_here(const Config& cfg, MapReport* report = nullptr);
 
 // Under mpirun: rank 0's error, if it had one (a collective): rethrown on rank 0, and on the
 // others StoppedWithRoot with the exit code that error gives (rank 0 reports it). Nothing

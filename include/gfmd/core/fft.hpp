@@ -112,7 +112,10 @@ class FFT {
   [[nodiscard]] std::uint64_t transforms() const { return transforms_; }
   // Wall time spent inside FFTW's executes so far (the transforms alone, no scaling passes).
   [[nodiscard]] double seconds() const { return seconds_; }
-  [[nodiscard]] RealField real_field(double value = 0.0) const { return RealField(grid_.size(), value); }
+  // A field for the rows this transform works on (the whole cell, or its slab).
+  [[nodiscard]] RealField real_field(double value = 0.0) const {
+    return RealField(grid_.local_size(), value);
+  }
   [[nodiscard]] SpecField spec_field() const { return SpecField(grid_.spectral_size()); }
 
  private:

@@ -74,6 +74,10 @@ std::string from_root(const std::string& text);
 // whole field's memory on rank 0.
 RealField gather(const Grid& slab, const RealField& local);
 std::vector<unsigned char> gather(const Grid& slab, const std::vector<unsigned char>& local);
+// The values of a field at the given points (global indices iy * nx + ix of the cell), on
+// every process, exactly (a collective on a slab: each point's holder supplies its value).
+// Cheap for a few points (a profile through the cell), never for a field.
+std::vector<double> pick(const Grid& slab, const RealField& local, const std::vector<std::size_t>& points);
 // This process's rows of a whole field (every process holds `whole`).
 RealField rows_of(const Grid& slab, const RealField& whole);
 // This process's rows of a whole field that only rank 0 holds (a collective; `whole` is read

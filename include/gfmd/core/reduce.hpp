@@ -9,6 +9,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -123,6 +124,20 @@ double grid_max(const Grid& g, F&& f, double init) {
   for (double r : rows)
     if (r > m) m = r;
   return mpi::max_all(g, m);
+}
+
+// The largest f(i) over all points and the global index (iy * nx + ix, row-major) of the first
+// point that holds it, as one process scanning the whole grid finds them: (index, value).
+// The index is found as the largest negated index among the points equal to the maximum
+// (exact below 2^53 points).
+template <class F>
+std::pair<std::size_t, double> grid_argmax(const Grid& g, F&& f) {
+  const double none = -std::numeric_limits<double>::infinity();
+  const double max = grid_max(g, f, none);
+  const double first = static_cast<double>(g.y0) * g.nx;
+  const double neg = grid_max(
+      g, [&](std::size_t i) { return f(i) == max ? -(first + static_cast<double>(i)) : none; }, none);
+  return {neg == none ? 0 : static_cast<std::size_t>(-neg), max};
 }
 
 }  // namespace gfmd

@@ -4,6 +4,10 @@
 // body, i.e. a larger h protrudes further into the body (asperity peaks are maxima and
 // touch first). The solver uses the initial gap g0(r) = max(h) - h(r).
 // Fields are row-major with x fastest: h[iy * nx + ix] at x = ix*dx, y = iy*dy.
+// Made on a slab grid (a distributed run, core/mpi.hpp) a topography holds the slab's rows
+// only, and every process must make it (the self-affine surface and the statistics are
+// collectives): the same heights as the rows of the whole map, bit for bit on grids whose
+// transforms FFTW-MPI computes as serial FFTW does (powers of two), to round-off otherwise.
 #pragma once
 
 #include <cstdint>
@@ -67,7 +71,9 @@ struct SelfAffineParams {
 // FFT::backward and rescaled once so that its realised rms height (about the mean, in
 // real space) equals rms_height, or, if rms_gradient > 0 instead, so that its realised
 // spectral rms gradient (as in statistics()) equals rms_gradient.
-// The result does not depend on the number of threads.
+// The result does not depend on the number of threads. On a slab every process draws the
+// whole phase sequence (time: the whole half spectrum) and keeps its rows' phases (memory:
+// its rows only) plus the two symmetric columns'.
 // Throws ParameterError naming hurst, lambda_long, lambda_short
 // (also when 2 * grid spacing > lambda_short: the grid is too coarse),
 // lambda_rolloff, rms_height (not exactly one of rms_height /
