@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Distributed runs (mpirun) against threads: strong scaling, time per iteration, memory per rank.
 
-    /usr/bin/python3 scripts/bench_mpi.py --sizes 2048 [--case rough] [--ranks 1 2 4] [--json FILE]
+    /usr/bin/python3 scripts/bench_mpi.py --sizes 2048 [--case rough] [--ranks 1 2 4] [--set KEY=VALUE]
+                                          [--json FILE]
 
 For each size: the case with 1 and 2 OpenMP threads in one process, then under
 `mpirun -np N --oversubscribe` with one thread per rank for each N. Prints one row per run:
@@ -24,13 +25,13 @@ ENV = dict(os.environ, OMP_WAIT_POLICY="PASSIVE", OMPI_ALLOW_RUN_AS_ROOT="1", OM
            OMPI_MCA_rmaps_base_oversubscribe="1")
 
 
-def run(case, n, threads, ranks):
+def run(case, n, threads, ranks, sets=()):
     path, extra = CASES[case]
     with tempfile.TemporaryDirectory() as d:
         cmd = [GFMD, "run", os.path.join(ROOT, path), "-o", d, "-q",
                "--set", f"grid.nx={n}", "--set", f"solver.threads={threads}",
                "--set", "output.fields=false", "--set", "output.png=false", "--set", "output.analysis=false"]
-        for e in extra(n):
+        for e in list(extra(n)) + list(sets):
             cmd += ["--set", e]
         if ranks:
             cmd = ["mpirun", "-np", str(ranks), "--oversubscribe", "--bind-to", "none"] + cmd
@@ -62,6 +63,8 @@ def main():
     ap.add_argument("--case", default="rough", choices=sorted(CASES))
     ap.add_argument("--ranks", nargs="+", type=int, default=[1, 2, 4])
     ap.add_argument("--no-threads", action="store_true", help="skip the one-process thread runs")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="a further case setting (e.g. solver.tolerance=1e-4 for a memory table at large sizes)")
     ap.add_argument("--json", help="write every summary to this file")
     a = ap.parse_args()
     results = {}
@@ -72,7 +75,7 @@ def main():
         runs = [] if a.no_threads else [(f"{n}² 1 process × 1 thread", 1, 0), (f"{n}² 1 process × 2 threads", 2, 0)]
         runs += [(f"{n}² mpirun -np {r} × 1 thread", 1, r) for r in a.ranks]
         for label, threads, ranks in runs:
-            s = run(a.case, n, threads, ranks)
+            s = run(a.case, n, threads, ranks, a.set)
             results[label] = s
             print(row(label, s), flush=True)
     if a.json:

@@ -53,8 +53,8 @@ LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vecto
       // solve leaves round-off of order 1e-14).
       f.conductivity = f.flow_factor = 0.0;
     }
-    RealField m(g.size());
-    for (std::size_t i = 0; i < g.size(); ++i) m[i] = std::hypot(f.qx[i], f.qy[i]);
+    RealField m(f.qx.size());  // the rows held here (a slab in a distributed run)
+    for (std::size_t i = 0; i < m.size(); ++i) m[i] = std::hypot(f.qx[i], f.qy[i]);
     r.magnitude.push_back(std::move(m));
     const std::string s = direction_tag(a);
     j["flow_factor_" + s] = f.flow_factor;

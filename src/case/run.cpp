@@ -16,6 +16,7 @@
 #include <iterator>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <type_traits>
@@ -212,19 +213,19 @@ void after_solve_here(const Config& cfg, const RunOptions& opts, const Grid& gri
               " % of the load): the body's deformation at this load exceeds the pad's depth; use "
               "periodize = \"mirror\"");
   }
+  // The leakage: on a slab the Reynolds system is solved over all processes (HYPRE).
+  if (r.info.converged && cfg.flow.enabled)
+    r.leakage = compute_leakage(grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance,
+                                cfg.flow.solver, opts.stop_request);
 }
 
 // What needs the whole cell at once, in one process (rank 0 of a distributed run): the run's
-// analysis (patches, distributions, spectrum) and the leakage.
-void after_solve_whole(const Config& cfg, const RunOptions& opts, CaseResult& r) {
+// analysis (patches, distributions, spectrum).
+void after_solve_whole(const Config& cfg, CaseResult& r) {
   if (r.info.converged && cfg.output.analysis) {
     r.analysis = analyse_run(r.topography, r.fields);
     // A padded cell's spectrum is the pad's step, not the surface's: no Hurst fit.
     if (cfg.indenter.type == "file" && cfg.indenter.periodize == "pad") r.analysis->rough = false;
-  }
-  if (r.info.converged && cfg.flow.enabled) {
-    r.leakage = compute_leakage(cfg.grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance,
-                                cfg.flow.solver, opts.stop_request);
   }
 }
 
@@ -237,24 +238,26 @@ void gather_on_root(const Grid& slab, const std::vector<RealField*>& fields) {
 
 // What rank 0 of a distributed run needs whole after the distributed post-processing: every
 // field when the whole solution is asked for (outputs with fields, a study's warm start, a
-// library caller), else only what the analysis and the leakage read (pressure and gap;
-// the topography for the analysis). The rest stays in slabs and is dropped.
+// library caller), else only what the analysis reads (pressure, gap and heights); the
+// leakage's current fields always (flow.nc). The rest stays in slabs and is dropped.
 void gather_for_root(const Config& cfg, const RunOptions& opts, const Grid& slab, Topography& slab_topo,
                      CaseResult& r) {
-  const bool analysis = r.info.converged && cfg.output.analysis;
-  const bool flow = r.info.converged && cfg.flow.enabled;
+  if (r.leakage)
+    for (std::size_t k = 0; k < r.leakage->flows.size(); ++k)
+      gather_on_root(slab, {&r.leakage->flows[k].qx, &r.leakage->flows[k].qy, &r.leakage->magnitude[k]});
   if (!opts.whole_solution && !opts.keep_stress_fields) {
-    std::vector<RealField*> need;
-    if (analysis) need = {&r.fields.pressure, &r.fields.gap};
-    if (flow && !analysis) need = {&r.fields.gap};
-    gather_on_root(slab, need);
-    const bool topography = analysis && cfg.indenter.type != "array";
-    if (topography) r.topography = Topography{cfg.grid, mpi::gather(slab, slab_topo.h), slab_topo.kind};
+    const bool analysis = r.info.converged && cfg.output.analysis;
+    if (analysis) {
+      gather_on_root(slab, {&r.fields.pressure, &r.fields.gap});
+      if (cfg.indenter.type != "array")
+        r.topography = Topography{cfg.grid, mpi::gather(slab, slab_topo.h), slab_topo.kind};
+    }
     // Nothing else whole: the slabs go, so that rank 0 holds no more than the others.
     ContactFields kept;
-    if (analysis || flow) kept.gap = std::move(r.fields.gap);
-    if (analysis) kept.pressure = std::move(r.fields.pressure);
-    if (!mpi::root()) kept = ContactFields{};
+    if (analysis && mpi::root()) {
+      kept.gap = std::move(r.fields.gap);
+      kept.pressure = std::move(r.fields.pressure);
+    }
     r.fields = std::move(kept);
     r.derived = DerivedFields{};
     for (auto& pa : r.post_analyses) RealField().swap(pa.s1);
@@ -279,12 +282,6 @@ void gather_for_root(const Config& cfg, const RunOptions& opts, const Grid& slab
     r.topography = Topography{cfg.grid, mpi::gather(slab, slab_topo.h), slab_topo.kind};
 }
 
-// The leakage's figures, which a study decides on, from rank 0 to every process (a
-// collective), so that every process takes the same next step.
-void share_leakage_from_root(CaseResult& r) {
-  const std::string leak = mpi::from_root(r.leakage ? r.leakage->json.dump() : std::string());
-  if (!mpi::root() && !leak.empty()) r.leakage.emplace().json = nlohmann::json::parse(leak);
-}
 }  // namespace
 
 Topography make_topography_here(const Config& cfg, MapReport* report) {
@@ -408,12 +405,30 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
       write_checkpoint(opts.checkpoint_path, cfg, f, progress_now());
       return;
     }
-    ContactFields whole;
-    whole.pressure = mpi::gather(slab, f.pressure);
-    whole.tx = mpi::gather(slab, f.tx);
-    whole.ty = mpi::gather(slab, f.ty);
-    // A checkpoint rank 0 could not write stops every process (none may wait for it).
-    on_root([&] { write_checkpoint(opts.checkpoint_path, cfg, whole, progress_now()); });
+    // Rank 0 writes the file a field at a time as it gathers them (8 bytes per point of the
+    // cell at once). A checkpoint it could not write stops every process (none may wait for
+    // it); the others go on gathering until then, so that the collectives stay paired.
+    std::exception_ptr failure;
+    std::optional<CheckpointStream> file;
+    if (mpi::root()) try {
+        file.emplace(opts.checkpoint_path, cfg, progress_now());
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    for (const RealField* fld : {&f.pressure, &f.tx, &f.ty}) {
+      const RealField whole = mpi::gather(slab, *fld);
+      if (file && !failure) try {
+          file->add(whole);
+        } catch (...) {
+          failure = std::current_exception();
+        }
+    }
+    if (file && !failure) try {
+        file->commit();
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    rethrow_from_root(failure);
   };
   const auto hook = [&](ContactSolver& s) {
     running = &s;
@@ -482,7 +497,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
                                        mpi::all_values(mpi::reduction_seconds())};
   if (!distributed) {
     after_solve_here(cfg, opts, cfg.grid, r.topography, r);
-    after_solve_whole(cfg, opts, r);
+    after_solve_whole(cfg, r);
     if (r.mpi_usage) r.mpi_usage->peak_bytes = mpi::peak_resident_bytes();
     return r;
   }
@@ -502,15 +517,13 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
   }
   gather_for_root(cfg, opts, slab, slab_topo, r);
   slab_topo = Topography{};
-  // Rank 0 does what needs the whole cell; the others wait for the leakage's figures, or for
-  // its error.
+  // Rank 0 does what needs the whole cell; the others wait for its outcome.
   if (mpi::root()) try {
-      after_solve_whole(cfg, opts, r);
+      after_solve_whole(cfg, r);
     } catch (...) {
       failure = std::current_exception();
     }
   rethrow_from_root(failure);
-  share_leakage_from_root(r);
   if (r.mpi_usage) r.mpi_usage->peak_bytes = mpi::peak_resident_bytes();
   return r;
 }

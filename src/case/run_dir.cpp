@@ -32,8 +32,9 @@ namespace {
 constexpr char kCheckpointMagic[8] = {'G', 'F', 'M', 'D', 'C', 'K', 'P', '2'};
 }  // namespace
 
-void write_checkpoint(const std::string& path, const Config& cfg, const ContactFields& f,
-                      const CheckpointProgress& progress) {
+CheckpointStream::CheckpointStream(const std::string& path, const Config& cfg,
+                                   const CheckpointProgress& progress)
+    : file_(path), n_(cfg.grid.size()) {
   const std::string input = cfg.to_json().dump();
   std::string buf(kCheckpointMagic, 8);
   const auto put = [&buf](const void* p, std::size_t n) { buf.append(static_cast<const char*>(p), n); };
@@ -45,14 +46,31 @@ void write_checkpoint(const std::string& path, const Config& cfg, const ContactF
   buf += input;
   put(&progress.iterations, 8);
   put(&progress.wall_time_s, 8);
-  const std::size_t n = cfg.grid.size();
-  for (const RealField* fld : {&f.pressure, &f.tx, &f.ty}) {
-    if (fld->size() == n)
-      put(fld->data(), n * sizeof(double));
-    else
-      buf.append(n * sizeof(double), '\0');
+  file_.append_bytes(buf.data(), buf.size());
+}
+
+void CheckpointStream::add(const RealField& field) {
+  if (added_ == 3) throw std::logic_error("CheckpointStream: three fields only");
+  ++added_;
+  if (field.size() == n_) {
+    file_.append_bytes(field.data(), n_ * sizeof(double));
+    return;
   }
-  write_text_atomic(path, buf);
+  const std::vector<double> zeros(n_, 0.0);
+  file_.append_bytes(zeros.data(), n_ * sizeof(double));
+}
+
+void CheckpointStream::commit() {
+  if (added_ != 3) throw std::logic_error("CheckpointStream: pressure, tx and ty are needed");
+  file_.sync_tmp();
+  file_.commit();
+}
+
+void write_checkpoint(const std::string& path, const Config& cfg, const ContactFields& f,
+                      const CheckpointProgress& progress) {
+  CheckpointStream s(path, cfg, progress);
+  for (const RealField* fld : {&f.pressure, &f.tx, &f.ty}) s.add(*fld);
+  s.commit();
 }
 
 bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& f,

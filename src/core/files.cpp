@@ -51,6 +51,26 @@ void AtomicFile::write_bytes(const void* data, std::size_t size) {
   if (::close(fd) != 0) fail("cannot close temporary file '" + tmp_ + "': " + errno_message(errno));
 }
 
+void AtomicFile::append_bytes(const void* data, std::size_t size) {
+  const int fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | (started_ ? O_APPEND : O_TRUNC), 0666);
+  if (fd < 0) fail("cannot create temporary file '" + tmp_ + "': " + errno_message(errno));
+  started_ = true;
+  const auto* p = static_cast<const char*>(data);
+  std::size_t left = size;
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, left);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const int err = errno;
+      ::close(fd);
+      fail("cannot write temporary file '" + tmp_ + "': " + errno_message(err));
+    }
+    p += n;
+    left -= static_cast<std::size_t>(n);
+  }
+  if (::close(fd) != 0) fail("cannot close temporary file '" + tmp_ + "': " + errno_message(errno));
+}
+
 // fsyncs a temporary written by someone else (e.g. the NetCDF library).
 void AtomicFile::sync_tmp() const {
   const int fd = ::open(tmp_.c_str(), O_RDONLY | O_CLOEXEC);

@@ -273,6 +273,75 @@ std::vector<unsigned char> gather(const Grid& slab, const std::vector<unsigned c
   return gather_impl(slab, local, MPI_UNSIGNED_CHAR);
 }
 
+std::vector<unsigned char> scatter(const Grid& slab, const std::vector<unsigned char>& whole) {
+  if (!slab.is_slab()) return whole;
+  std::vector<int> counts, displs;
+  row_layout(slab, static_cast<std::size_t>(slab.nx), counts, displs);
+  if (g_rank == 0 && whole.size() != slab.size()) throw std::logic_error("mpi::scatter: not a whole field");
+  std::vector<unsigned char> local(slab.local_size());
+  check(MPI_Scatterv(g_rank == 0 ? whole.data() : nullptr, counts.data(), displs.data(), MPI_UNSIGNED_CHAR,
+                     local.data(), counts[static_cast<std::size_t>(g_rank)], MPI_UNSIGNED_CHAR, 0,
+                     MPI_COMM_WORLD),
+        "MPI_Scatterv");
+  return local;
+}
+
+std::vector<double> add_over_processes(const std::vector<double>& v) {
+  if (g_size == 1) return v;
+  const ReductionTimer timer;
+  std::vector<double> all(v.size() * static_cast<std::size_t>(g_size));
+  check(MPI_Allgather(v.data(), static_cast<int>(v.size()), MPI_DOUBLE, all.data(),
+                      static_cast<int>(v.size()), MPI_DOUBLE, MPI_COMM_WORLD),
+        "MPI_Allgather");
+  std::vector<double> total(v.size(), 0.0);
+  for (std::size_t r = 0; r < static_cast<std::size_t>(g_size); ++r)
+    for (std::size_t j = 0; j < v.size(); ++j) total[j] += all[r * v.size() + j];
+  return total;
+}
+
+NeighbourRows neighbour_rows(const Grid& slab, const RealField& local) {
+  const auto nx = static_cast<std::size_t>(slab.nx);
+  NeighbourRows out;
+  if (!slab.is_slab()) {
+    out.below.assign(local.end() - static_cast<std::ptrdiff_t>(nx), local.end());
+    out.above.assign(local.begin(), local.begin() + static_cast<std::ptrdiff_t>(nx));
+    return out;
+  }
+  // Every process hands on its first and last rows; each takes the rows next to its slab.
+  const Layout& lay = layout(slab.whole());
+  const std::size_t p = lay.rows.size();
+  std::vector<int> counts(p), displs(p);
+  int at = 0;
+  for (std::size_t r = 0; r < p; ++r) {
+    counts[r] = lay.rows[r] > 0 ? static_cast<int>(2 * nx) : 0;
+    displs[r] = at;
+    at += counts[r];
+  }
+  std::vector<double> mine;
+  if (slab.rows() > 0) {
+    mine.assign(local.begin(), local.begin() + static_cast<std::ptrdiff_t>(nx));
+    mine.insert(mine.end(), local.end() - static_cast<std::ptrdiff_t>(nx), local.end());
+  }
+  std::vector<double> all(static_cast<std::size_t>(at));
+  check(MPI_Allgatherv(mine.data(), counts[static_cast<std::size_t>(g_rank)], MPI_DOUBLE, all.data(),
+                       counts.data(), displs.data(), MPI_DOUBLE, MPI_COMM_WORLD),
+        "MPI_Allgatherv");
+  if (slab.rows() == 0) return out;
+  // The row of the cell `row` (global, periodic) from the boundary rows of its holder.
+  const auto row_of = [&](int row, RealField& to) {
+    for (std::size_t r = 0; r < p; ++r)
+      if (lay.rows[r] > 0 && row >= lay.starts[r] && row < lay.starts[r] + lay.rows[r]) {
+        const std::size_t first = static_cast<std::size_t>(displs[r]) + (row == lay.starts[r] ? 0 : nx);
+        to.assign(all.begin() + static_cast<std::ptrdiff_t>(first),
+                  all.begin() + static_cast<std::ptrdiff_t>(first + nx));
+        return;
+      }
+  };
+  row_of((slab.y0 + slab.ny - 1) % slab.ny, out.below);
+  row_of((slab.y0 + slab.rows()) % slab.ny, out.above);
+  return out;
+}
+
 std::vector<double> pick(const Grid& slab, const RealField& local, const std::vector<std::size_t>& points) {
   if (!slab.is_slab()) return pick_whole(local, points);
   // The holder of each point puts its bits, the others zero bits: a bitwise OR gives every
@@ -382,6 +451,15 @@ std::string from_root(const std::string& text) { return text; }
 RealField scatter(const Grid&, const RealField& whole) { return whole; }
 RealField gather(const Grid&, const RealField& local) { return local; }
 std::vector<unsigned char> gather(const Grid&, const std::vector<unsigned char>& local) { return local; }
+std::vector<unsigned char> scatter(const Grid&, const std::vector<unsigned char>& whole) { return whole; }
+std::vector<double> add_over_processes(const std::vector<double>& v) { return v; }
+NeighbourRows neighbour_rows(const Grid& slab, const RealField& local) {
+  const auto nx = static_cast<std::ptrdiff_t>(slab.nx);
+  NeighbourRows out;
+  out.below.assign(local.end() - nx, local.end());
+  out.above.assign(local.begin(), local.begin() + nx);
+  return out;
+}
 std::vector<double> pick(const Grid&, const RealField& local, const std::vector<std::size_t>& points) {
   return pick_whole(local, points);
 }

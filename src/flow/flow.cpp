@@ -36,7 +36,8 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
                                         const std::vector<double>& angles, const FlowOptions& opt) {
   const FlowSolver which = opt.solver;
   check_grid(grid, "flow");
-  if (gap == nullptr) throw InputError("flow", "gap field is null");
+  // (A process of a distributed run that holds no rows has no gap to point to.)
+  if (gap == nullptr && grid.local_size() > 0) throw InputError("flow", "gap field is null");
   if (angles.empty()) throw InputError("flow", "no flow direction given");
   for (double a : angles)
     if (!std::isfinite(a)) throw InputError("flow", "angle must be finite");
@@ -47,6 +48,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     throw InputError("flow", "amg_iterations_before_fallback must be >= 1");
   if (!(opt.closed_face_conductance >= 0.0) || !(opt.closed_face_conductance < 1.0))
     throw InputError("flow", "closed_face_conductance must be in [0, 1)");
+  if (grid.is_slab()) return solve_flow_slabs(grid, gap, angles, opt);
   const int nx = grid.nx, ny = grid.ny;
   const std::size_t n = grid.size();
 

@@ -392,4 +392,28 @@ std::vector<LinearSolution> solve_native(const LinearSystem& sys, std::size_t nr
 std::vector<LinearSolution> solve_boomeramg(const LinearSystem& sys, std::size_t nrhs, const RhsFn& make_rhs,
                                             const FlowOptions& opt);
 
+// The system of a distributed run (a slab of rows per process): the rows of the unknowns
+// this process holds, with global column indices (unknowns are numbered process by process,
+// row-major within each).
+struct SlabSystem {
+  std::int64_t first = 0;  // global index of the first unknown held here
+  std::int64_t count = 0;  // unknowns held here
+  std::int64_t total = 0;  // unknowns of all processes
+  std::vector<int> ncols;  // couplings of each row held here (the diagonal included)
+  std::vector<std::int64_t> cols;
+  std::vector<double> vals;
+};
+
+// solve_flow on a slab of a distributed run (every process calls it with its rows of the
+// gap): flow_slabs.cpp. The currents are the slab's; every figure is the whole cell's.
+std::vector<FlowResult> solve_flow_slabs(const Grid& slab, const double* gap,
+                                         const std::vector<double>& angles, const FlowOptions& opt);
+
+// HYPRE's BoomerAMG under its PCG over all processes (MPI_COMM_WORLD), the settings of
+// solve_boomeramg; rhs[k] holds the right-hand side of this process's unknowns. The
+// solutions' x are this process's unknowns. Without HYPRE in the build: SolveError.
+std::vector<LinearSolution> solve_boomeramg_slabs(const SlabSystem& sys,
+                                                  const std::vector<Buffer<double>>& rhs,
+                                                  const FlowOptions& opt);
+
 }  // namespace gfmd::flow_detail

@@ -78,7 +78,7 @@ png = false
 """
 
 ROUGH_FLOW = """[grid]
-nx = 96
+nx = 128
 lx = 1.0
 [elastic]
 poisson = 0.25
@@ -166,6 +166,12 @@ def test_thin_layer_sliding_with_stick(tmp_path, ranks):
 
 
 def test_sliding_rough_with_leakage(tmp_path):
+    """The leakage of a distributed run: the Reynolds system assembled on the slabs and solved
+    by HYPRE's BoomerAMG over the processes, the components labelled on rank 0 (the same
+    percolation flags). On a power-of-two grid the gap has one process's bits and the flow
+    factors agree to the solvers' tolerance (1e-10 relative residual here, our AMG in one
+    process). (On other grids the gap differs by the transforms' round-off, which the nearly
+    closed faces of a weakly percolating direction amplify: 1.0e-8 relative on a 96^2 cell.)"""
     case = tmp_path / "flow.toml"
     case.write_text(ROUGH_FLOW)
     assert run(case, tmp_path / "serial").returncode == 0
@@ -188,7 +194,7 @@ def test_surface_made_on_slabs_has_the_serial_bits(tmp_path, ranks):
     heights rank 0 gathers, the surface statistics and the whole solution equal one process's
     to the last bit (64 rows over 3 processes: slabs of 22, 22 and 20 rows)."""
     case = tmp_path / "rough64.toml"
-    case.write_text(ROUGH_FLOW.replace("nx = 96", "nx = 64").replace("[flow]\nenabled = true\n", ""))
+    case.write_text(ROUGH_FLOW.replace("nx = 128", "nx = 64").replace("[flow]\nenabled = true\n", ""))
     assert run(case, tmp_path / "serial").returncode == 0
     p = run(case, tmp_path / "mpi", ranks)
     assert p.returncode == 0, p.stderr
@@ -258,11 +264,23 @@ def same_numbers(a, b, rel, path=""):
         assert b == a, path
 
 
+def same_summary(a, b):
+    """summary.json of a distributed run against one process's: every figure to 1e-12 but the
+    leakage's, which BoomerAMG over the processes and our AMG in one process both solve to the
+    relative residual 1e-10: its flow factors and conductivities to 1e-8 (absolute 1e-12 for a
+    net flow that is zero up to round-off; iterations and residuals differ)."""
+    fa, fb = a.pop("flow"), b.pop("flow")
+    same_numbers(a, b, 1e-12)
+    for k, v in fa.items():
+        if k.startswith(("flow_factor", "conductivity", "percolates", "mean_gap")):
+            assert fb[k] == pytest.approx(v, rel=1e-8, abs=1e-12), k
+
+
 def test_post_processing_on_slabs_matches_serial(tmp_path):
     """Without field outputs every process post-processes its slab (observables, surface,
-    subsurface and both post-analysis stresses, the profiles through the pressure maximum) and
-    rank 0 gathers only the pressure, gap and heights for the analysis and the leakage: every
-    figure of summary.json and flow.json as in one process, the tables alike."""
+    subsurface and both post-analysis stresses, the profiles through the pressure maximum, the
+    leakage) and rank 0 gathers only the pressure, gap and heights for the analysis: every
+    figure of summary.json as in one process, the tables alike."""
     case = tmp_path / "lean.toml"
     case.write_text(LEAN)
     assert run(case, tmp_path / "serial").returncode == 0
@@ -270,9 +288,7 @@ def test_post_processing_on_slabs_matches_serial(tmp_path):
     assert p.returncode == 0, p.stderr
     a, b = summary(tmp_path / "serial"), summary(tmp_path / "mpi")
     assert len(a["subsurface"]) == 2 and "post_analysis_paper" in a and "analysis" in a
-    same_numbers(a, b, 1e-12)
-    with open(tmp_path / "serial" / "flow.json") as f, open(tmp_path / "mpi" / "flow.json") as g:
-        same_numbers(json.load(f), json.load(g), 1e-8)
+    same_summary(a, b)
     for name in ("profiles.csv", "patches.csv", "distributions.csv", "spectrum.csv", "bands.csv"):
         x = np.genfromtxt(tmp_path / "serial" / name, delimiter=",", skip_header=1)
         y = np.genfromtxt(tmp_path / "mpi" / name, delimiter=",", skip_header=1)
@@ -284,17 +300,17 @@ def test_post_processing_on_slabs_matches_serial(tmp_path):
 @pytest.mark.parametrize("fields", ["false", "true"])
 def test_a_process_without_rows_takes_part(tmp_path, fields):
     """9 rows over 4 processes: FFTW-MPI's blocks of 3 rows leave the last process none. It
-    still takes part in every transform and reduction of the solve and the post-processing."""
+    still takes part in every transform and reduction of the solve, the post-processing and
+    the distributed flow solve (no unknowns of its own)."""
     case = tmp_path / "tiny.toml"
     case.write_text(LEAN.replace("nx = 64\nny = 50\nlx = 1.0\nly = 0.78125", "nx = 16\nny = 9\nlx = 4.0\nly = 2.25")
                     .replace('type = "selfaffine"', 'type = "hertz"\nradius_x = 1.0\nradius_y = 1.0')
                     .replace("hurst = 0.7\nlambda_long = 0.5\nlambda_short = 0.05\nrms_height = 0.01\nseed = 3\n", "")
-                    .replace("pressure = 0.05", "pressure = 0.02").replace("[flow]\nenabled = true\n", "")
-                    .replace("fields = false", "fields = " + fields))
+                    .replace("pressure = 0.05", "pressure = 0.02").replace("fields = false", "fields = " + fields))
     assert run(case, tmp_path / "serial").returncode == 0
     p = run(case, tmp_path / "mpi", 4)
     assert p.returncode == 0, p.stderr
-    same_numbers(summary(tmp_path / "serial"), summary(tmp_path / "mpi"), 1e-12)
+    same_summary(summary(tmp_path / "serial"), summary(tmp_path / "mpi"))
     if fields == "true":
         same_solution(tmp_path / "serial", tmp_path / "mpi", 4)
 
@@ -379,7 +395,7 @@ def test_sweep_under_mpirun_matches_serial(tmp_path):
 
 def test_percolation_and_ensemble_under_mpirun_match_serial(tmp_path):
     case = tmp_path / "flow.toml"
-    case.write_text(ROUGH_FLOW.replace("nx = 96", "nx = 64"))
+    case.write_text(ROUGH_FLOW.replace("nx = 128", "nx = 64"))
     assert serial_cmd("percolation", case, "--direction", "x", "-o", tmp_path / "p1", "-q").returncode == 0
     p = mpi_cmd(3, "percolation", case, "--direction", "x", "-o", tmp_path / "p3", "-q")
     assert p.returncode == 0, p.stderr

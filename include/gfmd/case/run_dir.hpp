@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "gfmd/case/result.hpp"
+#include "gfmd/core/files.hpp"
 
 namespace gfmd {
 
@@ -18,6 +19,21 @@ void write_checkpoint(const std::string& path, const Config& cfg, const ContactF
                       const CheckpointProgress& progress = {});
 bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& f,
                      CheckpointProgress* progress = nullptr);
+// The same file written a field at a time, for a writer that holds one whole field at once
+// (rank 0 of a distributed run): the header on construction, then add() the pressure, tx
+// and ty in this order (each cfg.grid.size() values, or empty: zeros), then commit(). Not
+// committed, the file is not written (the temporary goes).
+class CheckpointStream {
+ public:
+  CheckpointStream(const std::string& path, const Config& cfg, const CheckpointProgress& progress);
+  void add(const RealField& field);
+  void commit();
+
+ private:
+  AtomicFile file_;
+  std::size_t n_;
+  int added_ = 0;
+};
 
 // The summary.json in dir if it holds a converged solve of exactly this input.
 std::optional<nlohmann::json> finished_summary(const std::string& dir, const Config& cfg);

@@ -24,6 +24,9 @@ class AtomicFile {
   [[noreturn]] void fail(const std::string& why) const;
   // Writes the whole buffer to the temporary and fsyncs it.
   void write_bytes(const void* data, std::size_t size);
+  // Appends to the temporary (the first call starts it empty), without syncing: a file
+  // written in pieces, then sync_tmp() and commit().
+  void append_bytes(const void* data, std::size_t size);
   // fsyncs a temporary written by someone else (e.g. the NetCDF library).
   void sync_tmp() const;
   // Renames the (synced) temporary over the path and syncs the directory (best effort).
@@ -31,7 +34,7 @@ class AtomicFile {
 
  private:
   std::string path_, tmp_;
-  bool committed_ = false;
+  bool committed_ = false, started_ = false;
 };
 
 // Writes size bytes to path atomically (tmp + fsync + rename + fsync of the directory).

@@ -53,6 +53,9 @@ std::vector<double> all_rows(const Grid& slab, const std::vector<double>& local,
 // post-processing, or a run without mpirun).
 double max_all(const Grid& g, double v);
 std::uint64_t sum_all(const Grid& g, std::uint64_t v);
+// Vectors of equal length from every process added element by element in rank order, on
+// every process (a collective; v itself in one process).
+std::vector<double> add_over_processes(const std::vector<double>& v);
 // Processes of this run on this machine (the launcher's local size; 1 without one).
 int processes_on_this_machine();
 // Every process's value, by rank, on every process.
@@ -74,6 +77,15 @@ std::string from_root(const std::string& text);
 // whole field's memory on rank 0.
 RealField gather(const Grid& slab, const RealField& local);
 std::vector<unsigned char> gather(const Grid& slab, const std::vector<unsigned char>& local);
+std::vector<unsigned char> scatter(const Grid& slab, const std::vector<unsigned char>& whole);
+// The rows next to this process's slab (a collective on a slab): `below` is row y0 - 1,
+// `above` row y0 + rows() (periodic; a whole grid's last and first rows). Empty on a process
+// that holds no rows. What a pass that couples a row to its neighbours (a 5-point stencil)
+// needs from the other processes.
+struct NeighbourRows {
+  RealField below, above;
+};
+NeighbourRows neighbour_rows(const Grid& slab, const RealField& local);
 // The values of a field at the given points (global indices iy * nx + ix of the cell), on
 // every process, exactly (a collective on a slab: each point's holder supplies its value).
 // Cheap for a few points (a profile through the cell), never for a field.

@@ -139,7 +139,11 @@ struct FlowResult {
 };
 
 // Solves the flow problem for the gap field gap[grid.size()] (row-major, x fastest) and
-// a unit imposed gradient along angle_deg (degrees from +x).
+// a unit imposed gradient along angle_deg (degrees from +x). On a slab grid (a distributed
+// run, core/mpi.hpp) every process calls it with its rows of the gap (grid.local_size()
+// values): the system is assembled on the slabs and solved by HYPRE's BoomerAMG over all
+// processes whatever opt.solver says (src/flow/flow_slabs.cpp); the currents are the slab's,
+// every figure is the whole cell's.
 // Throws InputError("flow", ...) for an empty grid, a null gap, non-positive cell sizes,
 // non-finite gaps, a non-finite angle, tolerance outside (0, 1), max_iterations < 1 or
 // amg_iterations_before_fallback < 1; SolveError if neither solver reaches opt.tolerance

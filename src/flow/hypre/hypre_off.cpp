@@ -10,4 +10,10 @@ std::vector<LinearSolution> solve_boomeramg(const LinearSystem&, std::size_t, co
       "flow: solver boomeramg needs HYPRE, and this gfmd was built without it (GFMD_WITH_HYPRE=OFF)");
 }
 
+std::vector<LinearSolution> solve_boomeramg_slabs(const SlabSystem&, const std::vector<Buffer<double>>&,
+                                                  const FlowOptions&) {
+  throw SolveError(
+      "flow: a distributed flow solve needs HYPRE, and this gfmd was built without it (GFMD_WITH_HYPRE=OFF)");
+}
+
 }  // namespace gfmd::flow_detail

@@ -99,6 +99,40 @@ void finish(LinearSolution& sol, HYPRE_Int its, HYPRE_Real res, const FlowOption
   sol.converged = finite(sol) && res <= opt.tolerance;
 }
 
+// PCG preconditioned by one BoomerAMG V-cycle, the settings of every HYPRE solve here.
+void configure_pcg(MPI_Comm comm, const FlowOptions& opt, HYPRE_Solver& pcg, HYPRE_Solver& amg) {
+  hypre_check(HYPRE_ParCSRPCGCreate(comm, &pcg), "ParCSRPCGCreate");
+  HYPRE_PCGSetTol(pcg, opt.tolerance);
+  HYPRE_PCGSetAbsoluteTol(pcg, 0.0);
+  HYPRE_PCGSetMaxIter(pcg, opt.max_iterations);
+  HYPRE_PCGSetTwoNorm(pcg, 1);
+  HYPRE_PCGSetRelChange(pcg, 0);
+  HYPRE_PCGSetPrintLevel(pcg, 0);
+  HYPRE_PCGSetLogging(pcg, 1);
+
+  // Ruge-Stueben coarsening with classical (modified) interpolation: on the 2048^2
+  // benchmark gap (bench/bench_flow) its set-up takes about 60 % of that of HMIS +
+  // extended+i interpolation at nearly the same iteration count (12 against 11).
+  hypre_check(HYPRE_BoomerAMGCreate(&amg), "BoomerAMGCreate");
+  HYPRE_BoomerAMGSetPrintLevel(amg, 0);
+  HYPRE_BoomerAMGSetMaxIter(amg, 1);
+  HYPRE_BoomerAMGSetTol(amg, 0.0);
+  HYPRE_BoomerAMGSetCoarsenType(amg, 6);  // Falgout (Ruge-Stueben on one process)
+  HYPRE_BoomerAMGSetInterpType(amg, 0);   // classical modified
+  HYPRE_BoomerAMGSetPMaxElmts(amg, 4);
+  HYPRE_BoomerAMGSetStrongThreshold(amg, 0.25);
+  // One forward Gauss-Seidel sweep on the way down and one backward sweep on the way up:
+  // a symmetric V-cycle (as PCG needs) at half the smoothing cost of symmetric sweeps at
+  // both ends (2048^2 benchmark: 14 instead of 13 iterations, PCG 3.0 s instead of 4.7 s).
+  HYPRE_BoomerAMGSetCycleRelaxType(amg, 3, 1);  // down: hybrid forward Gauss-Seidel
+  HYPRE_BoomerAMGSetCycleRelaxType(amg, 4, 2);  // up: hybrid backward Gauss-Seidel
+  HYPRE_BoomerAMGSetCycleRelaxType(amg, 9, 3);  // coarsest: Gaussian elimination
+  HYPRE_BoomerAMGSetNumSweeps(amg, 1);
+  hypre_check(HYPRE_PCGSetPrecond(pcg, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
+                                  reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg),
+              "PCGSetPrecond");
+}
+
 std::vector<LinearSolution> boomeramg(const LinearSystem& sys, std::size_t nrhs, const RhsFn& make_rhs,
                                       const FlowOptions& opt) {
   const MPI_Comm comm = MPI_COMM_SELF;
@@ -168,36 +202,7 @@ std::vector<LinearSolution> boomeramg(const LinearSystem& sys, std::size_t nrhs,
   hypre_check(HYPRE_IJVectorGetObject(b, reinterpret_cast<void**>(&parb)), "IJVectorGetObject");
   hypre_check(HYPRE_IJVectorGetObject(x, reinterpret_cast<void**>(&parx)), "IJVectorGetObject");
 
-  hypre_check(HYPRE_ParCSRPCGCreate(comm, &pcg), "ParCSRPCGCreate");
-  HYPRE_PCGSetTol(pcg, opt.tolerance);
-  HYPRE_PCGSetAbsoluteTol(pcg, 0.0);
-  HYPRE_PCGSetMaxIter(pcg, opt.max_iterations);
-  HYPRE_PCGSetTwoNorm(pcg, 1);
-  HYPRE_PCGSetRelChange(pcg, 0);
-  HYPRE_PCGSetPrintLevel(pcg, 0);
-  HYPRE_PCGSetLogging(pcg, 1);
-
-  // Ruge-Stueben coarsening with classical (modified) interpolation: on the 2048^2
-  // benchmark gap (bench/bench_flow) its set-up takes about 60 % of that of HMIS +
-  // extended+i interpolation at nearly the same iteration count (12 against 11).
-  hypre_check(HYPRE_BoomerAMGCreate(&amg), "BoomerAMGCreate");
-  HYPRE_BoomerAMGSetPrintLevel(amg, 0);
-  HYPRE_BoomerAMGSetMaxIter(amg, 1);
-  HYPRE_BoomerAMGSetTol(amg, 0.0);
-  HYPRE_BoomerAMGSetCoarsenType(amg, 6);  // Falgout (Ruge-Stueben on one process)
-  HYPRE_BoomerAMGSetInterpType(amg, 0);   // classical modified
-  HYPRE_BoomerAMGSetPMaxElmts(amg, 4);
-  HYPRE_BoomerAMGSetStrongThreshold(amg, 0.25);
-  // One forward Gauss-Seidel sweep on the way down and one backward sweep on the way up:
-  // a symmetric V-cycle (as PCG needs) at half the smoothing cost of symmetric sweeps at
-  // both ends (2048^2 benchmark: 14 instead of 13 iterations, PCG 3.0 s instead of 4.7 s).
-  HYPRE_BoomerAMGSetCycleRelaxType(amg, 3, 1);  // down: hybrid forward Gauss-Seidel
-  HYPRE_BoomerAMGSetCycleRelaxType(amg, 4, 2);  // up: hybrid backward Gauss-Seidel
-  HYPRE_BoomerAMGSetCycleRelaxType(amg, 9, 3);  // coarsest: Gaussian elimination
-  HYPRE_BoomerAMGSetNumSweeps(amg, 1);
-  hypre_check(HYPRE_PCGSetPrecond(pcg, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
-                                  reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg),
-              "PCGSetPrecond");
+  configure_pcg(comm, opt, pcg, amg);
 
   std::vector<LinearSolution> out;
   Buffer<double> xr(static_cast<std::size_t>(n));
@@ -226,7 +231,93 @@ std::vector<LinearSolution> boomeramg(const LinearSystem& sys, std::size_t nrhs,
   return out;
 }
 
+// The distributed system: every process its rows, every process one call.
+std::vector<LinearSolution> boomeramg_slabs(const SlabSystem& sys, const std::vector<Buffer<double>>& rhs,
+                                            const FlowOptions& opt) {
+  const MPI_Comm comm = MPI_COMM_WORLD;
+  const auto first = static_cast<HYPRE_BigInt>(sys.first),
+             last = static_cast<HYPRE_BigInt>(sys.first + sys.count - 1);
+  const auto n = static_cast<std::size_t>(sys.count);
+  HYPRE_IJMatrix A = nullptr;
+  HYPRE_IJVector b = nullptr, x = nullptr;
+  HYPRE_Solver pcg = nullptr, amg = nullptr;
+  struct Cleanup {
+    HYPRE_IJMatrix& A;
+    HYPRE_IJVector &b, &x;
+    HYPRE_Solver &pcg, &amg;
+    ~Cleanup() {
+      if (amg) HYPRE_BoomerAMGDestroy(amg);
+      if (pcg) HYPRE_ParCSRPCGDestroy(pcg);
+      if (x) HYPRE_IJVectorDestroy(x);
+      if (b) HYPRE_IJVectorDestroy(b);
+      if (A) HYPRE_IJMatrixDestroy(A);
+      HYPRE_ClearAllErrors();
+    }
+  } cleanup{A, b, x, pcg, amg};
+  std::vector<HYPRE_BigInt> rows(n), cols(sys.cols.begin(), sys.cols.end());
+  std::vector<HYPRE_Int> ncols(sys.ncols.begin(), sys.ncols.end());
+  for (std::size_t r = 0; r < n; ++r) rows[r] = first + static_cast<HYPRE_BigInt>(r);
+  hypre_check(HYPRE_IJMatrixCreate(comm, first, last, first, last, &A), "IJMatrixCreate");
+  hypre_check(HYPRE_IJMatrixSetObjectType(A, HYPRE_PARCSR), "IJMatrixSetObjectType");
+  hypre_check(HYPRE_IJMatrixSetRowSizes(A, ncols.data()), "IJMatrixSetRowSizes");
+  hypre_check(HYPRE_IJMatrixInitialize(A), "IJMatrixInitialize");
+  if (n > 0)
+    hypre_check(HYPRE_IJMatrixAddToValues(A, static_cast<HYPRE_Int>(n), ncols.data(), rows.data(),
+                                          cols.data(), sys.vals.data()),
+                "IJMatrixAddToValues");
+  hypre_check(HYPRE_IJMatrixAssemble(A), "IJMatrixAssemble");
+  HYPRE_ParCSRMatrix parA = nullptr;
+  hypre_check(HYPRE_IJMatrixGetObject(A, reinterpret_cast<void**>(&parA)), "IJMatrixGetObject");
+  std::vector<double> zero(n, 0.0);
+  for (HYPRE_IJVector* v : {&b, &x}) {
+    hypre_check(HYPRE_IJVectorCreate(comm, first, last, v), "IJVectorCreate");
+    hypre_check(HYPRE_IJVectorSetObjectType(*v, HYPRE_PARCSR), "IJVectorSetObjectType");
+    hypre_check(HYPRE_IJVectorInitialize(*v), "IJVectorInitialize");
+    if (n > 0)
+      hypre_check(HYPRE_IJVectorSetValues(*v, static_cast<HYPRE_Int>(n), rows.data(), zero.data()),
+                  "IJVectorSetValues");
+    hypre_check(HYPRE_IJVectorAssemble(*v), "IJVectorAssemble");
+  }
+  HYPRE_ParVector parb = nullptr, parx = nullptr;
+  hypre_check(HYPRE_IJVectorGetObject(b, reinterpret_cast<void**>(&parb)), "IJVectorGetObject");
+  hypre_check(HYPRE_IJVectorGetObject(x, reinterpret_cast<void**>(&parx)), "IJVectorGetObject");
+  configure_pcg(comm, opt, pcg, amg);
+  std::vector<LinearSolution> out;
+  for (std::size_t k = 0; k < rhs.size(); ++k) {
+    if (n > 0) {
+      hypre_check(HYPRE_IJVectorSetValues(b, static_cast<HYPRE_Int>(n), rows.data(),
+                                          const_cast<double*>(rhs[k].data())),
+                  "IJVectorSetValues");
+      hypre_check(HYPRE_IJVectorSetValues(x, static_cast<HYPRE_Int>(n), rows.data(), zero.data()),
+                  "IJVectorSetValues");
+    }
+    LinearSolution sol;
+    timed_pcg(
+        k == 0, sol, [&] { hypre_check(HYPRE_ParCSRPCGSetup(pcg, parA, parb, parx), "ParCSRPCGSetup"); },
+        [&] { hypre_check(HYPRE_ParCSRPCGSolve(pcg, parA, parb, parx), "ParCSRPCGSolve"); });
+    HYPRE_Int its = 0;
+    HYPRE_Real res = 0.0;
+    HYPRE_PCGGetNumIterations(pcg, &its);
+    HYPRE_PCGGetFinalRelativeResidualNorm(pcg, &res);
+    sol.x.resize(n);
+    if (n > 0)
+      hypre_check(HYPRE_IJVectorGetValues(x, static_cast<HYPRE_Int>(n), rows.data(), sol.x.data()),
+                  "IJVectorGetValues");
+    finish(sol, its, res, opt);
+    out.push_back(std::move(sol));
+  }
+  return out;
+}
+
 }  // namespace
+
+std::vector<LinearSolution> solve_boomeramg_slabs(const SlabSystem& sys,
+                                                  const std::vector<Buffer<double>>& rhs,
+                                                  const FlowOptions& opt) {
+  ensure_hypre();
+  const std::lock_guard<std::mutex> lock(g_hypre_mutex);
+  return boomeramg_slabs(sys, rhs, opt);
+}
 
 std::vector<LinearSolution> solve_boomeramg(const LinearSystem& sys, std::size_t nrhs, const RhsFn& make_rhs,
                                             const FlowOptions& opt) {
