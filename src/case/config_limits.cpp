@@ -64,7 +64,7 @@ MemoryLimit memory_limit() {
   return best;
 }
 
-double estimated_memory_bytes(const Grid& grid, int processes) {
+double estimated_memory_bytes(const Grid& grid, int processes, bool whole_surface) {
   // Peak of a sliding solve (BENCHMARKS.md, memory budget): topography, pressure and two
   // tractions, g0, w, the traction image, three CG fields (11 real fields), three complex
   // half-spectra, the compliance tables (56 B/mode) and the Anderson history on the
@@ -73,9 +73,10 @@ double estimated_memory_bytes(const Grid& grid, int processes) {
   const double ns = static_cast<double>(grid.spectral_size());
   const double solve = n * (8.0 * 11.0 + 0.5 * 196.0) + ns * (3.0 * 16.0 + 56.0);
   if (processes <= 1) return solve;
-  // Distributed: each process holds its share of the solve and, while the topography is
-  // made, the whole map with its spectrum and phases (32 B per point; docs/mpi.md).
-  return solve / processes + 32.0 * n;
+  // Distributed: each process holds its share of the solve and one gathered field (rank 0's
+  // checkpoints and outputs, 8 B per point of the cell) or, while a whole topography is made,
+  // the whole map with its spectrum and phases (32 B per point; docs/mpi.md).
+  return solve / processes + (whole_surface ? 32.0 : 8.0) * n;
 }
 
 // TOML is UTF-8 text. Checking it first also keeps malformed bytes away from toml11

@@ -293,8 +293,7 @@ Topography make_topography_here(const Config& cfg, MapReport* report) {
     // they differ by round-off, which the solve would carry into every result at the
     // tolerance's level: there every process makes the whole map, as one process does, and
     // keeps its rows (32 bytes per point of the whole grid while it is made).
-    const auto pow2 = [](int n) { return n > 0 && (n & (n - 1)) == 0; };
-    if (!pow2(cfg.grid.nx) || !pow2(cfg.grid.ny)) {
+    if (!surface_made_on_slabs(cfg)) {
       const Topography whole = make_topography(cfg, report);
       return Topography{slab, mpi::rows_of(slab, whole.h), whole.kind};
     }

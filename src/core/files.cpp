@@ -26,9 +26,9 @@ AtomicFile::~AtomicFile() {
   if (!committed_) ::unlink(tmp_.c_str());
 }
 
-// Writes the whole buffer to the temporary and fsyncs it.
-void AtomicFile::write_bytes(const void* data, std::size_t size) {
-  const int fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+// Writes the buffer to the temporary: truncated first, or appended to; synced or not.
+void AtomicFile::put(const void* data, std::size_t size, bool append, bool sync) {
+  const int fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | (append ? O_APPEND : O_TRUNC), 0666);
   if (fd < 0) fail("cannot create temporary file '" + tmp_ + "': " + errno_message(errno));
   const auto* p = static_cast<const char*>(data);
   std::size_t left = size;
@@ -43,7 +43,7 @@ void AtomicFile::write_bytes(const void* data, std::size_t size) {
     p += n;
     left -= static_cast<std::size_t>(n);
   }
-  if (::fsync(fd) != 0) {
+  if (sync && ::fsync(fd) != 0) {
     const int err = errno;
     ::close(fd);
     fail("cannot fsync temporary file '" + tmp_ + "': " + errno_message(err));
@@ -51,24 +51,11 @@ void AtomicFile::write_bytes(const void* data, std::size_t size) {
   if (::close(fd) != 0) fail("cannot close temporary file '" + tmp_ + "': " + errno_message(errno));
 }
 
+void AtomicFile::write_bytes(const void* data, std::size_t size) { put(data, size, false, true); }
+
 void AtomicFile::append_bytes(const void* data, std::size_t size) {
-  const int fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | (started_ ? O_APPEND : O_TRUNC), 0666);
-  if (fd < 0) fail("cannot create temporary file '" + tmp_ + "': " + errno_message(errno));
+  put(data, size, started_, false);
   started_ = true;
-  const auto* p = static_cast<const char*>(data);
-  std::size_t left = size;
-  while (left > 0) {
-    const ssize_t n = ::write(fd, p, left);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const int err = errno;
-      ::close(fd);
-      fail("cannot write temporary file '" + tmp_ + "': " + errno_message(err));
-    }
-    p += n;
-    left -= static_cast<std::size_t>(n);
-  }
-  if (::close(fd) != 0) fail("cannot close temporary file '" + tmp_ + "': " + errno_message(errno));
 }
 
 // fsyncs a temporary written by someone else (e.g. the NetCDF library).

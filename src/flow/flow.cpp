@@ -66,21 +66,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
   const double dx = grid.dx(), dy = grid.dy();
   const double wx = dy / dx, wy = dx / dy;
 
-  std::vector<FlowResult> results(angles.size());
-  const double mean_gap =
-      grid_sum(grid, [&](std::size_t i) { return std::max(gap[i], 0.0); }) / static_cast<double>(n);
-  const double mean_gap_cubed = grid_sum(grid,
-                                         [&](std::size_t i) {
-                                           const double g = std::max(gap[i], 0.0);
-                                           return g * g * g;
-                                         }) /
-                                static_cast<double>(n);
-  for (std::size_t k = 0; k < angles.size(); ++k) {
-    FlowResult& res = results[k];
-    res.angle_deg = angles[k];
-    res.mean_gap = mean_gap;
-    res.mean_gap_cubed = mean_gap_cubed;
-  }
+  std::vector<FlowResult> results = results_with_gap_means(grid, gap, angles);
   if (!(gmax > 0.0)) {  // everything closed: no flow
     for (FlowResult& res : results) {
       res.qx.assign(n, 0.0);
@@ -224,13 +210,7 @@ std::vector<FlowResult> solve_flow_impl(const Grid& grid, const double* gap,
     FlowResult& res = results[k];
     const double a = angles[k] * std::numbers::pi / 180.0;
     const double dxd = std::cos(a), dyd = std::sin(a);
-    res.percolates = std::abs(dxd) >= std::abs(dyd) ? wraps_x : wraps_y;
-    res.faces_cut = faces_cut;
-    res.iterations = sols[k].iterations;
-    res.residual = sols[k].residual;
-    res.setup_s = sols[k].setup_s;
-    res.solve_s = sols[k].solve_s;
-    res.solver = solver;
+    take_solve(res, sols[k], dxd, dyd, wraps_x, wraps_y, faces_cut, solver);
     const Buffer<double>& P = sols[k].x;
 
     // Face current densities (physical units, G = 1) and cell-centred averages.

@@ -82,20 +82,8 @@ std::vector<FlowResult> solve_flow_slabs(const Grid& g, const double* gap, const
       g, [&](std::size_t i) { return gap[i]; }, 0.0);
   const double dx = g.dx(), dy = g.dy();
   const double wx = dy / dx, wy = dx / dy;
-  std::vector<FlowResult> results(angles.size());
-  const double mean_gap =
-      grid_sum(g, [&](std::size_t i) { return std::max(gap[i], 0.0); }) / static_cast<double>(cells);
-  const double mean_gap_cubed = grid_sum(g,
-                                         [&](std::size_t i) {
-                                           const double v = std::max(gap[i], 0.0);
-                                           return v * v * v;
-                                         }) /
-                                static_cast<double>(cells);
-  for (std::size_t k = 0; k < angles.size(); ++k) {
-    results[k].angle_deg = angles[k];
-    results[k].mean_gap = mean_gap;
-    results[k].mean_gap_cubed = mean_gap_cubed;
-  }
+  std::vector<FlowResult> results = results_with_gap_means(g, gap, angles);
+  const double mean_gap = results.empty() ? 0.0 : results.front().mean_gap;
   if (!(gmax > 0.0)) {
     for (FlowResult& res : results) {
       res.qx.assign(n, 0.0);
@@ -216,13 +204,8 @@ std::vector<FlowResult> solve_flow_slabs(const Grid& g, const double* gap, const
     FlowResult& res = results[k];
     const double a = angles[k] * std::numbers::pi / 180.0;
     const double dxd = std::cos(a), dyd = std::sin(a);
-    res.percolates = std::abs(dxd) >= std::abs(dyd) ? wraps_x : wraps_y;
-    res.faces_cut = faces_cut;
-    res.iterations = sols[k].iterations;
-    res.residual = sols[k].residual;
-    res.setup_s = sols[k].setup_s;
-    res.solve_s = sols[k].solve_s;
-    res.solver = sys.total > 0 ? "boomeramg (distributed)" : "none";
+    take_solve(res, sols[k], dxd, dyd, wraps_x, wraps_y, faces_cut,
+               sys.total > 0 ? "boomeramg (distributed)" : "none");
     for (std::size_t i = 0, r = 0; i < n; ++i) P[i] = index[i] >= 0.0 ? sols[k].x[r++] : 0.0;
     const mpi::NeighbourRows p_next = mpi::neighbour_rows(g, P);
     for (std::size_t i = 0; i < n; ++i) {

@@ -404,6 +404,39 @@ struct SlabSystem {
   std::vector<double> vals;
 };
 
+// The results of every direction with their angle, <max(g, 0)> and <max(g, 0)^3> over the
+// cell (grid_sum: the same sums on a whole grid and on the slabs of a distributed run).
+inline std::vector<FlowResult> results_with_gap_means(const Grid& grid, const double* gap,
+                                                      const std::vector<double>& angles) {
+  const double n = static_cast<double>(grid.size());
+  const double mean_gap = grid_sum(grid, [&](std::size_t i) { return std::max(gap[i], 0.0); }) / n;
+  const double mean_gap_cubed = grid_sum(grid,
+                                         [&](std::size_t i) {
+                                           const double g = std::max(gap[i], 0.0);
+                                           return g * g * g;
+                                         }) /
+                                n;
+  std::vector<FlowResult> results(angles.size());
+  for (std::size_t k = 0; k < angles.size(); ++k) {
+    results[k].angle_deg = angles[k];
+    results[k].mean_gap = mean_gap;
+    results[k].mean_gap_cubed = mean_gap_cubed;
+  }
+  return results;
+}
+
+// A direction's result takes what its linear solve and the labelling found.
+inline void take_solve(FlowResult& res, const LinearSolution& sol, double dxd, double dyd, bool wraps_x,
+                       bool wraps_y, std::size_t faces_cut, const std::string& solver) {
+  res.percolates = std::abs(dxd) >= std::abs(dyd) ? wraps_x : wraps_y;
+  res.faces_cut = faces_cut;
+  res.iterations = sol.iterations;
+  res.residual = sol.residual;
+  res.setup_s = sol.setup_s;
+  res.solve_s = sol.solve_s;
+  res.solver = solver;
+}
+
 // solve_flow on a slab of a distributed run (every process calls it with its rows of the
 // gap): flow_slabs.cpp. The currents are the slab's; every figure is the whole cell's.
 std::vector<FlowResult> solve_flow_slabs(const Grid& slab, const double* gap,

@@ -33,6 +33,7 @@ class AtomicFile {
   void commit();
 
  private:
+  void put(const void* data, std::size_t size, bool append, bool sync);
   std::string path_, tmp_;
   bool committed_ = false, started_ = false;
 };

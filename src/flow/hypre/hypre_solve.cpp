@@ -99,6 +99,60 @@ void finish(LinearSolution& sol, HYPRE_Int its, HYPRE_Real res, const FlowOption
   sol.converged = finite(sol) && res <= opt.tolerance;
 }
 
+// The HYPRE objects of one solve, destroyed with it.
+struct Handles {
+  HYPRE_IJMatrix A = nullptr;
+  HYPRE_IJVector b = nullptr, x = nullptr;
+  HYPRE_Solver pcg = nullptr, amg = nullptr;
+  Handles() = default;
+  Handles(const Handles&) = delete;
+  Handles& operator=(const Handles&) = delete;
+  ~Handles() {
+    if (amg) HYPRE_BoomerAMGDestroy(amg);
+    if (pcg) HYPRE_ParCSRPCGDestroy(pcg);
+    if (x) HYPRE_IJVectorDestroy(x);
+    if (b) HYPRE_IJVectorDestroy(b);
+    if (A) HYPRE_IJMatrixDestroy(A);
+    HYPRE_ClearAllErrors();
+  }
+};
+
+// An IJ vector of the rows [first, last] held here, set to `values` (n of them).
+void make_vector(MPI_Comm comm, HYPRE_BigInt first, HYPRE_BigInt last, std::size_t n,
+                 const HYPRE_BigInt* rows, double* values, HYPRE_IJVector& v) {
+  hypre_check(HYPRE_IJVectorCreate(comm, first, last, &v), "IJVectorCreate");
+  hypre_check(HYPRE_IJVectorSetObjectType(v, HYPRE_PARCSR), "IJVectorSetObjectType");
+  hypre_check(HYPRE_IJVectorInitialize(v), "IJVectorInitialize");
+  if (n > 0)
+    hypre_check(HYPRE_IJVectorSetValues(v, static_cast<HYPRE_Int>(n), rows, values), "IJVectorSetValues");
+  hypre_check(HYPRE_IJVectorAssemble(v), "IJVectorAssemble");
+}
+
+// One right-hand side through the configured PCG (its set-up with the first): b = rhs, x
+// from zero; the solution's values (the n rows held here) into xout, the iteration count and
+// relative residual into sol.
+void pcg_solve(Handles& h, HYPRE_ParCSRMatrix parA, std::size_t n, const HYPRE_BigInt* rows, double* rhs,
+               double* zero, bool first, double* xout, LinearSolution& sol) {
+  HYPRE_ParVector parb = nullptr, parx = nullptr;
+  hypre_check(HYPRE_IJVectorGetObject(h.b, reinterpret_cast<void**>(&parb)), "IJVectorGetObject");
+  hypre_check(HYPRE_IJVectorGetObject(h.x, reinterpret_cast<void**>(&parx)), "IJVectorGetObject");
+  if (n > 0) {
+    hypre_check(HYPRE_IJVectorSetValues(h.b, static_cast<HYPRE_Int>(n), rows, rhs), "IJVectorSetValues");
+    hypre_check(HYPRE_IJVectorSetValues(h.x, static_cast<HYPRE_Int>(n), rows, zero), "IJVectorSetValues");
+  }
+  timed_pcg(
+      first, sol, [&] { hypre_check(HYPRE_ParCSRPCGSetup(h.pcg, parA, parb, parx), "ParCSRPCGSetup"); },
+      [&] { hypre_check(HYPRE_ParCSRPCGSolve(h.pcg, parA, parb, parx), "ParCSRPCGSolve"); });
+  HYPRE_Int its = 0;
+  HYPRE_Real res = 0.0;
+  HYPRE_PCGGetNumIterations(h.pcg, &its);
+  HYPRE_PCGGetFinalRelativeResidualNorm(h.pcg, &res);
+  sol.iterations = its;
+  sol.residual = res;
+  if (n > 0)
+    hypre_check(HYPRE_IJVectorGetValues(h.x, static_cast<HYPRE_Int>(n), rows, xout), "IJVectorGetValues");
+}
+
 // PCG preconditioned by one BoomerAMG V-cycle, the settings of every HYPRE solve here.
 void configure_pcg(MPI_Comm comm, const FlowOptions& opt, HYPRE_Solver& pcg, HYPRE_Solver& amg) {
   hypre_check(HYPRE_ParCSRPCGCreate(comm, &pcg), "ParCSRPCGCreate");
@@ -145,22 +199,10 @@ std::vector<LinearSolution> boomeramg(const LinearSystem& sys, std::size_t nrhs,
   const auto n = static_cast<HYPRE_BigInt>(u.size());
   const CsrMatrix a = u.take_matrix();
 
-  HYPRE_IJMatrix A = nullptr;
-  HYPRE_IJVector b = nullptr, x = nullptr;
-  HYPRE_Solver pcg = nullptr, amg = nullptr;
-  struct Cleanup {
-    HYPRE_IJMatrix& A;
-    HYPRE_IJVector &b, &x;
-    HYPRE_Solver &pcg, &amg;
-    ~Cleanup() {
-      if (amg) HYPRE_BoomerAMGDestroy(amg);
-      if (pcg) HYPRE_ParCSRPCGDestroy(pcg);
-      if (x) HYPRE_IJVectorDestroy(x);
-      if (b) HYPRE_IJVectorDestroy(b);
-      if (A) HYPRE_IJMatrixDestroy(A);
-      HYPRE_ClearAllErrors();
-    }
-  } cleanup{A, b, x, pcg, amg};
+  Handles h;
+  HYPRE_IJMatrix& A = h.A;
+  HYPRE_IJVector &b = h.b, &x = h.x;
+  HYPRE_Solver &pcg = h.pcg, &amg = h.amg;
 
   std::vector<HYPRE_Int> ncols(static_cast<std::size_t>(n));
   std::vector<HYPRE_BigInt> rows(static_cast<std::size_t>(n)), cols(a.col.begin(), a.col.end());
@@ -186,21 +228,8 @@ std::vector<LinearSolution> boomeramg(const LinearSystem& sys, std::size_t nrhs,
   hypre_check(HYPRE_IJMatrixGetObject(A, reinterpret_cast<void**>(&parA)), "IJMatrixGetObject");
 
   std::vector<double> zero(static_cast<std::size_t>(n), 0.0);
-  hypre_check(HYPRE_IJVectorCreate(comm, 0, n - 1, &b), "IJVectorCreate");
-  hypre_check(HYPRE_IJVectorSetObjectType(b, HYPRE_PARCSR), "IJVectorSetObjectType");
-  hypre_check(HYPRE_IJVectorInitialize(b), "IJVectorInitialize");
-  hypre_check(HYPRE_IJVectorSetValues(b, static_cast<HYPRE_Int>(n), rows.data(), zero.data()),
-              "IJVectorSetValues");
-  hypre_check(HYPRE_IJVectorAssemble(b), "IJVectorAssemble");
-  hypre_check(HYPRE_IJVectorCreate(comm, 0, n - 1, &x), "IJVectorCreate");
-  hypre_check(HYPRE_IJVectorSetObjectType(x, HYPRE_PARCSR), "IJVectorSetObjectType");
-  hypre_check(HYPRE_IJVectorInitialize(x), "IJVectorInitialize");
-  hypre_check(HYPRE_IJVectorSetValues(x, static_cast<HYPRE_Int>(n), rows.data(), zero.data()),
-              "IJVectorSetValues");
-  hypre_check(HYPRE_IJVectorAssemble(x), "IJVectorAssemble");
-  HYPRE_ParVector parb = nullptr, parx = nullptr;
-  hypre_check(HYPRE_IJVectorGetObject(b, reinterpret_cast<void**>(&parb)), "IJVectorGetObject");
-  hypre_check(HYPRE_IJVectorGetObject(x, reinterpret_cast<void**>(&parx)), "IJVectorGetObject");
+  make_vector(comm, 0, n - 1, static_cast<std::size_t>(n), rows.data(), zero.data(), b);
+  make_vector(comm, 0, n - 1, static_cast<std::size_t>(n), rows.data(), zero.data(), x);
 
   configure_pcg(comm, opt, pcg, amg);
 
@@ -210,22 +239,11 @@ std::vector<LinearSolution> boomeramg(const LinearSystem& sys, std::size_t nrhs,
   for (std::size_t k = 0; k < nrhs; ++k) {
     make_rhs(k, full);
     u.reduce(full, rhs);
-    hypre_check(HYPRE_IJVectorSetValues(b, static_cast<HYPRE_Int>(n), rows.data(), rhs.data()),
-                "IJVectorSetValues");
-    hypre_check(HYPRE_IJVectorSetValues(x, static_cast<HYPRE_Int>(n), rows.data(), zero.data()),
-                "IJVectorSetValues");
     LinearSolution sol;
-    timed_pcg(
-        k == 0, sol, [&] { hypre_check(HYPRE_ParCSRPCGSetup(pcg, parA, parb, parx), "ParCSRPCGSetup"); },
-        [&] { hypre_check(HYPRE_ParCSRPCGSolve(pcg, parA, parb, parx), "ParCSRPCGSolve"); });
-    HYPRE_Int its = 0;
-    HYPRE_Real res = 0.0;
-    HYPRE_PCGGetNumIterations(pcg, &its);
-    HYPRE_PCGGetFinalRelativeResidualNorm(pcg, &res);
-    hypre_check(HYPRE_IJVectorGetValues(x, static_cast<HYPRE_Int>(n), rows.data(), xr.data()),
-                "IJVectorGetValues");
+    pcg_solve(h, parA, static_cast<std::size_t>(n), rows.data(), rhs.data(), zero.data(), k == 0, xr.data(),
+              sol);
     u.expand(full, xr, sol.x);
-    finish(sol, its, res, opt);
+    finish(sol, sol.iterations, sol.residual, opt);
     out.push_back(std::move(sol));
   }
   return out;
@@ -238,22 +256,10 @@ std::vector<LinearSolution> boomeramg_slabs(const SlabSystem& sys, const std::ve
   const auto first = static_cast<HYPRE_BigInt>(sys.first),
              last = static_cast<HYPRE_BigInt>(sys.first + sys.count - 1);
   const auto n = static_cast<std::size_t>(sys.count);
-  HYPRE_IJMatrix A = nullptr;
-  HYPRE_IJVector b = nullptr, x = nullptr;
-  HYPRE_Solver pcg = nullptr, amg = nullptr;
-  struct Cleanup {
-    HYPRE_IJMatrix& A;
-    HYPRE_IJVector &b, &x;
-    HYPRE_Solver &pcg, &amg;
-    ~Cleanup() {
-      if (amg) HYPRE_BoomerAMGDestroy(amg);
-      if (pcg) HYPRE_ParCSRPCGDestroy(pcg);
-      if (x) HYPRE_IJVectorDestroy(x);
-      if (b) HYPRE_IJVectorDestroy(b);
-      if (A) HYPRE_IJMatrixDestroy(A);
-      HYPRE_ClearAllErrors();
-    }
-  } cleanup{A, b, x, pcg, amg};
+  Handles h;
+  HYPRE_IJMatrix& A = h.A;
+  HYPRE_IJVector &b = h.b, &x = h.x;
+  HYPRE_Solver &pcg = h.pcg, &amg = h.amg;
   std::vector<HYPRE_BigInt> rows(n), cols(sys.cols.begin(), sys.cols.end());
   std::vector<HYPRE_Int> ncols(sys.ncols.begin(), sys.ncols.end());
   for (std::size_t r = 0; r < n; ++r) rows[r] = first + static_cast<HYPRE_BigInt>(r);
@@ -269,41 +275,15 @@ std::vector<LinearSolution> boomeramg_slabs(const SlabSystem& sys, const std::ve
   HYPRE_ParCSRMatrix parA = nullptr;
   hypre_check(HYPRE_IJMatrixGetObject(A, reinterpret_cast<void**>(&parA)), "IJMatrixGetObject");
   std::vector<double> zero(n, 0.0);
-  for (HYPRE_IJVector* v : {&b, &x}) {
-    hypre_check(HYPRE_IJVectorCreate(comm, first, last, v), "IJVectorCreate");
-    hypre_check(HYPRE_IJVectorSetObjectType(*v, HYPRE_PARCSR), "IJVectorSetObjectType");
-    hypre_check(HYPRE_IJVectorInitialize(*v), "IJVectorInitialize");
-    if (n > 0)
-      hypre_check(HYPRE_IJVectorSetValues(*v, static_cast<HYPRE_Int>(n), rows.data(), zero.data()),
-                  "IJVectorSetValues");
-    hypre_check(HYPRE_IJVectorAssemble(*v), "IJVectorAssemble");
-  }
-  HYPRE_ParVector parb = nullptr, parx = nullptr;
-  hypre_check(HYPRE_IJVectorGetObject(b, reinterpret_cast<void**>(&parb)), "IJVectorGetObject");
-  hypre_check(HYPRE_IJVectorGetObject(x, reinterpret_cast<void**>(&parx)), "IJVectorGetObject");
+  for (HYPRE_IJVector* v : {&b, &x}) make_vector(comm, first, last, n, rows.data(), zero.data(), *v);
   configure_pcg(comm, opt, pcg, amg);
   std::vector<LinearSolution> out;
   for (std::size_t k = 0; k < rhs.size(); ++k) {
-    if (n > 0) {
-      hypre_check(HYPRE_IJVectorSetValues(b, static_cast<HYPRE_Int>(n), rows.data(),
-                                          const_cast<double*>(rhs[k].data())),
-                  "IJVectorSetValues");
-      hypre_check(HYPRE_IJVectorSetValues(x, static_cast<HYPRE_Int>(n), rows.data(), zero.data()),
-                  "IJVectorSetValues");
-    }
     LinearSolution sol;
-    timed_pcg(
-        k == 0, sol, [&] { hypre_check(HYPRE_ParCSRPCGSetup(pcg, parA, parb, parx), "ParCSRPCGSetup"); },
-        [&] { hypre_check(HYPRE_ParCSRPCGSolve(pcg, parA, parb, parx), "ParCSRPCGSolve"); });
-    HYPRE_Int its = 0;
-    HYPRE_Real res = 0.0;
-    HYPRE_PCGGetNumIterations(pcg, &its);
-    HYPRE_PCGGetFinalRelativeResidualNorm(pcg, &res);
     sol.x.resize(n);
-    if (n > 0)
-      hypre_check(HYPRE_IJVectorGetValues(x, static_cast<HYPRE_Int>(n), rows.data(), sol.x.data()),
-                  "IJVectorGetValues");
-    finish(sol, its, res, opt);
+    pcg_solve(h, parA, n, rows.data(), const_cast<double*>(rhs[k].data()), zero.data(), k == 0, sol.x.data(),
+              sol);
+    finish(sol, sol.iterations, sol.residual, opt);
     out.push_back(std::move(sol));
   }
   return out;
