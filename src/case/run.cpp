@@ -247,11 +247,11 @@ void gather_for_root(const Config& cfg, const RunOptions& opts, const Grid& slab
       gather_on_root(slab, {&r.leakage->flows[k].qx, &r.leakage->flows[k].qy, &r.leakage->magnitude[k]});
   if (!opts.whole_solution && !opts.keep_stress_fields) {
     const bool analysis = r.info.converged && cfg.output.analysis;
-    if (analysis) {
-      gather_on_root(slab, {&r.fields.pressure, &r.fields.gap});
-      if (cfg.indenter.type != "array")
-        r.topography = Topography{cfg.grid, mpi::gather(slab, slab_topo.h), slab_topo.kind};
-    }
+    // The summary names the surface's kind; its heights only the analysis reads.
+    if (cfg.indenter.type != "array")
+      r.topography =
+          Topography{cfg.grid, analysis ? mpi::gather(slab, slab_topo.h) : RealField(), slab_topo.kind};
+    if (analysis) gather_on_root(slab, {&r.fields.pressure, &r.fields.gap});
     // Nothing else whole: the slabs go, so that rank 0 holds no more than the others.
     ContactFields kept;
     if (analysis && mpi::root()) {

@@ -276,20 +276,24 @@ def same_summary(a, b):
             assert fb[k] == pytest.approx(v, rel=1e-8, abs=1e-12), k
 
 
-def test_post_processing_on_slabs_matches_serial(tmp_path):
+@pytest.mark.parametrize("analysis", ["true", "false"])
+def test_post_processing_on_slabs_matches_serial(tmp_path, analysis):
     """Without field outputs every process post-processes its slab (observables, surface,
     subsurface and both post-analysis stresses, the profiles through the pressure maximum, the
     leakage) and rank 0 gathers only the pressure, gap and heights for the analysis: every
     figure of summary.json as in one process, the tables alike."""
     case = tmp_path / "lean.toml"
-    case.write_text(LEAN)
+    case.write_text(LEAN.replace("analysis = true", "analysis = " + analysis))
     assert run(case, tmp_path / "serial").returncode == 0
     p = run(case, tmp_path / "mpi", 3)
     assert p.returncode == 0, p.stderr
     a, b = summary(tmp_path / "serial"), summary(tmp_path / "mpi")
-    assert len(a["subsurface"]) == 2 and "post_analysis_paper" in a and "analysis" in a
+    assert len(a["subsurface"]) == 2 and "post_analysis_paper" in a and ("analysis" in a) == (analysis == "true")
+    assert b["topography"]["kind"] == "selfaffine"
     same_summary(a, b)
-    for name in ("profiles.csv", "patches.csv", "distributions.csv", "spectrum.csv", "bands.csv"):
+    tables = ["profiles.csv"] + (["patches.csv", "distributions.csv", "spectrum.csv", "bands.csv"]
+                                 if analysis == "true" else [])
+    for name in tables:
         x = np.genfromtxt(tmp_path / "serial" / name, delimiter=",", skip_header=1)
         y = np.genfromtxt(tmp_path / "mpi" / name, delimiter=",", skip_header=1)
         assert x.shape == y.shape and x.size > 0, name
