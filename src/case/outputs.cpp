@@ -203,7 +203,7 @@ nlohmann::json summary_json(const CaseResult& r) {
         {"rank0_peak_memory_mib", u->peak_bytes / 1048576.0},
         {"reduction_time_s", u->reduction_seconds},
         {"decomposition",
-         "slabs of rows (FFTW-MPI); observables and stresses on the slabs; analysis and flow on rank 0"}};
+         "slabs of rows (FFTW-MPI); observables, stresses and flow on the slabs; the analysis on rank 0"}};
   }
   const auto& s = r.topography_stats;
   j["topography"] = topography_stats_json(s);

@@ -13,13 +13,13 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <limits>
 #include <numbers>
 #include <optional>
 #include <set>
 #include <sstream>
-#include <type_traits>
 
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/backend.hpp"
@@ -231,9 +231,16 @@ void after_solve_whole(const Config& cfg, CaseResult& r) {
 
 // Gathers on rank 0 each field of the list that any process holds (a collective: a process
 // with no rows holds empty fields); rank 0 then holds the whole fields, the others none.
-void gather_on_root(const Grid& slab, const std::vector<RealField*>& fields) {
-  for (RealField* f : fields)
+template <class Vec>
+void gather_on_root(const Grid& slab, std::initializer_list<Vec*> fields) {
+  for (Vec* f : fields)
     if (mpi::any_bits(f->empty() ? 0u : 1u) != 0) *f = mpi::gather(slab, *f);
+}
+
+// The surface on rank 0 after a distributed solve: its kind always (summary.json), its heights
+// where something reads them (a collective then).
+Topography surface_on_root(const Config& cfg, const Grid& slab, const Topography& slab_topo, bool heights) {
+  return Topography{cfg.grid, heights ? mpi::gather(slab, slab_topo.h) : RealField(), slab_topo.kind};
 }
 
 // What rank 0 of a distributed run needs whole after the distributed post-processing: every
@@ -245,12 +252,11 @@ void gather_for_root(const Config& cfg, const RunOptions& opts, const Grid& slab
   if (r.leakage)
     for (std::size_t k = 0; k < r.leakage->flows.size(); ++k)
       gather_on_root(slab, {&r.leakage->flows[k].qx, &r.leakage->flows[k].qy, &r.leakage->magnitude[k]});
-  if (!opts.whole_solution && !opts.keep_stress_fields) {
-    const bool analysis = r.info.converged && cfg.output.analysis;
-    // The summary names the surface's kind; its heights only the analysis reads.
-    if (cfg.indenter.type != "array")
-      r.topography =
-          Topography{cfg.grid, analysis ? mpi::gather(slab, slab_topo.h) : RealField(), slab_topo.kind};
+  const bool lean = !opts.whole_solution && !opts.keep_stress_fields;
+  const bool analysis = r.info.converged && cfg.output.analysis;
+  // The summary names the surface's kind; its heights the analysis and the field outputs read.
+  if (cfg.indenter.type != "array") r.topography = surface_on_root(cfg, slab, slab_topo, !lean || analysis);
+  if (lean) {
     if (analysis) gather_on_root(slab, {&r.fields.pressure, &r.fields.gap});
     // Nothing else whole: the slabs go, so that rank 0 holds no more than the others.
     ContactFields kept;
@@ -269,7 +275,7 @@ void gather_for_root(const Config& cfg, const RunOptions& opts, const Grid& slab
   }
   ContactFields& f = r.fields;
   gather_on_root(slab, {&f.pressure, &f.tx, &f.ty, &f.ux, &f.uy, &f.uz, &f.gap});
-  if (mpi::any_bits(f.stick.empty() ? 0u : 1u) != 0) f.stick = mpi::gather(slab, f.stick);
+  gather_on_root(slab, {&f.stick});
   DerivedFields& d = r.derived;
   gather_on_root(slab, {&d.slip_longitudinal, &d.slip_transverse, &d.dissipation});
   StressField& st = r.stress;
@@ -278,8 +284,6 @@ void gather_for_root(const Config& cfg, const RunOptions& opts, const Grid& slab
                         &pr.e1y, &pr.e1z, &pr.von_mises});
   for (auto& pa : r.post_analyses) gather_on_root(slab, {&pa.s1});
   for (auto& ss : r.subsurface) gather_on_root(slab, {&ss.von_mises, &ss.s1});
-  if (cfg.indenter.type != "array")
-    r.topography = Topography{cfg.grid, mpi::gather(slab, slab_topo.h), slab_topo.kind};
 }
 
 }  // namespace
@@ -343,9 +347,8 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
   const BackendScope on_backend(*chosen);
   CaseResult r;
   r.config = cfg;
-  // A distributed run (mpirun): the solves run on slabs of rows, one per process; rank 0
-  // gathers the solution and does everything after the solve (observables, stresses,
-  // analysis, flow) on the whole grid.
+  // A distributed run (mpirun): the solves and the post-processing run on slabs of rows, one
+  // per process; rank 0 gathers what needs the whole cell (the analysis, field outputs).
   const bool distributed = mpi::distributed();
   r.mpi_ranks = mpi::size();
   const Grid slab = distributed ? mpi::slab_of(cfg.grid) : cfg.grid;
@@ -393,8 +396,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     return p;
   };
   // Checkpoints hold the whole pressure and tractions, so that a run resumes on any number
-  // of processes: a distributed run gathers them on rank 0, which writes the file (24 bytes
-  // per point of the cell there, and the file's image as much again, while it writes). Every
+  // of processes: a distributed run gathers them on rank 0 a field at a time (below). Every
   // process takes part when rank 0 has a checkpoint path.
   const bool checkpoints =
       distributed ? mpi::from_root(opts.checkpoint_path.empty() ? 0 : 1) == 1 : !opts.checkpoint_path.empty();
@@ -454,7 +456,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     if (!ref_info.converged) {
       r.info = ref_info;
       r.info.status += " (frictionless reference)";
-      if (distributed) r.topography = Topography{cfg.grid, mpi::gather(slab, slab_topo.h), slab_topo.kind};
+      if (distributed) r.topography = surface_on_root(cfg, slab, slab_topo, true);
       return r;
     }
     CaseResult::Reference& rr = r.reference.emplace();

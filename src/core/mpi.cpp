@@ -22,6 +22,15 @@
 namespace gfmd::mpi {
 
 namespace {
+// neighbour_rows of a whole grid: its last and first rows.
+NeighbourRows neighbour_rows_whole(const Grid& g, const RealField& whole) {
+  const auto nx = static_cast<std::ptrdiff_t>(g.nx);
+  NeighbourRows out;
+  out.below.assign(whole.end() - nx, whole.end());
+  out.above.assign(whole.begin(), whole.begin() + nx);
+  return out;
+}
+
 std::vector<double> pick_whole(const RealField& whole, const std::vector<std::size_t>& points) {
   std::vector<double> values(points.size());
   for (std::size_t k = 0; k < points.size(); ++k) values[k] = whole.at(points[k]);
@@ -254,36 +263,31 @@ Vec gather_impl(const Grid& slab, const Vec& local, MPI_Datatype type) {
         "MPI_Gatherv");
   return all;
 }
-}  // namespace
 
-RealField gather(const Grid& slab, const RealField& local) { return gather_impl(slab, local, MPI_DOUBLE); }
-
-RealField scatter(const Grid& slab, const RealField& whole) {
+// This process's rows of a whole field rank 0 holds (the others' `whole` is not read).
+template <class Vec>
+Vec scatter_impl(const Grid& slab, const Vec& whole, MPI_Datatype type) {
   if (!slab.is_slab()) return whole;
   std::vector<int> counts, displs;
   row_layout(slab, static_cast<std::size_t>(slab.nx), counts, displs);
   if (g_rank == 0 && whole.size() != slab.size()) throw std::logic_error("mpi::scatter: not a whole field");
-  RealField local(slab.local_size());
-  check(MPI_Scatterv(g_rank == 0 ? whole.data() : nullptr, counts.data(), displs.data(), MPI_DOUBLE,
-                     local.data(), counts[static_cast<std::size_t>(g_rank)], MPI_DOUBLE, 0, MPI_COMM_WORLD),
+  Vec local(slab.local_size());
+  check(MPI_Scatterv(g_rank == 0 ? whole.data() : nullptr, counts.data(), displs.data(), type, local.data(),
+                     counts[static_cast<std::size_t>(g_rank)], type, 0, MPI_COMM_WORLD),
         "MPI_Scatterv");
   return local;
 }
+}  // namespace
+
+RealField gather(const Grid& slab, const RealField& local) { return gather_impl(slab, local, MPI_DOUBLE); }
+
+RealField scatter(const Grid& slab, const RealField& whole) { return scatter_impl(slab, whole, MPI_DOUBLE); }
 std::vector<unsigned char> gather(const Grid& slab, const std::vector<unsigned char>& local) {
   return gather_impl(slab, local, MPI_UNSIGNED_CHAR);
 }
 
 std::vector<unsigned char> scatter(const Grid& slab, const std::vector<unsigned char>& whole) {
-  if (!slab.is_slab()) return whole;
-  std::vector<int> counts, displs;
-  row_layout(slab, static_cast<std::size_t>(slab.nx), counts, displs);
-  if (g_rank == 0 && whole.size() != slab.size()) throw std::logic_error("mpi::scatter: not a whole field");
-  std::vector<unsigned char> local(slab.local_size());
-  check(MPI_Scatterv(g_rank == 0 ? whole.data() : nullptr, counts.data(), displs.data(), MPI_UNSIGNED_CHAR,
-                     local.data(), counts[static_cast<std::size_t>(g_rank)], MPI_UNSIGNED_CHAR, 0,
-                     MPI_COMM_WORLD),
-        "MPI_Scatterv");
-  return local;
+  return scatter_impl(slab, whole, MPI_UNSIGNED_CHAR);
 }
 
 std::vector<double> add_over_processes(const std::vector<double>& v) {
@@ -300,13 +304,9 @@ std::vector<double> add_over_processes(const std::vector<double>& v) {
 }
 
 NeighbourRows neighbour_rows(const Grid& slab, const RealField& local) {
+  if (!slab.is_slab()) return neighbour_rows_whole(slab, local);
   const auto nx = static_cast<std::size_t>(slab.nx);
   NeighbourRows out;
-  if (!slab.is_slab()) {
-    out.below.assign(local.end() - static_cast<std::ptrdiff_t>(nx), local.end());
-    out.above.assign(local.begin(), local.begin() + static_cast<std::ptrdiff_t>(nx));
-    return out;
-  }
   // Every process hands on its first and last rows; each takes the rows next to its slab.
   const Layout& lay = layout(slab.whole());
   const std::size_t p = lay.rows.size();
@@ -454,11 +454,7 @@ std::vector<unsigned char> gather(const Grid&, const std::vector<unsigned char>&
 std::vector<unsigned char> scatter(const Grid&, const std::vector<unsigned char>& whole) { return whole; }
 std::vector<double> add_over_processes(const std::vector<double>& v) { return v; }
 NeighbourRows neighbour_rows(const Grid& slab, const RealField& local) {
-  const auto nx = static_cast<std::ptrdiff_t>(slab.nx);
-  NeighbourRows out;
-  out.below.assign(local.end() - nx, local.end());
-  out.above.assign(local.begin(), local.begin() + nx);
-  return out;
+  return neighbour_rows_whole(slab, local);
 }
 std::vector<double> pick(const Grid&, const RealField& local, const std::vector<std::size_t>& points) {
   return pick_whole(local, points);

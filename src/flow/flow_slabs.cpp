@@ -14,7 +14,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -68,16 +67,10 @@ std::vector<FlowResult> solve_flow_slabs(const Grid& g, const double* gap, const
                                          const FlowOptions& opt) {
   const int nx = g.nx, rows = g.rows();
   const std::size_t n = g.local_size(), cells = g.size();
-  const double none = -std::numeric_limits<double>::infinity();
   // The first non-finite gap of the cell (row-major), as one process would name it.
-  const double bad = -grid_max(
-      g,
-      [&](std::size_t i) {
-        return std::isfinite(gap[i]) ? none : -(static_cast<double>(g.y0) * nx + static_cast<double>(i));
-      },
-      none);
-  if (std::isfinite(bad))
-    throw InputError("flow", "non-finite gap at index " + std::to_string(static_cast<std::size_t>(bad)));
+  const auto [bad, any_bad] =
+      grid_argmax(g, [&](std::size_t i) { return std::isfinite(gap[i]) ? 0.0 : 1.0; });
+  if (any_bad > 0.0) throw InputError("flow", "non-finite gap at index " + std::to_string(bad));
   const double gmax = grid_max(
       g, [&](std::size_t i) { return gap[i]; }, 0.0);
   const double dx = g.dx(), dy = g.dy();

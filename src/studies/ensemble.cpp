@@ -74,6 +74,7 @@ nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir
       } else {
         RunOptions ro;
         ro.keep_stress_fields = outputs_need_stress_fields(c);
+        ro.whole_solution = false;  // no warm start: rank 0 gathers only what the outputs write
         ro.stop_request = opts.stop_request;
         const CaseResult r = run_case(c, ro);
         if (!r.info.converged) throw SolveError("seed " + std::to_string(seed) + ": " + r.info.status);

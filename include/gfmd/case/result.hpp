@@ -62,8 +62,9 @@ struct CaseResult {
   };
   std::vector<Subsurface> subsurface;
   std::optional<LeakageResult> leakage;  // [flow], after a converged solve
-  // Processes the solve ran on (mpirun; core/mpi.hpp). In a distributed run only rank 0's
-  // result is whole: the other ranks return after the solve with `info` alone.
+  // Processes the solve ran on (mpirun; core/mpi.hpp). In a distributed run only rank 0 holds
+  // whole fields (run_case says which); every rank holds `info`, the observables, the stress
+  // summaries and the leakage's figures.
   int mpi_ranks = 1;
   // Under mpirun (any number of processes; summary.json "mpi"): per rank, the peak resident
   // memory at the end of the solves (bytes) and the time in the reductions' collectives; rank
