@@ -434,6 +434,25 @@ Config build(const toml::value& root, const std::string& name, const std::string
   else if (c.friction.creepage != 1.0 && !(c.friction.coefficient > 0))
     fr.error("creepage",
              "rolling with creepage needs friction: set friction.coefficient > 0" + fr.at("creepage"));
+  c.friction.lateral_creepage = fr.number("lateral_creepage", 0.0);
+  if (c.friction.lateral_creepage != 0.0 && !(c.friction.coefficient > 0))
+    fr.error("lateral_creepage", "rolling with creepage needs friction: set friction.coefficient > 0" +
+                                     fr.at("lateral_creepage"));
+  else if (std::abs(c.friction.lateral_creepage) > 1e6)
+    fr.error("lateral_creepage",
+             "must be at most 1e6 in magnitude (rigid slip speed / v0)" + fr.at("lateral_creepage"));
+  const std::string deriv = fr.string("slip_derivative", "auto");
+  if (deriv == "spectral")
+    c.friction.slip_derivative = SlipDerivative::Spectral;
+  else if (deriv == "upwind")
+    c.friction.slip_derivative = SlipDerivative::Upwind;
+  else if (deriv == "upwind2")
+    c.friction.slip_derivative = SlipDerivative::Upwind2;
+  else if (deriv != "auto")
+    fr.error("slip_derivative", "unknown discretisation \"" + deriv +
+                                    "\"; one of auto (spectral for sliding, upwind2 for rolling), spectral, "
+                                    "upwind, upwind2" +
+                                    fr.at("slip_derivative"));
   c.friction.stick_step = fr.number("stick_step", 0.0);
   if (!(c.friction.stick_step >= 0) || c.friction.stick_step > 1e6)
     fr.error("stick_step",

@@ -66,9 +66,15 @@ nlohmann::json Config::to_json() const {
                    : load.mode == LoadMode::Pressure ? "pressure"
                                                      : "approach";
   j["load"] = {{lk, load.value}};
-  j["friction"] = {{"coefficient", friction.coefficient},       {"direction", friction.direction_deg},
-                   {"regularization", friction.regularization}, {"creepage", friction.creepage},
-                   {"stick_step", friction.stick_step},         {"reference", friction_reference}};
+  j["friction"] = {{"coefficient", friction.coefficient},
+                   {"direction", friction.direction_deg},
+                   {"regularization", friction.regularization},
+                   {"creepage", friction.creepage},
+                   {"stick_step", friction.stick_step},
+                   {"reference", friction_reference},
+                   {"lateral_creepage", friction.lateral_creepage},
+                   {"slip_derivative",
+                    friction.slip_derivative ? slip_derivative_name(*friction.slip_derivative) : "auto"}};
   j["interaction"] = {{"model", interaction.hard_wall ? "hardwall" : "harmonic"},
                       {"stiffness", interaction.stiffness}};
   j["solver"] = {{"tolerance", solver.tolerance},

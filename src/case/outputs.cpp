@@ -53,8 +53,9 @@ nlohmann::json observables_json(const Observables& o) {
                       {"max_pressure", o.max_pressure},
                       {"mean_gap", o.mean_gap},
                       {"approach", o.approach}};
-  if (o.friction_force > 0) {
+  if (o.friction) {
     j["friction_force"] = o.friction_force;
+    j["friction_force_slip"] = o.friction_force_slip;
     j["friction_force_downhill"] = o.friction_force_downhill;
     j["downhill_force"] = o.downhill_force;
     j["friction_coefficient"] = o.friction_coefficient;
@@ -62,6 +63,8 @@ nlohmann::json observables_json(const Observables& o) {
     j["energy_balance_error"] = o.energy_balance_error;
     j["friction_force_drive"] = o.friction_force_drive;
     j["energy_balance_error_exact"] = o.energy_balance_error_exact;
+    j["numerical_dissipation"] = o.numerical_dissipation;
+    j["numerical_dissipation_fraction"] = o.numerical_dissipation_fraction;
     j["max_slip_velocity"] = o.max_slip_velocity;
     j["min_slip_velocity"] = o.min_slip_velocity;
     j["near_stick_fraction"] = o.near_stick_fraction;

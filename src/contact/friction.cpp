@@ -75,18 +75,20 @@ std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, Real
   const double ex = std::cos(th), ey = std::sin(th);
   const double scale = 1.0 / static_cast<double>(grid_.size());
   fft_.forward(f.pressure.data(), s1_.data());
-  body_.inplane_slope(s2_.data(), s3_.data(), s1_.data(), ex, ey, s1_.data(), s2_.data(), scale, -scale);
+  const SlipDerivative deriv = fric_.derivative();
+  body_.inplane_slope(s2_.data(), s3_.data(), s1_.data(), ex, ey, s1_.data(), s2_.data(), scale, -scale,
+                      deriv);
   fft_.backward_unscaled_destroying(s1_.data(), r1_.data());
   fft_.backward_unscaled_destroying(s2_.data(), r2_.data());
   const double mu = fric_.coefficient;
   const double eps = fric_.regularization;  // tau = mu p v / max(|v|, eps)
-  const double xi = fric_.creepage;
+  const auto [rx, ry] = fric_.rigid_slip(ex, ey);
   // Outside the contact set the new traction is zero; outside the Anderson support the
   // traction and its previous image are zero too (see solve), so nothing there is read.
   return grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
     const double p = f.pressure[i];
     if (p > 0) {
-      const double vx = xi * ex + r1_[i], vy = xi * ey + r2_[i];
+      const double vx = rx + r1_[i], vy = ry + r2_[i];
       const double norm = std::max(std::sqrt(vx * vx + vy * vy), eps);  // |v| = O(1): no hypot needed
       double x = 0.0, y = 0.0;
       if (norm > 0) {
@@ -107,7 +109,7 @@ std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, Real
 double ContactSolver::default_stick_step() const {
   // gamma = c / rho(A): the scale on which the slip operator acts.
   const double th = fric_.direction_deg * std::numbers::pi / 180.0;
-  const double rho = body_.slip_operator_norm(std::cos(th), std::sin(th));
+  const double rho = body_.slip_operator_norm(std::cos(th), std::sin(th), fric_.derivative());
   return rho > 0 ? kStickStepFactor / rho : body_.params().contact_modulus;
 }
 
@@ -122,7 +124,8 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
   const std::size_t n = grid_.local_size();  // points held here
   const double th = fric_.direction_deg * std::numbers::pi / 180.0;
   const double ex = std::cos(th), ey = std::sin(th);
-  const double xi = fric_.creepage;
+  const auto [rx, ry] = fric_.rigid_slip(ex, ey);
+  const SlipDerivative deriv = fric_.derivative();
   const double mu = fric_.coefficient;
   const double gamma = gamma_;
   const double scale = 1.0 / static_cast<double>(grid_.size());
@@ -133,20 +136,22 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
   for (auto* fld : {&bx_, &by_, &zx_, &zy_})
     if (fld->size() != n) fld->assign(n, 0.0);
   fft_.forward(p.data(), s1_.data());
-  body_.inplane_slope(nullptr, nullptr, s1_.data(), ex, ey, s2_.data(), s3_.data(), scale, -scale * gamma);
+  body_.inplane_slope(nullptr, nullptr, s1_.data(), ex, ey, s2_.data(), s3_.data(), scale, -scale * gamma,
+                      deriv);
   fft_.backward_unscaled_destroying(s2_.data(), bx_.data());
   fft_.backward_unscaled_destroying(s3_.data(), by_.data());
   if (!have_z_) {
     // z = tau + gamma v(tau) for the traction we start from.
     fft_.forward(tx.data(), s2_.data());
     fft_.forward(ty.data(), s3_.data());
-    body_.inplane_slope(s2_.data(), s3_.data(), nullptr, ex, ey, s2_.data(), s3_.data(), scale * gamma, 0.0);
+    body_.inplane_slope(s2_.data(), s3_.data(), nullptr, ex, ey, s2_.data(), s3_.data(), scale * gamma, 0.0,
+                        deriv);
     fft_.backward_unscaled_destroying(s2_.data(), yx.data());
     fft_.backward_unscaled_destroying(s3_.data(), yy.data());
     parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t s_i) {
       const auto i = static_cast<std::size_t>(s_i);
-      zx_[i] = tx[i] + gamma * xi * ex + bx_[i] + yx[i];
-      zy_[i] = ty[i] + gamma * xi * ey + by_[i] + yy[i];
+      zx_[i] = tx[i] + gamma * rx + bx_[i] + yx[i];
+      zy_[i] = ty[i] + gamma * ry + by_[i] + yy[i];
     });
     have_z_ = true;
   }
@@ -182,16 +187,16 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
     });
   };
   TangentialResult res{0, 1.0, false};
-  const double cx = gamma * xi * ex, cy = gamma * xi * ey;
+  const double cx = gamma * rx, cy = gamma * ry;
   const double beta = kTangentialRelaxation;
   for (int it = 0; it < max_it; ++it) {
     ++res.iterations;
     project_pass(true);
     fft_.forward(yx.data(), s2_.data());
     fft_.forward(yy.data(), s3_.data());
-    body_.slip_resolvent(s2_.data(), s3_.data(), ex, ey, gamma, scale);
+    body_.slip_resolvent(s2_.data(), s3_.data(), ex, ey, gamma, scale, deriv);
     if (has_q0) {
-      s2_[0] += cx;  // the rigid slip gamma xi e_s: the q = 0 mode, where the resolvent is 1
+      s2_[0] += cx;  // the rigid slip gamma (xi e_s + eta e_perp): the q = 0 mode, where the resolvent is 1
       s3_[0] += cy;
     }
     fft_.backward_unscaled_destroying(s2_.data(), yx.data());

@@ -12,33 +12,39 @@
 namespace gfmd {
 
 namespace {
-// out = (e_s . grad) in, spectrally.
-void directional_derivative(const FFT& fft, double ex, double ey, const RealField& in, RealField& out) {
+// out = (e_s . grad) in, discretised as `deriv` (spectral unless said otherwise).
+void directional_derivative(const FFT& fft, double ex, double ey, const RealField& in, RealField& out,
+                            SlipDerivative deriv = SlipDerivative::Spectral) {
   const Grid& g = fft.grid();
   SpecField s = fft.spec_field();
   fft.forward(in.data(), s.data());
   const int nxh = g.nxh();
   for_rows(g.rows(), [&](int row) {
-    const double qy = g.qy_deriv(g.y0 + row);
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
-      s[k] *= cplx(0.0, ex * g.qx_deriv(ikx) + ey * qy);
+      s[k] *= slip_derivative_symbol(g, ikx, g.y0 + row, ex, ey, deriv);
     }
   });
   out.resize(in.size());
   fft.backward(s.data(), out.data());
 }
+
+// The slip velocity with the derivative `deriv`.
+void slip_velocity_with(const FFT& fft, const FrictionParams& fric, SlipDerivative deriv, const RealField& ux,
+                        const RealField& uy, RealField& vx, RealField& vy) {
+  const double th = fric.direction_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(th), ey = std::sin(th);
+  directional_derivative(fft, ex, ey, ux, vx, deriv);
+  directional_derivative(fft, ex, ey, uy, vy, deriv);
+  const auto [rx, ry] = fric.rigid_slip(ex, ey);
+  for (auto& v : vx) v += rx;
+  for (auto& v : vy) v += ry;
+}
 }  // namespace
 
 void slip_velocity(const FFT& fft, const FrictionParams& fric, const RealField& ux, const RealField& uy,
                    RealField& vx, RealField& vy) {
-  const double th = fric.direction_deg * std::numbers::pi / 180.0;
-  const double ex = std::cos(th), ey = std::sin(th);
-  directional_derivative(fft, ex, ey, ux, vx);
-  directional_derivative(fft, ex, ey, uy, vy);
-  const double xi = fric.creepage;
-  for (auto& v : vx) v += xi * ex;
-  for (auto& v : vy) v += xi * ey;
+  slip_velocity_with(fft, fric, fric.derivative(), ux, uy, vx, vy);
 }
 
 Observables compute_observables(const FFT& fft, const Topography& topo, const FrictionParams& fric,
@@ -79,9 +85,21 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
       acc[6] += ty;
     });
     o.downhill_force = -da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * dh[i]; });
-    o.friction_force = da * s[0];
+    o.friction_force_slip = da * s[0];
     o.friction_force_downhill = da * s[1] + o.downhill_force;
     o.friction_force_drive = fric.creepage * da * s[2] + o.downhill_force;
+    if (fric.lateral_creepage != 0.0)
+      o.friction_force_drive += fric.lateral_creepage * da * (-ey * s[5] + ex * s[6]);
+    if (fric.derivative() != SlipDerivative::Spectral) {
+      // The upwind derivative's own dissipation: sum tau.(v_spectral - v_upwind) dA. With the
+      // spectral slip the balance with the driving work is exact, so dissipation + this = drive.
+      RealField sx, sy;
+      slip_velocity_with(fft, fric, SlipDerivative::Spectral, f.ux, f.uy, sx, sy);
+      o.numerical_dissipation = da * grid_sum(g, [&](std::size_t i) {
+                                  return f.tx[i] * (sx[i] - vx[i]) + f.ty[i] * (sy[i] - vy[i]);
+                                });
+    }
+    o.friction_force = o.friction_force_slip + o.numerical_dissipation;
     o.tangential_force = da * s[2];
     o.tangential_force_x = da * s[5];
     o.tangential_force_y = da * s[6];
@@ -93,6 +111,8 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     o.friction_coefficient_downhill = o.friction_force_downhill / o.normal_force;
     o.energy_balance_error = std::abs(o.friction_force - o.friction_force_downhill) / o.friction_force;
     o.energy_balance_error_exact = std::abs(o.friction_force - o.friction_force_drive) / o.friction_force;
+    o.numerical_dissipation_fraction = o.numerical_dissipation / o.friction_force;
+    o.friction = true;
     o.mean_tangential_traction_x = s[5] / n;
     o.mean_tangential_traction_y = s[6] / n;
     const double inf = std::numeric_limits<double>::infinity();
@@ -165,7 +185,7 @@ DerivedFields derived_fields(const FFT& fft, const FrictionParams& fric, const C
   d.dissipation.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     d.slip_longitudinal[i] = vx[i] * ex + vy[i] * ey - fric.creepage;
-    d.slip_transverse[i] = -vx[i] * ey + vy[i] * ex;
+    d.slip_transverse[i] = -vx[i] * ey + vy[i] * ex - fric.lateral_creepage;
     d.dissipation[i] = f.tx[i] * vx[i] + f.ty[i] * vy[i];
   }
   return d;

@@ -202,7 +202,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     // point, where every contact point slips, solves the set-valued law too). Where it does
     // not settle (points near stick) or with creepage (rolling: stick is expected), the
     // stick-slip solve takes over from the current traction.
-    bool stick_mode = !fric_.regularized() && fric_.creepage != 1.0;
+    bool stick_mode = !fric_.regularized() && fric_.rolling();
     bool tangential_ok = !stick_mode;  // the last stick-slip solve met the final tolerance
     have_z_ = false;
     double omega = sp_.mixing;

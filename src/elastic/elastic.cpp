@@ -212,47 +212,143 @@ void for_each_slope_mode(const Grid& g, const std::vector<ComplianceMode>& modes
 }
 }  // namespace
 
-void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, double ex, double ey,
-                                cplx* dux, cplx* duy, double scale, double scale_z) const {
-  for_each_slope_mode(grid_, modes_, ex, ey, [&](int, std::size_t k, const ComplianceMode& m, double d) {
-    const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
-               z = tz ? scale_z * tz[k] : cplx(0.0);
-    const auto u = inplane(m, x, y, z);
-    dux[k] = times_i(d, u[0]);
-    duy[k] = times_i(d, u[1]);
-  });
+const char* slip_derivative_name(SlipDerivative d) {
+  switch (d) {
+    case SlipDerivative::Upwind:
+      return "upwind";
+    case SlipDerivative::Upwind2:
+      return "upwind2";
+    case SlipDerivative::Spectral:
+      break;
+  }
+  return "spectral";
 }
 
-double ElasticBody::slip_operator_norm(double ex, double ey) const {
-  // max over modes of |d| times the largest eigenvalue of C_tt (real symmetric 2x2).
+namespace {
+// The upwind symbol at the wave vector (qx, qy): theta = (e.q) h.
+cplx upwind_symbol(double qx, double qy, double ex, double ey, double h, SlipDerivative deriv) {
+  const double th = (ex * qx + ey * qy) * h;
+  const cplx e1(std::cos(th), std::sin(th));
+  if (deriv == SlipDerivative::Upwind) return (e1 - 1.0) / h;
+  const cplx e2(std::cos(2.0 * th), std::sin(2.0 * th));
+  return -(3.0 - 4.0 * e1 + e2) / (2.0 * h);
+}
+}  // namespace
+
+cplx slip_derivative_symbol(const Grid& g, int ikx, int iky, double ex, double ey, SlipDerivative deriv) {
+  if (deriv == SlipDerivative::Spectral) return {0.0, ex * g.qx_deriv(ikx) + ey * g.qy_deriv(iky)};
+  // The cell size along e: the shift h e is one cell for e along an axis.
+  const double h = std::hypot(ex * g.dx(), ey * g.dy());
+  const double qx = g.qx(ikx), qy = g.qy(iky);
+  const bool nyq_x = g.nx % 2 == 0 && ikx == g.nx / 2, nyq_y = g.ny % 2 == 0 && iky == g.ny / 2;
+  cplx d = upwind_symbol(qx, qy, ex, ey, h, deriv);
+  int count = 1;
+  if (nyq_x) {
+    d += upwind_symbol(-qx, qy, ex, ey, h, deriv);
+    ++count;
+  }
+  if (nyq_y) {
+    d += upwind_symbol(qx, -qy, ex, ey, h, deriv);
+    ++count;
+  }
+  if (nyq_x && nyq_y) {
+    d += upwind_symbol(-qx, -qy, ex, ey, h, deriv);
+    ++count;
+  }
+  return d / static_cast<double>(count);
+}
+
+namespace {
+// f(row, k, m, D) for every mode held here with an upwind symbol D (complex).
+template <class F>
+void for_each_upwind_mode(const Grid& g, const std::vector<ComplianceMode>& modes, double ex, double ey,
+                          SlipDerivative deriv, F&& f) {
+  const int nxh = g.nxh();
+  for_rows(g.rows(), [&](int row) {
+    for (int ikx = 0; ikx < nxh; ++ikx) {
+      const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
+      f(row, k, modes[k], slip_derivative_symbol(g, ikx, g.y0 + row, ex, ey, deriv));
+    }
+  });
+}
+}  // namespace
+
+void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, double ex, double ey,
+                                cplx* dux, cplx* duy, double scale, double scale_z,
+                                SlipDerivative deriv) const {
+  const auto load = [&](std::size_t k, const ComplianceMode& m) {
+    const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
+               z = tz ? scale_z * tz[k] : cplx(0.0);
+    return inplane(m, x, y, z);
+  };
+  if (deriv == SlipDerivative::Spectral) {
+    for_each_slope_mode(grid_, modes_, ex, ey, [&](int, std::size_t k, const ComplianceMode& m, double d) {
+      const auto u = load(k, m);
+      dux[k] = times_i(d, u[0]);
+      duy[k] = times_i(d, u[1]);
+    });
+    return;
+  }
+  for_each_upwind_mode(grid_, modes_, ex, ey, deriv,
+                       [&](int, std::size_t k, const ComplianceMode& m, cplx d) {
+                         const auto u = load(k, m);
+                         dux[k] = d * u[0];
+                         duy[k] = d * u[1];
+                       });
+}
+
+double ElasticBody::slip_operator_norm(double ex, double ey, SlipDerivative deriv) const {
+  // max over modes of |D| times the largest eigenvalue of C_tt (real symmetric 2x2).
   std::vector<double> rows(static_cast<std::size_t>(grid_.rows()), 0.0);
-  for_each_slope_mode(grid_, modes_, ex, ey, [&](int row, std::size_t, const ComplianceMode& m, double d) {
+  const auto take = [&](int row, const ComplianceMode& m, double absd) {
     const double tr = 0.5 * (m.cxx + m.cyy), df = 0.5 * (m.cxx - m.cyy);
     double& r = rows[static_cast<std::size_t>(row)];
-    r = std::max(r, std::abs(d) * (tr + std::sqrt(df * df + m.cxy * m.cxy)));
-  });
+    r = std::max(r, absd * (tr + std::sqrt(df * df + m.cxy * m.cxy)));
+  };
+  if (deriv == SlipDerivative::Spectral)
+    for_each_slope_mode(grid_, modes_, ex, ey, [&](int row, std::size_t, const ComplianceMode& m, double d) {
+      take(row, m, std::abs(d));
+    });
+  else
+    for_each_upwind_mode(
+        grid_, modes_, ex, ey, deriv,
+        [&](int row, std::size_t, const ComplianceMode& m, cplx d) { take(row, m, std::abs(d)); });
   const double mine = rows.empty() ? 0.0 : *std::max_element(rows.begin(), rows.end());
   return mpi::max_all(grid_, mine);
 }
 
-void ElasticBody::slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale) const {
-  // M = I - i g d C with C = [[cxx, cxy], [cxy, cyy]] real symmetric and g d real: M is
-  // complex symmetric, det M = 1 - i g d (cxx + cyy) - (g d)^2 (cxx cyy - cxy^2), never 0.
-  for_each_slope_mode(grid_, modes_, ex, ey, [&](int, std::size_t k, const ComplianceMode& m, double d) {
-    const double gd = gamma * d;
-    const cplx a = scale * x[k], b = scale * y[k];
-    if (gd == 0.0) {
-      x[k] = a;
-      y[k] = b;
-      return;
-    }
-    const cplx det(1.0 - gd * gd * (m.cxx * m.cyy - m.cxy * m.cxy), -gd * (m.cxx + m.cyy));
-    const cplx inv = 1.0 / det;
-    // M^-1 = [[1 - i gd cyy, i gd cxy], [i gd cxy, 1 - i gd cxx]] / det
-    const cplx m11(1.0, -gd * m.cyy), m22(1.0, -gd * m.cxx), m12(0.0, gd * m.cxy);
-    x[k] = inv * (m11 * a + m12 * b);
-    y[k] = inv * (m12 * a + m22 * b);
-  });
+void ElasticBody::slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale,
+                                 SlipDerivative deriv) const {
+  if (deriv == SlipDerivative::Spectral) {
+    // M = I - i g d C with C = [[cxx, cxy], [cxy, cyy]] real symmetric and g d real: M is
+    // complex symmetric, det M = 1 - i g d (cxx + cyy) - (g d)^2 (cxx cyy - cxy^2), never 0.
+    for_each_slope_mode(grid_, modes_, ex, ey, [&](int, std::size_t k, const ComplianceMode& m, double d) {
+      const double gd = gamma * d;
+      const cplx a = scale * x[k], b = scale * y[k];
+      if (gd == 0.0) {
+        x[k] = a;
+        y[k] = b;
+        return;
+      }
+      const cplx det(1.0 - gd * gd * (m.cxx * m.cyy - m.cxy * m.cxy), -gd * (m.cxx + m.cyy));
+      const cplx inv = 1.0 / det;
+      // M^-1 = [[1 - i gd cyy, i gd cxy], [i gd cxy, 1 - i gd cxx]] / det
+      const cplx m11(1.0, -gd * m.cyy), m22(1.0, -gd * m.cxx), m12(0.0, gd * m.cxy);
+      x[k] = inv * (m11 * a + m12 * b);
+      y[k] = inv * (m12 * a + m22 * b);
+    });
+    return;
+  }
+  // M = I - g D C with Re D <= 0: M's Hermitian part I - g Re(D) C >= I, so det M != 0.
+  for_each_upwind_mode(
+      grid_, modes_, ex, ey, deriv, [&](int, std::size_t k, const ComplianceMode& m, cplx d) {
+        const cplx gd = gamma * d;
+        const cplx a = scale * x[k], b = scale * y[k];
+        const cplx m11 = 1.0 - gd * m.cyy, m22 = 1.0 - gd * m.cxx, m12 = gd * m.cxy;  // adjugate of M
+        const cplx inv = 1.0 / (m11 * m22 - m12 * m12);
+        x[k] = inv * (m11 * a + m12 * b);
+        y[k] = inv * (m12 * a + m22 * b);
+      });
 }
 
 }  // namespace gfmd

@@ -19,7 +19,10 @@ struct Observables {
   // slip velocity v = xi e_s + (e_s.grad) u (= mu_c sum p |v| dA where every point slips; stuck
   // points dissipate nothing). Downhill: F = sum |tau| dA + dF, dF = -sum p (e_s.grad h) dA
   // (sum |tau| = mu_c F_z where every point slips).
+  // With an upwind slip derivative F also holds the derivative's own dissipation F_num
+  // (below): F = F_slip + F_num, F_slip = sum tau.v dA over the slipping points.
   double friction_force = 0;
+  double friction_force_slip = 0;
   double friction_force_downhill = 0;
   double downhill_force = 0;
   double friction_coefficient = 0;
@@ -29,6 +32,12 @@ struct Observables {
   // (F_downhill replaces tau.e_s by |tau|, a second-order difference in the strains).
   double friction_force_drive = 0;
   double energy_balance_error_exact = 0;  // |F_diss - F_drive| / F_diss
+  // With an upwind slip derivative: the dissipation of the difference itself, F_num =
+  // sum tau.(v_spectral - v) dA (0 with the spectral derivative), and F_num / F_diss. It
+  // stands for the slip the grid does not resolve (at a stick zone's trailing edge).
+  double numerical_dissipation = 0;
+  double numerical_dissipation_fraction = 0;
+  bool friction = false;  // the friction observables were computed (mu_c > 0)
   double mean_tangential_traction_x = 0, mean_tangential_traction_y = 0;
   // Geometry relative to the indenter's highest point (the Hertz apex), along the
   // sliding direction e_s ("longitudinal") and across it ("transverse"), minimum image.

@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "gfmd/core/fft.hpp"
@@ -50,10 +51,24 @@ struct FrictionParams {
   // Creepage xi: the rigid part of the slip velocity is xi v0 e_s (1 = sliding; small xi =
   // tractive rolling, with stick where the traction stays inside the friction disc).
   double creepage = 1.0;
+  // Lateral creepage eta: a rigid slip eta v0 e_perp across the rolling direction, e_perp =
+  // e_s turned by +90 degrees (Kalker's lateral creepage; 0 = none).
+  double lateral_creepage = 0.0;
+  // How (e_s.grad) u is discretised in the slip velocity; unset = automatic: spectral for
+  // sliding (xi = 1, eta = 0), second-order upwind for rolling (docs/solver.md).
+  std::optional<SlipDerivative> slip_derivative;
   // Step gamma / E* of the stick-slip (Douglas-Rachford) iteration of the exact law; 0 picks
   // it from the body's in-plane compliance.
   double stick_step = 0.0;
   [[nodiscard]] bool regularized() const { return regularization > 0; }
+  [[nodiscard]] bool rolling() const { return creepage != 1.0 || lateral_creepage != 0.0; }
+  [[nodiscard]] SlipDerivative derivative() const {
+    return slip_derivative.value_or(rolling() ? SlipDerivative::Upwind2 : SlipDerivative::Spectral);
+  }
+  // The rigid slip xi e_s + eta e_perp for the unit vector e_s = (ex, ey).
+  [[nodiscard]] std::array<double, 2> rigid_slip(double ex, double ey) const {
+    return {creepage * ex - lateral_creepage * ey, creepage * ey + lateral_creepage * ex};
+  }
 };
 
 enum class LoadMode { Force, Pressure, Approach };

@@ -39,11 +39,28 @@ struct PhiRotated {
 // qh = |q| h; qh = inf gives the half-space values. Stable for qh in [1e-8, inf).
 PhiRotated phi_rotated(double qh, double nu);
 
+// How (e.grad) is discretised in the slip velocity v = xi e + (e.grad) u of steady sliding
+// and rolling (docs/solver.md, "The slip derivative"). Spectral: i e.q, exact for every
+// resolved mode (the Nyquist modes dropped); it makes the slip operator skew-adjoint.
+// Upwind: a one-sided difference against the material's motion, as rolling-contact codes
+// use, written as band-limited shifts by h along e (theta = (e.q) h, h the cell size along
+// e): first order (e^{i theta} - 1)/h, second order -(3 - 4 e^{i theta} + e^{2i theta})/(2h).
+// Their real part is <= 0, so the slip operator gains a dissipative part that fixes the
+// tractions of a stick zone, which the spectral derivative leaves nearly free.
+enum class SlipDerivative { Spectral, Upwind, Upwind2 };
+[[nodiscard]] const char* slip_derivative_name(SlipDerivative d);
+
 // Per-mode compliance of the body on the r2c half spectrum, in lab axes.
 // u~ = C t~ with C Hermitian: C_xx, C_yy, C_xy, C_zz real; C_xz = i*cxz, C_yz = i*cyz.
 struct ComplianceMode {
   double cxx, cyy, cxy, czz, cxz, cyz;
 };
+
+// The symbol D(q) of (e.grad) at mode (ikx, iky) (iky global) of the r2c half spectrum. On
+// the Nyquist lines of an even grid an upwind symbol is the mean over the aliases of the
+// mode (+-q there are one mode), so that real fields stay real.
+[[nodiscard]] cplx slip_derivative_symbol(const Grid& g, int ikx, int iky, double ex, double ey,
+                                          SlipDerivative deriv);
 
 class ElasticBody {
  public:
@@ -76,17 +93,21 @@ class ElasticBody {
   void displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
                     double scale, double scale_z) const;
   // Spectra of the slopes (e.grad) u_x and (e.grad) u_y along the unit vector (ex, ey) of
-  // the in-plane displacement caused by the tractions (scale tx, scale ty, scale_z tz); the
-  // Nyquist modes of the derivative are dropped. Outputs may alias inputs.
+  // the in-plane displacement caused by the tractions (scale tx, scale ty, scale_z tz), the
+  // derivative discretised as `deriv` says. Outputs may alias inputs.
   void inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, double ex, double ey, cplx* dux,
-                     cplx* duy, double scale, double scale_z) const;
+                     cplx* duy, double scale, double scale_z,
+                     SlipDerivative deriv = SlipDerivative::Spectral) const;
   // Resolvent of the slip operator of steady sliding: A = (e.grad) C_tt maps a tangential
-  // traction to the slip velocity it causes; A is skew-adjoint (C_tt Hermitian, e.grad
-  // skew), so I - gamma A is invertible for every gamma. In place, per mode:
+  // traction to the slip velocity it causes; with the spectral derivative A is skew-adjoint
+  // (C_tt Hermitian, e.grad skew), with an upwind one A + A* <= 0; either way I - gamma A is
+  // invertible for every gamma > 0. In place, per mode:
   // (x, y) <- (I - gamma A)^-1 scale (x, y); the q = 0 mode is scaled only.
-  void slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale) const;
-  // Spectral radius of A along (ex, ey): the largest |e.q| times eigenvalue of C_tt(q).
-  [[nodiscard]] double slip_operator_norm(double ex, double ey) const;
+  void slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale,
+                      SlipDerivative deriv = SlipDerivative::Spectral) const;
+  // Spectral radius of A along (ex, ey): the largest |D(q)| times eigenvalue of C_tt(q).
+  [[nodiscard]] double slip_operator_norm(double ex, double ey,
+                                          SlipDerivative deriv = SlipDerivative::Spectral) const;
 
  private:
   Grid grid_;
