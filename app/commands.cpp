@@ -242,6 +242,10 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   if (cfg.friction.coefficient > 0) {
     std::printf("  friction coefficient   %.6g (dissipation)  %.6g (downhill)\n", o.friction_coefficient,
                 o.friction_coefficient_downhill);
+    if (cfg.friction.rolling())
+      std::printf("  tangential force       %.6g, %.6g (x, y)  traction coefficient %.6g\n",
+                  o.tangential_force_x, o.tangential_force_y, o.traction_coefficient);
+    if (o.stick_fraction > 0) std::printf("  stick fraction         %.6g of the contact\n", o.stick_fraction);
   }
   std::printf("  outputs in %s/\n", out_dir.c_str());
   return 0;

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <sstream>
 #include <string>
 
@@ -190,4 +191,17 @@ TEST(Rolling, LateralCreepageAndDerivativeAreChecked) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("friction.lateral_creepage"), std::string::npos) << e.what();
   }
+}
+
+// The shipped example runs as its comment says (at a quarter of its cells here).
+TEST(Rolling, ExampleRollingSphereSticksAndPullsForward) {
+  std::ifstream in(std::string(GFMD_SOURCE_DIR) + "/examples/rolling_sphere.toml");
+  ASSERT_TRUE(in) << "examples/rolling_sphere.toml";
+  std::stringstream text;
+  text << in.rdbuf();
+  const auto r = solve(text.str(), {"grid.nx=64", "output.png=false"});
+  ASSERT_TRUE(r.info.converged) << r.info.status;
+  EXPECT_GT(r.observables.stick_fraction, 0.95);
+  EXPECT_GT(r.observables.tangential_force_x, 0.0);
+  EXPECT_LT(r.observables.energy_balance_error_exact, 1e-6);
 }
