@@ -37,6 +37,13 @@ CASES = {
     "thin_p0.1": ("examples/fig2e_rough_layer_sweep.toml",
                   lambda n: [f"indenter.lambda_short={16.0 / n:.10g}", "elastic.thickness=0.05",
                              "load.pressure=0.1"]),
+    # The same two loads with the second-order upwind slip derivative (docs/solver.md).
+    "thin_p0.01_upwind2": ("examples/fig2e_rough_layer_sweep.toml",
+                           lambda n: [f"indenter.lambda_short={16.0 / n:.10g}", "elastic.thickness=0.05",
+                                      "load.pressure=0.01", 'friction.slip_derivative="upwind2"']),
+    "thin_p0.1_upwind2": ("examples/fig2e_rough_layer_sweep.toml",
+                          lambda n: [f"indenter.lambda_short={16.0 / n:.10g}", "elastic.thickness=0.05",
+                                     "load.pressure=0.1", 'friction.slip_derivative="upwind2"']),
     "hertz_frictionless": ("examples/hertz_nu025.toml", lambda n: []),
     "rough_frictionless": ("examples/selfaffine.toml",
                            lambda n: [f"indenter.lambda_short={16.0 / n:.10g}", "load.pressure=0.01"]),
