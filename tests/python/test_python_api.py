@@ -52,6 +52,23 @@ def test_friction_fields_and_errors():
         gfmd.run_toml(HERTZ, set=["solver.max_iterations=2"])
 
 
+def test_rolling_with_lateral_creepage_and_upwind_derivative():
+    # Kalker's small-creepage limit, lateral: nearly all of the contact sticks, F_y > 0, and the
+    # upwind derivative's own dissipation closes the energy balance (docs/solver.md).
+    t = gfmd.Topography.hertz(64, 1.0, radius=1.0)
+    body = gfmd.ElasticBody(poisson=0.5)
+    r = gfmd.solve(t, body, force=0.0026041666666666665, friction=0.3, creepage=1e-8, lateral_creepage=1e-4,
+                   slip_derivative="upwind2", reference=False)
+    s = r.summary
+    assert s["stick_fraction"] > 0.95
+    assert s["tangential_force_y"] > 100 * abs(s["tangential_force_x"])
+    assert s["energy_balance_error_exact"] < 1e-6
+    assert s["numerical_dissipation_fraction"] > 0.9
+    assert s["input"]["friction"]["slip_derivative"] == "upwind2"
+    with pytest.raises(gfmd.InputError, match="friction.slip_derivative"):
+        gfmd.solve(t, body, force=0.0026, friction=0.3, slip_derivative="central")
+
+
 def test_ctrl_c_interrupts_a_solve_within_a_second():
     """SIGINT during a solve raises KeyboardInterrupt promptly (not after the solve) and the
     interpreter goes on. The case (thin nu = 0.49 layer, p = 0.3 E*, 512^2, stick) takes 20 s
