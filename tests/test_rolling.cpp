@@ -112,7 +112,6 @@ TEST(Rolling, UpwindEnergyBalanceCountsTheNumericalDissipation) {
 // auto picks the spectral derivative for sliding (the results of earlier versions, bit for
 // bit) and upwind2 for rolling.
 TEST(Rolling, AutomaticDerivativeIsSpectralForSlidingUpwindForRolling) {
-  const std::string sliding = std::string(kSphere) + "";
   const auto same = [](const CaseResult& a, const CaseResult& b) {
     return a.observables.tangential_force_x == b.observables.tangential_force_x &&
            a.observables.friction_force == b.observables.friction_force &&

@@ -165,6 +165,25 @@ def test_thin_layer_sliding_with_stick(tmp_path, ranks):
     assert b["tangential_iterations"] == a["tangential_iterations"]
 
 
+@pytest.mark.parametrize("ranks", [2, 3])
+def test_rolling_with_the_upwind_derivative(tmp_path, ranks):
+    """Kalker's small-creepage rolling (examples/rolling_sphere.toml on 64 x 62 cells, uneven
+    slabs, with lateral creepage too): the upwind slip symbols read the global wave numbers on
+    every slab."""
+    case = tmp_path / "roll.toml"
+    text = open(os.path.join(ROOT, "examples", "rolling_sphere.toml")).read()
+    case.write_text(text.replace("nx = 128", "nx = 64\nny = 62\nly = 0.96875")
+                    .replace("[stress]", "[output]\npng = false\n\n[stress]")
+                    .replace("creepage = 1e-4", "creepage = 1e-4\nlateral_creepage = 3e-5"))
+    assert run(case, tmp_path / "serial").returncode == 0
+    p = run(case, tmp_path / "mpi", ranks)
+    assert p.returncode == 0, p.stderr
+    a, b = same_solution(tmp_path / "serial", tmp_path / "mpi", ranks)
+    assert a["stick_fraction"] > 0.9
+    assert b["tangential_iterations"] == a["tangential_iterations"]
+    assert b["numerical_dissipation"] == pytest.approx(a["numerical_dissipation"], rel=1e-12)
+
+
 def test_sliding_rough_with_leakage(tmp_path):
     """The leakage of a distributed run: the Reynolds system assembled on the slabs and solved
     by HYPRE's BoomerAMG over the processes, the components labelled on rank 0 (the same
