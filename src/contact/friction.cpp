@@ -82,7 +82,8 @@ std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, Real
   fft_.backward_unscaled_destroying(s2_.data(), r2_.data());
   const double mu = fric_.coefficient;
   const double eps = fric_.regularization;  // tau = mu p v / max(|v|, eps)
-  const auto [rx, ry] = fric_.rigid_slip(ex, ey);
+  const std::array<double, 2> rigid = fric_.rigid_slip(ex, ey);
+  const double rx = rigid[0], ry = rigid[1];  // plain names: lambdas may capture them
   // Outside the contact set the new traction is zero; outside the Anderson support the
   // traction and its previous image are zero too (see solve), so nothing there is read.
   return grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
@@ -124,7 +125,8 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
   const std::size_t n = grid_.local_size();  // points held here
   const double th = fric_.direction_deg * std::numbers::pi / 180.0;
   const double ex = std::cos(th), ey = std::sin(th);
-  const auto [rx, ry] = fric_.rigid_slip(ex, ey);
+  const std::array<double, 2> rigid = fric_.rigid_slip(ex, ey);
+  const double rx = rigid[0], ry = rigid[1];  // plain names: lambdas may capture them
   const SlipDerivative deriv = fric_.derivative();
   const double mu = fric_.coefficient;
   const double gamma = gamma_;
