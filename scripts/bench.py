@@ -10,6 +10,11 @@ solve, so that the ratio compares the two at the same moment. Prints a Markdown 
 With --planner measure the solver's FFTW plans are measured (solver.fft_planner) and kept
 as wisdom (see include/gfmd/core/fft.hpp); a first, untimed solve per size makes the wisdom so
 that the timed solve does not include planning.
+
+With --backend cuda the solves run on the GPU (solver.backend = "cuda") and the bare time is
+that of cuFFT's 3 + 3 double-precision transforms (build/bench_cufft, CUDA events); the
+memory columns are then the device memory the solve held (summary.json's
+device_memory_bytes), not the host's.
 """
 import argparse
 import json
@@ -21,6 +26,7 @@ import tempfile
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 GFMD = os.path.join(ROOT, "build", "gfmd")
 KERNELS = os.path.join(ROOT, "build", "bench_kernels")
+CUFFT = os.path.join(ROOT, "build", "bench_cufft")
 
 CASES = {
     # Hertz sliding, paper Fig. 2: L = 4R, F = 0.01 E* R^2, nu = 0.25, mu_c = 1.
@@ -50,8 +56,11 @@ CASES = {
 }
 
 
-def fft_time(n, threads, planner):
+def fft_time(n, threads, planner, backend="threads"):
     """Seconds of one bare-FFT iteration (3 + 3 real 2D transforms) of an n x n grid."""
+    if backend == "cuda":
+        out = subprocess.run([CUFFT, str(n)], capture_output=True, text=True, check=True).stdout
+        return json.loads(out)["seconds"]
     name = f"BM_FFTIteration/{n}/{threads}/{1 if planner == 'measure' else 0}"
     out = subprocess.run([KERNELS, f"--benchmark_filter=^{name}/", "--benchmark_format=json"],
                          capture_output=True, text=True, check=True).stdout
@@ -61,19 +70,25 @@ def fft_time(n, threads, planner):
     return float("nan")
 
 
-def run_case(case, n, threads, tol, planner="estimate"):
+def run_case(case, n, threads, tol, planner="estimate", backend="threads"):
     path, extra = CASES[case]
     with tempfile.TemporaryDirectory() as d:
-        cmd = ["/usr/bin/time", "-f", "%M", GFMD, "run", os.path.join(ROOT, path), "-o", d, "-q",
+        cmd = [GFMD, "run", os.path.join(ROOT, path), "-o", d, "-q",
                "--set", f"grid.nx={n}", "--set", f"solver.threads={threads}", "--set", f"solver.tolerance={tol}",
                "--set", "output.fields=false", "--set", "output.png=false",
-               "--set", f"solver.fft_planner={planner}"]
+               "--set", f"solver.fft_planner={planner}", "--set", f'solver.backend="{backend}"']
         for e in extra(n):
             cmd += ["--set", e]
-        p = subprocess.run(cmd, capture_output=True, text=True)
+        # The child's peak resident memory from its own resource usage (wait4).
+        with tempfile.TemporaryFile("w+") as log:
+            p = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT)
+            _, status, usage = os.wait4(p.pid, 0)
+            p.returncode = os.waitstatus_to_exitcode(status)
+            log.seek(0)
+            text = log.read()
         if p.returncode != 0:
-            return {"error": p.stdout + p.stderr}
-        rss_kb = int(p.stderr.strip().splitlines()[-1])
+            return {"error": text}
+        rss_kb = usage.ru_maxrss
         s = json.load(open(os.path.join(d, "summary.json")))
         s["peak_rss_bytes"] = rss_kb * 1024
         return s
@@ -86,11 +101,13 @@ def main():
     ap.add_argument("--threads", type=int, default=os.cpu_count())
     ap.add_argument("--tolerance", type=float, default=1e-6)
     ap.add_argument("--planner", choices=["estimate", "measure"], default="estimate")
+    ap.add_argument("--backend", choices=["threads", "cuda"], default="threads",
+                    help="cuda: the solves on the GPU, the bare transforms timed with cuFFT (build/bench_cufft)")
     ap.add_argument("--repeat", type=int, default=1,
                     help="timed solves per case and size; the row shows the one with the median ratio")
     args = ap.parse_args()
-    print(f"threads = {args.threads}, tolerance = {args.tolerance}, FFTW planner = {args.planner}, "
-          f"repeat = {args.repeat}")
+    print(f"backend = {args.backend}, threads = {args.threads}, tolerance = {args.tolerance}, "
+          f"FFTW planner = {args.planner}, repeat = {args.repeat}")
     print("bare 3+3 FFT: measured right before and right after each solve, the mean is used; "
           "in-solve: the solve's wall time over the time its own transforms took\n")
     print("| case | N | CG iterations | friction steps | FFTs | solve s | ms / CG iteration "
@@ -103,9 +120,9 @@ def main():
                 run_case(case, n, args.threads, 0.5, args.planner)  # makes the wisdom
             rows = []
             for _ in range(max(1, args.repeat)):
-                f0 = fft_time(n, args.threads, args.planner)
-                s = run_case(case, n, args.threads, args.tolerance, args.planner)
-                f1 = fft_time(n, args.threads, args.planner)
+                f0 = fft_time(n, args.threads, args.planner, args.backend)
+                s = run_case(case, n, args.threads, args.tolerance, args.planner, args.backend)
+                f1 = fft_time(n, args.threads, args.planner, args.backend)
                 if "error" in s:
                     break
                 nfft = s.get("fft_count", 0)
@@ -128,10 +145,12 @@ def main():
             steps = f"{s.get('outer_iterations', 0)}"
             if s.get("tangential_iterations"):
                 steps += f" (+{s['tangential_iterations']} splitting, stick {100 * s.get('stick_fraction', 0):.2f} %)"
+            dev = s.get("device_memory_bytes", 0)
+            mem = (f"| {dev / 2**20:.0f} (device) | {dev / n / n:.0f} (device) |" if dev else
+                   f"| {s['peak_rss_bytes'] / 2**20:.0f} | {s['peak_rss_bytes'] / n / n:.0f} |")
             print(f"| {case} | {n} | {it} | {steps} | {s.get('fft_count', 0)} | {t:.3f} "
-                  f"| {t / max(it, 1) * 1e3:.2f} | {f0 * 1e3:.1f}/{f1 * 1e3:.1f} | {ratio:.2f}{rng} "
-                  f"| {ratio_in:.2f}{rng_in} "
-                  f"| {s['peak_rss_bytes'] / 2**20:.0f} | {s['peak_rss_bytes'] / n / n:.0f} |")
+                  f"| {t / max(it, 1) * 1e3:.2f} | {f0 * 1e3:.2f}/{f1 * 1e3:.2f} | {ratio:.2f}{rng} "
+                  f"| {ratio_in:.2f}{rng_in} " + mem)
             sys.stdout.flush()
 
 

@@ -196,6 +196,7 @@ nlohmann::json summary_json(const CaseResult& r) {
       std::isinf(r.info.stiffness) ? nlohmann::json("inf") : nlohmann::json(r.info.stiffness);
   j["threads"] = threads();
   j["backend"] = r.config.backend;
+  if (r.info.device_bytes > 0) j["device_memory_bytes"] = r.info.device_bytes;  // the CUDA solve's peak
   j["mpi_ranks"] = r.mpi_ranks;
   if (const auto& u = r.mpi_usage) {
     nlohmann::json per_rank = nlohmann::json::array();

@@ -22,6 +22,7 @@
 #include <sstream>
 
 #include "gfmd/case/run_dir.hpp"
+#include "gfmd/contact/device.hpp"
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
@@ -344,9 +345,19 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
   set_threads(cfg.threads);
   const Backend* chosen = find_backend(cfg.backend);
   if (chosen == nullptr) throw std::invalid_argument("run_case: unknown backend " + cfg.backend);
+  // The CUDA solve runs on one process: "auto" means the cores under mpirun, and "cuda" is
+  // refused there, or where no device is usable, before any work.
+  if (mpi::distributed() && cfg.backend == "auto") chosen = &threads_backend();
+  if (chosen->name() == "cuda") {
+    if (mpi::distributed())
+      throw InputError("solver.backend", "\"cuda\" solves on one process; under mpirun use \"threads\"");
+    // No device, or a grid too large for it: said before the surface is made.
+    require_device_fits(cfg.grid, cfg.friction.coefficient > 0);
+  }
   const BackendScope on_backend(*chosen);
   CaseResult r;
   r.config = cfg;
+  r.config.backend = std::string(chosen->name());  // "auto" resolved
   // A distributed run (mpirun): the solves and the post-processing run on slabs of rows, one
   // per process; rank 0 gathers what needs the whole cell (the analysis, field outputs).
   const bool distributed = mpi::distributed();

@@ -10,6 +10,7 @@
 #include <optional>
 #include <sstream>
 
+#include "device_solve.hpp"
 #include "gfmd/contact/anderson.hpp"
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
@@ -50,14 +51,44 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   const double points = static_cast<double>(grid_.size());
   const double m = sums[0] / points;
   g0_rms_ = std::sqrt(std::max(0.0, sums[1] / points - m * m));
+  // Step of the stick-slip iteration (exact law with friction only).
+  if (fric_.coefficient > 0 && !fric_.regularized())
+    gamma_ = fric_.stick_step > 0 ? fric_.stick_step * body.params().contact_modulus : default_stick_step();
+  if (backend().name() == "cuda") {
+    // The fields live on the device; the host keeps only g0 (the final residual check).
+    DeviceProblem pr;
+    pr.body = &body_;
+    pr.g0 = &g0_;
+    pr.g0_rms = g0_rms_;
+    pr.stiffness = k_;
+    pr.inv_stiffness = inv_k_;
+    pr.hard_wall = inter_.hard_wall;
+    pr.friction = fric_;
+    pr.solver = sp_;
+    pr.stick_step = gamma_;
+    device_ = make_device_solve(pr);
+    return;
+  }
   for (auto* s : {&s1_, &s2_, &s3_}) s->resize(grid_.spectral_size());
   for (auto* f : {&cg_g_, &cg_t_, &cg_r_}) f->assign(grid_.local_size(), 0.0);
   czz_n_.resize(body.modes().size());
   for (std::size_t k = 0; k < czz_n_.size(); ++k)
     czz_n_[k] = body.modes()[k].czz / static_cast<double>(grid_.size());
-  // Step of the stick-slip iteration (exact law with friction only).
-  if (fric_.coefficient > 0 && !fric_.regularized())
-    gamma_ = fric_.stick_step > 0 ? fric_.stick_step * body.params().contact_modulus : default_stick_step();
+}
+
+ContactSolver::~ContactSolver() = default;
+
+SolveInfo ContactSolver::solve_on_device(const LoadParams& load, ContactFields& f) {
+  current_ = &f;
+  const DeviceHooks hooks{&progress_, &stop_, &checkpoint_, checkpoint_interval_s_};
+  SolveInfo info = device_->solve(load, f, hooks, total_it_);
+  const auto t0 = Clock::now();
+  f.gap.resize(f.uz.size());
+  for (std::size_t i = 0; i < f.gap.size(); ++i) f.gap[i] = std::max(0.0, g0_[i] - info.approach - f.uz[i]);
+  check_final_state(info, f, info.approach);
+  info.device_bytes = device_->device_bytes();
+  info.wall_time_s += std::chrono::duration<double>(Clock::now() - t0).count();
+  return info;
 }
 
 void ContactSolver::update_displacements(ContactFields& f) {
@@ -119,7 +150,23 @@ void ContactSolver::poll(const ContactFields* f, const std::function<void()>& se
   }
 }
 
+void ContactSolver::check_final_state(SolveInfo& info, const ContactFields& f, double delta) {
+  info.residual = residual(f, delta);
+  require_finite(info.residual, "the final residual", total_it_);
+  // The stopping tests watch changes between iterates; only a state that also satisfies the
+  // contact conditions within the stated bound counts as a solution.
+  info.residual_bound = std::max(1e-5, 1e3 * sp_.tolerance);
+  if (info.converged && !(info.residual <= info.residual_bound)) {
+    info.converged = false;
+    char why[160];
+    std::snprintf(why, sizeof why, "not converged: the independent residual %.3g exceeds its bound %.3g",
+                  info.residual, info.residual_bound);
+    info.status = why;
+  }
+}
+
 SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
+  if (device_) return solve_on_device(load, f);
   const auto t0 = Clock::now();
   const std::uint64_t transforms0 = fft_.transforms();
   const double fft_seconds0 = fft_.seconds();
@@ -377,18 +424,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
   for (auto* fld : {&f.ux, &f.uy, &f.uz, &f.gap}) fld->resize(n);
   update_displacements(f);
   for (std::size_t i = 0; i < n; ++i) f.gap[i] = std::max(0.0, g0_[i] - pk.delta - f.uz[i]);
-  info.residual = residual(f, pk.delta);
-  require_finite(info.residual, "the final residual", total_it_);
-  // The stopping tests watch changes between iterates; only a state that also satisfies the
-  // contact conditions within the stated bound counts as a solution.
-  info.residual_bound = std::max(1e-5, 1e3 * sp_.tolerance);
-  if (info.converged && !(info.residual <= info.residual_bound)) {
-    info.converged = false;
-    char why[160];
-    std::snprintf(why, sizeof why, "not converged: the independent residual %.3g exceeds its bound %.3g",
-                  info.residual, info.residual_bound);
-    info.status = why;
-  }
+  check_final_state(info, f, pk.delta);
   info.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
   info.transforms = fft_.transforms() - transforms0;
   info.fft_seconds = fft_.seconds() - fft_seconds0;

@@ -6,6 +6,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "gfmd/core/device.hpp"
 #include "gfmd/core/fft.hpp"
 
 namespace gfmd {
@@ -14,9 +15,12 @@ namespace {
 
 // OpenMP over the cores set by set_threads: each thread one contiguous range, as
 // schedule(static) gives (the same thread touches the same pages in every pass).
+// Named "cuda" it is also the host side of the CUDA backend: the contact solve runs on the
+// device (contact/device_solve.cu), every other pass on the cores.
 class ThreadsBackend final : public Backend {
  public:
-  [[nodiscard]] std::string_view name() const override { return "threads"; }
+  explicit ThreadsBackend(std::string_view name) : name_(name) {}
+  [[nodiscard]] std::string_view name() const override { return name_; }
   void for_ranges(std::ptrdiff_t n, RangeBody body) const override {
     if (n <= 0) return;
     const int t = threads();
@@ -35,6 +39,9 @@ class ThreadsBackend final : public Backend {
   }
   [[nodiscard]] int workers() const override { return threads(); }
   [[nodiscard]] int fft_threads() const override { return threads(); }
+
+ private:
+  std::string_view name_;
 };
 
 // Everything on the calling thread, in index order.
@@ -48,8 +55,9 @@ class SerialBackend final : public Backend {
   [[nodiscard]] int fft_threads() const override { return 1; }
 };
 
-const ThreadsBackend g_threads_backend;
+const ThreadsBackend g_threads_backend("threads");
 const SerialBackend g_serial_backend;
+const ThreadsBackend g_cuda_backend("cuda");
 std::atomic<const Backend*> g_current{&g_threads_backend};
 
 }  // namespace
@@ -61,12 +69,13 @@ const Backend& serial_backend() { return g_serial_backend; }
 namespace {
 std::mutex g_registry_mutex;
 std::vector<const Backend*>& registry() {
-  static std::vector<const Backend*> r{&g_threads_backend, &g_serial_backend};
+  static std::vector<const Backend*> r{&g_threads_backend, &g_serial_backend, &g_cuda_backend};
   return r;
 }
 }  // namespace
 
 const Backend* find_backend(std::string_view name) {
+  if (name == "auto") return cuda_device().available ? &g_cuda_backend : &g_threads_backend;
   const std::lock_guard lock(g_registry_mutex);
   for (const Backend* b : registry())
     if (b->name() == name) return b;
@@ -77,6 +86,7 @@ std::vector<std::string> backend_names() {
   const std::lock_guard lock(g_registry_mutex);
   std::vector<std::string> names;
   for (const Backend* b : registry()) names.emplace_back(b->name());
+  names.insert(names.begin() + 3, "auto");
   return names;
 }
 

@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -102,7 +103,8 @@ struct SolveInfo {
   double stiffness = 0.0;  // k_if used (inf for hard wall)
   double wall_time_s = 0.0;
   std::uint64_t transforms = 0;  // real 2D FFTs (forward + inverse) the solve executed
-  double fft_seconds = 0.0;      // wall time of those transforms alone
+  double fft_seconds = 0.0;      // wall time of those transforms alone (not timed on a device)
+  std::size_t device_bytes = 0;  // device memory the solve held at its end (CUDA backend; 0 on the host)
 };
 
 // What the friction steps of a failed solve show, for its message: a limit cycle (its period
@@ -110,6 +112,8 @@ struct SolveInfo {
 // pattern, judged from the last 60 steps of the traction change and of the tangential force
 // along the sliding direction (one value per step).
 std::string friction_history_evidence(const std::vector<double>& change, const std::vector<double>& force);
+
+class DeviceSolve;  // the CUDA backend's solve (contact/device_solve.hpp)
 
 struct Progress {
   int iteration;
@@ -119,8 +123,13 @@ struct Progress {
 
 class ContactSolver {
  public:
+  // Under the "cuda" backend (core/backend.hpp) the solve runs on the GPU: the problem is
+  // uploaded here (an InputError if no device is usable or the grid does not fit there).
   ContactSolver(const ElasticBody& body, const Topography& topo, const InteractionParams& inter,
                 const FrictionParams& fric, const SolverParams& solver);
+  ~ContactSolver();
+  ContactSolver(const ContactSolver&) = delete;
+  ContactSolver& operator=(const ContactSolver&) = delete;
 
   // Solves for the given load. `fields` may hold a previous solution of the same grid
   // (warm start: pressure and tractions are used); it is overwritten with the new one.
@@ -144,6 +153,8 @@ class ContactSolver {
   [[nodiscard]] const RealField& initial_gap() const { return g0_; }
   [[nodiscard]] double stiffness() const { return k_; }
   [[nodiscard]] double sliding_angle() const { return fric_.direction_deg; }
+  // True when the solves run on a CUDA device.
+  [[nodiscard]] bool on_device() const { return device_ != nullptr; }
 
  private:
   struct PKResult {
@@ -176,6 +187,9 @@ class ContactSolver {
   TangentialResult solve_tangential(const RealField& p, RealField& tx, RealField& ty, double tol, int max_it);
   void friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w);
   double residual(const ContactFields& f, double delta);
+  // The independent residual of the final state and the verdict on it.
+  void check_final_state(SolveInfo& info, const ContactFields& f, double delta);
+  SolveInfo solve_on_device(const LoadParams& load, ContactFields& f);
 
   const ElasticBody& body_;
   Grid grid_;
@@ -209,6 +223,7 @@ class ContactSolver {
   double last_checkpoint_ = 0.0;
   ContactFields* current_ = nullptr;
   int total_it_ = 0;
+  std::unique_ptr<DeviceSolve> device_;
 };
 
 }  // namespace gfmd

@@ -1,9 +1,11 @@
 // Where grid passes, reductions and FFTs run: the one seam between the physics and the
 // machine. The parts above core write their loops as passes (parallel_for, for_rows,
 // grid_sums, ...) and their transforms as FFT objects; which workers run them is the
-// current Backend's business. Two are built in: "threads" (OpenMP over the cores, the
-// default) and "serial" (one thread, plain loops: the reference every other backend must
-// reproduce bit for bit). docs/architecture.md says how MPI slabs and device memory plug in.
+// current Backend's business. Built in: "threads" (OpenMP over the cores, the default),
+// "serial" (one thread, plain loops: the reference every other backend must reproduce bit
+// for bit) and "cuda" (passes as "threads"; the contact solve itself runs on the GPU with its
+// fields resident there: contact/device_solve.cu, docs/gpu.md). "auto" names "cuda" where a
+// CUDA device is usable and "threads" elsewhere. docs/architecture.md says how MPI slabs plug in.
 #pragma once
 
 #include <cstddef>
@@ -58,9 +60,9 @@ class Backend {
 const Backend& backend();
 const Backend& threads_backend();
 const Backend& serial_backend();
-// The backend of that name (built in or registered), or nullptr.
+// The backend of that name (built in or registered; "auto" resolved now), or nullptr.
 const Backend* find_backend(std::string_view name);
-// Names of the built-in and registered backends, built-in first.
+// Names of the built-in backends, "auto", then the registered ones.
 std::vector<std::string> backend_names();
 // Makes b selectable by name (solver.backend, find_backend): how a backend built outside
 // core (MPI slabs, a device) joins. b must outlive every use; a name taken already is
