@@ -9,6 +9,7 @@
 
 #include "gfmd/case/config.hpp"
 #include "gfmd/case/run.hpp"
+#include "gfmd/core/rng.hpp"
 #include "gfmd/elastic/elastic.hpp"
 #include "test_util.hpp"
 
@@ -168,6 +169,36 @@ TEST(Elastic, UpwindSlipSymbols) {
   EXPECT_NEAR(err(64, SlipDerivative::Upwind2) / err(128, SlipDerivative::Upwind2), 4.0, 0.1);
   EXPECT_EQ(slip_derivative_symbol(g, 3, 2, ex, ey, SlipDerivative::Spectral),
             cplx(0.0, ex * g.qx(3) + ey * g.qy(2)));
+}
+
+// The solver's table of upwind symbols (computed once per solve) gives the slope and the
+// resolvent the numbers they compute without it, to the bit.
+TEST(Elastic, SlipSymbolTableGivesTheSameNumbers) {
+  const Grid g{24, 18, 2.0, 1.5};
+  const ElasticBody body(g, ElasticParams{1.0, 0.3, 0.2, true});
+  const double th = 0.4, ex = std::cos(th), ey = std::sin(th);
+  std::vector<cplx> a(g.spectral_size()), b(a.size()), c(a.size());
+  Rng rng(3);
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    a[k] = {rng.uniform() - 0.5, rng.uniform() - 0.5};
+    b[k] = {rng.uniform() - 0.5, rng.uniform() - 0.5};
+    c[k] = {rng.uniform() - 0.5, rng.uniform() - 0.5};
+  }
+  for (SlipDerivative d : {SlipDerivative::Upwind, SlipDerivative::Upwind2}) {
+    const std::vector<cplx> table = body.slip_symbols(ex, ey, d);
+    std::vector<cplx> u1(a.size()), v1(a.size()), u2(a.size()), v2(a.size());
+    body.inplane_slope(a.data(), b.data(), c.data(), ex, ey, u1.data(), v1.data(), 0.7, -0.7, d);
+    body.inplane_slope(a.data(), b.data(), c.data(), ex, ey, u2.data(), v2.data(), 0.7, -0.7, d,
+                       table.data());
+    EXPECT_EQ(u1, u2);
+    EXPECT_EQ(v1, v2);
+    std::vector<cplx> x1 = a, y1 = b, x2 = a, y2 = b;
+    body.slip_resolvent(x1.data(), y1.data(), ex, ey, 0.3, 0.5, d);
+    body.slip_resolvent(x2.data(), y2.data(), ex, ey, 0.3, 0.5, d, table.data());
+    EXPECT_EQ(x1, x2);
+    EXPECT_EQ(y1, y2);
+    EXPECT_NE(x1, a);  // the resolvent did something
+  }
 }
 
 TEST(Rolling, LateralCreepageAndDerivativeAreChecked) {

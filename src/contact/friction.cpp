@@ -77,7 +77,7 @@ std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, Real
   fft_.forward(f.pressure.data(), s1_.data());
   const SlipDerivative deriv = fric_.derivative();
   body_.inplane_slope(s2_.data(), s3_.data(), s1_.data(), ex, ey, s1_.data(), s2_.data(), scale, -scale,
-                      deriv);
+                      deriv, slip_symbols());
   fft_.backward_unscaled_destroying(s1_.data(), r1_.data());
   fft_.backward_unscaled_destroying(s2_.data(), r2_.data());
   const double mu = fric_.coefficient;
@@ -139,7 +139,7 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
     if (fld->size() != n) fld->assign(n, 0.0);
   fft_.forward(p.data(), s1_.data());
   body_.inplane_slope(nullptr, nullptr, s1_.data(), ex, ey, s2_.data(), s3_.data(), scale, -scale * gamma,
-                      deriv);
+                      deriv, slip_symbols());
   fft_.backward_unscaled_destroying(s2_.data(), bx_.data());
   fft_.backward_unscaled_destroying(s3_.data(), by_.data());
   if (!have_z_) {
@@ -147,7 +147,7 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
     fft_.forward(tx.data(), s2_.data());
     fft_.forward(ty.data(), s3_.data());
     body_.inplane_slope(s2_.data(), s3_.data(), nullptr, ex, ey, s2_.data(), s3_.data(), scale * gamma, 0.0,
-                        deriv);
+                        deriv, slip_symbols());
     fft_.backward_unscaled_destroying(s2_.data(), yx.data());
     fft_.backward_unscaled_destroying(s3_.data(), yy.data());
     parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t s_i) {
@@ -196,7 +196,7 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
     project_pass(true);
     fft_.forward(yx.data(), s2_.data());
     fft_.forward(yy.data(), s3_.data());
-    body_.slip_resolvent(s2_.data(), s3_.data(), ex, ey, gamma, scale, deriv);
+    body_.slip_resolvent(s2_.data(), s3_.data(), ex, ey, gamma, scale, deriv, slip_symbols());
     if (has_q0) {
       s2_[0] += cx;  // the rigid slip gamma (xi e_s + eta e_perp): the q = 0 mode, where the resolvent is 1
       s3_[0] += cy;

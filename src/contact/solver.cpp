@@ -74,6 +74,10 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   czz_n_.resize(body.modes().size());
   for (std::size_t k = 0; k < czz_n_.size(); ++k)
     czz_n_[k] = body.modes()[k].czz / static_cast<double>(grid_.size());
+  if (fric_.coefficient > 0 && fric_.derivative() != SlipDerivative::Spectral) {
+    const double th = fric_.direction_deg * std::numbers::pi / 180.0;
+    dsym_ = body.slip_symbols(std::cos(th), std::sin(th), fric_.derivative());
+  }
 }
 
 ContactSolver::~ContactSolver() = default;

@@ -259,23 +259,35 @@ cplx slip_derivative_symbol(const Grid& g, int ikx, int iky, double ex, double e
 }
 
 namespace {
-// f(row, k, m, D) for every mode held here with an upwind symbol D (complex).
+// f(row, k, m, D) for every mode held here with an upwind symbol D (complex): from `table`
+// (ElasticBody::slip_symbols) when given, else computed.
 template <class F>
 void for_each_upwind_mode(const Grid& g, const std::vector<ComplianceMode>& modes, double ex, double ey,
-                          SlipDerivative deriv, F&& f) {
+                          SlipDerivative deriv, const cplx* table, F&& f) {
   const int nxh = g.nxh();
   for_rows(g.rows(), [&](int row) {
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
-      f(row, k, modes[k], slip_derivative_symbol(g, ikx, g.y0 + row, ex, ey, deriv));
+      f(row, k, modes[k], table ? table[k] : slip_derivative_symbol(g, ikx, g.y0 + row, ex, ey, deriv));
     }
   });
 }
 }  // namespace
 
+std::vector<cplx> ElasticBody::slip_symbols(double ex, double ey, SlipDerivative deriv) const {
+  std::vector<cplx> d(modes_.size());
+  const int nxh = grid_.nxh();
+  for_rows(grid_.rows(), [&](int row) {
+    for (int ikx = 0; ikx < nxh; ++ikx)
+      d[static_cast<std::size_t>(row) * nxh + ikx] =
+          slip_derivative_symbol(grid_, ikx, grid_.y0 + row, ex, ey, deriv);
+  });
+  return d;
+}
+
 void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, double ex, double ey,
-                                cplx* dux, cplx* duy, double scale, double scale_z,
-                                SlipDerivative deriv) const {
+                                cplx* dux, cplx* duy, double scale, double scale_z, SlipDerivative deriv,
+                                const cplx* symbols) const {
   const auto load = [&](std::size_t k, const ComplianceMode& m) {
     const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
                z = tz ? scale_z * tz[k] : cplx(0.0);
@@ -289,7 +301,7 @@ void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, 
     });
     return;
   }
-  for_each_upwind_mode(grid_, modes_, ex, ey, deriv,
+  for_each_upwind_mode(grid_, modes_, ex, ey, deriv, symbols,
                        [&](int, std::size_t k, const ComplianceMode& m, cplx d) {
                          const auto u = load(k, m);
                          dux[k] = d * u[0];
@@ -311,14 +323,14 @@ double ElasticBody::slip_operator_norm(double ex, double ey, SlipDerivative deri
     });
   else
     for_each_upwind_mode(
-        grid_, modes_, ex, ey, deriv,
+        grid_, modes_, ex, ey, deriv, nullptr,
         [&](int row, std::size_t, const ComplianceMode& m, cplx d) { take(row, m, std::abs(d)); });
   const double mine = rows.empty() ? 0.0 : *std::max_element(rows.begin(), rows.end());
   return mpi::max_all(grid_, mine);
 }
 
 void ElasticBody::slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale,
-                                 SlipDerivative deriv) const {
+                                 SlipDerivative deriv, const cplx* symbols) const {
   if (deriv == SlipDerivative::Spectral) {
     // M = I - i g d C with C = [[cxx, cxy], [cxy, cyy]] real symmetric and g d real: M is
     // complex symmetric, det M = 1 - i g d (cxx + cyy) - (g d)^2 (cxx cyy - cxy^2), never 0.
@@ -341,7 +353,7 @@ void ElasticBody::slip_resolvent(cplx* x, cplx* y, double ex, double ey, double 
   }
   // M = I - g D C with Re D <= 0: M's Hermitian part I - g Re(D) C >= I, so det M != 0.
   for_each_upwind_mode(
-      grid_, modes_, ex, ey, deriv, [&](int, std::size_t k, const ComplianceMode& m, cplx d) {
+      grid_, modes_, ex, ey, deriv, symbols, [&](int, std::size_t k, const ComplianceMode& m, cplx d) {
         const cplx gd = gamma * d;
         const cplx a = scale * x[k], b = scale * y[k];
         const cplx m11 = 1.0 - gd * m.cyy, m22 = 1.0 - gd * m.cxx, m12 = gd * m.cxy;  // adjugate of M

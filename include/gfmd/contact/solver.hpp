@@ -213,6 +213,8 @@ class ContactSolver {
   bool have_z_ = false;
   double gamma_ = 0.0;         // its step
   std::vector<double> czz_n_;  // C_zz / (nx ny) per half-spectrum mode, contiguous
+  std::vector<cplx> dsym_;     // an upwind slip derivative's symbol per mode (empty: spectral)
+  [[nodiscard]] const cplx* slip_symbols() const { return dsym_.empty() ? nullptr : dsym_.data(); }
   // Stop requests and checkpoints; `settle` runs first when either is due (it brings the
   // state up to date).
   void poll(const ContactFields* f, const std::function<void()>& settle = {});

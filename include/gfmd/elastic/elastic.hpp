@@ -92,19 +92,24 @@ class ElasticBody {
   // spectrum of a pressure p into that of t_z = -p without a pass over the grid.
   void displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
                     double scale, double scale_z) const;
+  // The symbols D(q) of an upwind (e.grad) along (ex, ey) on every mode held here (r2c
+  // half-spectrum order), for the calls below: their trigonometry otherwise costs more than
+  // the rest of a spectral pass. 16 bytes per mode.
+  [[nodiscard]] std::vector<cplx> slip_symbols(double ex, double ey, SlipDerivative deriv) const;
   // Spectra of the slopes (e.grad) u_x and (e.grad) u_y along the unit vector (ex, ey) of
   // the in-plane displacement caused by the tractions (scale tx, scale ty, scale_z tz), the
-  // derivative discretised as `deriv` says. Outputs may alias inputs.
+  // derivative discretised as `deriv` says (an upwind one's symbols from `symbols` =
+  // slip_symbols(ex, ey, deriv) when given; the same numbers). Outputs may alias inputs.
   void inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, double ex, double ey, cplx* dux,
-                     cplx* duy, double scale, double scale_z,
-                     SlipDerivative deriv = SlipDerivative::Spectral) const;
+                     cplx* duy, double scale, double scale_z, SlipDerivative deriv = SlipDerivative::Spectral,
+                     const cplx* symbols = nullptr) const;
   // Resolvent of the slip operator of steady sliding: A = (e.grad) C_tt maps a tangential
   // traction to the slip velocity it causes; with the spectral derivative A is skew-adjoint
   // (C_tt Hermitian, e.grad skew), with an upwind one A + A* <= 0; either way I - gamma A is
   // invertible for every gamma > 0. In place, per mode:
   // (x, y) <- (I - gamma A)^-1 scale (x, y); the q = 0 mode is scaled only.
   void slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale,
-                      SlipDerivative deriv = SlipDerivative::Spectral) const;
+                      SlipDerivative deriv = SlipDerivative::Spectral, const cplx* symbols = nullptr) const;
   // Spectral radius of A along (ex, ey): the largest |D(q)| times eigenvalue of C_tt(q).
   [[nodiscard]] double slip_operator_norm(double ex, double ey,
                                           SlipDerivative deriv = SlipDerivative::Spectral) const;
