@@ -290,6 +290,24 @@ std::vector<unsigned char> scatter(const Grid& slab, const std::vector<unsigned 
   return scatter_impl(slab, whole, MPI_UNSIGNED_CHAR);
 }
 
+std::vector<std::int64_t> all_gather(const std::vector<std::int64_t>& local) {
+  if (g_size == 1) return local;
+  const ReductionTimer timer;
+  const int mine = static_cast<int>(local.size());
+  std::vector<int> counts(static_cast<std::size_t>(g_size)), offsets(static_cast<std::size_t>(g_size), 0);
+  check(MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < counts.size(); ++r) {
+    offsets[r] = static_cast<int>(total);
+    total += static_cast<std::size_t>(counts[r]);
+  }
+  std::vector<std::int64_t> all(total);
+  check(MPI_Allgatherv(local.data(), mine, MPI_INT64_T, all.data(), counts.data(), offsets.data(),
+                       MPI_INT64_T, MPI_COMM_WORLD),
+        "MPI_Allgatherv");
+  return all;
+}
+
 std::vector<double> add_over_processes(const std::vector<double>& v) {
   if (g_size == 1) return v;
   const ReductionTimer timer;
@@ -453,6 +471,7 @@ RealField gather(const Grid&, const RealField& local) { return local; }
 std::vector<unsigned char> gather(const Grid&, const std::vector<unsigned char>& local) { return local; }
 std::vector<unsigned char> scatter(const Grid&, const std::vector<unsigned char>& whole) { return whole; }
 std::vector<double> add_over_processes(const std::vector<double>& v) { return v; }
+std::vector<std::int64_t> all_gather(const std::vector<std::int64_t>& local) { return local; }
 NeighbourRows neighbour_rows(const Grid& slab, const RealField& local) {
   return neighbour_rows_whole(slab, local);
 }

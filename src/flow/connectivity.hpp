@@ -82,6 +82,13 @@ class WrapUnionFind {
     }
   }
 
+  // Marks i's component as wrapping along the axes in `bits` (1: x, 2: y): what a part of
+  // it labelled elsewhere found (a distributed run's slabs, flow_slabs.cpp).
+  void add_wraps(std::int32_t i, unsigned char bits, Path& path) {
+    std::int64_t ox, oy;
+    wrap_[find(i, ox, oy, path)] |= bits;
+  }
+
   // Root of i without changing the structure (safe from several threads once the unions
   // are done).
   [[nodiscard]] std::int32_t root(std::int32_t i) const {

@@ -3,12 +3,9 @@
 // holds and HYPRE's BoomerAMG-PCG solving the whole system over all processes.
 //
 // What crosses processes: the gap, face conductances, unknown numbers and pressures of the
-// rows next to each slab (mpi::neighbour_rows); the open-face flags of every cell, gathered
-// on rank 0 (one byte per point), which labels the connected components with their windings
-// exactly as one process does (the same pinned gauge cells, the same percolation flags) and
-// scatters each cell's status back (one byte per point); the reductions (row order, as
-// everywhere). Rank 0 holds the union-find of the whole cell while it labels (about 17 bytes
-// per point of the cell).
+// rows next to each slab (mpi::neighbour_rows); for the connected components, only each
+// slab's first and last rows (label_slabs below); the reductions (row order, as everywhere).
+// No process holds anything of the whole cell.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -30,35 +27,142 @@ namespace gfmd::flow_detail {
 namespace {
 constexpr unsigned char kStill = 1, kPinned = 2;  // a cell's status bits
 
-// Status of every cell (kStill, kPinned) and the windings of the open cluster, labelled on
-// rank 0 from the open-face flags (bit 0: the +x face is open, bit 1: the +y face).
-std::vector<unsigned char> label_on_root(const Grid& slab, const std::vector<unsigned char>& open,
-                                         bool& wraps_x, bool& wraps_y) {
-  std::vector<unsigned char> whole_open = mpi::gather(slab, open), status;
-  int wraps = 0;
-  if (mpi::root()) {
-    const Grid whole = slab.whole();
-    const std::size_t n = whole.size();
-    status.resize(n);
-    WrapUnionFind uf(n);
-    unite_open_faces(
-        uf, whole, [&](std::size_t i) { return (whole_open[i] & 1) != 0; },
-        [&](std::size_t i) { return (whole_open[i] & 2) != 0; });
-    std::vector<unsigned char>().swap(whole_open);
-    const auto [wx, wy] = uf.windings();
-    wraps = (wx ? 1 : 0) | (wy ? 2 : 0);
-    parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t ii) {
-      const auto i = static_cast<std::size_t>(ii);
-      const std::int32_t r = uf.root(static_cast<std::int32_t>(i));
-      const bool still = !(uf.wraps(r, 0) || uf.wraps(r, 1));
-      status[i] = static_cast<unsigned char>((still ? kStill : 0) |
-                                             ((still || r == static_cast<std::int32_t>(i)) ? kPinned : 0));
-    });
+// The connected components of the open faces of the whole cell, each process labelling its
+// slab: every cell's status (kStill: its component does not wrap around the cell and carries
+// no current; kPinned: still, or the one gauge cell of a wrapping component) and whether some
+// component wraps along x and along y. open[i]: bit 0 the +x face of cell i is open, bit 1
+// its +y face (for the last row: the face to the next slab's first row).
+//
+// Each process unites the faces inside its slab (a union-find that tracks windings, as one
+// process does for the whole cell); then every process gathers the first and last rows of
+// every slab (the root of each of their cells, its unwrapped offset from the root and the
+// root's windings: 4 numbers per cell, and the last row's +y faces) and unites, in one small
+// union-find of those rows' cells, the cells that share a slab's component and the faces
+// between slabs. All processes build the same small structure, so they agree on which
+// components wrap and which cell is each one's gauge: 8 bytes times 9 per grid column and
+// slab cross the network, and no process holds more than its slab.
+struct SlabLabels {
+  std::vector<unsigned char> status;
+  bool wraps_x = false, wraps_y = false;
+};
+
+SlabLabels label_slabs(const Grid& slab, const std::vector<unsigned char>& open) {
+  const int nx = slab.nx, rows = slab.rows();
+  const std::size_t n = slab.local_size();
+  WrapUnionFind::Path path;
+  WrapUnionFind local(n);
+  for (int row = 0; row < rows; ++row)
+    for (int ix = 0; ix < nx; ++ix) {
+      const auto i = static_cast<std::int32_t>(row * nx + ix);
+      if (open[static_cast<std::size_t>(i)] & 1)
+        local.unite(i, row * nx + (ix + 1 == nx ? 0 : ix + 1), 1, 0, path);
+      if ((open[static_cast<std::size_t>(i)] & 2) && row + 1 < rows) local.unite(i, i + nx, 0, 1, path);
+    }
+  // This slab's boundary rows: per cell its root, offset and the root's windings (the first
+  // row, then the last), then the last row's +y faces.
+  constexpr int kPer = 4;
+  std::vector<std::int64_t> mine;
+  if (rows > 0) {
+    mine.reserve(static_cast<std::size_t>(nx) * (2 * kPer + 1));
+    for (const int row : {0, rows - 1})
+      for (int ix = 0; ix < nx; ++ix) {
+        std::int64_t ox = 0, oy = 0;
+        const std::int32_t r = local.find(row * nx + ix, ox, oy, path);
+        mine.insert(mine.end(), {r, ox, oy, (local.wraps(r, 0) ? 1 : 0) | (local.wraps(r, 1) ? 2 : 0)});
+      }
+    for (int ix = 0; ix < nx; ++ix)
+      mine.push_back((open[static_cast<std::size_t>(rows - 1) * nx + ix] & 2) ? 1 : 0);
   }
-  wraps = mpi::from_root(wraps);
-  wraps_x = (wraps & 1) != 0;
-  wraps_y = (wraps & 2) != 0;
-  return mpi::scatter(slab, status);
+  const std::vector<std::int64_t> all = mpi::all_gather(mine);
+  const std::size_t per_slab = static_cast<std::size_t>(nx) * (2 * kPer + 1);
+  const std::size_t slabs = all.size() / per_slab;  // the processes that hold rows, in rank order
+  // Which of those slabs is this process's (the rank order of the processes that hold rows).
+  const std::vector<double> held = mpi::all_values(rows > 0 ? 1.0 : 0.0);
+  std::size_t me = 0;
+  for (int r = 0; r < mpi::rank(); ++r) me += held[static_cast<std::size_t>(r)] > 0 ? 1 : 0;
+  // Nodes of the small union-find: slab s's first-row cell ix is 2 nx s + ix, its last-row
+  // cell 2 nx s + nx + ix.
+  const std::size_t nodes = 2 * static_cast<std::size_t>(nx) * slabs;
+  WrapUnionFind merged(nodes);
+  const auto entry = [&](std::size_t s, std::size_t node_in_slab) {
+    return all.data() + s * per_slab + node_in_slab * kPer;
+  };
+  for (std::size_t s = 0; s < slabs; ++s) {
+    // Cells of one component of slab s: united with the first such cell at their offset.
+    std::vector<std::pair<std::int64_t, std::size_t>> by_root(2 * static_cast<std::size_t>(nx));
+    for (std::size_t k = 0; k < by_root.size(); ++k) by_root[k] = {entry(s, k)[0], k};
+    std::stable_sort(by_root.begin(), by_root.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::size_t first = 0;  // the first entry of the current root
+    for (std::size_t k = 0; k < by_root.size(); ++k) {
+      const std::size_t node = 2 * nx * s + by_root[k].second;
+      const std::int64_t* e = entry(s, by_root[k].second);
+      if (k == 0 || by_root[k].first != by_root[k - 1].first) {
+        first = k;
+        if (e[3] != 0)
+          merged.add_wraps(static_cast<std::int32_t>(node), static_cast<unsigned char>(e[3]), path);
+        continue;
+      }
+      const std::int64_t* f = entry(s, by_root[first].second);
+      merged.unite(static_cast<std::int32_t>(2 * nx * s + by_root[first].second),
+                   static_cast<std::int32_t>(node), static_cast<int>(e[1] - f[1]),
+                   static_cast<int>(e[2] - f[2]), path);
+    }
+  }
+  for (std::size_t s = 0; s < slabs; ++s) {
+    // The last row's open +y faces join the next slab's first row (the first slab after the last).
+    const std::size_t next = (s + 1) % slabs;
+    const std::int64_t* faces = all.data() + s * per_slab + 2 * static_cast<std::size_t>(nx) * kPer;
+    for (int ix = 0; ix < nx; ++ix)
+      if (faces[ix])
+        merged.unite(static_cast<std::int32_t>(2 * nx * s + nx + ix),
+                     static_cast<std::int32_t>(2 * nx * next + ix), 0, 1, path);
+  }
+  SlabLabels out;
+  const auto [mx, my] = merged.windings();
+  // This slab's components that reach its boundary rows: their fate (and gauge) is the merged
+  // component's; one node per merged component is its root, and the local root of that node's
+  // cell is the gauge.
+  std::vector<std::pair<std::int32_t, unsigned char>> boundary;  // local root -> bits
+  if (rows > 0)
+    for (std::size_t k = 0; k < 2 * static_cast<std::size_t>(nx); ++k) {
+      const auto node = static_cast<std::int32_t>(2 * nx * me + k);
+      const std::int32_t g = merged.root(node);
+      const bool still = !(merged.wraps(g, 0) || merged.wraps(g, 1));
+      const auto r = static_cast<std::int32_t>(entry(me, k)[0]);
+      boundary.emplace_back(r, static_cast<unsigned char>((still ? kStill : 0) | (g == node ? kPinned : 0)));
+    }
+  std::sort(boundary.begin(), boundary.end());
+  // Merge the bits of one root's entries (kPinned: any of its cells is the merged root).
+  std::vector<std::pair<std::int32_t, unsigned char>> roots;
+  for (const auto& [r, b] : boundary)
+    if (!roots.empty() && roots.back().first == r)
+      roots.back().second |= b;
+    else
+      roots.emplace_back(r, b);
+  out.status.resize(n);
+  unsigned char local_wraps = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int32_t r = local.root(static_cast<std::int32_t>(i));
+    const auto it =
+        std::lower_bound(roots.begin(), roots.end(), std::make_pair(r, static_cast<unsigned char>(0)));
+    if (it != roots.end() && it->first == r) {
+      const bool still = (it->second & kStill) != 0;
+      const bool gauge = (it->second & kPinned) != 0 && r == static_cast<std::int32_t>(i);
+      out.status[i] = static_cast<unsigned char>((still ? kStill : 0) | ((still || gauge) ? kPinned : 0));
+      continue;
+    }
+    // A component inside the slab: it can wrap only along x.
+    const bool wraps = local.wraps(r, 0) || local.wraps(r, 1);
+    if (wraps && r == static_cast<std::int32_t>(i))
+      local_wraps |= (local.wraps(r, 0) ? 1 : 0) | (local.wraps(r, 1) ? 2 : 0);
+    out.status[i] = static_cast<unsigned char>((wraps ? 0 : kStill) |
+                                               ((!wraps || r == static_cast<std::int32_t>(i)) ? kPinned : 0));
+  }
+  const unsigned w = mpi::any_bits(local_wraps | (mx ? 1u : 0u) | (my ? 2u : 0u));
+  out.wraps_x = (w & 1) != 0;
+  out.wraps_y = (w & 2) != 0;
+  return out;
 }
 
 }  // namespace
@@ -118,19 +222,22 @@ std::vector<FlowResult> solve_flow_slabs(const Grid& g, const double* gap, const
            static_cast<double>(gap[i] > 0.0 && gn > 0.0 && ky[i] == 0.0);
   });
   const auto faces_cut = static_cast<std::size_t>(cut);
-  bool wraps_x = false, wraps_y = false;
-  const std::vector<unsigned char> status = label_on_root(g, open, wraps_x, wraps_y);
+  SlabLabels labels = label_slabs(g, open);
+  const std::vector<unsigned char> status = std::move(labels.status);
+  bool wraps_x = labels.wraps_x, wraps_y = labels.wraps_y;
   if (faces_cut > 0 && !(wraps_x && wraps_y)) {
-    // The geometric flags (g > 0), as flow.cpp: from the whole gap on rank 0.
-    const RealField whole = mpi::gather(g, gap_here);
-    int w = 0;
-    if (mpi::root()) {
-      const auto [gx, gy] = open_windings(g.whole(), whole.data());
-      w = (gx ? 1 : 0) | (gy ? 2 : 0);
+    // The geometric flags (g > 0), as flow.cpp: faces between open cells.
+    std::vector<unsigned char> geo(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const int ix = static_cast<int>(i % nx), row = static_cast<int>(i / nx);
+      const std::size_t ie = i - ix + (ix + 1 == nx ? 0 : ix + 1);
+      const bool here = gap[i] > 0.0;
+      geo[i] = static_cast<unsigned char>((here && gap[ie] > 0.0 ? 1 : 0) |
+                                          (here && up(gap_here, gap_next.above, row, ix) > 0.0 ? 2 : 0));
     }
-    w = mpi::from_root(w);
-    wraps_x = (w & 1) != 0;
-    wraps_y = (w & 2) != 0;
+    const SlabLabels open_gap = label_slabs(g, geo);
+    wraps_x = open_gap.wraps_x;
+    wraps_y = open_gap.wraps_y;
   }
   // Unknowns: the cells not pinned, numbered process by process.
   SlabSystem sys;

@@ -184,19 +184,20 @@ def test_rolling_with_the_upwind_derivative(tmp_path, ranks):
     assert b["numerical_dissipation"] == pytest.approx(a["numerical_dissipation"], rel=1e-12)
 
 
-def test_sliding_rough_with_leakage(tmp_path):
+@pytest.mark.parametrize("ranks", [2, 3, 4])
+def test_sliding_rough_with_leakage(tmp_path, ranks):
     """The leakage of a distributed run: the Reynolds system assembled on the slabs and solved
-    by HYPRE's BoomerAMG over the processes, the components labelled on rank 0 (the same
-    percolation flags). On a power-of-two grid the gap has one process's bits and the flow
+    by HYPRE's BoomerAMG over the processes, the components labelled slab by slab and merged
+    across the slabs' edges (the same percolation flags; 128 rows over 3 processes: 43, 43, 42). On a power-of-two grid the gap has one process's bits and the flow
     factors agree to the solvers' tolerance (1e-10 relative residual here, our AMG in one
     process). (On other grids the gap differs by the transforms' round-off, which the nearly
     closed faces of a weakly percolating direction amplify: 1.0e-8 relative on a 96^2 cell.)"""
     case = tmp_path / "flow.toml"
     case.write_text(ROUGH_FLOW)
     assert run(case, tmp_path / "serial").returncode == 0
-    p = run(case, tmp_path / "mpi", 3)
+    p = run(case, tmp_path / "mpi", ranks)
     assert p.returncode == 0, p.stderr
-    same_solution(tmp_path / "serial", tmp_path / "mpi", 3)
+    same_solution(tmp_path / "serial", tmp_path / "mpi", ranks)
     with open(tmp_path / "serial" / "flow.json") as f:
         fa = json.load(f)
     with open(tmp_path / "mpi" / "flow.json") as f:
@@ -414,6 +415,25 @@ def test_sweep_under_mpirun_matches_serial(tmp_path):
             if k in x:
                 assert y[k] == pytest.approx(x[k], rel=1e-12, abs=1e-300), k
     assert summary(tmp_path / "mpi" / "point_002")["mpi_ranks"] == 3
+
+
+def test_percolation_along_y_over_four_slabs(tmp_path):
+    """Percolation along y is decided by components that cross every slab's edge (four slabs of
+    15-17 rows of a 62-row cell): the flags merged from the slabs' edge rows take the serial
+    bisection's path, verdict for verdict."""
+    case = tmp_path / "flow.toml"
+    case.write_text(ROUGH_FLOW.replace("nx = 128", "nx = 64\nny = 62").replace("lx = 1.0", "lx = 1.0\nly = 0.96875"))
+    assert serial_cmd("percolation", case, "--direction", "y", "-o", tmp_path / "p1", "-q").returncode == 0
+    p = mpi_cmd(4, "percolation", case, "--direction", "y", "-o", tmp_path / "p4", "-q")
+    assert p.returncode == 0, p.stderr
+    with open(tmp_path / "p1" / "percolation.json") as f:
+        a = json.load(f)
+    with open(tmp_path / "p4" / "percolation.json") as f:
+        b = json.load(f)
+    assert len(a["history"]) >= 4
+    assert [h["percolates"] for h in b["history"]] == [h["percolates"] for h in a["history"]]
+    assert True in [h["percolates"] for h in a["history"]] and False in [h["percolates"] for h in a["history"]]
+    assert b["critical_relative_contact_area"] == pytest.approx(a["critical_relative_contact_area"], rel=1e-8)
 
 
 def test_percolation_and_ensemble_under_mpirun_match_serial(tmp_path):

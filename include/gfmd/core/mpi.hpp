@@ -56,6 +56,9 @@ std::uint64_t sum_all(const Grid& g, std::uint64_t v);
 // Vectors of equal length from every process added element by element in rank order, on
 // every process (a collective; v itself in one process).
 std::vector<double> add_over_processes(const std::vector<double>& v);
+// Every process's list, concatenated in rank order, on every process (a collective; the
+// lists may differ in length, each below 2^31 entries). `local` itself in one process.
+std::vector<std::int64_t> all_gather(const std::vector<std::int64_t>& local);
 // Processes of this run on this machine (the launcher's local size; 1 without one).
 int processes_on_this_machine();
 // Every process's value, by rank, on every process.
