@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# Builds the tests with AddressSanitizer + UBSan (build-asan/) and runs the fast suites
-# under them (the heavy validation solves are left to scripts/test.sh).
+# Builds the tests with AddressSanitizer + UBSan (build-asan-clang/, clang 14 as for the fuzz
+# targets: it builds them in half the time GCC takes) and runs the fast suites under them
+# (the heavy validation solves are left to scripts/test.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGFMD_SANITIZE=ON > /dev/null
-cmake --build build-asan -j"$(nproc)" --target gfmd gfmd_tests
+CC=clang-14 CXX=clang++-14 cmake -S . -B build-asan-clang -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGFMD_SANITIZE=ON \
+  > /dev/null
+cmake --build build-asan-clang -j"$(nproc)" --target gfmd gfmd_tests
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-./build-asan/gfmd_tests --gtest_brief=1 \
+./build-asan-clang/gfmd_tests --gtest_brief=1 \
   --gtest_filter='Amg*:Elastic*:Rng*:Topograph*:AtomicWrite*:NetCdf*:Cli*:StressPrincipal*:StressSurface.Hooke*:StressSubsurface.SurfaceDisplacement*:StressSubsurface.LayerBase*:Flow*:Bruggeman*:Percolat*:Contact.Westergaard*:Contact.Approach*:Robustness.Interrupted*:Abuse*:-Abuse.Resume*:Abuse.MemoryLimit*'
