@@ -417,35 +417,35 @@ def test_sweep_under_mpirun_matches_serial(tmp_path):
     assert summary(tmp_path / "mpi" / "point_002")["mpi_ranks"] == 3
 
 
+def percolation_serial_and_mpi(tmp_path, case, direction, ranks):
+    """percolation.json of `gfmd percolation` in one process and under mpirun."""
+    assert serial_cmd("percolation", case, "--direction", direction, "-o", tmp_path / "p1", "-q").returncode == 0
+    p = mpi_cmd(ranks, "percolation", case, "--direction", direction, "-o", tmp_path / "pn", "-q")
+    assert p.returncode == 0, p.stderr
+    found = []
+    for d in ("p1", "pn"):
+        with open(tmp_path / d / "percolation.json") as f:
+            found.append(json.load(f))
+    return found
+
+
 def test_percolation_along_y_over_four_slabs(tmp_path):
     """Percolation along y is decided by components that cross every slab's edge (four slabs of
     15-17 rows of a 62-row cell): the flags merged from the slabs' edge rows take the serial
     bisection's path, verdict for verdict."""
     case = tmp_path / "flow.toml"
     case.write_text(ROUGH_FLOW.replace("nx = 128", "nx = 64\nny = 62").replace("lx = 1.0", "lx = 1.0\nly = 0.96875"))
-    assert serial_cmd("percolation", case, "--direction", "y", "-o", tmp_path / "p1", "-q").returncode == 0
-    p = mpi_cmd(4, "percolation", case, "--direction", "y", "-o", tmp_path / "p4", "-q")
-    assert p.returncode == 0, p.stderr
-    with open(tmp_path / "p1" / "percolation.json") as f:
-        a = json.load(f)
-    with open(tmp_path / "p4" / "percolation.json") as f:
-        b = json.load(f)
-    assert len(a["history"]) >= 4
-    assert [h["percolates"] for h in b["history"]] == [h["percolates"] for h in a["history"]]
-    assert True in [h["percolates"] for h in a["history"]] and False in [h["percolates"] for h in a["history"]]
+    a, b = percolation_serial_and_mpi(tmp_path, case, "y", 4)
+    verdicts = [h["percolates"] for h in a["history"]]
+    assert len(verdicts) >= 4 and True in verdicts and False in verdicts
+    assert [h["percolates"] for h in b["history"]] == verdicts
     assert b["critical_relative_contact_area"] == pytest.approx(a["critical_relative_contact_area"], rel=1e-8)
 
 
 def test_percolation_and_ensemble_under_mpirun_match_serial(tmp_path):
     case = tmp_path / "flow.toml"
     case.write_text(ROUGH_FLOW.replace("nx = 128", "nx = 64"))
-    assert serial_cmd("percolation", case, "--direction", "x", "-o", tmp_path / "p1", "-q").returncode == 0
-    p = mpi_cmd(3, "percolation", case, "--direction", "x", "-o", tmp_path / "p3", "-q")
-    assert p.returncode == 0, p.stderr
-    with open(tmp_path / "p1" / "percolation.json") as f:
-        a = json.load(f)
-    with open(tmp_path / "p3" / "percolation.json") as f:
-        b = json.load(f)
+    a, b = percolation_serial_and_mpi(tmp_path, case, "x", 3)
     # The same bisection: the same pressures, the same verdicts, areas to 1e-12.
     assert [h["pressure"] for h in b["history"]] == [h["pressure"] for h in a["history"]]
     assert [h["percolates"] for h in b["history"]] == [h["percolates"] for h in a["history"]]
