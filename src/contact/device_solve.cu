@@ -590,15 +590,11 @@ CudaSolve::CudaSolve(const DeviceProblem& pr)
   modes_.allocate(ns_, &bytes_, "the compliance table");
   cuda_check(cudaMemcpy(modes_.get(), md.data(), ns_ * sizeof(Mode), cudaMemcpyHostToDevice), "upload");
   if (!friction) return;
-  std::vector<cufftDoubleComplex> dd(ns_);
+  // The slip derivative's symbol per mode: the host's table (ElasticBody::slip_symbols).
   const auto dir = direction();
-  const SlipDerivative deriv = fric_.derivative();
-  const int nxh = grid_.nxh();
-  for (std::size_t k = 0; k < ns_; ++k) {
-    const cplx d = slip_derivative_symbol(grid_, static_cast<int>(k % nxh), static_cast<int>(k / nxh),
-                                          dir.first, dir.second, deriv);
-    dd[k] = {d.real(), d.imag()};
-  }
+  const std::vector<cplx> sym = pr.body->slip_symbols(dir.first, dir.second, fric_.derivative());
+  std::vector<cufftDoubleComplex> dd(ns_);
+  for (std::size_t k = 0; k < ns_; ++k) dd[k] = {sym[k].real(), sym[k].imag()};
   deriv_.allocate(ns_, &bytes_, "the derivative table");
   cuda_check(cudaMemcpy(deriv_.get(), dd.data(), ns_ * sizeof(cufftDoubleComplex), cudaMemcpyHostToDevice),
              "upload");

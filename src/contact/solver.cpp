@@ -87,8 +87,6 @@ SolveInfo ContactSolver::solve_on_device(const LoadParams& load, ContactFields& 
   const DeviceHooks hooks{&progress_, &stop_, &checkpoint_, checkpoint_interval_s_};
   SolveInfo info = device_->solve(load, f, hooks, total_it_);
   const auto t0 = Clock::now();
-  f.gap.resize(f.uz.size());
-  for (std::size_t i = 0; i < f.gap.size(); ++i) f.gap[i] = std::max(0.0, g0_[i] - info.approach - f.uz[i]);
   check_final_state(info, f, info.approach);
   info.device_bytes = device_->device_bytes();
   info.wall_time_s += std::chrono::duration<double>(Clock::now() - t0).count();
@@ -154,7 +152,9 @@ void ContactSolver::poll(const ContactFields* f, const std::function<void()>& se
   }
 }
 
-void ContactSolver::check_final_state(SolveInfo& info, const ContactFields& f, double delta) {
+void ContactSolver::check_final_state(SolveInfo& info, ContactFields& f, double delta) {
+  f.gap.resize(f.uz.size());
+  for (std::size_t i = 0; i < f.gap.size(); ++i) f.gap[i] = std::max(0.0, g0_[i] - delta - f.uz[i]);
   info.residual = residual(f, delta);
   require_finite(info.residual, "the final residual", total_it_);
   // The stopping tests watch changes between iterates; only a state that also satisfies the
@@ -427,7 +427,6 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
   info.approach = pk.delta;
   for (auto* fld : {&f.ux, &f.uy, &f.uz, &f.gap}) fld->resize(n);
   update_displacements(f);
-  for (std::size_t i = 0; i < n; ++i) f.gap[i] = std::max(0.0, g0_[i] - pk.delta - f.uz[i]);
   check_final_state(info, f, pk.delta);
   info.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
   info.transforms = fft_.transforms() - transforms0;

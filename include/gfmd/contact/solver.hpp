@@ -187,8 +187,8 @@ class ContactSolver {
   TangentialResult solve_tangential(const RealField& p, RealField& tx, RealField& ty, double tol, int max_it);
   void friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w);
   double residual(const ContactFields& f, double delta);
-  // The independent residual of the final state and the verdict on it.
-  void check_final_state(SolveInfo& info, const ContactFields& f, double delta);
+  // The gap of the final state (from u_z), its independent residual and the verdict on it.
+  void check_final_state(SolveInfo& info, ContactFields& f, double delta);
   SolveInfo solve_on_device(const LoadParams& load, ContactFields& f);
 
   const ElasticBody& body_;
