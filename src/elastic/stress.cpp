@@ -55,6 +55,7 @@
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/reduce.hpp"
+#include "principal_point.hpp"
 #include "stress_detail.hpp"
 namespace gfmd {
 
@@ -164,122 +165,12 @@ StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const 
 // ---- principal stresses ----------------------------------------------------------------
 
 double von_mises(double xx, double yy, double zz, double xy, double xz, double yz) {
-  const double d1 = xx - yy, d2 = yy - zz, d3 = zz - xx;
-  return std::sqrt(0.5 * (d1 * d1 + d2 * d2 + d3 * d3) + 3.0 * (xy * xy + xz * xz + yz * yz));
+  return principal_detail::von_mises(xx, yy, zz, xy, xz, yz);
 }
-
-namespace {
-
-using Vec3 = std::array<double, 3>;
-
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-// Unit null vector of the rank-2 matrix A - lambda I from the largest cross product of
-// its rows; false if all rows are (nearly) parallel.
-bool null_vector(const double A[3][3], double lambda, Vec3& v) {
-  const Vec3 r0{A[0][0] - lambda, A[0][1], A[0][2]};
-  const Vec3 r1{A[1][0], A[1][1] - lambda, A[1][2]};
-  const Vec3 r2{A[2][0], A[2][1], A[2][2] - lambda};
-  const Vec3 c[3] = {cross(r0, r1), cross(r0, r2), cross(r1, r2)};
-  int best = 0;
-  double bn = dot(c[0], c[0]);
-  for (int k = 1; k < 3; ++k) {
-    const double nk = dot(c[k], c[k]);
-    if (nk > bn) {
-      bn = nk;
-      best = k;
-    }
-  }
-  if (!(bn > 0.0)) return false;
-  const double inv = 1.0 / std::sqrt(bn);
-  v = {c[best][0] * inv, c[best][1] * inv, c[best][2] * inv};
-  return true;
-}
-
-void orient(Vec3& v) {
-  int m = 0;
-  for (int k = 1; k < 3; ++k)
-    if (std::abs(v[k]) > std::abs(v[m])) m = k;
-  if (v[m] < 0)
-    for (double& x : v) x = -x;
-}
-
-}  // namespace
 
 Principal3 principal(double xx, double yy, double zz, double xy, double xz, double yz) {
-  // Eberly's scheme: the trigonometric formula gives the eigenvalue that is best
-  // separated from the other two accurately (the cosine is flat there), its eigenvector
-  // follows from cross products of the rows of A - lambda I; the other two eigenpairs
-  // come from the exact 2x2 problem in the plane orthogonal to it. (The trigonometric
-  // values of a nearly repeated pair would carry errors of order sqrt(eps).)
-  Principal3 out{0, 0, 0, {1.0, 0.0, 0.0}};
-  const double scale =
-      std::max({std::abs(xx), std::abs(yy), std::abs(zz), std::abs(xy), std::abs(xz), std::abs(yz)});
-  if (!(scale > 0.0) || !std::isfinite(scale)) {
-    if (!std::isfinite(scale)) out.s1 = out.s2 = out.s3 = std::numeric_limits<double>::quiet_NaN();
-    return out;
-  }
-  // Work on A / scale (no overflow or underflow in the squares and the determinant).
-  const double inv = 1.0 / scale;
-  const double A[3][3] = {
-      {xx * inv, xy * inv, xz * inv}, {xy * inv, yy * inv, yz * inv}, {xz * inv, yz * inv, zz * inv}};
-  const double m = (A[0][0] + A[1][1] + A[2][2]) / 3.0;
-  const double k00 = A[0][0] - m, k11 = A[1][1] - m, k22 = A[2][2] - m;
-  const double off = A[0][1] * A[0][1] + A[0][2] * A[0][2] + A[1][2] * A[1][2];
-  const double p2 = (k00 * k00 + k11 * k11 + k22 * k22 + 2.0 * off) / 6.0;
-  if (!(p2 > 0.0)) {  // A = m I
-    out.s1 = out.s2 = out.s3 = m * scale;
-    return out;
-  }
-  const double p = std::sqrt(p2);
-  // det(K/p)/2 in [-1, 1].
-  const double b00 = k00 / p, b11 = k11 / p, b22 = k22 / p;
-  const double b01 = A[0][1] / p, b02 = A[0][2] / p, b12 = A[1][2] / p;
-  const double det =
-      b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
-  const double r = std::clamp(0.5 * det, -1.0, 1.0);
-  const double phi = std::acos(r) / 3.0;  // in [0, pi/3]
-  // r >= 0: the largest eigenvalue is the best separated one, else the smallest.
-  const bool top = r >= 0.0;
-  const double ld =
-      top ? m + 2.0 * p * std::cos(phi) : m + 2.0 * p * std::cos(phi + 2.0 * std::numbers::pi / 3.0);
-  Vec3 w{1.0, 0.0, 0.0};
-  if (!null_vector(A, ld, w)) w = {1.0, 0.0, 0.0};  // cannot happen for p > 0; keep it safe
-  auto apply = [&](const Vec3& a) {
-    return Vec3{A[0][0] * a[0] + A[0][1] * a[1] + A[0][2] * a[2],
-                A[1][0] * a[0] + A[1][1] * a[1] + A[1][2] * a[2],
-                A[2][0] * a[0] + A[2][1] * a[1] + A[2][2] * a[2]};
-  };
-  const double lw = dot(w, apply(w));  // Rayleigh quotient: second-order accurate
-  // Orthonormal (u, t) spanning the plane orthogonal to w; 2x2 problem there.
-  Vec3 u = std::abs(w[0]) > std::abs(w[1]) ? Vec3{-w[2], 0.0, w[0]} : Vec3{0.0, w[2], -w[1]};
-  const double un = std::sqrt(dot(u, u));
-  for (double& x : u) x /= un;
-  const Vec3 t = cross(w, u);
-  const Vec3 au = apply(u), at = apply(t);
-  const double c11 = dot(u, au), c22 = dot(t, at), c12 = 0.5 * (dot(u, at) + dot(t, au));
-  const double mid = 0.5 * (c11 + c22), rad = std::hypot(0.5 * (c11 - c22), c12);
-  const double lp = mid + rad, lm = mid - rad;
-  const double th = 0.5 * std::atan2(2.0 * c12, c11 - c22);  // eigenvector of lp in (u, t)
-  const double ct = std::cos(th), st = std::sin(th);
-  const Vec3 vp{ct * u[0] + st * t[0], ct * u[1] + st * t[1], ct * u[2] + st * t[2]};
-  double l1, l2, l3;
-  Vec3 v1;
-  if (lw >= lp) {  // always so when w belongs to the largest eigenvalue (up to rounding)
-    l1 = lw, l2 = lp, l3 = lm, v1 = w;
-  } else {
-    l1 = lp, v1 = vp;
-    l2 = std::max(lw, lm), l3 = std::min(lw, lm);
-  }
-  orient(v1);
-  out.s1 = l1 * scale;
-  out.s2 = l2 * scale;
-  out.s3 = l3 * scale;
-  out.e1 = v1;
-  return out;
+  const principal_detail::Point e = principal_detail::principal(xx, yy, zz, xy, xz, yz);
+  return {e.s1, e.s2, e.s3, {e.e1.x, e.e1.y, e.e1.z}};
 }
 
 PrincipalField principal(const StressField& s, PrincipalParts parts) {
