@@ -28,6 +28,7 @@
 #include "gfmd/core/files.hpp"
 #include "gfmd/core/mpi.hpp"
 #include "gfmd/core/reduce.hpp"
+#include "gfmd/elastic/device_stress.hpp"
 #include "gfmd/io/netcdf.hpp"
 #include "gfmd/version.hpp"
 namespace gfmd {
@@ -110,9 +111,6 @@ std::string profiles_table(const Grid& g, const CaseResult& r) {
 void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, bool keep_fields) {
   const Config& cfg = r.config;
   const Grid& g = fft.grid();
-  r.stress = surface_stress(fft, cfg.elastic, r.fields);
-  r.principal = principal(r.stress, keep_fields ? PrincipalParts::All : PrincipalParts::SummaryOnly);
-  r.stress_summary = summarize(g, r.principal, cfg.stress.high_tension_fraction);
   // Fraction of the cells with s1 >= half its maximum (the full solution's here, while its
   // field is still there; each post-analysis's below).
   const auto above_half = [&g](const RealField& s1, double max) {
@@ -120,8 +118,30 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
     return grid_sum(g, [&](std::size_t i) { return s1[i] >= 0.5 * max ? 1.0 : 0.0; }) /
            static_cast<double>(g.size());
   };
-  if (!cfg.stress.post_analysis.empty())
-    r.area_above_half_max = above_half(r.principal.s1, r.stress_summary->max_tensile_stress);
+  // The CUDA backend evaluates the surface stresses (and both post-analyses) on the device
+  // where they fit its memory; the subsurface stresses stay on the host (docs/gpu.md).
+  const bool on_device = backend().name() == "cuda";
+  DeviceStressRequest ask;
+  ask.high_tension_fraction = cfg.stress.high_tension_fraction;
+  std::optional<DeviceStressResult> dev;
+  if (on_device) {
+    ask.tensor = keep_fields || cfg.stress.profiles;
+    ask.parts = keep_fields ? PrincipalParts::All : PrincipalParts::SummaryOnly;
+    dev = device_surface_stress(g, cfg.elastic, r.fields, ask);
+  }
+  r.stress_on_device = dev.has_value();
+  if (dev) {
+    r.stress = std::move(dev->tensor);
+    r.principal = std::move(dev->principal);
+    r.stress_summary = dev->summary;
+    if (!cfg.stress.post_analysis.empty()) r.area_above_half_max = dev->above_half;
+  } else {
+    r.stress = surface_stress(fft, cfg.elastic, r.fields);
+    r.principal = principal(r.stress, keep_fields ? PrincipalParts::All : PrincipalParts::SummaryOnly);
+    r.stress_summary = summarize(g, r.principal, cfg.stress.high_tension_fraction);
+    if (!cfg.stress.post_analysis.empty())
+      r.area_above_half_max = above_half(r.principal.s1, r.stress_summary->max_tensile_stress);
+  }
   if (cfg.stress.profiles) r.profiles_csv = profiles_table(g, r);
   if (!keep_fields) {
     r.stress = StressField{};
@@ -150,6 +170,18 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
     }
     const double mu = cfg.friction.coefficient, angle = cfg.friction.direction_deg;
     for (const std::string& kind : cfg.stress.post_analysis) {
+      if (on_device) {
+        DeviceStressRequest q = ask;
+        q.s1 = true;
+        std::optional<DeviceStressResult> d =
+            kind == "paper" ? device_paper_post_analysis_stress(g, cfg.elastic, rf, mu, angle, q)
+                            : device_post_analysis_stress(body, rf.pressure, mu, angle, q);
+        if (d) {
+          r.post_analyses.push_back({kind, d->summary, d->above_half, std::move(d->principal.s1)});
+          continue;
+        }
+        r.stress_on_device = false;
+      }
       PrincipalField pp;
       {
         const StressField ps = kind == "paper" ? paper_post_analysis_stress(fft, cfg.elastic, rf, mu, angle)
@@ -197,7 +229,11 @@ void after_solve_here(const Config& cfg, const RunOptions& opts, const Grid& gri
   const FFT fft(grid, cfg.solver.fft_planner);
   r.observables = compute_observables(fft, topo, cfg.friction, r.fields, r.info);
   if (cfg.friction.coefficient > 0) r.derived = derived_fields(fft, cfg.friction, r.fields);
-  if (r.info.converged) compute_stresses(r, fft, topo, opts.keep_stress_fields);
+  if (r.info.converged) {
+    const auto t0 = std::chrono::steady_clock::now();
+    compute_stresses(r, fft, topo, opts.keep_stress_fields);
+    r.stress_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
   const bool padded = cfg.indenter.type == "file" && cfg.indenter.periodize == "pad";
   if (r.info.converged && padded) {
     // The padding (every cell outside the map's corner quarter) must carry no load.

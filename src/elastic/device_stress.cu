@@ -1,0 +1,360 @@
+// The surface stresses on the CUDA device (elastic/device_stress.hpp): stress.cpp's passes --
+// the strains from the in-plane displacement spectra, Hooke's law with the free-surface
+// relation, Eberly's principal stresses (principal_point.hpp, the host's code), summarize's
+// maxima, positions and counts -- with cuFFT and the deterministic reductions of
+// core/cuda_kernels.cuh. Memory is freed as the passes go: at most 13 doubles per point plus
+// cuFFT's work area.
+#include <cuda_runtime.h>
+#include <cufft.h>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <vector>
+
+#include "gfmd/core/cuda_kernels.cuh"
+#include "gfmd/core/device.hpp"
+#include "gfmd/elastic/device_stress.hpp"
+#include "principal_point.hpp"
+
+namespace gfmd {
+
+using namespace cuda_kernels;
+
+namespace {
+
+struct Cplx {
+  double re, im;
+};
+static_assert(sizeof(Cplx) == sizeof(cufftDoubleComplex));
+
+// The traction's source: the fields' own (tx, ty, either may be absent), or mu p e.
+struct Traction {
+  bool from_pressure = false;
+  double mu = 0.0, ex = 0.0, ey = 0.0;  // tau = mu p e
+};
+
+class StressEval {
+ public:
+  StressEval(const Grid& g, const DeviceStressRequest& req) : g_(g), req_(req) {
+    n_ = g.size();
+    ns_ = g.spectral_size();
+  }
+  StressEval(const StressEval&) = delete;
+  StressEval& operator=(const StressEval&) = delete;
+  ~StressEval() {
+    if (fwd_) cufftDestroy(fwd_);
+    if (bwd_) cufftDestroy(bwd_);
+  }
+
+  // Whether the evaluation fits the device's free memory (a sixteenth of the card spare).
+  [[nodiscard]] bool fits(bool with_modes) const {
+    const DeviceStatus dev = cuda_device();
+    if (!dev.available) return false;
+    std::size_t work = 0, w = 0;
+    if (cufftEstimate2d(g_.ny, g_.nx, CUFFT_D2Z, &w) == CUFFT_SUCCESS) work = std::max(work, w);
+    if (cufftEstimate2d(g_.ny, g_.nx, CUFFT_Z2D, &w) == CUFFT_SUCCESS) work = std::max(work, w);
+    const std::size_t need =
+        13 * n_ * sizeof(double) + (with_modes ? ns_ * sizeof(ComplianceMode) : 0) + 2 * work + (64u << 20);
+    return need + dev.total_bytes / 16 <= dev.free_bytes;
+  }
+
+  void plans() {
+    cufft_check(cufftPlan2d(&fwd_, g_.ny, g_.nx, CUFFT_D2Z), "stress: forward plan");
+    cufft_check(cufftPlan2d(&bwd_, g_.ny, g_.nx, CUFFT_Z2D), "stress: inverse plan");
+    std::size_t w = 0;
+    if (cufftGetSize(fwd_, &w) == CUFFT_SUCCESS) bytes_.add(w);
+    if (cufftGetSize(bwd_, &w) == CUFFT_SUCCESS) bytes_.add(w);
+    red_.init(&bytes_);
+  }
+
+  void up(const RealField& h, DevArray<double>& d, const char* what) {
+    d.allocate(n_, &bytes_, what);
+    cuda_check(cudaMemcpy(d.get(), h.data(), n_ * sizeof(double), cudaMemcpyHostToDevice), what);
+  }
+  void down(const DevArray<double>& d, RealField& h) const {
+    h.resize(n_);
+    cuda_check(cudaMemcpy(h.data(), d.get(), n_ * sizeof(double), cudaMemcpyDeviceToHost),
+               "stress: reading a field back");
+  }
+  void forward(const double* in, Cplx* out) {
+    cufft_check(cufftExecD2Z(fwd_, const_cast<double*>(in), reinterpret_cast<cufftDoubleComplex*>(out)),
+                "stress: forward transform");
+  }
+  // FFT::backward: the spectrum times 1/N (in place), then the inverse transform.
+  void backward(Cplx* in, double* out) {
+    const double scale = 1.0 / static_cast<double>(n_);
+    launch_each(ns_, [=] __device__(std::size_t k) {
+      in[k].re *= scale;
+      in[k].im *= scale;
+    });
+    cufft_check(cufftExecZ2D(bwd_, reinterpret_cast<cufftDoubleComplex*>(in), out),
+                "stress: inverse transform");
+  }
+
+  // post_analysis_stress's displacements: (ux, uy) of the traction (mu p e, -p) through the
+  // body's compliance, into ux_, uy_ (the pressure in p_).
+  void displacements_from_compliance(const ElasticBody& body, const Traction& t) {
+    modes_.allocate(ns_, &bytes_, "stress: compliance");
+    cuda_check(
+        cudaMemcpy(modes_.get(), body.modes().data(), ns_ * sizeof(ComplianceMode), cudaMemcpyHostToDevice),
+        "stress: compliance");
+    DevArray<double> r;
+    r.allocate(n_, &bytes_, "stress: a traction");
+    DevArray<Cplx> TX, TY, TZ;
+    for (DevArray<Cplx>* s : {&TX, &TY, &TZ}) s->allocate(ns_, &bytes_, "stress: traction spectra");
+    const double* p = p_.get();
+    double* rr = r.get();
+    const double mu = t.mu, ex = t.ex, ey = t.ey;
+    launch_each(n_, [=] __device__(std::size_t k) { rr[k] = mu * p[k] * ex; });
+    forward(rr, TX.get());
+    launch_each(n_, [=] __device__(std::size_t k) { rr[k] = mu * p[k] * ey; });
+    forward(rr, TY.get());
+    launch_each(n_, [=] __device__(std::size_t k) { rr[k] = -p[k]; });
+    forward(rr, TZ.get());
+    r.release();
+    // ElasticBody::displacement's in-plane part: u = C_tt t + i c_tz t_z (in place in TX, TY).
+    Cplx *X = TX.get(), *Y = TY.get();
+    const Cplx* Z = TZ.get();
+    const ComplianceMode* m = modes_.get();
+    launch_each(ns_, [=] __device__(std::size_t k) {
+      const ComplianceMode c = m[k];
+      const Cplx x = X[k], y = Y[k], z = Z[k];
+      X[k] = {c.cxx * x.re + c.cxy * y.re - c.cxz * z.im, c.cxx * x.im + c.cxy * y.im + c.cxz * z.re};
+      Y[k] = {c.cxy * x.re + c.cyy * y.re - c.cyz * z.im, c.cxy * x.im + c.cyy * y.im + c.cyz * z.re};
+    });
+    TZ.release();
+    modes_.release();
+    ux_.allocate(n_, &bytes_, "stress: displacements");
+    uy_.allocate(n_, &bytes_, "stress: displacements");
+    backward(X, ux_.get());
+    backward(Y, uy_.get());
+  }
+
+  // surface_stress on the device fields p_, ux_, uy_ and the traction, then principal and
+  // summarize. tx, ty: the host's tractions (null: zero) unless t.from_pressure.
+  DeviceStressResult evaluate(const Traction& t, const RealField* tx, const RealField* ty,
+                              const ElasticParams& el) {
+    // Strains: eps_xx, eps_yy, 2 eps_xy from the spectra of ux, uy.
+    DevArray<Cplx> U, V, W;
+    for (DevArray<Cplx>* s : {&U, &V, &W}) s->allocate(ns_, &bytes_, "stress: spectra");
+    forward(ux_.get(), U.get());
+    forward(uy_.get(), V.get());
+    ux_.release();
+    uy_.release();
+    DevArray<double> qx, qy;
+    {
+      std::vector<double> hx(static_cast<std::size_t>(g_.nxh())), hy(static_cast<std::size_t>(g_.ny));
+      for (int i = 0; i < g_.nxh(); ++i) hx[static_cast<std::size_t>(i)] = g_.qx_deriv(i);
+      for (int j = 0; j < g_.ny; ++j) hy[static_cast<std::size_t>(j)] = g_.qy_deriv(j);
+      qx.allocate(hx.size(), &bytes_, "stress: wave numbers");
+      qy.allocate(hy.size(), &bytes_, "stress: wave numbers");
+      cuda_check(cudaMemcpy(qx.get(), hx.data(), hx.size() * sizeof(double), cudaMemcpyHostToDevice),
+                 "stress");
+      cuda_check(cudaMemcpy(qy.get(), hy.data(), hy.size() * sizeof(double), cudaMemcpyHostToDevice),
+                 "stress");
+    }
+    DevArray<double> xx, yy, xy;
+    for (DevArray<double>* f : {&xx, &yy, &xy}) f->allocate(n_, &bytes_, "stress: tensor");
+    const std::size_t nxh = static_cast<std::size_t>(g_.nxh());
+    const Cplx *Us = U.get(), *Vs = V.get();
+    Cplx* Ws = W.get();
+    const double *qxs = qx.get(), *qys = qy.get();
+    for (int comp = 0; comp < 3; ++comp) {
+      launch_each(ns_, [=] __device__(std::size_t k) {
+        const double ax = qxs[k % nxh], ay = qys[k / nxh];
+        const Cplx u = Us[k], v = Vs[k];
+        // i q u = (-q u.im, q u.re)
+        Ws[k] = comp == 0   ? Cplx{-ax * u.im, ax * u.re}
+                : comp == 1 ? Cplx{-ay * v.im, ay * v.re}
+                            : Cplx{-ay * u.im + -ax * v.im, ay * u.re + ax * v.re};
+      });
+      backward(Ws, (comp == 0 ? xx : comp == 1 ? yy : xy).get());
+    }
+    for (DevArray<Cplx>* s : {&U, &V, &W}) s->release();
+    if (!t.from_pressure) {
+      if (tx && !tx->empty()) up(*tx, tx_, "stress: tractions");
+      if (ty && !ty->empty()) up(*ty, ty_, "stress: tractions");
+    }
+    // Hooke's law with the free surface (stress.cpp), in place.
+    const double es = el.contact_modulus, nu = el.poisson;
+    const double G = el.shear_modulus(), lat = nu / (1.0 - nu);
+    double *sxx = xx.get(), *syy = yy.get(), *sxy = xy.get();
+    const double* p = p_.get();
+    launch_each(n_, [=] __device__(std::size_t k) {
+      const double e_xx = sxx[k], e_yy = syy[k], szz = -p[k];
+      sxx[k] = es * (e_xx + nu * e_yy) + lat * szz;
+      syy[k] = es * (e_yy + nu * e_xx) + lat * szz;
+      sxy[k] = G * sxy[k];
+    });
+    DeviceStressResult out;
+    if (req_.tensor) {
+      down(xx, out.tensor.xx);
+      down(yy, out.tensor.yy);
+      down(xy, out.tensor.xy);
+    }
+    // Principal stresses.
+    const bool all = req_.parts == PrincipalParts::All;
+    DevArray<double> s1, vm, s2, s3, e1x, e1y, e1z;
+    s1.allocate(n_, &bytes_, "stress: principal");
+    vm.allocate(n_, &bytes_, "stress: principal");
+    if (all)
+      for (DevArray<double>* f : {&s2, &s3, &e1x, &e1y, &e1z}) f->allocate(n_, &bytes_, "stress: principal");
+    const double* txs = tx_.get();
+    const double* tys = ty_.get();
+    const bool fp = t.from_pressure;
+    const double mu = t.mu, ex = t.ex, ey = t.ey;
+    double *o1 = s1.get(), *ov = vm.get(), *o2 = s2.get(), *o3 = s3.get(), *ox = e1x.get(), *oy = e1y.get(),
+           *oz = e1z.get();
+    launch_each(n_, [=] __device__(std::size_t k) {
+      const double a = sxx[k], b = syy[k], c = -p[k], d = sxy[k];
+      const double e = fp ? mu * p[k] * ex : (txs ? txs[k] : 0.0);
+      const double f = fp ? mu * p[k] * ey : (tys ? tys[k] : 0.0);
+      const principal_detail::Point pt = principal_detail::principal(a, b, c, d, e, f);
+      o1[k] = pt.s1;
+      ov[k] = principal_detail::von_mises(a, b, c, d, e, f);
+      if (all) {
+        o2[k] = pt.s2;
+        o3[k] = pt.s3;
+        ox[k] = pt.e1.x;
+        oy[k] = pt.e1.y;
+        oz[k] = pt.e1.z;
+      }
+    });
+    // summarize(): maxima, the first cell (row order) holding each, the counts.
+    StressSummary& s = out.summary;
+    s.high_tension_fraction_of = req_.high_tension_fraction;
+    const auto [it, vt] = argmax(o1);
+    const auto [iv, vv] = argmax(ov);
+    s.max_tensile_stress = vt;
+    s.max_tensile_ix = static_cast<int>(it % static_cast<std::size_t>(g_.nx));
+    s.max_tensile_iy = static_cast<int>(it / static_cast<std::size_t>(g_.nx));
+    s.max_von_mises = vv;
+    s.max_von_mises_ix = static_cast<int>(iv % static_cast<std::size_t>(g_.nx));
+    s.max_von_mises_iy = static_cast<int>(iv / static_cast<std::size_t>(g_.nx));
+    if (vt > 0.0) {
+      const double thr = req_.high_tension_fraction * vt, half = 0.5 * vt;
+      const auto c = red_.run<2>(n_, [=] __device__(std::size_t i, double* acc) {
+        acc[0] += o1[i] >= thr ? 1.0 : 0.0;
+        acc[1] += o1[i] >= half ? 1.0 : 0.0;
+      });
+      s.high_tension_area_fraction = c[0] / static_cast<double>(n_);
+      out.above_half = c[1] / static_cast<double>(n_);
+    }
+    if (all || req_.s1) down(s1, out.principal.s1);
+    if (all) {
+      down(vm, out.principal.von_mises);
+      down(s2, out.principal.s2);
+      down(s3, out.principal.s3);
+      down(e1x, out.principal.e1x);
+      down(e1y, out.principal.e1y);
+      down(e1z, out.principal.e1z);
+    }
+    out.device_bytes = bytes_.peak;
+    return out;
+  }
+
+  // grid_argmax: the maximum and the first cell (row order) holding it.
+  std::pair<std::size_t, double> argmax(const double* v) {
+    const double none = -std::numeric_limits<double>::infinity();
+    const double mx =
+        red_.run<1, true>(n_, [=] __device__(std::size_t i, double* acc) { acc[0] = fmax(acc[0], v[i]); })[0];
+    const double neg = red_.run<1, true>(n_, [=] __device__(std::size_t i, double* acc) {
+      if (v[i] == mx) acc[0] = fmax(acc[0], -static_cast<double>(i));
+    })[0];
+    return {neg == none ? 0 : static_cast<std::size_t>(-neg), mx};
+  }
+
+  const Grid& g_;
+  DeviceStressRequest req_;
+  std::size_t n_ = 0, ns_ = 0;
+  Tally bytes_;
+  cufftHandle fwd_ = 0, bwd_ = 0;
+  Reducer red_;
+  DevArray<double> p_, ux_, uy_, tx_, ty_;
+  DevArray<ComplianceMode> modes_;
+};
+
+Traction traction_of(double mu, double angle_deg) {
+  const double a = angle_deg * std::numbers::pi / 180.0;
+  return {true, mu, std::cos(a), std::sin(a)};
+}
+
+// The host's side of the tensor: zz = -p, xz and yz the tractions.
+void complete_tensor(DeviceStressResult& r, const RealField& p, const RealField* tx, const RealField* ty,
+                     const Traction& t) {
+  if (r.tensor.xx.empty()) return;
+  const std::size_t n = p.size();
+  StressField& s = r.tensor;
+  s.zz.resize(n);
+  s.xz.assign(n, 0.0);
+  s.yz.assign(n, 0.0);
+  for (std::size_t k = 0; k < n; ++k) {
+    s.zz[k] = -p[k];
+    if (t.from_pressure) {
+      s.xz[k] = t.mu * p[k] * t.ex;
+      s.yz[k] = t.mu * p[k] * t.ey;
+    } else {
+      if (tx && !tx->empty()) s.xz[k] = (*tx)[k];
+      if (ty && !ty->empty()) s.yz[k] = (*ty)[k];
+    }
+  }
+}
+
+bool usable(const Grid& g) { return !g.is_slab() && g.size() > 0; }
+
+}  // namespace
+
+std::optional<DeviceStressResult> device_surface_stress(const Grid& g, const ElasticParams& el,
+                                                        const ContactFields& f,
+                                                        const DeviceStressRequest& req) {
+  el.validate();
+  if (!usable(g)) return std::nullopt;
+  StressEval e(g, req);
+  if (!e.fits(false)) return std::nullopt;
+  e.plans();
+  e.up(f.pressure, e.p_, "stress: pressure");
+  e.up(f.ux, e.ux_, "stress: displacements");
+  e.up(f.uy, e.uy_, "stress: displacements");
+  DeviceStressResult r = e.evaluate(Traction{}, &f.tx, &f.ty, el);
+  complete_tensor(r, f.pressure, &f.tx, &f.ty, Traction{});
+  return r;
+}
+
+std::optional<DeviceStressResult> device_paper_post_analysis_stress(const Grid& g, const ElasticParams& el,
+                                                                    const ContactFields& frictionless,
+                                                                    double mu, double angle_deg,
+                                                                    const DeviceStressRequest& req) {
+  el.validate();
+  if (!usable(g)) return std::nullopt;
+  StressEval e(g, req);
+  if (!e.fits(false)) return std::nullopt;
+  e.plans();
+  e.up(frictionless.pressure, e.p_, "stress: pressure");
+  e.up(frictionless.ux, e.ux_, "stress: displacements");
+  e.up(frictionless.uy, e.uy_, "stress: displacements");
+  const Traction t = traction_of(mu, angle_deg);
+  DeviceStressResult r = e.evaluate(t, nullptr, nullptr, el);
+  complete_tensor(r, frictionless.pressure, nullptr, nullptr, t);
+  return r;
+}
+
+std::optional<DeviceStressResult> device_post_analysis_stress(const ElasticBody& body,
+                                                              const RealField& pressure, double mu,
+                                                              double angle_deg,
+                                                              const DeviceStressRequest& req) {
+  const Grid& g = body.grid();
+  if (!usable(g) || body.modes().size() != g.spectral_size()) return std::nullopt;
+  StressEval e(g, req);
+  if (!e.fits(true)) return std::nullopt;
+  e.plans();
+  e.up(pressure, e.p_, "stress: pressure");
+  const Traction t = traction_of(mu, angle_deg);
+  e.displacements_from_compliance(body, t);
+  DeviceStressResult r = e.evaluate(t, nullptr, nullptr, body.params());
+  complete_tensor(r, pressure, nullptr, nullptr, t);
+  return r;
+}
+
+}  // namespace gfmd
