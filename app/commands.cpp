@@ -555,7 +555,8 @@ int cmd_green(const std::vector<double>& nus, double from, double to, int points
   return 0;
 }
 
-int cmd_study(const std::string& study_path, bool quick, const std::string& out_dir) {
+int cmd_study(const std::string& study_path, bool quick, const std::string& out_dir,
+              const std::vector<std::string>& sets) {
   const std::string script = find_script("study.py");
   if (script.empty()) throw gfmd::InputError("gfmd study", "study.py is not installed next to this program");
   std::vector<std::string> args = {python_interpreter(), script, study_path};
@@ -563,6 +564,10 @@ int cmd_study(const std::string& study_path, bool quick, const std::string& out_
   if (!out_dir.empty()) {
     args.emplace_back("-o");
     args.push_back(out_dir);
+  }
+  for (const std::string& kv : sets) {
+    args.emplace_back("--set");
+    args.push_back(kv);
   }
   const int rc = run_child(args, false);
   if (stop_requested()) {

@@ -34,6 +34,7 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
 // Tabulates the dimensionless Green's tensor of SPEC §2 (frame with q along axis 1).
 int cmd_green(const std::vector<double>& nus, double from, double to, int points, const std::string& out);
 // Runs scripts/study.py (the figure studies) with this program's Python.
-int cmd_study(const std::string& study_path, bool quick, const std::string& out_dir);
+int cmd_study(const std::string& study_path, bool quick, const std::string& out_dir,
+              const std::vector<std::string>& sets);
 
 }  // namespace gfmd::cli

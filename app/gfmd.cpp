@@ -138,6 +138,9 @@ int run_main(int argc, char** argv) {
   study->add_option("study", study_path, "study file (TOML)")->required();
   study->add_flag("--quick", study_quick, "reduced resolution that runs in minutes");
   study->add_option("-o,--output", out_dir, "output root (default out/studies)");
+  study->add_option(
+      "--set", sets,
+      "a setting for every run of the study, after its own, e.g. solver.backend=\"cuda\" (repeatable)");
 
   try {
     app.parse(argc, argv);
@@ -172,7 +175,7 @@ int run_main(int argc, char** argv) {
     if (ens->parsed()) return cmd_ensemble(case_path, out_dir, sets, seeds, quiet, wait);
     if (plot_cmd->parsed()) return cmd_plot(plot_dir);
     if (green->parsed()) return cmd_green(green_nu, green_from, green_to, green_points, out_dir);
-    if (study->parsed()) return cmd_study(study_path, study_quick, out_dir);
+    if (study->parsed()) return cmd_study(study_path, study_quick, out_dir, sets);
   } catch (const gfmd::InputError& e) {
     if (report_common) std::fprintf(stderr, "gfmd: error: %s%s\n", e.what(), with_sets().c_str());
     return 2;

@@ -15,14 +15,23 @@ import sys
 import time
 import tomllib
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from figure_io import save, write_csv  # noqa: E402
+
+# The plotting modules (matplotlib, numpy) are loaded when a figure is drawn: `--runs-only`
+# needs none of them (a machine that computes without drawing, e.g. a lent GPU machine).
+plt = np = save = write_csv = None
+
+
+def load_plotting():
+    global plt, np, save, write_csv
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt_  # noqa: E402
+    import numpy as np_  # noqa: E402
+    from figure_io import save as save_, write_csv as write_csv_  # noqa: E402
+
+    plt, np, save, write_csv = plt_, np_, save_, write_csv_
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # `gfmd study` names itself in GFMD; run from the source tree, the build's binary.
@@ -236,6 +245,10 @@ def main():
     ap.add_argument("study")
     ap.add_argument("--quick", action="store_true", help="reduced resolution that runs in minutes")
     ap.add_argument("-o", "--output", default=os.path.join("out", "studies"))
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="a setting for every run of the study, after the study's own (repeatable)")
+    ap.add_argument("--runs-only", action="store_true",
+                    help="run (or reuse) every series and stop: no figure, no matplotlib needed")
     args = ap.parse_args()
     global CASE_ROOT
     CASE_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(args.study)))
@@ -247,7 +260,13 @@ def main():
     os.makedirs(out, exist_ok=True)
     t0 = time.time()
     incomplete = []
-    results = run_series(study, study.get(mode, {}).get("set", []), out, args.quick, incomplete)
+    results = run_series(study, list(study.get(mode, {}).get("set", [])) + args.set, out, args.quick, incomplete)
+    if args.runs_only:
+        print(f"{name} ({mode}): runs in {out}  [{time.time() - t0:.1f} s]")
+        if incomplete:
+            sys.exit(f"study: {len(incomplete)} series stopped early")
+        return
+    load_plotting()
     fig_base = os.path.join(out, name)
     if study.get("kind") == "percolation":
         plot_percolation(study, results, out, fig_base)
