@@ -498,13 +498,15 @@ def _package_file(*parts: str) -> str:
     return ""
 
 
-def study(study_file: str, quick: bool = False, output: str = os.path.join("out", "studies")) -> dict:
+def study(study_file: str, quick: bool = False, output: str = os.path.join("out", "studies"),
+          set: Iterable[str] = ()) -> dict:
     """Runs a figure study (studies/*.toml) as `gfmd study` does: its sweeps or runs (reusing
     finished results), then its figure (PNG, PDF) and the plotted data (CSV) in
     output/<name>/<quick|full>/. Returns study.json (figure path, series, wall time, series
     that stopped early). The study's case paths are relative to the folder above the study
     file's (the repository root for studies/*.toml). Raises SolveError if a series stopped
-    early (its finished points are drawn), InputError for a missing study file."""
+    early (its finished points are drawn), InputError for a missing study file. `set`: settings
+    for every run of the study, after its own (e.g. 'solver.backend="cuda"')."""
     import subprocess
 
     path = os.path.abspath(str(study_file))
@@ -515,6 +517,8 @@ def study(study_file: str, quick: bool = False, output: str = os.path.join("out"
         raise InputError("study: the gfmd program is not installed with the package")
     # `gfmd study` itself (it finds study.py beside it and calls itself back for the runs).
     args = [program, "study", path, "-o", str(output)] + (["--quick"] if quick else [])
+    for kv in set:
+        args += ["--set", str(kv)]
     p = subprocess.run(args, stderr=subprocess.PIPE, text=True)
     name = os.path.splitext(os.path.basename(path))[0]
     report = os.path.join(str(output), name, "quick" if quick else "full", "study.json")

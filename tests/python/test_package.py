@@ -330,5 +330,17 @@ def test_study_matches_gfmd_study(tmp_path):
     cli_csv = (tmp_path / "cli" / "small" / "quick" / "small.csv").read_text()
     assert py_csv == cli_csv and len(py_csv.splitlines()) == 3
     assert os.path.isfile(rep["figure"])
+    # A setting for every run (--set / set=): it reaches each run's input, and the runs of
+    # the same settings are reused by the other front end.
+    rep = gfmd.study(str(st), quick=True, output=str(tmp_path / "set"), set=["solver.tolerance=1e-7"])
+    point = tmp_path / "set" / "small" / "quick" / "series_00" / "point_001" / "summary.json"
+    with open(point) as f:
+        assert json.load(f)["input"]["solver"]["tolerance"] == 1e-7
+    before = os.stat(point).st_mtime_ns
+    cli("study", str(st), "--quick", "-o", str(tmp_path / "set"), "--set", "solver.tolerance=1e-7")
+    assert os.stat(point).st_mtime_ns == before
+    cli("study", str(st), "--quick", "-o", str(tmp_path / "set"), "--set", "solver.tolerance=1e-9")
+    with open(point) as f:
+        assert json.load(f)["input"]["solver"]["tolerance"] == 1e-9
     with pytest.raises(gfmd.InputError, match="no such file"):
         gfmd.study(str(tmp_path / "nothere.toml"))
