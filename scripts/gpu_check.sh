@@ -3,12 +3,17 @@
 # host on the example cases), then the benchmarks (bare cuFFT, rough sliding on the device
 # and on 2 host cores). Needs build/gfmd, build/gfmd_tests, build/bench_cufft and
 # .devcarry/devlibs.tar.xz (scripts/gpu_pack.sh). Writes its logs to $OUT (or /tmp/gpu_out).
-#   bash scripts/gpu_check.sh [tests] [bench] [large] [cpu]     (default: all but large)
+#   bash scripts/gpu_check.sh [tests] [stress] [fig2e] [bench] [large] [cpu]
+#   (default: tests bench cpu). stress: the stresses' time on the device and on the cores;
+#   fig2e: the paper's Fig. 2(e) study at 2048^2 on the device, its runs only (the figure is
+#   drawn where matplotlib is: gfmd study studies/fig2e.toml -o DIR --set 'solver.backend="cuda"'
+#   reuses every finished run); large: 8192^2 and 16384^2 rough sliding with upwind2.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 out=${OUT:-/tmp/gpu_out}
 mkdir -p "$out"
 steps=("$@")
+failed=0
 [ ${#steps[@]} -eq 0 ] && steps=(tests bench cpu)
 has() { [[ " ${steps[*]} " == *" $1 "* ]]; }
 tar -C /tmp -xJf .devcarry/devlibs.tar.xz
@@ -20,7 +25,36 @@ nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv,noheader | 
 export OMP_WAIT_POLICY=PASSIVE PYTHONUNBUFFERED=1
 if has tests; then
   timeout 300 ./build/gfmd_tests --gtest_filter='Device.*' 2>&1 | tee "$out/tests.txt"
-  grep -q "FAILED" "$out/tests.txt" && { echo "device tests failed"; exit 1; }
+  # A failure is reported and the other steps still run (their figures are needed either way).
+  grep -q "FAILED" "$out/tests.txt" && { echo "device tests failed"; failed=1; }
+fi
+if has stress; then
+  # Rough sliding with the stress summary on the device (stress_backend "cuda") and, for the
+  # ratio, the same stresses on the machine's cores (a loose solve: only the stresses' time counts).
+  for n in ${STRESS_SIZES:-2048 8192}; do
+    timeout 200 python3 scripts/bench.py --backend cuda --cases rough --sizes $n --tolerance 1e-6 2>&1 |
+      tee -a "$out/stress.txt"
+  done
+  for n in 2048 4096; do
+    timeout 120 ./build/gfmd run examples/selfaffine.toml -o "/tmp/host_stress_$n" -q --set grid.nx=$n \
+      --set indenter.lambda_short=$(python3 -c "print(16.0 / $n)") --set friction.coefficient=1 \
+      --set load.pressure=0.01 --set output.fields=false --set output.png=false --set solver.tolerance=1e-2 \
+      --set 'solver.backend="threads"' > /dev/null 2>&1 &&
+      python3 -c "import json; s = json.load(open('/tmp/host_stress_$n/summary.json')); \
+print(f'host stresses, rough {$n}^2, {s[\"threads\"]} threads: {s[\"stress_time_s\"]:.3f} s')" |
+      tee -a "$out/stress.txt"
+  done
+fi
+if has fig2e; then
+  python3 -c 'import tomllib' || echo "python3 here lacks tomllib (3.11+): scripts/study.py cannot run"
+  export GFMD="$PWD/build/gfmd"
+  # No maps and no contact-patch analysis per point (the figure needs neither); the same sets
+  # are given where the figure is drawn, so that every run is reused there. What comes back
+  # from the lent machine is at most two folders deep: the runs travel as one tarball.
+  ( time timeout "${FIG2E_TIMEOUT:-300}" python3 scripts/study.py studies/fig2e.toml -o /tmp/studies --runs-only \
+      --set 'solver.backend="cuda"' --set output.png=false --set output.analysis=false ) 2>&1 | tee "$out/fig2e.txt"
+  (cd /tmp && find studies \( -name summary.json -o -name status.json -o -name 'sweep.*' \) -print0 |
+    xargs -0 tar -czf "$out/fig2e_runs.tgz")
 fi
 if has bench; then
   for n in 2048 4096 8192; do ./build/bench_cufft $n | tee -a "$out/cufft.txt"; done
@@ -34,10 +68,11 @@ if has bench; then
 fi
 if has large; then
   ./build/bench_cufft 16384 10 | tee -a "$out/cufft.txt"
-  timeout 400 python3 scripts/bench.py --backend cuda --cases rough --sizes 16384 --tolerance 1e-6 2>&1 |
-    tee "$out/bench_cuda_large.txt"
+  timeout "${LARGE_TIMEOUT:-400}" python3 scripts/bench.py --backend cuda --cases rough_upwind2 --sizes 8192 16384 \
+    --tolerance 1e-6 2>&1 | tee "$out/bench_cuda_large.txt"
 fi
 if has cpu; then
   timeout 300 python3 scripts/bench.py --backend threads --threads 2 --cases rough --sizes 2048 \
     --tolerance 1e-6 2>&1 | tee "$out/bench_cpu2.txt"
 fi
+exit $failed
