@@ -262,8 +262,8 @@ png = false
 analysis = true
 """
 
-TIMINGS = ("wall_time_s", "fft_time_s", "time_per_iteration_s", "setup_seconds_x", "setup_seconds_y",
-           "solve_seconds_x", "solve_seconds_y", "mpi_ranks", "mpi")
+TIMINGS = ("wall_time_s", "fft_time_s", "time_per_iteration_s", "stress_time_s", "setup_seconds_x",
+           "setup_seconds_y", "solve_seconds_x", "solve_seconds_y", "mpi_ranks", "mpi")
 
 
 def same_numbers(a, b, rel, path=""):
