@@ -158,6 +158,10 @@ void compare_stresses_with_host(const std::string& toml, const std::vector<std::
   ASSERT_EQ(h.subsurface.size(), 1U);
   EXPECT_LE(relative(d.subsurface[0].summary.max_von_mises, h.subsurface[0].summary.max_von_mises), bound);
   EXPECT_LE(field_difference(d.subsurface[0].s1, h.subsurface[0].s1), bound);
+  EXPECT_LE(field_difference(d.subsurface[0].von_mises, h.subsurface[0].von_mises), bound);
+  std::printf("    subsurface (depth %.3g) device vs host: s1 %.2e, von Mises %.2e\n", d.subsurface[0].depth,
+              field_difference(d.subsurface[0].s1, h.subsurface[0].s1),
+              field_difference(d.subsurface[0].von_mises, h.subsurface[0].von_mises));
   ASSERT_EQ(d.post_analyses.size(), 2U);
   ASSERT_EQ(h.post_analyses.size(), 2U);
   for (std::size_t k = 0; k < 2; ++k) {
@@ -332,6 +336,29 @@ TEST(Device, StressesOnTheSameFieldsAgreeToRoundOff) {
   ASSERT_TRUE(dc.has_value());
   EXPECT_LE(field_difference(dc->principal.s1, pc.s1), 1e-12);
   EXPECT_TRUE(dc->principal.von_mises.empty());
+  // A plane below the surface of a layer (both of its per-mode forms: qh below and above 1).
+  ElasticParams layer = h.config.elastic;
+  layer.thickness = 0.3;
+  layer.poisson = 0.45;
+  const PrincipalField ps = principal(subsurface_stress(fft, layer, h.fields, 0.05));
+  q.von_mises = true;
+  const auto dsub = device_subsurface_stress(h.config.grid, layer, h.fields, 0.05, q);
+  ASSERT_TRUE(dsub.has_value());
+  EXPECT_LE(field_difference(dsub->principal.s1, ps.s1), 1e-12);
+  EXPECT_LE(field_difference(dsub->principal.von_mises, ps.von_mises), 1e-12);
+  std::printf("    subsurface, same fields: s1 %.2e, von Mises %.2e\n", field_difference(dsub->principal.s1, ps.s1),
+              field_difference(dsub->principal.von_mises, ps.von_mises));
+}
+
+TEST(Device, ASubsurfaceDepthTheBodyDoesNotHaveIsRefusedFirst) {
+  // Everywhere: the depth is checked before a device is asked for.
+  const Grid g{16, 16, 1.0, 1.0};
+  ContactFields f;
+  f.pressure.assign(g.size(), 1.0);
+  ElasticParams layer;
+  layer.thickness = 0.1;
+  EXPECT_THROW(device_subsurface_stress(g, layer, f, 0.2, DeviceStressRequest{}), ParameterError);
+  EXPECT_THROW(device_subsurface_stress(g, layer, f, -0.01, DeviceStressRequest{}), ParameterError);
 }
 
 TEST(Device, WithoutADeviceTheStressesStayOnTheHost) {
@@ -343,4 +370,5 @@ TEST(Device, WithoutADeviceTheStressesStayOnTheHost) {
   f.ux.assign(g.size(), 0.0);
   f.uy.assign(g.size(), 0.0);
   EXPECT_FALSE(device_surface_stress(g, ElasticParams{}, f, DeviceStressRequest{}).has_value());
+  EXPECT_FALSE(device_subsurface_stress(g, ElasticParams{}, f, 0.1, DeviceStressRequest{}).has_value());
 }

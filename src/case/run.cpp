@@ -118,8 +118,8 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
     return grid_sum(g, [&](std::size_t i) { return s1[i] >= 0.5 * max ? 1.0 : 0.0; }) /
            static_cast<double>(g.size());
   };
-  // The CUDA backend evaluates the surface stresses (and both post-analyses) on the device
-  // where they fit its memory; the subsurface stresses stay on the host (docs/gpu.md).
+  // The CUDA backend evaluates the stresses (surface, both post-analyses, subsurface planes)
+  // on the device where they fit its memory (docs/gpu.md).
   const bool on_device = backend().name() == "cuda";
   DeviceStressRequest ask;
   ask.high_tension_fraction = cfg.stress.high_tension_fraction;
@@ -199,6 +199,17 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
   for (double d : cfg.stress.depths) {
     PrincipalField pf;
     try {
+      if (on_device) {
+        DeviceStressRequest q = ask;
+        q.tensor = false;
+        q.parts = PrincipalParts::SummaryOnly;
+        q.s1 = q.von_mises = true;
+        if (std::optional<DeviceStressResult> dv = device_subsurface_stress(g, cfg.elastic, r.fields, d, q)) {
+          r.subsurface.push_back({d, dv->summary, std::move(dv->principal.von_mises), std::move(dv->principal.s1)});
+          continue;
+        }
+        r.stress_on_device = false;
+      }
       pf = principal(subsurface_stress(fft, cfg.elastic, r.fields, d), PrincipalParts::SummaryOnly);
     } catch (const ParameterError& e) {
       throw InputError("stress.depths", e.why() + " (depth " + format_number(d) + ")");

@@ -17,6 +17,8 @@
 #include "gfmd/core/device.hpp"
 #include "gfmd/elastic/device_stress.hpp"
 #include "principal_point.hpp"
+#include "stress_detail.hpp"
+#include "subsurface_mode.hpp"
 
 namespace gfmd {
 
@@ -28,6 +30,15 @@ struct Cplx {
   double re, im;
 };
 static_assert(sizeof(Cplx) == sizeof(cufftDoubleComplex));
+
+// One cell's stress tensor (xx, yy, zz, xy, xz, yz).
+struct Tensor {
+  double xx, yy, zz, xy, xz, yz;
+};
+// The six stress spectra of the subsurface pass.
+struct Spectra6 {
+  Cplx* s[6];
+};
 
 // The traction's source: the fields' own (tx, ty, either may be absent), or mu p e.
 struct Traction {
@@ -194,26 +205,37 @@ class StressEval {
       down(yy, out.tensor.yy);
       down(xy, out.tensor.xy);
     }
-    // Principal stresses.
+    const double* txs = tx_.get();
+    const double* tys = ty_.get();
+    const bool fp = t.from_pressure;
+    const double mu = t.mu, ex = t.ex, ey = t.ey;
+    principal_and_summary(
+        [=] __device__(std::size_t k) {
+          const double e = fp ? mu * p[k] * ex : (txs ? txs[k] : 0.0);
+          const double f = fp ? mu * p[k] * ey : (tys ? tys[k] : 0.0);
+          return Tensor{sxx[k], syy[k], -p[k], sxy[k], e, f};
+        },
+        out);
+    return out;
+  }
+
+  // principal() and summarize() of the tensor at(k) of every cell, into out (with the maps
+  // the request asks for).
+  template <class At>
+  void principal_and_summary(At at, DeviceStressResult& out) {
     const bool all = req_.parts == PrincipalParts::All;
     DevArray<double> s1, vm, s2, s3, e1x, e1y, e1z;
     s1.allocate(n_, &bytes_, "stress: principal");
     vm.allocate(n_, &bytes_, "stress: principal");
     if (all)
       for (DevArray<double>* f : {&s2, &s3, &e1x, &e1y, &e1z}) f->allocate(n_, &bytes_, "stress: principal");
-    const double* txs = tx_.get();
-    const double* tys = ty_.get();
-    const bool fp = t.from_pressure;
-    const double mu = t.mu, ex = t.ex, ey = t.ey;
     double *o1 = s1.get(), *ov = vm.get(), *o2 = s2.get(), *o3 = s3.get(), *ox = e1x.get(), *oy = e1y.get(),
            *oz = e1z.get();
     launch_each(n_, [=] __device__(std::size_t k) {
-      const double a = sxx[k], b = syy[k], c = -p[k], d = sxy[k];
-      const double e = fp ? mu * p[k] * ex : (txs ? txs[k] : 0.0);
-      const double f = fp ? mu * p[k] * ey : (tys ? tys[k] : 0.0);
-      const principal_detail::Point pt = principal_detail::principal(a, b, c, d, e, f);
+      const Tensor v = at(k);
+      const principal_detail::Point pt = principal_detail::principal(v.xx, v.yy, v.zz, v.xy, v.xz, v.yz);
       o1[k] = pt.s1;
-      ov[k] = principal_detail::von_mises(a, b, c, d, e, f);
+      ov[k] = principal_detail::von_mises(v.xx, v.yy, v.zz, v.xy, v.xz, v.yz);
       if (all) {
         o2[k] = pt.s2;
         o3[k] = pt.s3;
@@ -243,8 +265,8 @@ class StressEval {
       out.above_half = c[1] / static_cast<double>(n_);
     }
     if (all || req_.s1) down(s1, out.principal.s1);
+    if (all || req_.von_mises) down(vm, out.principal.von_mises);
     if (all) {
-      down(vm, out.principal.von_mises);
       down(s2, out.principal.s2);
       down(s3, out.principal.s3);
       down(e1x, out.principal.e1x);
@@ -252,6 +274,105 @@ class StressEval {
       down(e1z, out.principal.e1z);
     }
     out.device_bytes = bytes_.peak;
+  }
+
+  // subsurface.cpp's subsurface_spectra and subsurface_stress at `depth` (p_ uploaded; tx,
+  // ty the host's tractions, either may be empty), then principal_and_summary.
+  DeviceStressResult subsurface(double depth, const ElasticParams& el, const RealField& tx, const RealField& ty) {
+    DevArray<Cplx> TZ, TX, TY;
+    {
+      DevArray<double> r;
+      r.allocate(n_, &bytes_, "stress: a traction");
+      const double* p = p_.get();
+      double* rr = r.get();
+      launch_each(n_, [=] __device__(std::size_t k) { rr[k] = -p[k]; });
+      TZ.allocate(ns_, &bytes_, "stress: traction spectra");
+      forward(rr, TZ.get());
+      for (const auto& [h, S] : {std::pair{&tx, &TX}, std::pair{&ty, &TY}})
+        if (!h->empty()) {
+          cuda_check(cudaMemcpy(rr, h->data(), n_ * sizeof(double), cudaMemcpyHostToDevice), "stress: tractions");
+          S->allocate(ns_, &bytes_, "stress: traction spectra");
+          forward(rr, S->get());
+        }
+    }
+    DevArray<double> qx, qy;
+    {
+      std::vector<double> hx(static_cast<std::size_t>(g_.nxh())), hy(static_cast<std::size_t>(g_.ny));
+      for (int i = 0; i < g_.nxh(); ++i) hx[static_cast<std::size_t>(i)] = g_.qx(i);
+      for (int j = 0; j < g_.ny; ++j) hy[static_cast<std::size_t>(j)] = g_.qy(j);
+      qx.allocate(hx.size(), &bytes_, "stress: wave numbers");
+      qy.allocate(hy.size(), &bytes_, "stress: wave numbers");
+      cuda_check(cudaMemcpy(qx.get(), hx.data(), hx.size() * sizeof(double), cudaMemcpyHostToDevice), "stress");
+      cuda_check(cudaMemcpy(qy.get(), hy.data(), hy.size() * sizeof(double), cudaMemcpyHostToDevice), "stress");
+    }
+    DevArray<Cplx> sig[6];
+    for (DevArray<Cplx>& a : sig) a.allocate(ns_, &bytes_, "stress: subsurface spectra");
+    Spectra6 out6{};
+    for (int m = 0; m < 6; ++m) out6.s[m] = sig[m].get();
+    const Cplx *tzs = TZ.get(), *txs = TX.get(), *tys = TY.get();
+    const double *qxs = qx.get(), *qys = qy.get();
+    const std::size_t nxh = static_cast<std::size_t>(g_.nxh());
+    const int nyq_x = g_.nx % 2 == 0 ? g_.nx / 2 : -1, nyq_y = g_.ny % 2 == 0 ? g_.ny / 2 : -1;
+    const double nu = el.poisson, om = 1.0 - nu, thickness = el.thickness;
+    const bool half = el.half_space();
+    launch_each(ns_, [=] __device__(std::size_t k) {
+      const int ikx = static_cast<int>(k % nxh), iky = static_cast<int>(k / nxh);
+      const double qxv = qxs[ikx], qyv = qys[iky], q = hypot(qxv, qyv);
+      const Cplx t1 = txs ? txs[k] : Cplx{0.0, 0.0}, t2 = tys ? tys[k] : Cplx{0.0, 0.0}, t3 = tzs[k];
+      if (q == 0.0) {  // uniform traction: uniform stress (mode_response)
+        const double l = nu / om;
+        const Cplx v[6] = {{l * t3.re, l * t3.im}, {l * t3.re, l * t3.im}, t3, {0.0, 0.0}, t1, t2};
+        for (int m = 0; m < 6; ++m) out6.s[m][k] = v[m];
+        return;
+      }
+      const subsurface_detail::Mode md = subsurface_detail::mode_plane(q, depth, nu, half, thickness);
+      const subsurface_detail::Plane& P = md.p;
+      const double c0 = qxv / q, s0 = qyv / q;
+      // On a Nyquist line the mode and its mirror are one mode: the mean over the mirrors.
+      const bool nx2 = ikx == nyq_x, ny2 = iky == nyq_y;
+      Cplx acc[6] = {};
+      int count = 0;
+      for (int fx = 0; fx < (nx2 ? 2 : 1); ++fx)
+        for (int fy = 0; fy < (ny2 ? 2 : 1); ++fy) {
+          const double c = fx ? -c0 : c0, s = fy ? -s0 : s0;
+          // The traction in the mode's frame (1 along q, 2 across, 3 = z).
+          const Cplx a{c * t1.re + s * t2.re, c * t1.im + s * t2.im};
+          const Cplx b{-s * t1.re + c * t2.re, -s * t1.im + c * t2.im};
+          // s11 = -i X0 a + X1 t3 (likewise Y, N), s12 = i rho b, s13 = S0 a + i S1 t3, s23 = tau b.
+          const Cplx s11{P.X[0] * a.im + P.X[1] * t3.re, -P.X[0] * a.re + P.X[1] * t3.im};
+          const Cplx s22{P.Y[0] * a.im + P.Y[1] * t3.re, -P.Y[0] * a.re + P.Y[1] * t3.im};
+          const Cplx s33{P.N[0] * a.im + P.N[1] * t3.re, -P.N[0] * a.re + P.N[1] * t3.im};
+          const Cplx s12{-md.rho * b.im, md.rho * b.re};
+          const Cplx s13{P.S[0] * a.re - P.S[1] * t3.im, P.S[0] * a.im + P.S[1] * t3.re};
+          const Cplx s23{md.tau * b.re, md.tau * b.im};
+          const double cc = c * c, ss = s * s, cs = c * s;
+          const Cplx lab[6] = {
+              {cc * s11.re + ss * s22.re - 2.0 * cs * s12.re, cc * s11.im + ss * s22.im - 2.0 * cs * s12.im},
+              {ss * s11.re + cc * s22.re + 2.0 * cs * s12.re, ss * s11.im + cc * s22.im + 2.0 * cs * s12.im},
+              s33,
+              {cs * (s11.re - s22.re) + (cc - ss) * s12.re, cs * (s11.im - s22.im) + (cc - ss) * s12.im},
+              {c * s13.re - s * s23.re, c * s13.im - s * s23.im},
+              {s * s13.re + c * s23.re, s * s13.im + c * s23.im}};
+          for (int m = 0; m < 6; ++m) {
+            acc[m].re += lab[m].re;
+            acc[m].im += lab[m].im;
+          }
+          ++count;
+        }
+      for (int m = 0; m < 6; ++m) out6.s[m][k] = {acc[m].re / count, acc[m].im / count};
+    });
+    for (DevArray<Cplx>* a : {&TZ, &TX, &TY}) a->release();
+    DevArray<double> f[6];
+    for (int m = 0; m < 6; ++m) {
+      f[m].allocate(n_, &bytes_, "stress: subsurface tensor");
+      backward(sig[m].get(), f[m].get());
+      sig[m].release();
+    }
+    const double *a0 = f[0].get(), *a1 = f[1].get(), *a2 = f[2].get(), *a3 = f[3].get(), *a4 = f[4].get(),
+                 *a5 = f[5].get();
+    DeviceStressResult out;
+    principal_and_summary([=] __device__(std::size_t k) { return Tensor{a0[k], a1[k], a2[k], a3[k], a4[k], a5[k]}; },
+                          out);
     return out;
   }
 
@@ -355,6 +476,22 @@ std::optional<DeviceStressResult> device_post_analysis_stress(const ElasticBody&
   DeviceStressResult r = e.evaluate(t, nullptr, nullptr, body.params());
   complete_tensor(r, pressure, nullptr, nullptr, t);
   return r;
+}
+
+std::optional<DeviceStressResult> device_subsurface_stress(const Grid& g, const ElasticParams& el,
+                                                           const ContactFields& f, double depth,
+                                                           const DeviceStressRequest& req) {
+  el.validate();
+  stress_detail::check_depth(el, depth);
+  if (!usable(g)) return std::nullopt;
+  if (f.pressure.size() != g.size() || (!f.tx.empty() && f.tx.size() != g.size()) ||
+      (!f.ty.empty() && f.ty.size() != g.size()))
+    return std::nullopt;  // the host's checks say what is wrong
+  StressEval e(g, req);
+  if (!e.fits(false)) return std::nullopt;
+  e.plans();
+  e.up(f.pressure, e.p_, "stress: pressure");
+  return e.subsurface(depth, el, f.tx, f.ty);
 }
 
 }  // namespace gfmd

@@ -1,8 +1,10 @@
 // Helpers shared by the stress files (private to the elastic part).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 
+#include "gfmd/core/error.hpp"
 #include "gfmd/core/mpi.hpp"
 #include "gfmd/elastic/stress.hpp"
 
@@ -28,6 +30,12 @@ inline StressField make_stress(std::size_t n) {
   return s;
 }
 
-// ---- plane-strain response ------------------------------------------------------------
+// A plane below the surface that the body has: finite, >= 0, not below a layer's base.
+inline void check_depth(const ElasticParams& el, double depth) {
+  if (!(depth >= 0.0) || !std::isfinite(depth))
+    throw ParameterError("depth", "must be a finite number >= 0 (depth below the surface)");
+  if (!el.half_space() && depth > el.thickness * (1.0 + 1e-12))
+    throw ParameterError("depth", "is below the rigid base of the layer (depth > thickness)");
+}
 
 }  // namespace gfmd::stress_detail

@@ -12,160 +12,14 @@
 #include "gfmd/core/error.hpp"
 #include "gfmd/elastic/stress.hpp"
 #include "stress_detail.hpp"
+#include "subsurface_mode.hpp"
 
 namespace gfmd {
 
 using namespace stress_detail;
+using namespace subsurface_detail;
 
 namespace {
-
-// Response at depth to unit S0 (column 0) and unit N0 (column 1) at the surface.
-// U, W in units of 1/(2 G q) (u1 = i U/(2Gq), u3 = W/(2Gq)); S, N, X, Y are stresses.
-struct Plane {
-  double U[2], W[2], S[2], N[2], X[2], Y[2];
-};
-
-// Basis values of the four Papkovich-Neuber solutions (see the header comment), rows
-// U, W, S, N, X, Y, columns phi+, psi+, phi-, psi-.
-void basis(double nu, double E, double dl, double F, double et, double B[6][4]) {
-  const double kap = 3.0 - 4.0 * nu;
-  const double r[6][4] = {
-      {E, dl * E, F, -et * F},
-      {E, (kap + dl) * E, -F, (kap + et) * F},
-      {E, (1.0 - 2.0 * nu + dl) * E, -F, (1.0 - 2.0 * nu + et) * F},
-      {E, (2.0 - 2.0 * nu + dl) * E, F, -(2.0 - 2.0 * nu + et) * F},
-      {-E, (2.0 * nu - dl) * E, -F, (et - 2.0 * nu) * F},
-      {0.0, 2.0 * nu * E, 0.0, -2.0 * nu * F},
-  };
-  for (int i = 0; i < 6; ++i)
-    for (int j = 0; j < 4; ++j) B[i][j] = r[i][j];
-}
-
-Plane from_basis(const double B[6][4], const double b[4][2]) {
-  Plane p{};
-  double* rows[6] = {p.U, p.W, p.S, p.N, p.X, p.Y};
-  for (int i = 0; i < 6; ++i)
-    for (int c = 0; c < 2; ++c) {
-      double v = 0.0;
-      for (int j = 0; j < 4; ++j) v += B[i][j] * b[j][c];
-      rows[i][c] = v;
-    }
-  return p;
-}
-
-Plane plane_half_space(double dl, double nu) {
-  // Amplitudes (phi+, psi+) = (b1, b2): S0 = b1 + (1-2nu) b2, N0 = b1 + (2-2nu) b2.
-  const double b[4][2] = {{2.0 - 2.0 * nu, -(1.0 - 2.0 * nu)}, {-1.0, 1.0}, {0.0, 0.0}, {0.0, 0.0}};
-  double B[6][4];
-  basis(nu, std::exp(-dl), dl, 0.0, 0.0, B);
-  return from_basis(B, b);
-}
-
-// Gaussian elimination with partial pivoting, 4x4 with two right-hand sides.
-void solve4(double A[4][4], double b[4][2]) {
-  for (int k = 0; k < 4; ++k) {
-    int piv = k;
-    for (int i = k + 1; i < 4; ++i)
-      if (std::abs(A[i][k]) > std::abs(A[piv][k])) piv = i;
-    if (piv != k) {
-      for (int j = 0; j < 4; ++j) std::swap(A[k][j], A[piv][j]);
-      std::swap(b[k][0], b[piv][0]);
-      std::swap(b[k][1], b[piv][1]);
-    }
-    for (int i = k + 1; i < 4; ++i) {
-      const double m = A[i][k] / A[k][k];
-      for (int j = k; j < 4; ++j) A[i][j] -= m * A[k][j];
-      b[i][0] -= m * b[k][0];
-      b[i][1] -= m * b[k][1];
-    }
-  }
-  for (int k = 3; k >= 0; --k)
-    for (int c = 0; c < 2; ++c) {
-      double v = b[k][c];
-      for (int j = k + 1; j < 4; ++j) v -= A[k][j] * b[j][c];
-      b[k][c] = v / A[k][k];
-    }
-}
-
-// Layer, qh >= 1: amplitudes from the 4x4 system in the anchored basis.
-Plane plane_layer_anchored(double x, double dl, double nu) {
-  const double e = std::exp(-x);
-  double Bb[6][4], Bs[6][4];
-  basis(nu, e, x, 1.0, 0.0, Bb);  // at the base: d = h
-  basis(nu, 1.0, 0.0, e, x, Bs);  // at the surface: d = 0
-  double A[4][4], b[4][2] = {{0, 0}, {0, 0}, {1, 0}, {0, 1}};
-  for (int j = 0; j < 4; ++j) {
-    A[0][j] = Bb[0][j];  // U = 0 at the base
-    A[1][j] = Bb[1][j];  // W = 0 at the base
-    A[2][j] = Bs[2][j];  // S = S0 at the surface
-    A[3][j] = Bs[3][j];  // N = N0 at the surface
-  }
-  solve4(A, b);
-  const double et = std::max(0.0, x - dl);
-  double B[6][4];
-  basis(nu, std::exp(-dl), dl, std::exp(-et), et, B);
-  return from_basis(B, b);
-}
-
-// Columns 2, 3 (unit S and N at the start) of the propagator exp(M xi), state (U, W, S, N).
-void propagator_cols(double xi, const double M1[4][4], const double M2[4][4], const double M3[4][4],
-                     double P[4][2]) {
-  const double ch = std::cosh(xi), sh = std::sinh(xi);
-  const double a = ch - 0.5 * xi * sh;
-  const double b = 0.5 * (3.0 * sh - xi * ch);
-  const double c = 0.5 * xi * sh;
-  // d = (xi cosh - sinh)/2 = sum_{k>=1} k xi^(2k+1)/(2k+1)! (no cancellation for small xi).
-  double d = 0.0, term = xi;  // term = xi^(2k+1)/(2k+1)!
-  for (int k = 1; k < 30; ++k) {
-    term *= xi * xi / ((2.0 * k) * (2.0 * k + 1.0));
-    d += k * term;
-    if (k * term <= 1e-18 * d) break;
-  }
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 2; ++j) {
-      const int col = j + 2;
-      P[i][j] = (i == col ? a : 0.0) + b * M1[i][col] + c * M2[i][col] + d * M3[i][col];
-    }
-}
-
-// Layer, qh < 1: propagate the base state (0, 0, S_b, N_b) to the surface and to depth d.
-Plane plane_layer_propagator(double x, double dl, double nu) {
-  const double om = 1.0 - nu;
-  const double M1[4][4] = {{0.0, -1.0, 2.0, 0.0},
-                           {nu / om, 0.0, 0.0, (1.0 - 2.0 * nu) / om},
-                           {1.0 / om, 0.0, 0.0, -nu / om},
-                           {0.0, 0.0, 1.0, 0.0}};
-  double M2[4][4] = {}, M3[4][4] = {};
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j)
-      for (int k = 0; k < 4; ++k) M2[i][j] += M1[i][k] * M1[k][j];
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j)
-      for (int k = 0; k < 4; ++k) M3[i][j] += M2[i][k] * M1[k][j];
-  double Px[4][2], Pd[4][2];
-  propagator_cols(x, M1, M2, M3, Px);
-  propagator_cols(std::max(0.0, x - dl), M1, M2, M3, Pd);
-  // (S0, N0) = A (S_b, N_b), A = rows S, N of Px; base tractions = A^-1.
-  const double a11 = Px[2][0], a12 = Px[2][1], a21 = Px[3][0], a22 = Px[3][1];
-  const double det = a11 * a22 - a12 * a21;
-  const double inv[2][2] = {{a22 / det, -a12 / det}, {-a21 / det, a11 / det}};
-  Plane p{};
-  double* rows[4] = {p.U, p.W, p.S, p.N};
-  for (int i = 0; i < 4; ++i)
-    for (int c = 0; c < 2; ++c) rows[i][c] = Pd[i][0] * inv[0][c] + Pd[i][1] * inv[1][c];
-  for (int c = 0; c < 2; ++c) {
-    p.X[c] = -(p.U[c] - nu * p.N[c]) / om;  // X = -dS/d(qz)
-    p.Y[c] = nu * (p.X[c] + p.N[c]);        // plane strain
-  }
-  return p;
-}
-
-void check_depth(const ElasticParams& el, double depth) {
-  if (!(depth >= 0.0) || !std::isfinite(depth))
-    throw ParameterError("depth", "must be a finite number >= 0 (depth below the surface)");
-  if (!el.half_space() && depth > el.thickness * (1.0 + 1e-12))
-    throw ParameterError("depth", "is below the rigid base of the layer (depth > thickness)");
-}
 
 // Lab-frame stress (xx, yy, zz, xy, xz, yz) and displacement of one mode with direction
 // (c, s) for lab tractions (tx, ty, tz).
@@ -269,20 +123,10 @@ ModeResponse mode_response(double q, double depth, const ElasticParams& el) {
     r.disp[2][2] = z * (1.0 - 2.0 * nu) / (om * om * es);
     return r;
   }
-  const double dl = q * depth;
-  Plane p;
-  double tau, rho;  // antiplane: sigma_23 = tau t2, sigma_12 = i rho t2, u2 = rho t2 / (G q)
-  if (half) {
-    p = plane_half_space(dl, nu);
-    tau = rho = std::exp(-dl);
-  } else {
-    const double x = q * h, et = std::max(0.0, x - dl);
-    p = x >= 1.0 ? plane_layer_anchored(x, dl, nu) : plane_layer_propagator(x, dl, nu);
-    // cosh(eta)/cosh(x), sinh(eta)/cosh(x) with only decaying exponentials.
-    const double ed = std::exp(-dl), den = 1.0 + std::exp(-2.0 * x);
-    tau = ed * (1.0 + std::exp(-2.0 * et)) / den;
-    rho = -ed * std::expm1(-2.0 * et) / den;
-  }
+  // antiplane: sigma_23 = tau t2, sigma_12 = i rho t2, u2 = rho t2 / (G q)
+  const Mode m = mode_plane(q, depth, nu, half, h);
+  const Plane& p = m.p;
+  const double tau = m.tau, rho = m.rho;
   // Plane strain inputs S0 = -i t1, N0 = t3.
   r.stress[0][0] = -i * p.X[0];
   r.stress[0][2] = p.X[1];

@@ -45,7 +45,7 @@ struct CaseResult {
   std::string profiles_csv;  // profiles.csv (stress.profiles)
   StressField stress;
   PrincipalField principal;
-  bool stress_on_device = false;  // surface stresses and post-analyses evaluated on the CUDA device
+  bool stress_on_device = false;  // every stress evaluated on the CUDA device
   double stress_time_s = 0.0;     // wall time of the stresses (surface, post-analyses, subsurface)
   // Post-analysis references, one per kind of [stress] post_analysis, in its order (empty:
   // none asked for); the outputs show the first also under the names of earlier versions.

@@ -1,5 +1,6 @@
-// The surface stresses of a solved state on the CUDA device (solver.backend = "cuda"): the
-// tensor, its principal values and their summary, with the formulas of stress.hpp, the
+// The stresses of a solved state on the CUDA device (solver.backend = "cuda"): the
+// tensor (at the surface or on a plane below it), its principal values and their summary, with
+// the formulas of stress.hpp, the
 // fields uploaded once and only what the caller asks for brought back. Each function returns
 // nothing (and the caller computes on the host) where no device is usable or the work does
 // not fit its free memory; in a build without CUDA always nothing. docs/gpu.md.
@@ -19,6 +20,7 @@ struct DeviceStressRequest {
   // All: every principal field back; SummaryOnly: s1 back only when `s1` is set.
   PrincipalParts parts = PrincipalParts::SummaryOnly;
   bool s1 = false;
+  bool von_mises = false;  // bring the von Mises map back (SummaryOnly)
 };
 
 struct DeviceStressResult {
@@ -43,5 +45,11 @@ std::optional<DeviceStressResult> device_post_analysis_stress(const ElasticBody&
                                                               const RealField& pressure, double mu,
                                                               double angle_deg,
                                                               const DeviceStressRequest& req);
+
+// subsurface_stress(fft, el, f, depth) with principal() and summarize() on the device. A depth
+// the body does not have throws ParameterError (as on the host) before anything is made.
+std::optional<DeviceStressResult> device_subsurface_stress(const Grid& g, const ElasticParams& el,
+                                                           const ContactFields& f, double depth,
+                                                           const DeviceStressRequest& req);
 
 }  // namespace gfmd
