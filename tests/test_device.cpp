@@ -346,7 +346,8 @@ TEST(Device, StressesOnTheSameFieldsAgreeToRoundOff) {
   ASSERT_TRUE(dsub.has_value());
   EXPECT_LE(field_difference(dsub->principal.s1, ps.s1), 1e-12);
   EXPECT_LE(field_difference(dsub->principal.von_mises, ps.von_mises), 1e-12);
-  std::printf("    subsurface, same fields: s1 %.2e, von Mises %.2e\n", field_difference(dsub->principal.s1, ps.s1),
+  std::printf("    subsurface, same fields: s1 %.2e, von Mises %.2e\n",
+              field_difference(dsub->principal.s1, ps.s1),
               field_difference(dsub->principal.von_mises, ps.von_mises));
 }
 

@@ -205,7 +205,8 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
         q.parts = PrincipalParts::SummaryOnly;
         q.s1 = q.von_mises = true;
         if (std::optional<DeviceStressResult> dv = device_subsurface_stress(g, cfg.elastic, r.fields, d, q)) {
-          r.subsurface.push_back({d, dv->summary, std::move(dv->principal.von_mises), std::move(dv->principal.s1)});
+          r.subsurface.push_back(
+              {d, dv->summary, std::move(dv->principal.von_mises), std::move(dv->principal.s1)});
           continue;
         }
         r.stress_on_device = false;

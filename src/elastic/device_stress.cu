@@ -278,7 +278,8 @@ class StressEval {
 
   // subsurface.cpp's subsurface_spectra and subsurface_stress at `depth` (p_ uploaded; tx,
   // ty the host's tractions, either may be empty), then principal_and_summary.
-  DeviceStressResult subsurface(double depth, const ElasticParams& el, const RealField& tx, const RealField& ty) {
+  DeviceStressResult subsurface(double depth, const ElasticParams& el, const RealField& tx,
+                                const RealField& ty) {
     DevArray<Cplx> TZ, TX, TY;
     {
       DevArray<double> r;
@@ -290,7 +291,8 @@ class StressEval {
       forward(rr, TZ.get());
       for (const auto& [h, S] : {std::pair{&tx, &TX}, std::pair{&ty, &TY}})
         if (!h->empty()) {
-          cuda_check(cudaMemcpy(rr, h->data(), n_ * sizeof(double), cudaMemcpyHostToDevice), "stress: tractions");
+          cuda_check(cudaMemcpy(rr, h->data(), n_ * sizeof(double), cudaMemcpyHostToDevice),
+                     "stress: tractions");
           S->allocate(ns_, &bytes_, "stress: traction spectra");
           forward(rr, S->get());
         }
@@ -302,8 +304,10 @@ class StressEval {
       for (int j = 0; j < g_.ny; ++j) hy[static_cast<std::size_t>(j)] = g_.qy(j);
       qx.allocate(hx.size(), &bytes_, "stress: wave numbers");
       qy.allocate(hy.size(), &bytes_, "stress: wave numbers");
-      cuda_check(cudaMemcpy(qx.get(), hx.data(), hx.size() * sizeof(double), cudaMemcpyHostToDevice), "stress");
-      cuda_check(cudaMemcpy(qy.get(), hy.data(), hy.size() * sizeof(double), cudaMemcpyHostToDevice), "stress");
+      cuda_check(cudaMemcpy(qx.get(), hx.data(), hx.size() * sizeof(double), cudaMemcpyHostToDevice),
+                 "stress");
+      cuda_check(cudaMemcpy(qy.get(), hy.data(), hy.size() * sizeof(double), cudaMemcpyHostToDevice),
+                 "stress");
     }
     DevArray<Cplx> sig[6];
     for (DevArray<Cplx>& a : sig) a.allocate(ns_, &bytes_, "stress: subsurface spectra");
@@ -371,8 +375,8 @@ class StressEval {
     const double *a0 = f[0].get(), *a1 = f[1].get(), *a2 = f[2].get(), *a3 = f[3].get(), *a4 = f[4].get(),
                  *a5 = f[5].get();
     DeviceStressResult out;
-    principal_and_summary([=] __device__(std::size_t k) { return Tensor{a0[k], a1[k], a2[k], a3[k], a4[k], a5[k]}; },
-                          out);
+    principal_and_summary(
+        [=] __device__(std::size_t k) { return Tensor{a0[k], a1[k], a2[k], a3[k], a4[k], a5[k]}; }, out);
     return out;
   }
 

@@ -19,8 +19,9 @@ std::optional<DeviceStressResult> device_post_analysis_stress(const ElasticBody&
   return std::nullopt;
 }
 
-std::optional<DeviceStressResult> device_subsurface_stress(const Grid&, const ElasticParams&, const ContactFields&,
-                                                           double, const DeviceStressRequest&) {
+std::optional<DeviceStressResult> device_subsurface_stress(const Grid&, const ElasticParams&,
+                                                           const ContactFields&, double,
+                                                           const DeviceStressRequest&) {
   return std::nullopt;
 }
 
