@@ -155,17 +155,7 @@ class StressEval {
     ux_.release();
     uy_.release();
     DevArray<double> qx, qy;
-    {
-      std::vector<double> hx(static_cast<std::size_t>(g_.nxh())), hy(static_cast<std::size_t>(g_.ny));
-      for (int i = 0; i < g_.nxh(); ++i) hx[static_cast<std::size_t>(i)] = g_.qx_deriv(i);
-      for (int j = 0; j < g_.ny; ++j) hy[static_cast<std::size_t>(j)] = g_.qy_deriv(j);
-      qx.allocate(hx.size(), &bytes_, "stress: wave numbers");
-      qy.allocate(hy.size(), &bytes_, "stress: wave numbers");
-      cuda_check(cudaMemcpy(qx.get(), hx.data(), hx.size() * sizeof(double), cudaMemcpyHostToDevice),
-                 "stress");
-      cuda_check(cudaMemcpy(qy.get(), hy.data(), hy.size() * sizeof(double), cudaMemcpyHostToDevice),
-                 "stress");
-    }
+    wave_numbers(true, qx, qy);
     DevArray<double> xx, yy, xy;
     for (DevArray<double>* f : {&xx, &yy, &xy}) f->allocate(n_, &bytes_, "stress: tensor");
     const std::size_t nxh = static_cast<std::size_t>(g_.nxh());
@@ -298,17 +288,7 @@ class StressEval {
         }
     }
     DevArray<double> qx, qy;
-    {
-      std::vector<double> hx(static_cast<std::size_t>(g_.nxh())), hy(static_cast<std::size_t>(g_.ny));
-      for (int i = 0; i < g_.nxh(); ++i) hx[static_cast<std::size_t>(i)] = g_.qx(i);
-      for (int j = 0; j < g_.ny; ++j) hy[static_cast<std::size_t>(j)] = g_.qy(j);
-      qx.allocate(hx.size(), &bytes_, "stress: wave numbers");
-      qy.allocate(hy.size(), &bytes_, "stress: wave numbers");
-      cuda_check(cudaMemcpy(qx.get(), hx.data(), hx.size() * sizeof(double), cudaMemcpyHostToDevice),
-                 "stress");
-      cuda_check(cudaMemcpy(qy.get(), hy.data(), hy.size() * sizeof(double), cudaMemcpyHostToDevice),
-                 "stress");
-    }
+    wave_numbers(false, qx, qy);
     DevArray<Cplx> sig[6];
     for (DevArray<Cplx>& a : sig) a.allocate(ns_, &bytes_, "stress: subsurface spectra");
     Spectra6 out6{};
@@ -378,6 +358,19 @@ class StressEval {
     principal_and_summary(
         [=] __device__(std::size_t k) { return Tensor{a0[k], a1[k], a2[k], a3[k], a4[k], a5[k]}; }, out);
     return out;
+  }
+
+  // The wave numbers of the half spectrum's columns (qx) and rows (qy) on the device; deriv:
+  // those of a derivative (Grid::qx_deriv, zero on the Nyquist lines).
+  void wave_numbers(bool deriv, DevArray<double>& qx, DevArray<double>& qy) {
+    std::vector<double> hx(static_cast<std::size_t>(g_.nxh())), hy(static_cast<std::size_t>(g_.ny));
+    for (int i = 0; i < g_.nxh(); ++i) hx[static_cast<std::size_t>(i)] = deriv ? g_.qx_deriv(i) : g_.qx(i);
+    for (int j = 0; j < g_.ny; ++j) hy[static_cast<std::size_t>(j)] = deriv ? g_.qy_deriv(j) : g_.qy(j);
+    for (auto& [h, d] : {std::pair{&hx, &qx}, std::pair{&hy, &qy}}) {
+      d->allocate(h->size(), &bytes_, "stress: wave numbers");
+      cuda_check(cudaMemcpy(d->get(), h->data(), h->size() * sizeof(double), cudaMemcpyHostToDevice),
+                 "stress: wave numbers");
+    }
   }
 
   // grid_argmax: the maximum and the first cell (row order) holding it.

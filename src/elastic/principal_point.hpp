@@ -5,11 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#ifdef __CUDACC__
-#define GFMD_HD __host__ __device__
-#else
-#define GFMD_HD
-#endif
+#include "gfmd/core/host_device.hpp"
 
 namespace gfmd::principal_detail {
 
