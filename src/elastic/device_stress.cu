@@ -422,11 +422,11 @@ void complete_tensor(DeviceStressResult& r, const RealField& p, const RealField*
 
 bool usable(const Grid& g) { return !g.is_slab() && g.size() > 0; }
 
-}  // namespace
-
-std::optional<DeviceStressResult> device_surface_stress(const Grid& g, const ElasticParams& el,
-                                                        const ContactFields& f,
-                                                        const DeviceStressRequest& req) {
+// The surface stresses from the fields' pressure and in-plane displacements with the traction
+// t (the fields' own tx, ty unless t.from_pressure).
+std::optional<DeviceStressResult> surface_from_displacements(const Grid& g, const ElasticParams& el,
+                                                             const ContactFields& f, const Traction& t,
+                                                             const DeviceStressRequest& req) {
   el.validate();
   if (!usable(g)) return std::nullopt;
   StressEval e(g, req);
@@ -435,27 +435,26 @@ std::optional<DeviceStressResult> device_surface_stress(const Grid& g, const Ela
   e.up(f.pressure, e.p_, "stress: pressure");
   e.up(f.ux, e.ux_, "stress: displacements");
   e.up(f.uy, e.uy_, "stress: displacements");
-  DeviceStressResult r = e.evaluate(Traction{}, &f.tx, &f.ty, el);
-  complete_tensor(r, f.pressure, &f.tx, &f.ty, Traction{});
+  const RealField* tx = t.from_pressure ? nullptr : &f.tx;
+  const RealField* ty = t.from_pressure ? nullptr : &f.ty;
+  DeviceStressResult r = e.evaluate(t, tx, ty, el);
+  complete_tensor(r, f.pressure, tx, ty, t);
   return r;
+}
+
+}  // namespace
+
+std::optional<DeviceStressResult> device_surface_stress(const Grid& g, const ElasticParams& el,
+                                                        const ContactFields& f,
+                                                        const DeviceStressRequest& req) {
+  return surface_from_displacements(g, el, f, Traction{}, req);
 }
 
 std::optional<DeviceStressResult> device_paper_post_analysis_stress(const Grid& g, const ElasticParams& el,
                                                                     const ContactFields& frictionless,
                                                                     double mu, double angle_deg,
                                                                     const DeviceStressRequest& req) {
-  el.validate();
-  if (!usable(g)) return std::nullopt;
-  StressEval e(g, req);
-  if (!e.fits(false)) return std::nullopt;
-  e.plans();
-  e.up(frictionless.pressure, e.p_, "stress: pressure");
-  e.up(frictionless.ux, e.ux_, "stress: displacements");
-  e.up(frictionless.uy, e.uy_, "stress: displacements");
-  const Traction t = traction_of(mu, angle_deg);
-  DeviceStressResult r = e.evaluate(t, nullptr, nullptr, el);
-  complete_tensor(r, frictionless.pressure, nullptr, nullptr, t);
-  return r;
+  return surface_from_displacements(g, el, frictionless, traction_of(mu, angle_deg), req);
 }
 
 std::optional<DeviceStressResult> device_post_analysis_stress(const ElasticBody& body,
