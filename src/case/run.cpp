@@ -171,7 +171,9 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
     const double mu = cfg.friction.coefficient, angle = cfg.friction.direction_deg;
     for (const std::string& kind : cfg.stress.post_analysis) {
       if (on_device) {
-        DeviceStressRequest q = ask;
+        DeviceStressRequest q = ask;  // the summary and sigma_I's map, as on the host
+        q.tensor = false;
+        q.parts = PrincipalParts::SummaryOnly;
         q.s1 = true;
         std::optional<DeviceStressResult> d =
             kind == "paper" ? device_paper_post_analysis_stress(g, cfg.elastic, rf, mu, angle, q)
