@@ -38,25 +38,6 @@ namespace {
 
 constexpr int kMaxDepth = 50;  // solver.anderson's upper limit (case/config.cpp)
 
-// The per-mode data of the spectral passes: the compliance and the slip derivative's symbol.
-struct Mode {
-  double cxx, cyy, cxy, czz, cxz, cyz;
-};
-
-__device__ inline cufftDoubleComplex cmul(cufftDoubleComplex a, cufftDoubleComplex b) {
-  return {a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x};
-}
-__device__ inline cufftDoubleComplex cscale(double s, cufftDoubleComplex a) { return {s * a.x, s * a.y}; }
-__device__ inline cufftDoubleComplex cadd(cufftDoubleComplex a, cufftDoubleComplex b) {
-  return {a.x + b.x, a.y + b.y};
-}
-// i c z for real c.
-__device__ inline cufftDoubleComplex times_i(double c, cufftDoubleComplex z) { return {-c * z.y, c * z.x}; }
-__device__ inline cufftDoubleComplex cdiv1(cufftDoubleComplex d) {  // 1 / d
-  const double s = 1.0 / (d.x * d.x + d.y * d.y);
-  return {d.x * s, -d.y * s};
-}
-
 // solver_detail.hpp's joins_support and add_change, on the device.
 __device__ inline bool joins_support_dev(unsigned char in_supp, double x, double y, double fx, double fy) {
   return !in_supp && (x != 0.0 || y != 0.0 || fx != 0.0 || fy != 0.0);
@@ -289,7 +270,7 @@ class CudaSolve final : public DeviceSolve {
   DevArray<cufftDoubleComplex> s1_, s2_, s3_;
   DevArray<double> czz_n_;
   // Friction only.
-  DevArray<Mode> modes_;
+  DevArray<ComplianceMode> modes_;
   DevArray<cufftDoubleComplex> deriv_;  // the symbol D(q) of (e.grad), per mode
   DevArray<double> tx_, ty_, ntx_, nty_, zx_, zy_, bx_, by_;
   DevArray<unsigned char> in_supp_, flags_;
@@ -336,8 +317,8 @@ std::size_t device_solve_bytes(const Grid& g, bool friction) {
   if (cufftEstimate2d(g.ny, g.nx, CUFFT_D2Z, &wf) != CUFFT_SUCCESS) wf = 0;
   if (cufftEstimate2d(g.ny, g.nx, CUFFT_Z2D, &wb) != CUFFT_SUCCESS) wb = 0;
   // g0, p, w, three CG fields; three spectra; C_zz/N and the compliance per mode.
-  std::size_t b =
-      6 * n * sizeof(double) + 3 * m * sizeof(cufftDoubleComplex) + m * (sizeof(double) + sizeof(Mode));
+  std::size_t b = 6 * n * sizeof(double) + 3 * m * sizeof(cufftDoubleComplex) +
+                  m * (sizeof(double) + sizeof(ComplianceMode));
   // Friction: the iterate and its image (4), the splitting variable and the pressure's slip
   // (4), two flags and the support list per point; the derivative's symbol per mode.
   if (friction)
@@ -402,13 +383,9 @@ CudaSolve::CudaSolve(const DeviceProblem& pr)
   for (std::size_t k = 0; k < ns_; ++k) czz[k] = modes[k].czz / static_cast<double>(n_);
   czz_n_.allocate(ns_, &bytes_, "the compliance table");
   cuda_check(cudaMemcpy(czz_n_.get(), czz.data(), ns_ * sizeof(double), cudaMemcpyHostToDevice), "upload");
-  std::vector<Mode> md(ns_);
-  for (std::size_t k = 0; k < ns_; ++k) {
-    const ComplianceMode& c = modes[k];
-    md[k] = Mode{c.cxx, c.cyy, c.cxy, c.czz, c.cxz, c.cyz};
-  }
   modes_.allocate(ns_, &bytes_, "the compliance table");
-  cuda_check(cudaMemcpy(modes_.get(), md.data(), ns_ * sizeof(Mode), cudaMemcpyHostToDevice), "upload");
+  cuda_check(cudaMemcpy(modes_.get(), modes.data(), ns_ * sizeof(ComplianceMode), cudaMemcpyHostToDevice),
+             "upload");
   if (!friction) return;
   // The slip derivative's symbol per mode: the host's table (ElasticBody::slip_symbols).
   const auto dir = direction();
@@ -631,13 +608,13 @@ CudaSolve::PK CudaSolve::solve_normal(const LoadParams& load, bool w_zero, doubl
 void CudaSolve::friction_normal_displacement() {
   forward(tx_.get(), s2_.get());
   forward(ty_.get(), s3_.get());
-  const Mode* md = modes_.get();
+  const ComplianceMode* md = modes_.get();
   const cufftDoubleComplex* a = s2_.get();
   const cufftDoubleComplex* b = s3_.get();
   cufftDoubleComplex* out = s1_.get();
   const double scale = 1.0 / static_cast<double>(n_);
   launch_each(ns_, [=] __device__(std::size_t k) {
-    const Mode m = md[k];
+    const ComplianceMode m = md[k];
     const cufftDoubleComplex x = cscale(scale, a[k]), y = cscale(scale, b[k]);
     const cufftDoubleComplex tx = times_i(m.cxz, x), ty = times_i(m.cyz, y);
     out[k] = {-tx.x - ty.x, -tx.y - ty.y};
@@ -646,7 +623,7 @@ void CudaSolve::friction_normal_displacement() {
 }
 
 // In-plane displacement of a mode under the tractions (x, y, z).
-__device__ inline void inplane(const Mode& m, cufftDoubleComplex x, cufftDoubleComplex y,
+__device__ inline void inplane(const ComplianceMode& m, cufftDoubleComplex x, cufftDoubleComplex y,
                                cufftDoubleComplex z, cufftDoubleComplex& ux, cufftDoubleComplex& uy) {
   const cufftDoubleComplex iz1 = times_i(m.cxz, z), iz2 = times_i(m.cyz, z);
   ux = {m.cxx * x.x + m.cxy * y.x + iz1.x, m.cxx * x.y + m.cxy * y.y + iz1.y};
@@ -659,7 +636,7 @@ std::array<double, 3> CudaSolve::slip_tractions() {
   const double ex = dir.first, ey = dir.second;
   forward(p_.get(), s1_.get());
   {
-    const Mode* md = modes_.get();
+    const ComplianceMode* md = modes_.get();
     const cufftDoubleComplex* dd = deriv_.get();
     cufftDoubleComplex* a = s1_.get();
     cufftDoubleComplex* b = s2_.get();
@@ -715,7 +692,7 @@ CudaSolve::Tangential CudaSolve::solve_tangential(double tol, int max_it) {
   const double mu = fric_.coefficient;
   const double gamma = gamma_;
   const double scale = 1.0 / static_cast<double>(n_);
-  const Mode* md = modes_.get();
+  const ComplianceMode* md = modes_.get();
   const cufftDoubleComplex* dd = deriv_.get();
   cufftDoubleComplex* a = s1_.get();
   cufftDoubleComplex* b = s2_.get();
@@ -787,7 +764,7 @@ CudaSolve::Tangential CudaSolve::solve_tangential(double tol, int max_it) {
     forward(yx, s2_.get());
     forward(yy, s3_.get());
     launch_each(ns_, [=] __device__(std::size_t k) {
-      const Mode m = md[k];
+      const ComplianceMode m = md[k];
       const cufftDoubleComplex gd = cscale(gamma, dd[k]);
       const cufftDoubleComplex xa = cscale(scale, b[k]), xb = cscale(scale, c[k]);
       // The adjugate of M = I - gamma D C_tt and 1/det M (slip_resolvent).
@@ -1046,12 +1023,12 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
       forward(ty_.get(), s3_.get());
     }
     const double scale = 1.0 / static_cast<double>(n_);
-    const Mode* md = modes_.get();
+    const ComplianceMode* md = modes_.get();
     cufftDoubleComplex* a = s1_.get();
     cufftDoubleComplex* b = s2_.get();
     cufftDoubleComplex* c = s3_.get();
     launch_each(ns_, [=] __device__(std::size_t k) {
-      const Mode m = md[k];
+      const ComplianceMode m = md[k];
       const cufftDoubleComplex z = cscale(-scale, a[k]);
       const cufftDoubleComplex x = fr ? cscale(scale, b[k]) : cufftDoubleComplex{0.0, 0.0};
       const cufftDoubleComplex y = fr ? cscale(scale, c[k]) : cufftDoubleComplex{0.0, 0.0};

@@ -26,10 +26,7 @@ using namespace cuda_kernels;
 
 namespace {
 
-struct Cplx {
-  double re, im;
-};
-static_assert(sizeof(Cplx) == sizeof(cufftDoubleComplex));
+using Cplx = cufftDoubleComplex;
 
 // One cell's stress tensor (xx, yy, zz, xy, xz, yz).
 struct Tensor {
@@ -90,18 +87,13 @@ class StressEval {
                "stress: reading a field back");
   }
   void forward(const double* in, Cplx* out) {
-    cufft_check(cufftExecD2Z(fwd_, const_cast<double*>(in), reinterpret_cast<cufftDoubleComplex*>(out)),
-                "stress: forward transform");
+    cufft_check(cufftExecD2Z(fwd_, const_cast<double*>(in), out), "stress: forward transform");
   }
   // FFT::backward: the spectrum times 1/N (in place), then the inverse transform.
   void backward(Cplx* in, double* out) {
     const double scale = 1.0 / static_cast<double>(n_);
-    launch_each(ns_, [=] __device__(std::size_t k) {
-      in[k].re *= scale;
-      in[k].im *= scale;
-    });
-    cufft_check(cufftExecZ2D(bwd_, reinterpret_cast<cufftDoubleComplex*>(in), out),
-                "stress: inverse transform");
+    launch_each(ns_, [=] __device__(std::size_t k) { in[k] = cscale(scale, in[k]); });
+    cufft_check(cufftExecZ2D(bwd_, in, out), "stress: inverse transform");
   }
 
   // post_analysis_stress's displacements: (ux, uy) of the traction (mu p e, -p) through the
@@ -132,8 +124,8 @@ class StressEval {
     launch_each(ns_, [=] __device__(std::size_t k) {
       const ComplianceMode c = m[k];
       const Cplx x = X[k], y = Y[k], z = Z[k];
-      X[k] = {c.cxx * x.re + c.cxy * y.re - c.cxz * z.im, c.cxx * x.im + c.cxy * y.im + c.cxz * z.re};
-      Y[k] = {c.cxy * x.re + c.cyy * y.re - c.cyz * z.im, c.cxy * x.im + c.cyy * y.im + c.cyz * z.re};
+      X[k] = {c.cxx * x.x + c.cxy * y.x - c.cxz * z.y, c.cxx * x.y + c.cxy * y.y + c.cxz * z.x};
+      Y[k] = {c.cxy * x.x + c.cyy * y.x - c.cyz * z.y, c.cxy * x.y + c.cyy * y.y + c.cyz * z.x};
     });
     TZ.release();
     modes_.release();
@@ -166,10 +158,9 @@ class StressEval {
       launch_each(ns_, [=] __device__(std::size_t k) {
         const double ax = qxs[k % nxh], ay = qys[k / nxh];
         const Cplx u = Us[k], v = Vs[k];
-        // i q u = (-q u.im, q u.re)
-        Ws[k] = comp == 0   ? Cplx{-ax * u.im, ax * u.re}
-                : comp == 1 ? Cplx{-ay * v.im, ay * v.re}
-                            : Cplx{-ay * u.im + -ax * v.im, ay * u.re + ax * v.re};
+        Ws[k] = comp == 0   ? times_i(ax, u)
+                : comp == 1 ? times_i(ay, v)
+                            : cadd(times_i(ay, u), times_i(ax, v));
       });
       backward(Ws, (comp == 0 ? xx : comp == 1 ? yy : xy).get());
     }
@@ -305,7 +296,7 @@ class StressEval {
       const Cplx t1 = txs ? txs[k] : Cplx{0.0, 0.0}, t2 = tys ? tys[k] : Cplx{0.0, 0.0}, t3 = tzs[k];
       if (q == 0.0) {  // uniform traction: uniform stress (mode_response)
         const double l = nu / om;
-        const Cplx v[6] = {{l * t3.re, l * t3.im}, {l * t3.re, l * t3.im}, t3, {0.0, 0.0}, t1, t2};
+        const Cplx v[6] = {{l * t3.x, l * t3.y}, {l * t3.x, l * t3.y}, t3, {0.0, 0.0}, t1, t2};
         for (int m = 0; m < 6; ++m) out6.s[m][k] = v[m];
         return;
       }
@@ -320,30 +311,30 @@ class StressEval {
         for (int fy = 0; fy < (ny2 ? 2 : 1); ++fy) {
           const double c = fx ? -c0 : c0, s = fy ? -s0 : s0;
           // The traction in the mode's frame (1 along q, 2 across, 3 = z).
-          const Cplx a{c * t1.re + s * t2.re, c * t1.im + s * t2.im};
-          const Cplx b{-s * t1.re + c * t2.re, -s * t1.im + c * t2.im};
+          const Cplx a{c * t1.x + s * t2.x, c * t1.y + s * t2.y};
+          const Cplx b{-s * t1.x + c * t2.x, -s * t1.y + c * t2.y};
           // s11 = -i X0 a + X1 t3 (likewise Y, N), s12 = i rho b, s13 = S0 a + i S1 t3, s23 = tau b.
-          const Cplx s11{P.X[0] * a.im + P.X[1] * t3.re, -P.X[0] * a.re + P.X[1] * t3.im};
-          const Cplx s22{P.Y[0] * a.im + P.Y[1] * t3.re, -P.Y[0] * a.re + P.Y[1] * t3.im};
-          const Cplx s33{P.N[0] * a.im + P.N[1] * t3.re, -P.N[0] * a.re + P.N[1] * t3.im};
-          const Cplx s12{-md.rho * b.im, md.rho * b.re};
-          const Cplx s13{P.S[0] * a.re - P.S[1] * t3.im, P.S[0] * a.im + P.S[1] * t3.re};
-          const Cplx s23{md.tau * b.re, md.tau * b.im};
+          const Cplx s11{P.X[0] * a.y + P.X[1] * t3.x, -P.X[0] * a.x + P.X[1] * t3.y};
+          const Cplx s22{P.Y[0] * a.y + P.Y[1] * t3.x, -P.Y[0] * a.x + P.Y[1] * t3.y};
+          const Cplx s33{P.N[0] * a.y + P.N[1] * t3.x, -P.N[0] * a.x + P.N[1] * t3.y};
+          const Cplx s12{-md.rho * b.y, md.rho * b.x};
+          const Cplx s13{P.S[0] * a.x - P.S[1] * t3.y, P.S[0] * a.y + P.S[1] * t3.x};
+          const Cplx s23{md.tau * b.x, md.tau * b.y};
           const double cc = c * c, ss = s * s, cs = c * s;
           const Cplx lab[6] = {
-              {cc * s11.re + ss * s22.re - 2.0 * cs * s12.re, cc * s11.im + ss * s22.im - 2.0 * cs * s12.im},
-              {ss * s11.re + cc * s22.re + 2.0 * cs * s12.re, ss * s11.im + cc * s22.im + 2.0 * cs * s12.im},
+              {cc * s11.x + ss * s22.x - 2.0 * cs * s12.x, cc * s11.y + ss * s22.y - 2.0 * cs * s12.y},
+              {ss * s11.x + cc * s22.x + 2.0 * cs * s12.x, ss * s11.y + cc * s22.y + 2.0 * cs * s12.y},
               s33,
-              {cs * (s11.re - s22.re) + (cc - ss) * s12.re, cs * (s11.im - s22.im) + (cc - ss) * s12.im},
-              {c * s13.re - s * s23.re, c * s13.im - s * s23.im},
-              {s * s13.re + c * s23.re, s * s13.im + c * s23.im}};
+              {cs * (s11.x - s22.x) + (cc - ss) * s12.x, cs * (s11.y - s22.y) + (cc - ss) * s12.y},
+              {c * s13.x - s * s23.x, c * s13.y - s * s23.y},
+              {s * s13.x + c * s23.x, s * s13.y + c * s23.y}};
           for (int m = 0; m < 6; ++m) {
-            acc[m].re += lab[m].re;
-            acc[m].im += lab[m].im;
+            acc[m].x += lab[m].x;
+            acc[m].y += lab[m].y;
           }
           ++count;
         }
-      for (int m = 0; m < 6; ++m) out6.s[m][k] = {acc[m].re / count, acc[m].im / count};
+      for (int m = 0; m < 6; ++m) out6.s[m][k] = {acc[m].x / count, acc[m].y / count};
     });
     for (DevArray<Cplx>* a : {&TZ, &TX, &TY}) a->release();
     DevArray<double> f[6];

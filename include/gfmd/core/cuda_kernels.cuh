@@ -92,6 +92,21 @@ class DevArray {
   Tally* tally_ = nullptr;
 };
 
+// Complex arithmetic on cuFFT's double-precision complex type.
+__device__ inline cufftDoubleComplex cmul(cufftDoubleComplex a, cufftDoubleComplex b) {
+  return {a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x};
+}
+__device__ inline cufftDoubleComplex cscale(double s, cufftDoubleComplex a) { return {s * a.x, s * a.y}; }
+__device__ inline cufftDoubleComplex cadd(cufftDoubleComplex a, cufftDoubleComplex b) {
+  return {a.x + b.x, a.y + b.y};
+}
+// i c z for real c.
+__device__ inline cufftDoubleComplex times_i(double c, cufftDoubleComplex z) { return {-c * z.y, c * z.x}; }
+__device__ inline cufftDoubleComplex cdiv1(cufftDoubleComplex d) {  // 1 / d
+  const double s = 1.0 / (d.x * d.x + d.y * d.y);
+  return {d.x * s, -d.y * s};
+}
+
 template <class F>
 __global__ void each_kernel(std::size_t n, F f) {
   for (std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x; i < n;
