@@ -198,7 +198,8 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["backend"] = r.config.backend;
   if (r.info.device_bytes > 0) j["device_memory_bytes"] = r.info.device_bytes;  // the CUDA solve's peak
   if (r.stress_summary) j["stress_time_s"] = r.stress_time_s;
-  if (r.config.backend == "cuda" && r.stress_summary)  // where the surface stresses were evaluated
+  // Where the stresses were evaluated ("host" if any of them ran there).
+  if (r.config.backend == "cuda" && r.stress_summary)
     j["stress_backend"] = r.stress_on_device ? "cuda" : "host";
   j["mpi_ranks"] = r.mpi_ranks;
   if (const auto& u = r.mpi_usage) {
