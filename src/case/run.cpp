@@ -130,6 +130,10 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
     dev = device_surface_stress(g, cfg.elastic, r.fields, ask);
   }
   r.stress_on_device = dev.has_value();
+  // The post-analyses and planes below bring back their summary and sigma_I's map, as on the host.
+  DeviceStressRequest summary_s1;
+  summary_s1.high_tension_fraction = cfg.stress.high_tension_fraction;
+  summary_s1.s1 = true;
   if (dev) {
     r.stress = std::move(dev->tensor);
     r.principal = std::move(dev->principal);
@@ -171,13 +175,9 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
     const double mu = cfg.friction.coefficient, angle = cfg.friction.direction_deg;
     for (const std::string& kind : cfg.stress.post_analysis) {
       if (on_device) {
-        DeviceStressRequest q = ask;  // the summary and sigma_I's map, as on the host
-        q.tensor = false;
-        q.parts = PrincipalParts::SummaryOnly;
-        q.s1 = true;
         std::optional<DeviceStressResult> d =
-            kind == "paper" ? device_paper_post_analysis_stress(g, cfg.elastic, rf, mu, angle, q)
-                            : device_post_analysis_stress(body, rf.pressure, mu, angle, q);
+            kind == "paper" ? device_paper_post_analysis_stress(g, cfg.elastic, rf, mu, angle, summary_s1)
+                            : device_post_analysis_stress(body, rf.pressure, mu, angle, summary_s1);
         if (d) {
           r.post_analyses.push_back({kind, d->summary, d->above_half, std::move(d->principal.s1)});
           continue;
@@ -202,10 +202,8 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
     PrincipalField pf;
     try {
       if (on_device) {
-        DeviceStressRequest q = ask;
-        q.tensor = false;
-        q.parts = PrincipalParts::SummaryOnly;
-        q.s1 = q.von_mises = true;
+        DeviceStressRequest q = summary_s1;
+        q.von_mises = true;
         if (std::optional<DeviceStressResult> dv = device_subsurface_stress(g, cfg.elastic, r.fields, d, q)) {
           r.subsurface.push_back(
               {d, dv->summary, std::move(dv->principal.von_mises), std::move(dv->principal.s1)});
