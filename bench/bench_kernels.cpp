@@ -1,9 +1,12 @@
 // Micro-benchmarks of the per-iteration kernels (Google Benchmark).
 //   ./build/bench_kernels --benchmark_filter=FFT
 // "FFTIteration" is the bare-FFT cost the issue compares against: 3 forward + 3 inverse
-// real 2D transforms of an N x N grid. "Amg*": the algebraic multigrid of the flow solver
+// real 2D transforms of an N x N grid (the library's: line by line with the estimating
+// planner, FFTW's 2D plans with the measuring one); "FFTW2DEstimate" the same through FFTW's
+// own 2D estimate plans. "Amg*": the algebraic multigrid of the flow solver
 // on an N x N diffusion problem (one PCG iteration = one V-cycle + one product).
 #include <benchmark/benchmark.h>
+#include <fftw3.h>
 
 #include <cmath>
 #include <memory>
@@ -39,6 +42,36 @@ void BM_FFTIteration(benchmark::State& state) {
 }
 BENCHMARK(BM_FFTIteration)
     ->ArgsProduct({{256, 512, 1024, 2048}, {1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The same 3 + 3 transforms through FFTW's own 2D plans (FFTW_ESTIMATE, as the library used
+// before it computed its transforms line by line, src/core/fft_lines.hpp): the reference
+// for the line transforms' speed. Arguments: N, threads.
+void BM_FFTW2DEstimate(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const int threads = static_cast<int>(state.range(1));
+  gfmd::set_threads(threads);
+  const gfmd::Grid g{n, n, 1.0, 1.0};
+  gfmd::RealField r(g.size()), out(g.size());
+  for (std::size_t i = 0; i < r.size(); ++i) r[i] = static_cast<double>(i % 17);
+  gfmd::SpecField s(g.spectral_size());
+  auto* c = reinterpret_cast<fftw_complex*>(s.data());
+  fftw_plan_with_nthreads(threads);
+  fftw_plan fwd = fftw_plan_dft_r2c_2d(n, n, r.data(), c, FFTW_ESTIMATE);
+  fftw_plan bwd = fftw_plan_dft_c2r_2d(n, n, c, out.data(), FFTW_ESTIMATE);
+  for (auto _ : state) {
+    for (int k = 0; k < 3; ++k) {
+      fftw_execute(fwd);
+      fftw_execute(bwd);
+    }
+    benchmark::DoNotOptimize(out.data());
+  }
+  fftw_destroy_plan(fwd);
+  fftw_destroy_plan(bwd);
+}
+BENCHMARK(BM_FFTW2DEstimate)
+    ->ArgsProduct({{256, 512, 1024, 2048}, {1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

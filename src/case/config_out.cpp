@@ -143,10 +143,7 @@ MapOptions map_options(const Config& c) {
   return o;
 }
 
-bool surface_made_on_slabs(const Config& c) {
-  const auto pow2 = [](int v) { return v > 0 && (v & (v - 1)) == 0; };
-  return c.indenter.type != "file" && pow2(c.grid.nx) && pow2(c.grid.ny);
-}
+bool surface_made_on_slabs(const Config& c) { return c.indenter.type != "file"; }
 
 Topography make_topography(const Config& c, MapReport* report) {
   const IndenterConfig& in = c.indenter;

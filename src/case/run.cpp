@@ -340,16 +340,9 @@ void gather_for_root(const Config& cfg, const RunOptions& opts, const Grid& slab
 Topography make_topography_here(const Config& cfg, MapReport* report) {
   if (!mpi::distributed()) return make_topography(cfg, report);
   const Grid slab = mpi::slab_of(cfg.grid);
-  if (cfg.indenter.type != "file") {
-    // FFTW-MPI's transforms have serial FFTW's bits on grids whose sides are powers of two
-    // (tests/python/test_mpi.py), so there each process makes its rows alone. On other grids
-    // they differ by round-off, which the solve would carry into every result at the
-    // tolerance's level: there every process makes the whole map, as one process does, and
-    // keeps its rows (32 bytes per point of the whole grid while it is made).
-    if (!surface_made_on_slabs(cfg)) {
-      const Topography whole = make_topography(cfg, report);
-      return Topography{slab, mpi::rows_of(slab, whole.h), whole.kind};
-    }
+  if (surface_made_on_slabs(cfg)) {
+    // The slabs' transforms have one process's bits on any grid (core/fft.hpp), so each
+    // process makes its rows alone: the same heights as the rows of the whole map.
     Config on_slab = cfg;
     on_slab.grid = slab;
     return make_topography(on_slab, report);

@@ -17,6 +17,7 @@
 #include <string>
 #include <system_error>
 
+#include "fft_lines.hpp"
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/core/mpi.hpp"
@@ -189,6 +190,24 @@ class FftwEngine final : public FftEngine {
   fftw_plan r2c_ = nullptr;
   fftw_plan c2r_ = nullptr;
 };
+// FFTW_ESTIMATE's transforms as lines (fft_lines.hpp): the rows, then the half spectrum's
+// columns. The same bits as the slabs of a distributed run (mpi.cpp) for any process count.
+class LinesEngine final : public FftEngine {
+ public:
+  LinesEngine(const Grid& grid, int threads) : plans_(grid.nx, grid.ny, threads), ny_(grid.ny) {}
+  void forward(const double* in, cplx* out) override {
+    plans_.rows_forward(in, out, ny_);
+    plans_.columns(out, FFTW_FORWARD);
+  }
+  void backward_unscaled(cplx* in, double* out) override {
+    plans_.columns(in, FFTW_BACKWARD);
+    plans_.rows_backward(in, out, ny_);
+  }
+
+ private:
+  detail::LinePlans plans_;
+  int ny_;
+};
 }  // namespace
 
 std::unique_ptr<FftEngine> make_fftw_engine(const Grid& grid, Planner planner, int threads) {
@@ -196,6 +215,11 @@ std::unique_ptr<FftEngine> make_fftw_engine(const Grid& grid, Planner planner, i
     if (g_threads == 0) set_threads(0);
     std::lock_guard lock(planner_mutex());
     return mpi::make_fftw_mpi_engine(grid, threads);
+  }
+  if (planner == Planner::Estimate) {
+    if (g_threads == 0) set_threads(0);
+    std::lock_guard lock(planner_mutex());
+    return std::make_unique<LinesEngine>(grid, threads);
   }
   return std::make_unique<FftwEngine>(grid, planner, threads);
 }

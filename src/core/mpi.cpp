@@ -17,6 +17,8 @@
 #ifdef GFMD_WITH_MPI
 #include <fftw3-mpi.h>
 #include <mpi.h>
+
+#include "fft_lines.hpp"
 #endif
 
 namespace gfmd::mpi {
@@ -378,28 +380,36 @@ std::vector<double> pick(const Grid& slab, const RealField& local, const std::ve
 }
 
 namespace {
-// FFTW-MPI's r2c/c2r plans on a slab. Its real arrays have rows padded to 2 (nx/2 + 1) and
-// its arrays may need more than the slab's elements, so the plans run on buffers of their
-// own and the fields are copied in and out (one pass each way).
+// The transforms of a slab as lines (fft_lines.hpp): this process's rows, FFTW-MPI's
+// transpose of the half spectrum (each process then holds whole columns), the columns,
+// the transpose back. Every line goes through the one-line plan a whole grid uses, so the
+// bits are those of one process for any process count. The transposes run on two buffers
+// of FFTW-MPI's local size (each about the slab's half spectrum).
 class FftwMpiEngine final : public FftEngine {
  public:
-  FftwMpiEngine(const Grid& g, int threads) : g_(g) {
-    const Local l = local_rows(g.whole());
-    if (l.rows != g.rows() || l.start != g.y0)
+  FftwMpiEngine(const Grid& g, int threads) : g_(g), plans_(g.nx, g.ny, threads) {
+    const std::ptrdiff_t n[2] = {g.ny, g.nxh()};
+    std::ptrdiff_t rows = 0, start = 0, cols = 0, col0 = 0;
+    const std::ptrdiff_t alloc = fftw_mpi_local_size_many_transposed(
+        2, n, 2, FFTW_MPI_DEFAULT_BLOCK, FFTW_MPI_DEFAULT_BLOCK, MPI_COMM_WORLD, &rows, &start, &cols, &col0);
+    if (rows != g.rows() || start != g.y0)
       throw std::logic_error("FFTW-MPI: the grid's slab is not this process's rows");
-    alloc_ = std::max<std::ptrdiff_t>(l.alloc, 1);
-    rbuf_ = fftw_alloc_real(static_cast<std::size_t>(2 * alloc_));
-    cbuf_ = fftw_alloc_complex(static_cast<std::size_t>(alloc_));
-    if (!rbuf_ || !cbuf_) {
+    cols_ = static_cast<int>(cols);
+    const auto doubles = static_cast<std::size_t>(std::max<std::ptrdiff_t>(alloc, 2));
+    a_ = fftw_alloc_real(doubles);
+    b_ = fftw_alloc_real(doubles);
+    if (!a_ || !b_) {
       destroy();
       throw std::bad_alloc();
     }
     fftw_plan_with_nthreads(threads);
-    r2c_ = fftw_mpi_plan_dft_r2c_2d(g.ny, g.nx, rbuf_, cbuf_, MPI_COMM_WORLD, FFTW_ESTIMATE);
-    c2r_ = fftw_mpi_plan_dft_c2r_2d(g.ny, g.nx, cbuf_, rbuf_, MPI_COMM_WORLD, FFTW_ESTIMATE);
-    if (!r2c_ || !c2r_) {
+    to_columns_ = fftw_mpi_plan_many_transpose(g.ny, g.nxh(), 2, FFTW_MPI_DEFAULT_BLOCK,
+                                               FFTW_MPI_DEFAULT_BLOCK, a_, b_, MPI_COMM_WORLD, FFTW_ESTIMATE);
+    to_rows_ = fftw_mpi_plan_many_transpose(g.nxh(), g.ny, 2, FFTW_MPI_DEFAULT_BLOCK, FFTW_MPI_DEFAULT_BLOCK,
+                                            b_, a_, MPI_COMM_WORLD, FFTW_ESTIMATE);
+    if (!to_columns_ || !to_rows_) {
       destroy();
-      throw std::runtime_error("FFTW-MPI could not make a plan");
+      throw std::runtime_error("FFTW-MPI could not make a transpose plan");
     }
   }
   ~FftwMpiEngine() override { destroy(); }
@@ -407,37 +417,38 @@ class FftwMpiEngine final : public FftEngine {
   FftwMpiEngine& operator=(const FftwMpiEngine&) = delete;
 
   void forward(const double* in, cplx* out) override {
-    const int nx = g_.nx, rows = g_.rows();
-    const std::size_t pad = 2 * static_cast<std::size_t>(g_.nxh());
-    for (int r = 0; r < rows; ++r)
-      std::memcpy(rbuf_ + r * pad, in + static_cast<std::size_t>(r) * nx, sizeof(double) * nx);
-    fftw_execute(r2c_);
-    if (rows > 0) std::memcpy(static_cast<void*>(out), cbuf_, sizeof(fftw_complex) * g_.spectral_size());
+    plans_.rows_forward(in, spectrum(a_), g_.rows());
+    columns(FFTW_FORWARD);
+    if (g_.rows() > 0) std::memcpy(static_cast<void*>(out), a_, sizeof(cplx) * g_.spectral_size());
   }
   void backward_unscaled(cplx* in, double* out) override {
-    const int nx = g_.nx, rows = g_.rows();
-    const std::size_t pad = 2 * static_cast<std::size_t>(g_.nxh());
-    if (rows > 0) std::memcpy(cbuf_, static_cast<const void*>(in), sizeof(fftw_complex) * g_.spectral_size());
-    fftw_execute(c2r_);
-    for (int r = 0; r < rows; ++r)
-      std::memcpy(out + static_cast<std::size_t>(r) * nx, rbuf_ + r * pad, sizeof(double) * nx);
+    if (g_.rows() > 0) std::memcpy(a_, static_cast<const void*>(in), sizeof(cplx) * g_.spectral_size());
+    columns(FFTW_BACKWARD);
+    plans_.rows_backward(spectrum(a_), out, g_.rows());
   }
 
  private:
+  static cplx* spectrum(double* p) { return reinterpret_cast<cplx*>(p); }
+  // The half spectrum in a_ (this slab's rows) transformed along y, back in a_.
+  void columns(int sign) {
+    fftw_execute(to_columns_);
+    plans_.lines(spectrum(b_), cols_, sign);
+    fftw_execute(to_rows_);
+  }
   void destroy() {
-    if (r2c_) fftw_destroy_plan(r2c_);
-    if (c2r_) fftw_destroy_plan(c2r_);
-    if (rbuf_) fftw_free(rbuf_);
-    if (cbuf_) fftw_free(cbuf_);
-    r2c_ = c2r_ = nullptr;
-    rbuf_ = nullptr;
-    cbuf_ = nullptr;
+    if (to_columns_) fftw_destroy_plan(to_columns_);
+    if (to_rows_) fftw_destroy_plan(to_rows_);
+    if (a_) fftw_free(a_);
+    if (b_) fftw_free(b_);
+    to_columns_ = to_rows_ = nullptr;
+    a_ = b_ = nullptr;
   }
   Grid g_;
-  std::ptrdiff_t alloc_ = 0;
-  double* rbuf_ = nullptr;
-  fftw_complex* cbuf_ = nullptr;
-  fftw_plan r2c_ = nullptr, c2r_ = nullptr;
+  detail::LinePlans plans_;
+  int cols_ = 0;
+  double* a_ = nullptr;
+  double* b_ = nullptr;
+  fftw_plan to_columns_ = nullptr, to_rows_ = nullptr;
 };
 }  // namespace
 

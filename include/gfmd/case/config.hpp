@@ -108,8 +108,8 @@ Config parse_config(const std::string& toml_text, const std::string& name,
 // Builds the indenter's topography of a configuration.
 Topography make_topography(const Config& cfg, MapReport* report = nullptr);
 // Whether a distributed run makes each process's rows of the surface alone: analytic and
-// self-affine surfaces on grids whose sides are powers of two, where FFTW-MPI's transforms
-// have serial FFTW's bits. Otherwise every process makes the whole map (docs/mpi.md).
+// self-affine surfaces (on any grid: the slabs' transforms have one process's bits, core/fft.hpp).
+// A height map is read and prepared whole on rank 0, which hands out the rows (docs/mpi.md).
 bool surface_made_on_slabs(const Config& cfg);
 // The options of a file indenter's map for the case's grid.
 MapOptions map_options(const Config& cfg);
@@ -126,8 +126,8 @@ decltype(auto) in_section(const std::string& section, F&& f) {
 }
 
 // Estimated peak memory of a solve in bytes.
-// Per process when the run is split over `processes` (mpirun); whole_surface: every process
-// makes the whole map (grids that are not powers of two, height maps; docs/mpi.md).
+// Per process when the run is split over `processes` (mpirun); whole_surface: the whole map is
+// made here (a height map on rank 0; docs/mpi.md).
 double estimated_memory_bytes(const Grid& grid, int processes = 1, bool whole_surface = true);
 
 // The memory a solve may use here: the smallest of 80% of the physical memory, MemAvailable,

@@ -64,8 +64,10 @@ void FftwAllocator<T>::deallocate(T* p, std::size_t) noexcept {
 void set_threads(int threads);
 int threads();
 
-// Estimate: plans from FFTW's heuristics, made instantly; the same plan (and so the same
-// bits) on every run and for every thread count. Measure: FFTW times candidate plans
+// Estimate: plans from FFTW's heuristics, made instantly, for one line: the rows are
+// transformed, then the columns of the half spectrum, each line by the same plan, so the bits
+// are the same on every run, for every thread count and on the slabs of any number of
+// processes (src/core/fft_lines.hpp). Measure: FFTW times candidate plans
 // (seconds at 2048^2 the first time) and is up to ~1.9x faster at 2048^2 on our machine;
 // plans are kept as FFTW wisdom in $GFMD_FFTW_WISDOM, else $XDG_CACHE_HOME/gfmd/fftw-wisdom,
 // else ~/.cache/gfmd/fftw-wisdom, and reused by later runs (same plan -> same bits once
@@ -73,7 +75,8 @@ int threads();
 enum class Planner { Estimate, Measure };
 
 // What executes the transforms of an FFT object: FFTW's plans unless the current backend
-// supplies its own (Backend::make_fft_engine: FFTW-MPI on slabs, cuFFT on a device). The
+// supplies its own (Backend::make_fft_engine: line transforms with FFTW-MPI's transposes on
+// slabs, cuFFT on a device). The
 // conventions are those of FFT::forward and FFT::backward_unscaled_destroying.
 class FftEngine {
  public:

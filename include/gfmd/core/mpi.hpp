@@ -3,11 +3,11 @@
 // One program serves serial and distributed runs. Started by mpirun (or any launcher that
 // sets OpenMPI's or PMI's rank variables), gfmd joins MPI (init) and a case's fields are
 // split into slabs of whole rows, the block distribution FFTW-MPI uses for its r2c
-// transforms (slab_of): every grid pass then runs on the rows a process holds, every FFT is
-// an FFTW-MPI transform, and every reduction gathers the row partials of all processes and
-// adds them in row order (all_rows), so that sums do not depend on the number of
-// processes. Without mpirun, or in a build without MPI (GFMD_WITH_MPI off), there is one
-// process and nothing here communicates.
+// transforms (slab_of): every grid pass then runs on the rows a process holds, every FFT
+// runs line by line with FFTW-MPI's transposes (one process's bits), and every reduction
+// gathers the row partials of all processes and adds them in row order (all_rows), so that
+// sums do not depend on the number of processes. Without mpirun, or in a build without MPI
+// (GFMD_WITH_MPI off), there is one process and nothing here communicates.
 #pragma once
 
 #include <cstddef>
@@ -100,8 +100,9 @@ RealField rows_of(const Grid& slab, const RealField& whole);
 // whole field to every process.
 RealField scatter(const Grid& slab, const RealField& whole);
 
-// FFTW-MPI's plans on a slab (the engine of every FFT made on a slab grid, core/fft.cpp).
-// Estimate planning only: every process must make the same plan.
+// The transforms of a slab (the engine of every FFT made on a slab grid, core/fft.cpp): the
+// rows, FFTW-MPI's transpose, the columns, the transpose back, each line through the one-line
+// plan a whole grid uses (src/core/fft_lines.hpp), so the bits are one process's.
 std::unique_ptr<FftEngine> make_fftw_mpi_engine(const Grid& slab, int threads);
 
 }  // namespace gfmd::mpi

@@ -6,8 +6,8 @@
 // Fields are row-major with x fastest: h[iy * nx + ix] at x = ix*dx, y = iy*dy.
 // Made on a slab grid (a distributed run, core/mpi.hpp) a topography holds the slab's rows
 // only, and every process must make it (the self-affine surface and the statistics are
-// collectives): the same heights as the rows of the whole map, bit for bit on grids whose
-// transforms FFTW-MPI computes as serial FFTW does (powers of two), to round-off otherwise.
+// collectives): the same heights as the rows of the whole map, bit for bit (the slabs'
+// transforms have one process's bits, core/fft.hpp).
 #pragma once
 
 #include <cstdint>
