@@ -232,7 +232,8 @@ class ElasticBody:
 
 _SOLVER_KEYS = {"tolerance", "max_iterations", "max_outer", "max_tangential", "anderson", "mixing", "threads",
                 "fft_planner", "backend"}
-_FRICTION_KEYS = {"regularization", "creepage", "lateral_creepage", "slip_derivative", "stick_step", "reference"}
+_FRICTION_KEYS = {"regularization", "creepage", "lateral_creepage", "slip_derivative", "stick_step",
+                  "stick_acceleration", "reference"}
 
 
 def _toml_value(name: str, v) -> str:
@@ -358,7 +359,7 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
     Coulomb coefficient mu_c; direction: sliding direction in degrees from x. options: the
     [solver] keys (tolerance, max_iterations, max_outer, max_tangential, anderson, mixing,
     threads, fft_planner, backend) and the [friction] keys (regularization, creepage,
-    lateral_creepage, slip_derivative, stick_step, reference). progress(iteration, friction_step, change) is called about every
+    lateral_creepage, slip_derivative, stick_step, stick_acceleration, reference). progress(iteration, friction_step, change) is called about every
     0.2 s; progress=True shows a tqdm bar (plain lines without tqdm). Ctrl-C raises KeyboardInterrupt within an iteration. The same case through
     gfmd.run or `gfmd run` gives the same numbers.
     """

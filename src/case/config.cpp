@@ -457,6 +457,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
   if (!(c.friction.stick_step >= 0) || c.friction.stick_step > 1e6)
     fr.error("stick_step",
              "must be 0 (automatic) or a positive step gamma/E* up to 1e6" + fr.at("stick_step"));
+  c.friction.stick_acceleration = static_cast<int>(fr.integer("stick_acceleration", 0, 0, 50));
   c.friction_reference = fr.boolean("reference", true);
   fr.finish();
 

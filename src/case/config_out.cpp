@@ -71,6 +71,7 @@ nlohmann::json Config::to_json() const {
                    {"regularization", friction.regularization},
                    {"creepage", friction.creepage},
                    {"stick_step", friction.stick_step},
+                   {"stick_acceleration", friction.stick_acceleration},
                    {"reference", friction_reference},
                    {"lateral_creepage", friction.lateral_creepage},
                    {"slip_derivative",

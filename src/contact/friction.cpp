@@ -190,7 +190,33 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
   };
   TangentialResult res{0, 1.0, false};
   const double cx = gamma * rx, cy = gamma * ry;
-  const double beta = kTangentialRelaxation;
+  // friction.stick_acceleration: Anderson mixing of z (type II, relaxation inside the map
+  // z -> z + beta (y - tau)), with a fresh history per call. An extrapolated z is kept only
+  // if the residual |y - tau|_2 there does not exceed the one at the last accepted z (for
+  // plain Douglas-Rachford it never grows); otherwise the plain step from that z replaces it.
+  const int depth = fric_.stick_acceleration;
+  const bool accel = depth > 0;
+  const double beta = accel ? kAcceleratedRelaxation : kTangentialRelaxation;
+  if (accel) {
+    // z over every point held here, its two components interleaved (entry 2i: z_x at i),
+    // summed by grid row (the same sums on any number of processes).
+    if (!zmix_ || zmix_->size() != 2 * n) {
+      zmix_ = std::make_unique<AndersonMixer>(depth);
+      zmix_->resize(2 * n);
+      const auto rows = static_cast<std::size_t>(grid_.rows());
+      zmix_start_.resize(rows + 1);
+      for (std::size_t r = 0; r <= rows; ++r)
+        zmix_start_[r] = static_cast<std::uint32_t>(2 * r * static_cast<std::size_t>(grid_.nx));
+      zmix_order_.resize(2 * n);
+      for (std::size_t e = 0; e < 2 * n; ++e) zmix_order_[e] = static_cast<std::uint32_t>(e);
+      zmix_->group_by_rows(&grid_, &zmix_start_, &zmix_order_);
+    } else {
+      zmix_->restart();
+    }
+  }
+  double r2_base = 0.0;    // squared L2 residual at the last accepted z
+  bool candidate = false;  // z is an extrapolated iterate, not checked yet
+  const auto zref = [&](std::size_t e) -> double& { return (e % 2 == 0 ? zx_ : zy_)[e / 2]; };
   for (int it = 0; it < max_it; ++it) {
     ++res.iterations;
     project_pass(true);
@@ -203,20 +229,58 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
     }
     fft_.backward_unscaled_destroying(s2_.data(), yx.data());
     fft_.backward_unscaled_destroying(s3_.data(), yy.data());
-    // The change |y - tau| and the size |tau| (L1); the relaxed step z <- z + beta (y - tau).
-    const auto sums = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
+    if (!accel) {
+      // The change |y - tau| and the size |tau| (L1); the relaxed step z <- z + beta (y - tau).
+      const auto sums = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
+        const double dx = yx[i] - tx[i], dy = yy[i] - ty[i];
+        acc[0] += std::abs(dx) + std::abs(dy);
+        acc[1] += std::abs(tx[i]) + std::abs(ty[i]);
+        zx_[i] += beta * dx;
+        zy_[i] += beta * dy;
+      });
+      res.error = sums[1] > 0 ? sums[0] / sums[1] : (sums[0] > 0 ? 1.0 : 0.0);
+      require_finite(res.error, "the stick-slip traction", total_it_);
+      if (res.error < tol) {
+        res.converged = true;
+        break;
+      }
+      if (res.iterations % 64 == 0) poll(nullptr);
+      continue;
+    }
+    // Accelerated: y <- d = y - tau; sums |d|_1, |tau|_1 and |d|_2^2.
+    const auto sums = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
       const double dx = yx[i] - tx[i], dy = yy[i] - ty[i];
       acc[0] += std::abs(dx) + std::abs(dy);
       acc[1] += std::abs(tx[i]) + std::abs(ty[i]);
-      zx_[i] += beta * dx;
-      zy_[i] += beta * dy;
+      acc[2] += dx * dx + dy * dy;
+      yx[i] = dx;
+      yy[i] = dy;
     });
     res.error = sums[1] > 0 ? sums[0] / sums[1] : (sums[0] > 0 ? 1.0 : 0.0);
     require_finite(res.error, "the stick-slip traction", total_it_);
+    if (candidate && sums[2] > r2_base) {
+      // The extrapolated z did not lower the residual: the plain step from the last
+      // accepted z instead, with a fresh history.
+      zmix_->plain_step(1.0, [&](std::size_t e, double v) { zref(e) = v; });
+      zmix_->restart();
+      candidate = false;
+      continue;
+    }
     if (res.error < tol) {
+      parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t s_i) {
+        const auto i = static_cast<std::size_t>(s_i);
+        zx_[i] += beta * yx[i];
+        zy_[i] += beta * yy[i];
+      });
       res.converged = true;
       break;
     }
+    r2_base = sums[2];
+    zmix_->step(
+        1.0, [&](std::size_t e) { return zref(e); },
+        [&](std::size_t e) { return zref(e) + beta * (e % 2 == 0 ? yx : yy)[e / 2]; },
+        [&](std::size_t e, double v) { zref(e) = v; });
+    candidate = zmix_->history() > 0;
     if (res.iterations % 64 == 0) poll(nullptr);
   }
   project_pass(false);  // tau = P_K(z) for the final z

@@ -55,6 +55,9 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   if (fric_.coefficient > 0 && !fric_.regularized())
     gamma_ = fric_.stick_step > 0 ? fric_.stick_step * body.params().contact_modulus : default_stick_step();
   if (backend().name() == "cuda") {
+    if (fric_.stick_acceleration > 0)
+      throw ParameterError("friction.stick_acceleration",
+                           "is not implemented on the cuda backend: set it to 0 (plain splitting) there");
     // The fields live on the device; the host keeps only g0 (the final residual check).
     DeviceProblem pr;
     pr.body = &body_;
@@ -256,6 +259,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     bool stick_mode = !fric_.regularized() && fric_.rolling();
     bool tangential_ok = !stick_mode;  // the last stick-slip solve met the final tolerance
     have_z_ = false;
+    const bool accelerated = fric_.stick_acceleration > 0;
     double omega = sp_.mixing;
     // Stall test: the best change must improve by 10 % within 20 steps. Slow but steady
     // progress (stiff slip feedback near stick) is not a stall; a limit cycle is.
@@ -265,7 +269,10 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     for (int outer = 0; outer < sp_.max_outer; ++outer) {
       info.outer_iterations = outer + 1;
       friction_normal_displacement(f.tx, f.ty, w);
-      const double inner_tol = std::max(tol, std::min(1e-3, 0.1 * err));
+      // The normal solve's tolerance follows the friction change (looser in the accelerated
+      // stick-slip phase).
+      const double inner_fac = stick_mode && accelerated ? kAcceleratedNormalTolFactor : 0.1;
+      const double inner_tol = std::max(tol, std::min(1e-3, inner_fac * err));
       const int budget = sp_.max_iterations - total_it_;
       if (budget <= 0) {
         info.status = "not converged: iteration limit reached";
@@ -285,7 +292,9 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
           tx = f.tx;
           ty = f.ty;
         }
-        const double ttol = std::max(0.1 * tol, std::min(1e-3, kTangentialTolFactor * err));
+        const double ttol = std::max(
+            0.1 * tol,
+            std::min(1e-3, (accelerated ? kAcceleratedTangentialTolFactor : kTangentialTolFactor) * err));
         const auto tr = solve_tangential(f.pressure, tx, ty, ttol, sp_.max_tangential);
         info.tangential_iterations += tr.iterations;
         tangential_ok = tr.converged && ttol <= 0.1 * tol;

@@ -41,6 +41,16 @@ class AndersonMixer {
     have_prev_ = false;
   }
 
+  // The plain relaxed step from the last recorded iterate, out(e, x + omega f) (what step()
+  // writes with no history): the fallback when an extrapolated iterate is rejected.
+  template <class Out>
+  void plain_step(double omega, Out&& out) const {
+    parallel_for(static_cast<std::ptrdiff_t>(xprev_.size()), [&](std::ptrdiff_t s) {
+      const auto e = static_cast<std::size_t>(s);
+      out(e, xprev_[e] + omega * fprev_[e]);
+    });
+  }
+
   // Sums over the entries by grid row (reduce.hpp, row_grouped_sums) instead of in blocks of
   // the list: the mixing then does not depend on how the grid is split over processes. The
   // arguments must outlive the steps that use them and list every entry; nullptr: blocks.

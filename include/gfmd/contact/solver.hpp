@@ -30,6 +30,7 @@
 #include <optional>
 #include <string>
 
+#include "gfmd/contact/anderson.hpp"
 #include "gfmd/core/fft.hpp"
 #include "gfmd/core/fields.hpp"
 #include "gfmd/elastic/elastic.hpp"
@@ -61,6 +62,10 @@ struct FrictionParams {
   // Step gamma / E* of the stick-slip (Douglas-Rachford) iteration of the exact law; 0 picks
   // it from the body's in-plane compliance.
   double stick_step = 0.0;
+  // Anderson depth on the splitting variable of the stick-slip iteration (safeguarded:
+  // an extrapolated step is kept only where it lowers the splitting residual), with its own
+  // relaxation and inner tolerances (docs/solver.md); 0: plain Douglas-Rachford.
+  int stick_acceleration = 0;
   [[nodiscard]] bool regularized() const { return regularization > 0; }
   [[nodiscard]] bool rolling() const { return creepage != 1.0 || lateral_creepage != 0.0; }
   [[nodiscard]] SlipDerivative derivative() const {
@@ -211,7 +216,11 @@ class ContactSolver {
   RealField& r2_ = cg_r_;
   RealField zx_, zy_, bx_, by_;  // splitting variable and pressure-induced slip of solve_tangential
   bool have_z_ = false;
-  double gamma_ = 0.0;         // its step
+  double gamma_ = 0.0;  // its step
+  // Anderson mixing of z in solve_tangential (friction.stick_acceleration > 0), over every
+  // point held here: the two components interleaved, summed by grid row.
+  std::unique_ptr<AndersonMixer> zmix_;
+  std::vector<std::uint32_t> zmix_start_, zmix_order_;
   std::vector<double> czz_n_;  // C_zz / (nx ny) per half-spectrum mode, contiguous
   std::vector<cplx> dsym_;     // an upwind slip derivative's symbol per mode (empty: spectral)
   [[nodiscard]] const cplx* slip_symbols() const { return dsym_.empty() ? nullptr : dsym_.data(); }
