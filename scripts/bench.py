@@ -50,6 +50,12 @@ CASES = {
     "thin_p0.1_upwind2": ("examples/fig2e_rough_layer_sweep.toml",
                           lambda n: [f"indenter.lambda_short={16.0 / n:.10g}", "elastic.thickness=0.05",
                                      "load.pressure=0.1", 'friction.slip_derivative="upwind2"']),
+    # p = 0.1 E* with Anderson mixing of the stick-slip splitting (friction.stick_acceleration,
+    # opt-in; docs/solver.md).
+    "thin_p0.1_upwind2_accel": ("examples/fig2e_rough_layer_sweep.toml",
+                                lambda n: [f"indenter.lambda_short={16.0 / n:.10g}", "elastic.thickness=0.05",
+                                           "load.pressure=0.1", 'friction.slip_derivative="upwind2"',
+                                           "friction.stick_acceleration=5"]),
     # The rough case with the second-order upwind slip derivative: where the large grids meet a
     # few points near stick, the stick-slip splitting settles in fewer steps (docs/solver.md).
     "rough_upwind2": ("examples/selfaffine.toml",

@@ -458,6 +458,12 @@ Config build(const toml::value& root, const std::string& name, const std::string
     fr.error("stick_step",
              "must be 0 (automatic) or a positive step gamma/E* up to 1e6" + fr.at("stick_step"));
   c.friction.stick_acceleration = static_cast<int>(fr.integer("stick_acceleration", 0, 0, 50));
+  if (c.friction.stick_acceleration > 0 && c.friction.derivative() == SlipDerivative::Spectral)
+    fr.error("stick_acceleration",
+             "needs an upwind slip derivative (friction.slip_derivative = \"upwind2\" or \"upwind\"; "
+             "\"auto\" is spectral for sliding): with the spectral one its looser inner solves stall "
+             "the friction iteration (docs/solver.md)" +
+                 fr.at("stick_acceleration"));
   c.friction_reference = fr.boolean("reference", true);
   fr.finish();
 
