@@ -253,7 +253,8 @@ TEST(Sliding, StickAccelerationReachesThePlainSplittingAnswerInFewerSteps) {
   EXPECT_LT(dt, 1e-5 * tmax);
   // Where every contact point slips the option changes nothing, to the last bit.
   const auto a = solve(kRoughLayer, {"friction.slip_derivative=\"upwind2\""});
-  const auto b = solve(kRoughLayer, {"friction.slip_derivative=\"upwind2\"", "friction.stick_acceleration=5"});
+  const auto b =
+      solve(kRoughLayer, {"friction.slip_derivative=\"upwind2\"", "friction.stick_acceleration=5"});
   EXPECT_EQ(a.info.tangential_iterations, 0);
   EXPECT_EQ(a.observables.friction_coefficient, b.observables.friction_coefficient);
   EXPECT_EQ(a.info.iterations, b.info.iterations);
