@@ -249,7 +249,9 @@ class CudaSolve final : public DeviceSolve {
     cuda_check(cudaMemcpy(d, h.data(), n_ * sizeof(double), cudaMemcpyHostToDevice), "uploading a field");
   }
   // Stop requests, progress and checkpoints (the host's poll): settle first when one is due.
-  void poll(bool with_fields, const std::function<void()>& settle = {});
+  // pressure_scale: a pending load rescaling, applied to the host's copy only (the device's
+  // state, and so the results, do not depend on when checkpoints fall).
+  void poll(bool with_fields, double pressure_scale = 1.0);
   [[nodiscard]] std::pair<double, double> direction() const {
     const double th = fric_.direction_deg * std::numbers::pi / 180.0;
     return {std::cos(th), std::sin(th)};
@@ -408,7 +410,7 @@ CudaSolve::CudaSolve(const DeviceProblem& pr)
   select_work_.allocate(std::max<std::size_t>(sel, 1), &bytes_, "the support selection");
 }
 
-void CudaSolve::poll(bool with_fields, const std::function<void()>& settle) {
+void CudaSolve::poll(bool with_fields, double pressure_scale) {
   bool stop = hooks_->stop && *hooks_->stop && (*hooks_->stop)();
   bool save = false;
   double now = 0.0;
@@ -416,10 +418,11 @@ void CudaSolve::poll(bool with_fields, const std::function<void()>& settle) {
     now = std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
     save = now - last_checkpoint_ >= hooks_->checkpoint_interval_s;
   }
-  if ((stop || save) && settle) settle();
   if (stop || save) {
     // The host sees the state reached: pressure and tractions.
     download(p_.get(), host_->pressure);
+    if (pressure_scale != 1.0)
+      for (double& v : host_->pressure) v *= pressure_scale;
     if (tx_.get()) {
       download(tx_.get(), host_->tx);
       download(ty_.get(), host_->ty);
@@ -599,7 +602,7 @@ CudaSolve::PK CudaSolve::solve_normal(const LoadParams& load, bool w_zero, doubl
       res.converged = true;
       return res;
     }
-    poll(true, std::ref(apply_pending));
+    poll(true, pending);
   }
   apply_pending();
   return res;

@@ -65,6 +65,21 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     parallel_for(nl, [&](std::ptrdiff_t i) { p[i] *= f; });
     pending = 1.0;
   };
+  RealField unscaled;  // the pressure before a checkpoint's rescaling, and its factor
+  double held = 1.0;
+  const auto settle = [&] {
+    if (pending == 1.0) return;
+    unscaled.assign(p.begin(), p.end());
+    held = pending;
+    apply_pending();
+  };
+  const auto unsettle = [&] {
+    if (held == 1.0) return;
+    std::copy(unscaled.begin(), unscaled.end(), p.begin());
+    pending = held;
+    held = 1.0;
+    unscaled = RealField();
+  };
   PKResult res{0, 1.0, 0.0, false};
   for (int it = 0; it < max_it; ++it) {
     ++res.iterations;
@@ -207,9 +222,11 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
       res.converged = true;
       return res;
     }
-    // A checkpoint or an interruption sees the rescaled pressure (std::ref: the std::function
-    // holds a reference, no allocation per step).
-    poll(current_, std::ref(apply_pending));
+    // A checkpoint or an interruption sees the rescaled pressure; after a checkpoint the
+    // solve goes on from its own unscaled pressure and pending factor, so that its bits do
+    // not depend on when checkpoints fall (wall-clock time, hence the process count).
+    // (std::ref: the std::function holds a reference, no allocation per step.)
+    poll(current_, std::ref(settle), std::ref(unsettle));
   }
   apply_pending();
   return res;

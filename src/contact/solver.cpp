@@ -132,7 +132,8 @@ double ContactSolver::residual(const ContactFields& f, double delta) {
   return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
 }
 
-void ContactSolver::poll(const ContactFields* f, const std::function<void()>& settle) {
+void ContactSolver::poll(const ContactFields* f, const std::function<void()>& settle,
+                         const std::function<void()>& unsettle) {
   bool stop = stop_ && stop_();
   bool save = false;
   double now = 0.0;
@@ -152,6 +153,7 @@ void ContactSolver::poll(const ContactFields* f, const std::function<void()>& se
   if (save) {
     last_checkpoint_ = now;
     checkpoint_(*f);
+    if (unsettle) unsettle();
   }
 }
 

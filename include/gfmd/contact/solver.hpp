@@ -225,8 +225,10 @@ class ContactSolver {
   std::vector<cplx> dsym_;     // an upwind slip derivative's symbol per mode (empty: spectral)
   [[nodiscard]] const cplx* slip_symbols() const { return dsym_.empty() ? nullptr : dsym_.data(); }
   // Stop requests and checkpoints; `settle` runs first when either is due (it brings the
-  // state up to date).
-  void poll(const ContactFields* f, const std::function<void()>& settle = {});
+  // state up to date), `unsettle` after a checkpoint (it puts the solve's own state back, so
+  // that the results do not depend on when checkpoints were written).
+  void poll(const ContactFields* f, const std::function<void()>& settle = {},
+            const std::function<void()>& unsettle = {});
   std::function<void(const Progress&)> progress_;
   std::function<bool()> stop_;
   std::function<void(const ContactFields&)> checkpoint_;
