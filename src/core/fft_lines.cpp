@@ -26,6 +26,14 @@ void require_aligned(cplx* p) {
 }
 }  // namespace
 
+// One buffer of `size` elements per thread, made on first use.
+template <class Field>
+void LinePlans::per_thread(std::vector<Field>& buffers, int size) const {
+  if (!buffers.empty()) return;
+  buffers.resize(static_cast<std::size_t>(threads_));
+  for (auto& b : buffers) b.resize(static_cast<std::size_t>(size));
+}
+
 LinePlans::LinePlans(int nx, int ny, int threads)
     : nx_(nx), ny_(ny), nxh_(nx / 2 + 1), threads_(std::max(threads, 1)) {
   // Planning arrays only; the plans run on the callers' lines (new-array execute).
@@ -55,7 +63,7 @@ void LinePlans::destroy() {
 void LinePlans::rows_forward(const double* in, cplx* out, int rows) const {
   require_aligned(out);
   const bool copy = nx_ % 2 != 0 || fftw_alignment_of(const_cast<double*>(in)) != 0;
-  if (copy) ensure_row_scratch();
+  if (copy) per_thread(row_scratch_, nx_);
 #pragma omp parallel for num_threads(threads_) schedule(static)
   for (int r = 0; r < rows; ++r) {
     const double* row = in + static_cast<std::ptrdiff_t>(r) * nx_;
@@ -72,20 +80,13 @@ void LinePlans::rows_forward(const double* in, cplx* out, int rows) const {
 void LinePlans::rows_backward(cplx* in, double* out, int rows) const {
   require_aligned(in);
   const bool copy = nx_ % 2 != 0 || fftw_alignment_of(out) != 0;
-  if (copy) ensure_row_scratch();
+  if (copy) per_thread(row_scratch_, nx_);
 #pragma omp parallel for num_threads(threads_) schedule(static)
   for (int r = 0; r < rows; ++r) {
     double* row = out + static_cast<std::ptrdiff_t>(r) * nx_;
     double* line = copy ? row_scratch_[static_cast<std::size_t>(omp_get_thread_num())].data() : row;
     fftw_execute_dft_c2r(c2r_, as_fftw(in + static_cast<std::ptrdiff_t>(r) * nxh_), line);
     if (copy) std::copy(line, line + nx_, row);
-  }
-}
-
-void LinePlans::ensure_row_scratch() const {
-  if (row_scratch_.empty()) {
-    row_scratch_.resize(static_cast<std::size_t>(threads_));
-    for (auto& s : row_scratch_) s.resize(static_cast<std::size_t>(nx_));
   }
 }
 
@@ -102,10 +103,7 @@ void LinePlans::lines(cplx* data, int count, int sign) const {
 void LinePlans::columns(cplx* spec, int sign) const {
   require_aligned(spec);
   const fftw_plan p = sign == FFTW_FORWARD ? fwd_ : bwd_;
-  if (scratch_.empty()) {
-    scratch_.resize(static_cast<std::size_t>(threads_));
-    for (auto& s : scratch_) s.resize(static_cast<std::size_t>(kBlock) * ny_);
-  }
+  per_thread(scratch_, kBlock * ny_);
   const int blocks = (nxh_ + kBlock - 1) / kBlock;
   const std::ptrdiff_t nxh = nxh_;
 #pragma omp parallel for num_threads(threads_) schedule(static)

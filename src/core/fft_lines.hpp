@@ -35,7 +35,8 @@ class LinePlans {
 
  private:
   void destroy();
-  void ensure_row_scratch() const;
+  template <class Field>
+  void per_thread(std::vector<Field>& buffers, int size) const;
   int nx_, ny_, nxh_, threads_;
   fftw_plan r2c_ = nullptr, c2r_ = nullptr, fwd_ = nullptr, bwd_ = nullptr;
   mutable std::vector<SpecField> scratch_;      // columns(): one block of lines per thread
