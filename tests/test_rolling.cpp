@@ -110,8 +110,8 @@ TEST(Rolling, UpwindEnergyBalanceCountsTheNumericalDissipation) {
   }
 }
 
-// auto picks the spectral derivative for sliding (the results of earlier versions, bit for
-// bit) and upwind2 for rolling.
+// auto picks the spectral derivative for sliding where every point slips (the results of
+// earlier versions, bit for bit) and upwind2 for rolling (sliding with stick: test_sliding.cpp).
 TEST(Rolling, AutomaticDerivativeIsSpectralForSlidingUpwindForRolling) {
   const auto same = [](const CaseResult& a, const CaseResult& b) {
     return a.observables.tangential_force_x == b.observables.tangential_force_x &&

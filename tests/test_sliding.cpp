@@ -261,6 +261,40 @@ TEST(Sliding, StickAccelerationReachesThePlainSplittingAnswerInFewerSteps) {
   EXPECT_EQ(a.info.outer_iterations, b.info.outer_iterations);
 }
 
+TEST(Sliding, AutomaticDerivativeTurnsUpwindWhereTheSolveMeetsStick) {
+  // friction.slip_derivative = "auto" (the default) for sliding: spectral while every contact
+  // point slips, upwind2 once the solve meets stick (docs/solver.md). The thin layer at
+  // p = 0.1 E* sticks: the automatic solve must reach the explicit upwind2 solve's answer (to
+  // its tolerance) and its observables must use that derivative (its own dissipation);
+  // kRoughLayer at p = 0.03 E* slips everywhere: bitwise the explicit spectral solve.
+  const std::vector<std::string> stick = {"elastic.thickness=0.05", "load.pressure=0.1"};
+  auto up_sets = stick;
+  up_sets.emplace_back("friction.slip_derivative=\"upwind2\"");
+  const auto a = solve(kRoughLayer, stick);
+  const auto u = solve(kRoughLayer, up_sets);
+  ASSERT_TRUE(a.info.converged) << a.info.status;
+  ASSERT_TRUE(u.info.converged) << u.info.status;
+  EXPECT_EQ(a.info.slip_derivative, SlipDerivative::Upwind2);
+  EXPECT_EQ(summary_json(a)["slip_derivative"], "upwind2");
+  ASSERT_GT(a.info.stick_points, 0u);
+  EXPECT_EQ(a.info.stick_points, u.info.stick_points);
+  const auto rel = [](double x, double y) { return std::abs(x - y) / std::abs(y); };
+  EXPECT_LT(rel(a.observables.friction_coefficient, u.observables.friction_coefficient), 1e-7);
+  EXPECT_NE(a.observables.numerical_dissipation, 0.0);
+  EXPECT_LT(rel(a.observables.numerical_dissipation, u.observables.numerical_dissipation), 1e-4);
+  EXPECT_EQ(a.observables.relative_contact_area, u.observables.relative_contact_area);
+  // Every point slips: spectral, to the last bit.
+  const auto s = solve(kRoughLayer, {});
+  const auto sp = solve(kRoughLayer, {"friction.slip_derivative=\"spectral\""});
+  ASSERT_TRUE(s.info.converged) << s.info.status;
+  EXPECT_EQ(s.info.slip_derivative, SlipDerivative::Spectral);
+  EXPECT_EQ(summary_json(s)["slip_derivative"], "spectral");
+  EXPECT_EQ(s.info.tangential_iterations, 0);
+  EXPECT_EQ(s.observables.friction_coefficient, sp.observables.friction_coefficient);
+  EXPECT_EQ(s.observables.numerical_dissipation, 0.0);
+  EXPECT_EQ(s.info.iterations, sp.info.iterations);
+}
+
 // Carter (1926) steady rolling of a cylinder with traction, plane strain, nu = 0.5 (the
 // normal and tangential problems decouple and share E*): pressure p0 sqrt(1 - x^2/a^2),
 // a stick zone of half-width c at the leading edge (x in [a - 2c, a]), c/a = sqrt(1 -
@@ -355,7 +389,11 @@ TEST(Rolling, CreepageAndStickStepAreChecked) {
                           "friction.stick_acceleration=1.5", "friction.stick_acceleration=\"yes\"",
                           "friction.stick_acceleration=5"}) {  // the last: with the spectral derivative
     try {
-      (void)parse_config(kRoughLayer, "test.toml", {bad});
+      const bool accel = std::string(bad) == "friction.stick_acceleration=5";
+      if (accel)
+        (void)parse_config(kRoughLayer, "test.toml", {bad, "friction.slip_derivative=\"spectral\""});
+      else
+        (void)parse_config(kRoughLayer, "test.toml", {bad});
       ADD_FAILURE() << bad << " was accepted";
     } catch (const std::exception& e) {
       const std::string key = std::string(bad).substr(0, std::string(bad).find('='));
@@ -368,6 +406,10 @@ TEST(Rolling, CreepageAndStickStepAreChecked) {
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("friction.creepage"), std::string::npos) << e.what();
   }
+  // With the automatic derivative the stick-slip phase is upwind2: accepted.
+  EXPECT_EQ(
+      parse_config(kRoughLayer, "test.toml", {"friction.stick_acceleration=5"}).friction.stick_acceleration,
+      5);
 }
 
 // Largest tangential traction component where the pressure is zero (must be exactly 0).

@@ -449,20 +449,22 @@ Config build(const toml::value& root, const std::string& name, const std::string
   else if (deriv == "upwind2")
     c.friction.slip_derivative = SlipDerivative::Upwind2;
   else if (deriv != "auto")
-    fr.error("slip_derivative", "unknown discretisation \"" + deriv +
-                                    "\"; one of auto (spectral for sliding, upwind2 for rolling), spectral, "
-                                    "upwind, upwind2" +
-                                    fr.at("slip_derivative"));
+    fr.error(
+        "slip_derivative",
+        "unknown discretisation \"" + deriv +
+            "\"; one of auto (upwind2 for rolling and where sliding meets stick, else spectral), spectral, "
+            "upwind, upwind2" +
+            fr.at("slip_derivative"));
   c.friction.stick_step = fr.number("stick_step", 0.0);
   if (!(c.friction.stick_step >= 0) || c.friction.stick_step > 1e6)
     fr.error("stick_step",
              "must be 0 (automatic) or a positive step gamma/E* up to 1e6" + fr.at("stick_step"));
   c.friction.stick_acceleration = static_cast<int>(fr.integer("stick_acceleration", 0, 0, 50));
-  if (c.friction.stick_acceleration > 0 && c.friction.derivative() == SlipDerivative::Spectral)
+  if (c.friction.stick_acceleration > 0 && c.friction.slip_derivative == SlipDerivative::Spectral)
     fr.error("stick_acceleration",
-             "needs an upwind slip derivative (friction.slip_derivative = \"upwind2\" or \"upwind\"; "
-             "\"auto\" is spectral for sliding): with the spectral one its looser inner solves stall "
-             "the friction iteration (docs/solver.md)" +
+             "needs an upwind slip derivative (friction.slip_derivative = \"auto\", \"upwind2\" or "
+             "\"upwind\"): with the spectral one its looser inner solves stall the friction iteration "
+             "(docs/solver.md)" +
                  fr.at("stick_acceleration"));
   c.friction_reference = fr.boolean("reference", true);
   fr.finish();

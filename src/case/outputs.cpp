@@ -127,6 +127,7 @@ nlohmann::json summary_json(const CaseResult& r) {
   if (r.config.friction.coefficient > 0) {
     j["tangential_iterations"] = r.info.tangential_iterations;
     j["friction_law"] = r.config.friction.regularized() ? "regularized" : "coulomb";
+    j["slip_derivative"] = slip_derivative_name(r.info.slip_derivative);  // the one the solution used
   }
   j["converged"] = r.info.converged;
   j["status"] = r.info.status;

@@ -239,8 +239,12 @@ ContactFields warm_start_rows(const Grid& slab, const ContactFields& whole) {
 void after_solve_here(const Config& cfg, const RunOptions& opts, const Grid& grid, const Topography& topo,
                       CaseResult& r) {
   const FFT fft(grid, cfg.solver.fft_planner);
-  r.observables = compute_observables(fft, topo, cfg.friction, r.fields, r.info);
-  if (cfg.friction.coefficient > 0) r.derived = derived_fields(fft, cfg.friction, r.fields);
+  // The slip velocity with the derivative the solution was computed with (an automatic one
+  // turns to upwind2 where the solve met stick).
+  FrictionParams fric = cfg.friction;
+  fric.slip_derivative = r.info.slip_derivative;
+  r.observables = compute_observables(fft, topo, fric, r.fields, r.info);
+  if (fric.coefficient > 0) r.derived = derived_fields(fft, fric, r.fields);
   if (r.info.converged) {
     const auto t0 = std::chrono::steady_clock::now();
     compute_stresses(r, fft, topo, opts.keep_stress_fields);

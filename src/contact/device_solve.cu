@@ -238,7 +238,9 @@ class CudaSolve final : public DeviceSolve {
   }
   void apply_compliance(const double* in, double* out, double scale);
   PK solve_normal(const LoadParams& load, bool w_zero, double tol, int max_it);
-  std::array<double, 3> slip_tractions();
+  std::array<double, 4> slip_tractions();
+  // Uploads the symbol table of `deriv` and takes its splitting step (ContactSolver::use_derivative).
+  void use_derivative(SlipDerivative deriv);
   Tangential solve_tangential(double tol, int max_it);
   void friction_normal_displacement();
   void download(const double* d, RealField& h) const {
@@ -264,6 +266,9 @@ class CudaSolve final : public DeviceSolve {
   double k_, inv_k_, g0_rms_, modulus_dx_;
   bool hard_wall_;
   double gamma_;
+  const ElasticBody* body_;
+  double gamma_initial_, gamma_upwind2_;
+  SlipDerivative deriv_kind_;  // the slip derivative in use now
   Tally bytes_;
   cufftHandle plan_fwd_ = 0, plan_bwd_ = 0;
   DevArray<char> fft_work_;
@@ -357,7 +362,11 @@ CudaSolve::CudaSolve(const DeviceProblem& pr)
       g0_rms_(pr.g0_rms),
       modulus_dx_(pr.body->params().contact_modulus / pr.body->grid().dx()),
       hard_wall_(pr.hard_wall),
-      gamma_(pr.stick_step) {
+      gamma_(pr.stick_step),
+      body_(pr.body),
+      gamma_initial_(pr.stick_step),
+      gamma_upwind2_(pr.stick_step_upwind2),
+      deriv_kind_(pr.friction.derivative()) {
   if (grid_.is_slab())
     throw InputError("solver.backend", "\"cuda\" solves on one process (a distributed run uses \"threads\")");
   n_ = grid_.size();
@@ -389,14 +398,8 @@ CudaSolve::CudaSolve(const DeviceProblem& pr)
   cuda_check(cudaMemcpy(modes_.get(), modes.data(), ns_ * sizeof(ComplianceMode), cudaMemcpyHostToDevice),
              "upload");
   if (!friction) return;
-  // The slip derivative's symbol per mode: the host's table (ElasticBody::slip_symbols).
-  const auto dir = direction();
-  const std::vector<cplx> sym = pr.body->slip_symbols(dir.first, dir.second, fric_.derivative());
-  std::vector<cufftDoubleComplex> dd(ns_);
-  for (std::size_t k = 0; k < ns_; ++k) dd[k] = {sym[k].real(), sym[k].imag()};
   deriv_.allocate(ns_, &bytes_, "the derivative table");
-  cuda_check(cudaMemcpy(deriv_.get(), dd.data(), ns_ * sizeof(cufftDoubleComplex), cudaMemcpyHostToDevice),
-             "upload");
+  use_derivative(deriv_kind_);
   for (auto* a : {&tx_, &ty_, &ntx_, &nty_, &zx_, &zy_, &bx_, &by_}) a->allocate(n_, &bytes_, "a field");
   in_supp_.allocate(n_, &bytes_, "the support flags");
   flags_.allocate(n_, &bytes_, "the support flags");
@@ -408,6 +411,18 @@ CudaSolve::CudaSolve(const DeviceProblem& pr)
                                         static_cast<std::int64_t>(n_)),
              "support selection");
   select_work_.allocate(std::max<std::size_t>(sel, 1), &bytes_, "the support selection");
+}
+
+void CudaSolve::use_derivative(SlipDerivative deriv) {
+  // The slip derivative's symbol per mode: the host's table (ElasticBody::slip_symbols).
+  const auto dir = direction();
+  const std::vector<cplx> sym = body_->slip_symbols(dir.first, dir.second, deriv);
+  std::vector<cufftDoubleComplex> dd(ns_);
+  for (std::size_t k = 0; k < ns_; ++k) dd[k] = {sym[k].real(), sym[k].imag()};
+  cuda_check(cudaMemcpy(deriv_.get(), dd.data(), ns_ * sizeof(cufftDoubleComplex), cudaMemcpyHostToDevice),
+             "upload");
+  deriv_kind_ = deriv;
+  gamma_ = deriv == fric_.derivative() ? gamma_initial_ : gamma_upwind2_;
 }
 
 void CudaSolve::poll(bool with_fields, double pressure_scale) {
@@ -633,7 +648,7 @@ __device__ inline void inplane(const ComplianceMode& m, cufftDoubleComplex x, cu
   uy = {m.cxy * x.x + m.cyy * y.x + iz2.x, m.cxy * x.y + m.cyy * y.y + iz2.y};
 }
 
-std::array<double, 3> CudaSolve::slip_tractions() {
+std::array<double, 4> CudaSolve::slip_tractions() {
   // friction.cpp's slip_tractions: s2/s3 hold the spectra of tau_x/tau_y.
   const auto dir = direction();
   const double ex = dir.first, ey = dir.second;
@@ -665,11 +680,14 @@ std::array<double, 3> CudaSolve::slip_tractions() {
   double* tx = ntx_.get();
   double* ty = nty_.get();
   const unsigned char* in_supp = in_supp_.get();
-  return red_.run<3>(n_, [=] __device__(std::size_t i, double* acc) {
+  constexpr double slow2 = kNearStickSpeed * kNearStickSpeed;
+  return red_.run<4>(n_, [=] __device__(std::size_t i, double* acc) {
     const double pi = p[i];
     if (pi > 0) {
       const double vx = rx + r1[i], vy = ry + r2[i];
-      const double norm = fmax(sqrt(vx * vx + vy * vy), eps);
+      const double v2 = vx * vx + vy * vy;
+      if (v2 < slow2) acc[3] += 1.0;
+      const double norm = fmax(sqrt(v2), eps);
       double x = 0.0, y = 0.0;
       if (norm > 0) {
         x = mu * pi * vx / norm;
@@ -823,6 +841,8 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
   info.stiffness = k_;
   const double tol = sp_.tolerance;
   const double mu = fric_.coefficient;
+  if (mu > 0 && deriv_kind_ != fric_.derivative())
+    use_derivative(fric_.derivative());  // a previous solve met stick
   upload(f.pressure, p_.get());
   cuda_check(cudaMemset(w_.get(), 0, n * sizeof(double)), "clearing a field");
   PK pk{};
@@ -882,6 +902,7 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
     const double dir_x = dir.first, dir_y = dir.second;
     bool stick_mode = !fric_.regularized() && fric_.rolling();
     bool tangential_ok = !stick_mode;
+    int near_stick_steps = 0;
     have_z_ = false;
     double omega = sp_.mixing;
     constexpr double stall_gain = 0.9;
@@ -903,10 +924,11 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
         const Phase ph(this, 0);
         pk = solve_normal(load, false, inner_tol, budget);
       }
-      std::array<double, 3> dn{};
+      std::array<double, 4> dn{};
       if (!stick_mode) {
         const Phase ph(this, 1);
         dn = slip_tractions();
+        near_stick_steps = dn[3] > 0 ? near_stick_steps + 1 : 0;
       } else {
         if (!have_z_) {
           cuda_check(cudaMemcpy(tx, ftx, n * sizeof(double), cudaMemcpyDeviceToDevice), "copy");
@@ -917,9 +939,10 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
         const auto tr = solve_tangential(ttol, sp_.max_tangential);
         info.tangential_iterations += tr.iterations;
         tangential_ok = tr.converged && ttol <= 0.1 * tol;
-        dn = red_.run<3>(n, [=] __device__(std::size_t i, double* acc) {
+        const auto c = red_.run<3>(n, [=] __device__(std::size_t i, double* acc) {
           add_change_dev(acc, in_supp[i], tx[i], ty[i], ftx[i], fty[i]);
         });
+        dn = {c[0], c[1], c[2], 0.0};
       }
       err = dn[1] > 0 ? dn[0] / dn[1] : 0.0;
       require_finite(err, "the friction traction", total);
@@ -940,14 +963,21 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
       if (err < stall_gain * best) {
         best = err;
         since_best = 0;
-      } else if (++since_best >= stall_steps && !fric_.regularized() && !stick_mode) {
+      } else {
+        ++since_best;
+      }
+      const bool stalled = since_best >= stall_steps;
+      const bool meets_stick = near_stick_steps >= kNearStickSteps && outer + 1 >= kNearStickFirst;
+      if (!fric_.regularized() && !stick_mode && (meets_stick || stalled)) {
         stick_mode = true;
+        if (!fric_.slip_derivative && deriv_kind_ == SlipDerivative::Spectral)
+          use_derivative(SlipDerivative::Upwind2);
         tangential_ok = false;
         if (mixer) mixer->restart();
         since_best = 0;
         best = std::numeric_limits<double>::infinity();
         continue;
-      } else if (since_best >= stall_steps) {
+      } else if (stalled) {
         omega *= 0.5;
         if (mixer) mixer->clear_history();
         since_best = 0;
@@ -1014,6 +1044,7 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
     }
   }
   info.iterations = total;
+  info.slip_derivative = deriv_kind_;
   info.pk_error = pk.error;
   info.approach = pk.delta;
   // The displacements of (tau, -p) and the gap, then everything back to the host.

@@ -26,6 +26,8 @@ struct DeviceProblem {
   FrictionParams friction;
   SolverParams solver;
   double stick_step = 0.0;  // gamma of the Douglas-Rachford iteration (exact law with friction)
+  // gamma once an automatic slip derivative turns to upwind2 (the solve met stick).
+  double stick_step_upwind2 = 0.0;
 };
 
 // The host's hooks, polled at the same points as on the host.

@@ -66,7 +66,7 @@ std::string friction_history_evidence(const std::vector<double>& change, const s
   return buf;
 }
 
-std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, RealField& tx, RealField& ty,
+std::array<double, 4> ContactSolver::slip_tractions(const ContactFields& f, RealField& tx, RealField& ty,
                                                     const std::vector<unsigned char>& in_supp) {
   // Requires s2_/s3_ to hold the spectra of tau_x/tau_y (friction_normal_displacement).
   // One forward FFT (of p; t_z = -p), the slopes (e.grad) u of the in-plane displacement in
@@ -75,7 +75,7 @@ std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, Real
   const double ex = std::cos(th), ey = std::sin(th);
   const double scale = 1.0 / static_cast<double>(grid_.size());
   fft_.forward(f.pressure.data(), s1_.data());
-  const SlipDerivative deriv = fric_.derivative();
+  const SlipDerivative deriv = deriv_;
   body_.inplane_slope(s2_.data(), s3_.data(), s1_.data(), ex, ey, s1_.data(), s2_.data(), scale, -scale,
                       deriv, slip_symbols());
   fft_.backward_unscaled_destroying(s1_.data(), r1_.data());
@@ -86,11 +86,14 @@ std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, Real
   const double rx = rigid[0], ry = rigid[1];  // plain names: lambdas may capture them
   // Outside the contact set the new traction is zero; outside the Anderson support the
   // traction and its previous image are zero too (see solve), so nothing there is read.
-  return grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
+  constexpr double slow2 = kNearStickSpeed * kNearStickSpeed;
+  return grid_sums<4>(grid_, [&](std::size_t i, std::array<double, 4>& acc) {
     const double p = f.pressure[i];
     if (p > 0) {
       const double vx = rx + r1_[i], vy = ry + r2_[i];
-      const double norm = std::max(std::sqrt(vx * vx + vy * vy), eps);  // |v| = O(1): no hypot needed
+      const double v2 = vx * vx + vy * vy;
+      if (v2 < slow2) acc[3] += 1.0;
+      const double norm = std::max(std::sqrt(v2), eps);  // |v| = O(1): no hypot needed
       double x = 0.0, y = 0.0;
       if (norm > 0) {
         x = mu * p * vx / norm;
@@ -107,11 +110,22 @@ std::array<double, 3> ContactSolver::slip_tractions(const ContactFields& f, Real
   });
 }
 
-double ContactSolver::default_stick_step() const {
+double ContactSolver::default_stick_step(SlipDerivative deriv) const {
   // gamma = c / rho(A): the scale on which the slip operator acts.
   const double th = fric_.direction_deg * std::numbers::pi / 180.0;
-  const double rho = body_.slip_operator_norm(std::cos(th), std::sin(th), fric_.derivative());
+  const double rho = body_.slip_operator_norm(std::cos(th), std::sin(th), deriv);
   return rho > 0 ? kStickStepFactor / rho : body_.params().contact_modulus;
+}
+
+void ContactSolver::use_derivative(SlipDerivative deriv) {
+  deriv_ = deriv;
+  dsym_.clear();
+  if (fric_.coefficient <= 0) return;
+  const double th = fric_.direction_deg * std::numbers::pi / 180.0;
+  if (deriv != SlipDerivative::Spectral) dsym_ = body_.slip_symbols(std::cos(th), std::sin(th), deriv);
+  if (!fric_.regularized())
+    gamma_ =
+        fric_.stick_step > 0 ? fric_.stick_step * body_.params().contact_modulus : default_stick_step(deriv);
 }
 
 ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField& p, RealField& tx,
@@ -127,7 +141,7 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
   const double ex = std::cos(th), ey = std::sin(th);
   const std::array<double, 2> rigid = fric_.rigid_slip(ex, ey);
   const double rx = rigid[0], ry = rigid[1];  // plain names: lambdas may capture them
-  const SlipDerivative deriv = fric_.derivative();
+  const SlipDerivative deriv = deriv_;
   const double mu = fric_.coefficient;
   const double gamma = gamma_;
   const double scale = 1.0 / static_cast<double>(grid_.size());

@@ -52,8 +52,10 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   const double m = sums[0] / points;
   g0_rms_ = std::sqrt(std::max(0.0, sums[1] / points - m * m));
   // Step of the stick-slip iteration (exact law with friction only).
+  deriv_ = fric_.derivative();
   if (fric_.coefficient > 0 && !fric_.regularized())
-    gamma_ = fric_.stick_step > 0 ? fric_.stick_step * body.params().contact_modulus : default_stick_step();
+    gamma_ =
+        fric_.stick_step > 0 ? fric_.stick_step * body.params().contact_modulus : default_stick_step(deriv_);
   if (backend().name() == "cuda") {
     if (fric_.stick_acceleration > 0)
       throw ParameterError("friction.stick_acceleration",
@@ -69,6 +71,8 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
     pr.friction = fric_;
     pr.solver = sp_;
     pr.stick_step = gamma_;
+    if (fric_.coefficient > 0 && !fric_.regularized())
+      pr.stick_step_upwind2 = fric_.stick_step > 0 ? gamma_ : default_stick_step(SlipDerivative::Upwind2);
     device_ = make_device_solve(pr);
     return;
   }
@@ -77,10 +81,7 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   czz_n_.resize(body.modes().size());
   for (std::size_t k = 0; k < czz_n_.size(); ++k)
     czz_n_[k] = body.modes()[k].czz / static_cast<double>(grid_.size());
-  if (fric_.coefficient > 0 && fric_.derivative() != SlipDerivative::Spectral) {
-    const double th = fric_.direction_deg * std::numbers::pi / 180.0;
-    dsym_ = body.slip_symbols(std::cos(th), std::sin(th), fric_.derivative());
-  }
+  use_derivative(deriv_);
 }
 
 ContactSolver::~ContactSolver() = default;
@@ -191,6 +192,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
   total_it_ = 0;
   SolveInfo info;
   info.stiffness = k_;
+  if (deriv_ != fric_.derivative()) use_derivative(fric_.derivative());  // a previous solve met stick
   const double tol = sp_.tolerance;
   const double mu = fric_.coefficient;
   RealField w(n, 0.0);
@@ -255,10 +257,13 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
                  dir_y = std::sin(fric_.direction_deg * std::numbers::pi / 180.0);
     bool have_slip = false;  // r1_/r2_ hold (e.grad) u of this solve
     // The exact law starts with the full-slip map tau = mu_c p v/|v| (fast, and its fixed
-    // point, where every contact point slips, solves the set-valued law too). Where it does
-    // not settle (points near stick) or with creepage (rolling: stick is expected), the
-    // stick-slip solve takes over from the current traction.
+    // point, where every contact point slips, solves the set-valued law too). Where it meets
+    // stick (contact points slower than kNearStickSpeed v0 in kNearStickSteps successive
+    // friction steps, from step kNearStickFirst on), where it does not settle, or with
+    // creepage (rolling: stick is expected), the stick-slip solve takes over from the
+    // current traction.
     bool stick_mode = !fric_.regularized() && fric_.rolling();
+    int near_stick_steps = 0;          // successive full-slip steps with contact points near stick
     bool tangential_ok = !stick_mode;  // the last stick-slip solve met the final tolerance
     have_z_ = false;
     const bool accelerated = fric_.stick_acceleration > 0;
@@ -285,10 +290,11 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       // w and the two slip derivatives back.
       // dn[2]: points outside the Anderson support where the iterate or its image is
       // non-zero (they join the support below).
-      std::array<double, 3> dn{};
+      std::array<double, 4> dn{};
       if (!stick_mode) {
         dn = slip_tractions(f, tx, ty, in_supp);
         have_slip = true;
+        near_stick_steps = dn[3] > 0 ? near_stick_steps + 1 : 0;
       } else {
         if (!have_z_) {
           tx = f.tx;
@@ -300,9 +306,10 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         const auto tr = solve_tangential(f.pressure, tx, ty, ttol, sp_.max_tangential);
         info.tangential_iterations += tr.iterations;
         tangential_ok = tr.converged && ttol <= 0.1 * tol;
-        dn = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
+        const auto c = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
           add_change(acc, in_supp[i], tx[i], ty[i], f.tx[i], f.ty[i]);
         });
+        dn = {c[0], c[1], c[2], 0.0};
       }
       err = dn[1] > 0 ? dn[0] / dn[1] : 0.0;
       require_finite(err, "the friction traction", total_it_);
@@ -321,16 +328,24 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       if (err < stall_gain * best) {
         best = err;
         since_best = 0;
-      } else if (++since_best >= stall_steps && !fric_.regularized() && !stick_mode) {
-        // The full-slip map does not settle: continue with the set-valued law (stick) from
-        // the current traction, with a fresh mixing history.
+      } else {
+        ++since_best;
+      }
+      const bool stalled = since_best >= stall_steps;
+      const bool meets_stick = near_stick_steps >= kNearStickSteps && outer + 1 >= kNearStickFirst;
+      if (!fric_.regularized() && !stick_mode && (meets_stick || stalled)) {
+        // The full-slip map meets stick or does not settle: continue with the set-valued law
+        // from the current traction, with a fresh mixing history (and the upwind derivative
+        // where it is automatic: docs/solver.md).
         stick_mode = true;
+        if (!fric_.slip_derivative && deriv_ == SlipDerivative::Spectral)
+          use_derivative(SlipDerivative::Upwind2);
         tangential_ok = false;
         if (mixer) mixer->restart();
         since_best = 0;
         best = std::numeric_limits<double>::infinity();
         continue;
-      } else if (since_best >= stall_steps) {
+      } else if (stalled) {
         // Stalled: damp harder and restart the mixing history; give up once damping
         // no longer helps (a limit cycle of the slip field).
         omega *= 0.5;
@@ -434,6 +449,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     }
   }
   info.iterations = total_it_;
+  info.slip_derivative = deriv_;
   info.pk_error = pk.error;
   info.approach = pk.delta;
   for (auto* fld : {&f.ux, &f.uy, &f.uz, &f.gap}) fld->resize(n);

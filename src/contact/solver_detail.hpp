@@ -13,18 +13,25 @@ namespace gfmd::contact_detail {
 
 using Clock = std::chrono::steady_clock;
 // Stick-slip (Douglas-Rachford) iteration of the exact law, chosen by measurement (see
-// docs/solver.md): step gamma = 1/rho(A), over-relaxation 1.6, no Anderson mixing (it saved
-// iterations but not time, and holds 20 single-precision fields); each stick-slip solve
-// within a friction step stops at 1e-3 of the friction change.
+// docs/solver.md): step gamma = 1/rho(A), over-relaxation 1.6, no Anderson mixing by default
+// (it saves iterations but not time: its two passes over 2 N entries cost about what the
+// step's four transforms do); each stick-slip solve within a friction step stops at 1e-2 of
+// the friction change.
 inline constexpr double kStickStepFactor = 1.0;
 inline constexpr double kTangentialRelaxation = 1.6;
-inline constexpr double kTangentialTolFactor = 1e-3;
+inline constexpr double kTangentialTolFactor = 1e-2;
 // With friction.stick_acceleration > 0 (Anderson mixing of z, safeguarded): relaxation 1.4,
-// stick-slip solves to 1e-2 of the friction change and, in the stick-slip phase, normal
+// stick-slip solves to 3e-3 of the friction change and, in the stick-slip phase, normal
 // solves to 0.3 of it (0.1 otherwise); measured on the thin layer (docs/solver.md).
 inline constexpr double kAcceleratedRelaxation = 1.4;
-inline constexpr double kAcceleratedTangentialTolFactor = 1e-2;
+inline constexpr double kAcceleratedTangentialTolFactor = 3e-3;
 inline constexpr double kAcceleratedNormalTolFactor = 0.3;
+// The full-slip map hands over to the stick-slip solve once contact points slip slower than
+// kNearStickSpeed v0 in kNearStickSteps successive friction steps, from friction step
+// kNearStickFirst on (the first steps start from a traction the pressure has not met yet).
+inline constexpr double kNearStickSpeed = 0.03;
+inline constexpr int kNearStickSteps = 2;
+inline constexpr int kNearStickFirst = 4;
 
 inline void require_finite(double v, const char* what, int it) {
   if (!std::isfinite(v)) {
@@ -41,7 +48,8 @@ inline bool joins_support(unsigned char in_supp, double x, double y, double fx, 
 
 // Sums of a friction step at a point with new traction (x, y) and previous (fx, fy): the
 // change |new - old|_1, the size |new|_1, and whether the point joins the Anderson support.
-inline void add_change(std::array<double, 3>& acc, unsigned char in_supp, double x, double y, double fx,
+template <std::size_t N>
+inline void add_change(std::array<double, N>& acc, unsigned char in_supp, double x, double y, double fx,
                        double fy) {
   acc[0] += std::abs(x - fx) + std::abs(y - fy);
   acc[1] += std::abs(x) + std::abs(y);

@@ -56,8 +56,10 @@ struct FrictionParams {
   // Lateral creepage eta: a rigid slip eta v0 e_perp across the rolling direction, e_perp =
   // e_s turned by +90 degrees (Kalker's lateral creepage; 0 = none).
   double lateral_creepage = 0.0;
-  // How (e_s.grad) u is discretised in the slip velocity; unset = automatic: spectral for
-  // sliding (xi = 1, eta = 0), second-order upwind for rolling (docs/solver.md).
+  // How (e_s.grad) u is discretised in the slip velocity; unset = automatic: second-order
+  // upwind for rolling; for sliding (xi = 1, eta = 0) spectral while every contact point
+  // slips, second-order upwind once the solve meets stick (docs/solver.md; the solve's
+  // choice is SolveInfo::slip_derivative).
   std::optional<SlipDerivative> slip_derivative;
   // Step gamma / E* of the stick-slip (Douglas-Rachford) iteration of the exact law; 0 picks
   // it from the body's in-plane compliance.
@@ -100,9 +102,12 @@ struct SolveInfo {
   int outer_iterations = 0;       // friction fixed-point steps
   int tangential_iterations = 0;  // stick-slip (Douglas-Rachford) steps of the exact law, in all
   std::size_t stick_points = 0;   // contact points that stick
-  double residual = 0.0;          // independent force-balance residual of the final state
-  double residual_bound = 0.0;    // converged needs residual <= max(1e-5, 1e3 * tolerance)
-  double pk_error = 0.0;          // last relative pressure change
+  // The slip derivative the solution was computed with (FrictionParams::slip_derivative, or
+  // the automatic choice: upwind2 where the solve met stick, else spectral for sliding).
+  SlipDerivative slip_derivative = SlipDerivative::Spectral;
+  double residual = 0.0;        // independent force-balance residual of the final state
+  double residual_bound = 0.0;  // converged needs residual <= max(1e-5, 1e3 * tolerance)
+  double pk_error = 0.0;        // last relative pressure change
   double friction_error = 0.0;
   double approach = 0.0;   // delta
   double stiffness = 0.0;  // k_if used (inf for hard wall)
@@ -174,9 +179,10 @@ class ContactSolver {
   void apply_compliance(const RealField& in, RealField& out, double scale = 1.0);  // scale C_zz in
   void update_displacements(ContactFields& f);                                     // u from (tau, -p)
   // Coulomb tractions of the current slip into (tx, ty); returns, over the grid,
-  // sum |(tx, ty) - (f.tx, f.ty)|_1, sum |(tx, ty)|_1 and the number of points outside the
-  // Anderson support (in_supp == 0) where either traction is non-zero.
-  std::array<double, 3> slip_tractions(const ContactFields& f, RealField& tx, RealField& ty,
+  // sum |(tx, ty) - (f.tx, f.ty)|_1, sum |(tx, ty)|_1, the number of points outside the
+  // Anderson support (in_supp == 0) where either traction is non-zero and the number of
+  // contact points slipping slower than kNearStickSpeed v0 (evidence of stick).
+  std::array<double, 4> slip_tractions(const ContactFields& f, RealField& tx, RealField& ty,
                                        const std::vector<unsigned char>& in_supp);
   struct TangentialResult {
     int iterations;
@@ -188,7 +194,10 @@ class ContactSolver {
   // Douglas-Rachford splitting between the projection and the (linear, skew) slip operator,
   // whose resolvent is one spectral pass. The splitting variable z (= tau + gamma v at the
   // solution) is kept between calls of one solve (warm start); (tx, ty) receives P_K(z).
-  [[nodiscard]] double default_stick_step() const;
+  [[nodiscard]] double default_stick_step(SlipDerivative deriv) const;
+  // Makes `deriv` the solve's slip derivative: its symbol table and, unless friction.stick_step
+  // sets it, the splitting step that goes with it.
+  void use_derivative(SlipDerivative deriv);
   TangentialResult solve_tangential(const RealField& p, RealField& tx, RealField& ty, double tol, int max_it);
   void friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w);
   double residual(const ContactFields& f, double delta);
@@ -221,8 +230,9 @@ class ContactSolver {
   // point held here: the two components interleaved, summed by grid row.
   std::unique_ptr<AndersonMixer> zmix_;
   std::vector<std::uint32_t> zmix_start_, zmix_order_;
-  std::vector<double> czz_n_;  // C_zz / (nx ny) per half-spectrum mode, contiguous
-  std::vector<cplx> dsym_;     // an upwind slip derivative's symbol per mode (empty: spectral)
+  std::vector<double> czz_n_;                        // C_zz / (nx ny) per half-spectrum mode, contiguous
+  SlipDerivative deriv_ = SlipDerivative::Spectral;  // the slip derivative in use now
+  std::vector<cplx> dsym_;  // an upwind slip derivative's symbol per mode (empty: spectral)
   [[nodiscard]] const cplx* slip_symbols() const { return dsym_.empty() ? nullptr : dsym_.data(); }
   // Stop requests and checkpoints; `settle` runs first when either is due (it brings the
   // state up to date), `unsettle` after a checkpoint (it puts the solve's own state back, so
