@@ -293,6 +293,29 @@ TEST(Sliding, AutomaticDerivativeTurnsUpwindWhereTheSolveMeetsStick) {
   EXPECT_EQ(s.observables.friction_coefficient, sp.observables.friction_coefficient);
   EXPECT_EQ(s.observables.numerical_dissipation, 0.0);
   EXPECT_EQ(s.info.iterations, sp.info.iterations);
+  // Handed over (slow points) but no point sticks in the end (nu = 0.25 half-space, mu_c = 2,
+  // p = 1 E*): the automatic solve turns back and returns the spectral answer, to its
+  // tolerance, not the upwind2 one (which differs by the discretisation).
+  const std::vector<std::string> slow = {"elastic.poisson=0.25", "elastic.thickness=inf",
+                                         "friction.coefficient=2", "load.pressure=1"};
+  auto slow_spec = slow, slow_up = slow;
+  slow_spec.emplace_back("friction.slip_derivative=\"spectral\"");
+  slow_up.emplace_back("friction.slip_derivative=\"upwind2\"");
+  const auto h = solve(kRoughLayer, slow);
+  const auto hs = solve(kRoughLayer, slow_spec);
+  const auto hu = solve(kRoughLayer, slow_up);
+  ASSERT_TRUE(h.info.converged) << h.info.status;
+  ASSERT_TRUE(hs.info.converged) << hs.info.status;
+  ASSERT_TRUE(hu.info.converged) << hu.info.status;
+  EXPECT_GT(h.info.tangential_iterations, 0);  // the stick-slip splitting took over
+  EXPECT_EQ(h.info.stick_points, 0u);
+  EXPECT_EQ(hu.info.stick_points, 0u);
+  EXPECT_EQ(h.info.slip_derivative, SlipDerivative::Spectral);
+  const double d_spec = rel(h.observables.friction_coefficient, hs.observables.friction_coefficient);
+  const double d_up = rel(hu.observables.friction_coefficient, hs.observables.friction_coefficient);
+  EXPECT_LT(d_spec, 1e-8);
+  EXPECT_GT(d_up, 100 * d_spec);
+  EXPECT_EQ(h.observables.relative_contact_area, hs.observables.relative_contact_area);
 }
 
 // Carter (1926) steady rolling of a cylinder with traction, plane strain, nu = 0.5 (the

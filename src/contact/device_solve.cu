@@ -903,6 +903,8 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
     bool stick_mode = !fric_.regularized() && fric_.rolling();
     bool tangential_ok = !stick_mode;
     int near_stick_steps = 0;
+    bool turned = false, turned_back = false;  // solver.cpp: the automatic derivative's turns
+    double stick_now = 0.0;
     have_z_ = false;
     double omega = sp_.mixing;
     constexpr double stall_gain = 0.9;
@@ -939,10 +941,21 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
         const auto tr = solve_tangential(ttol, sp_.max_tangential);
         info.tangential_iterations += tr.iterations;
         tangential_ok = tr.converged && ttol <= 0.1 * tol;
-        const auto c = red_.run<3>(n, [=] __device__(std::size_t i, double* acc) {
+        const double* pp = p_.get();
+        const double* zxs = zx_.get();
+        const double* zys = zy_.get();
+        const auto c = red_.run<4>(n, [=] __device__(std::size_t i, double* acc) {
           add_change_dev(acc, in_supp[i], tx[i], ty[i], ftx[i], fty[i]);
+          const double r = mu * pp[i];
+          if (r > 0 && zxs[i] * zxs[i] + zys[i] * zys[i] < r * r) acc[3] += 1.0;
         });
         dn = {c[0], c[1], c[2], 0.0};
+        stick_now = c[3];
+        if (turned_back && deriv_kind_ == SlipDerivative::Spectral && stick_now > 0) {
+          use_derivative(SlipDerivative::Upwind2);
+          have_z_ = false;
+          tangential_ok = false;
+        }
       }
       err = dn[1] > 0 ? dn[0] / dn[1] : 0.0;
       require_finite(err, "the friction traction", total);
@@ -953,7 +966,16 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
           n, [=] __device__(std::size_t i, double* acc) { acc[0] += ddx * tx[i] + ddy * ty[i]; })[0]);
       if (hooks.progress && *hooks.progress) (*hooks.progress)(Progress{total, outer + 1, err});
       poll(true);
-      if (err < tol && pk.converged && inner_tol <= tol && tangential_ok) {
+      const bool done = err < tol && pk.converged && inner_tol <= tol && tangential_ok;
+      if (done && turned && !turned_back && stick_now == 0) {
+        use_derivative(SlipDerivative::Spectral);
+        turned_back = true;
+        have_z_ = false;
+        tangential_ok = false;
+        if (mixer) mixer->restart();
+        since_best = 0;
+        best = std::numeric_limits<double>::infinity();
+      } else if (done) {
         tx_.swap(ntx_);
         ty_.swap(nty_);
         info.converged = true;
@@ -970,8 +992,10 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
       const bool meets_stick = near_stick_steps >= kNearStickSteps && outer + 1 >= kNearStickFirst;
       if (!fric_.regularized() && !stick_mode && (meets_stick || stalled)) {
         stick_mode = true;
-        if (!fric_.slip_derivative && deriv_kind_ == SlipDerivative::Spectral)
+        if (!fric_.slip_derivative && deriv_kind_ == SlipDerivative::Spectral) {
           use_derivative(SlipDerivative::Upwind2);
+          turned = true;
+        }
         tangential_ok = false;
         if (mixer) mixer->restart();
         since_best = 0;

@@ -263,7 +263,12 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     // creepage (rolling: stick is expected), the stick-slip solve takes over from the
     // current traction.
     bool stick_mode = !fric_.regularized() && fric_.rolling();
-    int near_stick_steps = 0;          // successive full-slip steps with contact points near stick
+    int near_stick_steps = 0;  // successive full-slip steps with contact points near stick
+    // The automatic derivative: turned to upwind2 at the hand-over; turned back to spectral
+    // where that answer has no stick (every point slips: the spectral answer is the one of
+    // earlier versions); settled once the spectral continuation met stick after all.
+    bool turned = false, turned_back = false;
+    double stick_now = 0.0;            // contact points that stick in the last stick-slip solve
     bool tangential_ok = !stick_mode;  // the last stick-slip solve met the final tolerance
     have_z_ = false;
     const bool accelerated = fric_.stick_acceleration > 0;
@@ -306,10 +311,19 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         const auto tr = solve_tangential(f.pressure, tx, ty, ttol, sp_.max_tangential);
         info.tangential_iterations += tr.iterations;
         tangential_ok = tr.converged && ttol <= 0.1 * tol;
-        const auto c = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
+        const auto c = grid_sums<4>(grid_, [&](std::size_t i, std::array<double, 4>& acc) {
           add_change(acc, in_supp[i], tx[i], ty[i], f.tx[i], f.ty[i]);
+          const double r = mu * f.pressure[i];
+          if (r > 0 && zx_[i] * zx_[i] + zy_[i] * zy_[i] < r * r) acc[3] += 1.0;
         });
         dn = {c[0], c[1], c[2], 0.0};
+        stick_now = c[3];
+        if (turned_back && deriv_ == SlipDerivative::Spectral && stick_now > 0) {
+          // The spectral continuation meets stick after all: upwind2 for good, z afresh.
+          use_derivative(SlipDerivative::Upwind2);
+          have_z_ = false;
+          tangential_ok = false;
+        }
       }
       err = dn[1] > 0 ? dn[0] / dn[1] : 0.0;
       require_finite(err, "the friction traction", total_it_);
@@ -318,7 +332,19 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       hist_force.push_back(grid_sum(grid_, [&](std::size_t i) { return dir_x * tx[i] + dir_y * ty[i]; }));
       if (progress_) progress_(Progress{total_it_, outer + 1, err});
       poll(&f);
-      if (err < tol && pk.converged && inner_tol <= tol && tangential_ok) {
+      const bool done = err < tol && pk.converged && inner_tol <= tol && tangential_ok;
+      if (done && turned && !turned_back && stick_now == 0) {
+        // Converged with the automatic derivative turned to upwind2, and every contact point
+        // slips: continue from here with the spectral one (its answer differs by the
+        // discretisation, ~1e-5), z afresh, a fresh mixing history.
+        use_derivative(SlipDerivative::Spectral);
+        turned_back = true;
+        have_z_ = false;
+        tangential_ok = false;
+        if (mixer) mixer->restart();
+        since_best = 0;
+        best = std::numeric_limits<double>::infinity();
+      } else if (done) {
         f.tx.swap(tx);
         f.ty.swap(ty);
         info.converged = true;
@@ -338,8 +364,10 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         // from the current traction, with a fresh mixing history (and the upwind derivative
         // where it is automatic: docs/solver.md).
         stick_mode = true;
-        if (!fric_.slip_derivative && deriv_ == SlipDerivative::Spectral)
+        if (!fric_.slip_derivative && deriv_ == SlipDerivative::Spectral) {
           use_derivative(SlipDerivative::Upwind2);
+          turned = true;
+        }
         tangential_ok = false;
         if (mixer) mixer->restart();
         since_best = 0;
