@@ -895,20 +895,16 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
       mixer.emplace(sp_.anderson, 2 * n, &bytes_);
       mixer->resize(2 * supp_len_);
     }
-    double err = 1.0, best = std::numeric_limits<double>::infinity();
-    int since_best = 0;
+    double err = 1.0;
     std::vector<double> hist_change, hist_force;
     const auto dir = direction();
     const double dir_x = dir.first, dir_y = dir.second;
-    bool stick_mode = !fric_.regularized() && fric_.rolling();
-    bool tangential_ok = !stick_mode;
-    int near_stick_steps = 0;
-    bool turned = false, turned_back = false;  // solver.cpp: the automatic derivative's turns
+    FrictionSteps steps(!fric_.regularized() && fric_.rolling(),
+                        !fric_.slip_derivative && deriv_kind_ == SlipDerivative::Spectral);
+    bool tangential_ok = !steps.stick_mode();
     double stick_now = 0.0;
     have_z_ = false;
     double omega = sp_.mixing;
-    constexpr double stall_gain = 0.9;
-    constexpr int stall_steps = 20;
     info.status = "not converged: friction fixed point did not settle";
     for (int outer = 0; outer < sp_.max_outer; ++outer) {
       info.outer_iterations = outer + 1;
@@ -927,10 +923,10 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
         pk = solve_normal(load, false, inner_tol, budget);
       }
       std::array<double, 4> dn{};
-      if (!stick_mode) {
+      if (!steps.stick_mode()) {
         const Phase ph(this, 1);
         dn = slip_tractions();
-        near_stick_steps = dn[3] > 0 ? near_stick_steps + 1 : 0;
+        steps.full_slip_step(dn[3]);
       } else {
         if (!have_z_) {
           cuda_check(cudaMemcpy(tx, ftx, n * sizeof(double), cudaMemcpyDeviceToDevice), "copy");
@@ -951,7 +947,7 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
         });
         dn = {c[0], c[1], c[2], 0.0};
         stick_now = c[3];
-        if (turned_back && deriv_kind_ == SlipDerivative::Spectral && stick_now > 0) {
+        if (steps.settles_upwind(stick_now)) {
           use_derivative(SlipDerivative::Upwind2);
           have_z_ = false;
           tangential_ok = false;
@@ -967,14 +963,11 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
       if (hooks.progress && *hooks.progress) (*hooks.progress)(Progress{total, outer + 1, err});
       poll(true);
       const bool done = err < tol && pk.converged && inner_tol <= tol && tangential_ok;
-      if (done && turned && !turned_back && stick_now == 0) {
+      if (steps.turns_back(done, stick_now)) {
         use_derivative(SlipDerivative::Spectral);
-        turned_back = true;
         have_z_ = false;
         tangential_ok = false;
         if (mixer) mixer->restart();
-        since_best = 0;
-        best = std::numeric_limits<double>::infinity();
       } else if (done) {
         tx_.swap(ntx_);
         ty_.swap(nty_);
@@ -982,30 +975,16 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
         info.status = "converged";
         break;
       }
-      if (err < stall_gain * best) {
-        best = err;
-        since_best = 0;
-      } else {
-        ++since_best;
-      }
-      const bool stalled = since_best >= stall_steps;
-      const bool meets_stick = near_stick_steps >= kNearStickSteps && outer + 1 >= kNearStickFirst;
-      if (!fric_.regularized() && !stick_mode && (meets_stick || stalled)) {
-        stick_mode = true;
-        if (!fric_.slip_derivative && deriv_kind_ == SlipDerivative::Spectral) {
-          use_derivative(SlipDerivative::Upwind2);
-          turned = true;
-        }
+      const FrictionSteps::Next next = steps.after(err, outer, !fric_.regularized());
+      if (next == FrictionSteps::Next::HandOver) {
+        if (steps.upwind()) use_derivative(SlipDerivative::Upwind2);
         tangential_ok = false;
         if (mixer) mixer->restart();
-        since_best = 0;
-        best = std::numeric_limits<double>::infinity();
         continue;
-      } else if (stalled) {
+      }
+      if (next == FrictionSteps::Next::Damp) {
         omega *= 0.5;
         if (mixer) mixer->clear_history();
-        since_best = 0;
-        best = err;
         if (omega < 0.04) {
           tx_.swap(ntx_);
           ty_.swap(nty_);
@@ -1020,7 +999,7 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
       }
       double* zx = zx_.get();
       double* zy = zy_.get();
-      const bool follow = stick_mode;
+      const bool follow = steps.stick_mode();
       const std::size_t len = supp_len_;
       if (!mixer) {
         const double om = omega;
@@ -1048,7 +1027,7 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
     if (!info.converged && info.status.rfind("not converged: iteration limit", 0) != 0)
       info.status += "; " + friction_history_evidence(hist_change, hist_force);
     if (!fric_.regularized()) f.stick.assign(n, 0);
-    if (stick_mode && have_z_) {
+    if (steps.stick_mode() && have_z_) {
       const double* p = p_.get();
       const double* zx = zx_.get();
       const double* zy = zy_.get();

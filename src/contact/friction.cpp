@@ -110,7 +110,8 @@ std::array<double, 4> ContactSolver::slip_tractions(const ContactFields& f, Real
   });
 }
 
-double ContactSolver::default_stick_step(SlipDerivative deriv) const {
+double ContactSolver::stick_step(SlipDerivative deriv) const {
+  if (fric_.stick_step > 0) return fric_.stick_step * body_.params().contact_modulus;
   // gamma = c / rho(A): the scale on which the slip operator acts.
   const double th = fric_.direction_deg * std::numbers::pi / 180.0;
   const double rho = body_.slip_operator_norm(std::cos(th), std::sin(th), deriv);
@@ -123,9 +124,7 @@ void ContactSolver::use_derivative(SlipDerivative deriv) {
   if (fric_.coefficient <= 0) return;
   const double th = fric_.direction_deg * std::numbers::pi / 180.0;
   if (deriv != SlipDerivative::Spectral) dsym_ = body_.slip_symbols(std::cos(th), std::sin(th), deriv);
-  if (!fric_.regularized())
-    gamma_ =
-        fric_.stick_step > 0 ? fric_.stick_step * body_.params().contact_modulus : default_stick_step(deriv);
+  if (!fric_.regularized()) gamma_ = stick_step(deriv);
 }
 
 ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField& p, RealField& tx,

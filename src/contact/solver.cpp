@@ -51,11 +51,8 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   const double points = static_cast<double>(grid_.size());
   const double m = sums[0] / points;
   g0_rms_ = std::sqrt(std::max(0.0, sums[1] / points - m * m));
-  // Step of the stick-slip iteration (exact law with friction only).
   deriv_ = fric_.derivative();
-  if (fric_.coefficient > 0 && !fric_.regularized())
-    gamma_ =
-        fric_.stick_step > 0 ? fric_.stick_step * body.params().contact_modulus : default_stick_step(deriv_);
+  const bool exact_friction = fric_.coefficient > 0 && !fric_.regularized();
   if (backend().name() == "cuda") {
     if (fric_.stick_acceleration > 0)
       throw ParameterError("friction.stick_acceleration",
@@ -70,9 +67,13 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
     pr.hard_wall = inter_.hard_wall;
     pr.friction = fric_;
     pr.solver = sp_;
-    pr.stick_step = gamma_;
-    if (fric_.coefficient > 0 && !fric_.regularized())
-      pr.stick_step_upwind2 = fric_.stick_step > 0 ? gamma_ : default_stick_step(SlipDerivative::Upwind2);
+    // Steps of the stick-slip iteration (exact law with friction only); the second for an
+    // automatic derivative that turns to upwind2.
+    if (exact_friction) {
+      pr.stick_step = stick_step(deriv_);
+      if (!fric_.slip_derivative && deriv_ == SlipDerivative::Spectral)
+        pr.stick_step_upwind2 = stick_step(SlipDerivative::Upwind2);
+    }
     device_ = make_device_solve(pr);
     return;
   }
@@ -248,8 +249,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       group_support();
       mixer->group_by_rows(&grid_, &row_start, &row_order);
     }
-    double err = 1.0, best = std::numeric_limits<double>::infinity();
-    int since_best = 0;
+    double err = 1.0;
     // Per friction step: the traction change and the tangential force (sum of tau_x and of
     // tau_y), the evidence a failure message gives (friction_history_evidence).
     std::vector<double> hist_change, hist_force;
@@ -261,29 +261,26 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     // stick (contact points slower than kNearStickSpeed v0 in kNearStickSteps successive
     // friction steps, from step kNearStickFirst on), where it does not settle, or with
     // creepage (rolling: stick is expected), the stick-slip solve takes over from the
-    // current traction.
-    bool stick_mode = !fric_.regularized() && fric_.rolling();
-    int near_stick_steps = 0;  // successive full-slip steps with contact points near stick
-    // The automatic derivative: turned to upwind2 at the hand-over; turned back to spectral
-    // where that answer has no stick (every point slips: the spectral answer is the one of
-    // earlier versions); settled once the spectral continuation met stick after all.
-    bool turned = false, turned_back = false;
-    double stick_now = 0.0;            // contact points that stick in the last stick-slip solve
-    bool tangential_ok = !stick_mode;  // the last stick-slip solve met the final tolerance
+    // current traction; the automatic derivative turns with it (FrictionSteps).
+    FrictionSteps steps(!fric_.regularized() && fric_.rolling(),
+                        !fric_.slip_derivative && deriv_ == SlipDerivative::Spectral);
+    // Stick: the splitting variable inside the friction disc (there z = tau, v = 0).
+    const auto sticks = [&](std::size_t i) {
+      const double r = mu * f.pressure[i];
+      return r > 0 && zx_[i] * zx_[i] + zy_[i] * zy_[i] < r * r;
+    };
+    double stick_now = 0.0;                    // contact points that stick in the last stick-slip solve
+    bool tangential_ok = !steps.stick_mode();  // the last stick-slip solve met the final tolerance
     have_z_ = false;
     const bool accelerated = fric_.stick_acceleration > 0;
     double omega = sp_.mixing;
-    // Stall test: the best change must improve by 10 % within 20 steps. Slow but steady
-    // progress (stiff slip feedback near stick) is not a stall; a limit cycle is.
-    constexpr double stall_gain = 0.9;
-    constexpr int stall_steps = 20;
     info.status = "not converged: friction fixed point did not settle";
     for (int outer = 0; outer < sp_.max_outer; ++outer) {
       info.outer_iterations = outer + 1;
       friction_normal_displacement(f.tx, f.ty, w);
       // The normal solve's tolerance follows the friction change (looser in the accelerated
       // stick-slip phase).
-      const double inner_fac = stick_mode && accelerated ? kAcceleratedNormalTolFactor : 0.1;
+      const double inner_fac = steps.stick_mode() && accelerated ? kAcceleratedNormalTolFactor : 0.1;
       const double inner_tol = std::max(tol, std::min(1e-3, inner_fac * err));
       const int budget = sp_.max_iterations - total_it_;
       if (budget <= 0) {
@@ -296,10 +293,10 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       // dn[2]: points outside the Anderson support where the iterate or its image is
       // non-zero (they join the support below).
       std::array<double, 4> dn{};
-      if (!stick_mode) {
+      if (!steps.stick_mode()) {
         dn = slip_tractions(f, tx, ty, in_supp);
         have_slip = true;
-        near_stick_steps = dn[3] > 0 ? near_stick_steps + 1 : 0;
+        steps.full_slip_step(dn[3]);
       } else {
         if (!have_z_) {
           tx = f.tx;
@@ -313,12 +310,11 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         tangential_ok = tr.converged && ttol <= 0.1 * tol;
         const auto c = grid_sums<4>(grid_, [&](std::size_t i, std::array<double, 4>& acc) {
           add_change(acc, in_supp[i], tx[i], ty[i], f.tx[i], f.ty[i]);
-          const double r = mu * f.pressure[i];
-          if (r > 0 && zx_[i] * zx_[i] + zy_[i] * zy_[i] < r * r) acc[3] += 1.0;
+          if (sticks(i)) acc[3] += 1.0;
         });
         dn = {c[0], c[1], c[2], 0.0};
         stick_now = c[3];
-        if (turned_back && deriv_ == SlipDerivative::Spectral && stick_now > 0) {
+        if (steps.settles_upwind(stick_now)) {
           // The spectral continuation meets stick after all: upwind2 for good, z afresh.
           use_derivative(SlipDerivative::Upwind2);
           have_z_ = false;
@@ -333,17 +329,14 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       if (progress_) progress_(Progress{total_it_, outer + 1, err});
       poll(&f);
       const bool done = err < tol && pk.converged && inner_tol <= tol && tangential_ok;
-      if (done && turned && !turned_back && stick_now == 0) {
+      if (steps.turns_back(done, stick_now)) {
         // Converged with the automatic derivative turned to upwind2, and every contact point
         // slips: continue from here with the spectral one (its answer differs by the
         // discretisation, ~1e-5), z afresh, a fresh mixing history.
         use_derivative(SlipDerivative::Spectral);
-        turned_back = true;
         have_z_ = false;
         tangential_ok = false;
         if (mixer) mixer->restart();
-        since_best = 0;
-        best = std::numeric_limits<double>::infinity();
       } else if (done) {
         f.tx.swap(tx);
         f.ty.swap(ty);
@@ -351,35 +344,21 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
         info.status = "converged";
         break;
       }
-      if (err < stall_gain * best) {
-        best = err;
-        since_best = 0;
-      } else {
-        ++since_best;
-      }
-      const bool stalled = since_best >= stall_steps;
-      const bool meets_stick = near_stick_steps >= kNearStickSteps && outer + 1 >= kNearStickFirst;
-      if (!fric_.regularized() && !stick_mode && (meets_stick || stalled)) {
+      const FrictionSteps::Next next = steps.after(err, outer, !fric_.regularized());
+      if (next == FrictionSteps::Next::HandOver) {
         // The full-slip map meets stick or does not settle: continue with the set-valued law
         // from the current traction, with a fresh mixing history (and the upwind derivative
         // where it is automatic: docs/solver.md).
-        stick_mode = true;
-        if (!fric_.slip_derivative && deriv_ == SlipDerivative::Spectral) {
-          use_derivative(SlipDerivative::Upwind2);
-          turned = true;
-        }
+        if (steps.upwind()) use_derivative(SlipDerivative::Upwind2);
         tangential_ok = false;
         if (mixer) mixer->restart();
-        since_best = 0;
-        best = std::numeric_limits<double>::infinity();
         continue;
-      } else if (stalled) {
+      }
+      if (next == FrictionSteps::Next::Damp) {
         // Stalled: damp harder and restart the mixing history; give up once damping
         // no longer helps (a limit cycle of the slip field).
         omega *= 0.5;
         if (mixer) mixer->clear_history();
-        since_best = 0;
-        best = err;
         if (omega < 0.04) {
           f.tx.swap(tx);
           f.ty.swap(ty);
@@ -404,7 +383,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       // tau), so the next stick-slip solve starts from the mixed iterate (z - tau = gamma v
       // is kept).
       const auto follow = [&] {
-        if (!stick_mode) return;
+        if (!steps.stick_mode()) return;
         for (const std::uint32_t i : supp) {
           zx_[i] += f.tx[i] - tx[i];
           zy_[i] += f.ty[i] - ty[i];
@@ -459,16 +438,13 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       }
     }
     if (!fric_.regularized()) f.stick.assign(n, 0);
-    if (stick_mode && have_z_) {
-      // Stick: the splitting variable inside the friction disc (there z = tau, v = 0).
+    if (steps.stick_mode() && have_z_) {
       std::size_t ns = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        const double r = mu * f.pressure[i];
-        if (r > 0 && zx_[i] * zx_[i] + zy_[i] * zy_[i] < r * r) {
+      for (std::size_t i = 0; i < n; ++i)
+        if (sticks(i)) {
           f.stick[i] = 1;
           ++ns;
         }
-      }
       info.stick_points = mpi::sum_all(grid_, ns);
     }
     if (!pk.converged && info.converged) {

@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "gfmd/core/error.hpp"
@@ -55,5 +56,78 @@ inline void add_change(std::array<double, N>& acc, unsigned char in_supp, double
   acc[1] += std::abs(x) + std::abs(y);
   if (joins_support(in_supp, x, y, fx, fy)) acc[2] += 1.0;
 }
+
+// The friction loop's step control, one for the host and the device solve: the stall test
+// (the best change must improve by 10 % within 20 steps; slow but steady progress, stiff slip
+// feedback near stick, is not a stall, a limit cycle is), the hand-over from the full-slip
+// map to the stick-slip splitting, and the turns of the automatic slip derivative of a
+// sliding solve (docs/solver.md): spectral until the hand-over, upwind2 from there; spectral
+// again where that upwind2 solve converges with no point stuck; upwind2 for good if the
+// spectral continuation meets stick after all.
+class FrictionSteps {
+ public:
+  enum class Next { Go, HandOver, Damp };
+  // stick_mode: the splitting from the start (rolling); automatic: the slip derivative is the
+  // automatic one of a sliding solve.
+  FrictionSteps(bool stick_mode, bool automatic)
+      : stick_mode_(stick_mode), turn_(automatic ? Turn::Spectral : Turn::None) {}
+  [[nodiscard]] bool stick_mode() const { return stick_mode_; }
+  // Whether the automatic derivative is upwind2 now (after a hand-over or a settle_upwind()).
+  [[nodiscard]] bool upwind() const { return turn_ == Turn::Upwind || turn_ == Turn::UpwindFinal; }
+  // After a full-slip step in which `slow` contact points slipped slower than kNearStickSpeed v0.
+  void full_slip_step(double slow) { near_stick_ = slow > 0 ? near_stick_ + 1 : 0; }
+  // After friction step `outer` (from 0) with change err. HandOver: the exact law's full-slip
+  // map meets stick or stalls; go on with the splitting and a fresh history (and upwind2 where
+  // upwind() says so). Damp: stalled; damp harder. The test restarts after either.
+  Next after(double err, int outer, bool exact_law) {
+    if (err < kStallGain * best_) {
+      best_ = err;
+      since_best_ = 0;
+    } else {
+      ++since_best_;
+    }
+    const bool stalled = since_best_ >= kStallSteps;
+    const bool meets_stick = near_stick_ >= kNearStickSteps && outer + 1 >= kNearStickFirst;
+    if (exact_law && !stick_mode_ && (meets_stick || stalled)) {
+      stick_mode_ = true;
+      if (turn_ == Turn::Spectral) turn_ = Turn::Upwind;
+      restart(std::numeric_limits<double>::infinity());
+      return Next::HandOver;
+    }
+    if (stalled) {
+      restart(err);
+      return Next::Damp;
+    }
+    return Next::Go;
+  }
+  // Converged (done) with the automatic derivative turned to upwind2 and no point stuck: turn
+  // back to spectral (true; the stall test restarts).
+  bool turns_back(bool done, double stick_points) {
+    if (!(done && turn_ == Turn::Upwind && stick_points == 0)) return false;
+    turn_ = Turn::SpectralAgain;
+    restart(std::numeric_limits<double>::infinity());
+    return true;
+  }
+  // The spectral continuation meets stick: upwind2 for good (true).
+  bool settles_upwind(double stick_points) {
+    if (!(turn_ == Turn::SpectralAgain && stick_points > 0)) return false;
+    turn_ = Turn::UpwindFinal;
+    return true;
+  }
+
+ private:
+  static constexpr double kStallGain = 0.9;
+  static constexpr int kStallSteps = 20;
+  enum class Turn { None, Spectral, Upwind, SpectralAgain, UpwindFinal };
+  void restart(double best) {
+    best_ = best;
+    since_best_ = 0;
+  }
+  bool stick_mode_;
+  Turn turn_;
+  int near_stick_ = 0;  // successive full-slip steps with contact points near stick
+  double best_ = std::numeric_limits<double>::infinity();
+  int since_best_ = 0;
+};
 
 }  // namespace gfmd::contact_detail

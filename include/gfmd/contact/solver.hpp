@@ -194,9 +194,10 @@ class ContactSolver {
   // Douglas-Rachford splitting between the projection and the (linear, skew) slip operator,
   // whose resolvent is one spectral pass. The splitting variable z (= tau + gamma v at the
   // solution) is kept between calls of one solve (warm start); (tx, ty) receives P_K(z).
-  [[nodiscard]] double default_stick_step(SlipDerivative deriv) const;
-  // Makes `deriv` the solve's slip derivative: its symbol table and, unless friction.stick_step
-  // sets it, the splitting step that goes with it.
+  // The splitting step gamma for the slip derivative `deriv`: friction.stick_step E*, or
+  // automatic.
+  [[nodiscard]] double stick_step(SlipDerivative deriv) const;
+  // Makes `deriv` the solve's slip derivative: its symbol table and its splitting step.
   void use_derivative(SlipDerivative deriv);
   TangentialResult solve_tangential(const RealField& p, RealField& tx, RealField& ty, double tol, int max_it);
   void friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w);
