@@ -281,6 +281,10 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
       param.empty() ? gfmd::load_config(case_path, sets) : gfmd::sweep_config(case_path, sets, param, values);
   if (!cfg.sweep.active())
     throw gfmd::InputError(case_path, "nothing to sweep: add --set section.key=v1,v2,... or a [sweep] table");
+  // An explicit column (--plot or the case's sweep.plot) is checked; the default is drawn
+  // only where the summaries have it.
+  const bool plot_option = !plot.empty();
+  const bool plot_given = plot_option || cfg.sweep.plot != gfmd::SweepConfig{}.plot;
   if (plot.empty()) plot = cfg.sweep.plot;
   if (out_dir.empty())
     out_dir = (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_sweep"))
@@ -295,7 +299,38 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   so.progress = [&pp](const gfmd::Progress& p) { pp(p); };
   so.stop_request = stop_requested;
   const auto t0 = std::chrono::steady_clock::now();
+  // A plot column the summaries do not have is bad input: the columns are known once the
+  // first point is written, so the sweep stops there (exit 2) instead of after every point.
+  bool plot_checked = !plot_given;
+  const auto check_plot = [&](int done) {
+    plot_checked = true;
+    std::string columns;  // empty: the column is there
+    if (root) {
+      char name[32];
+      std::snprintf(name, sizeof name, "point_%03d", done - 1);
+      const auto sp = std::filesystem::path(out_dir) / name / "summary.json";
+      std::error_code ec;
+      if (std::filesystem::is_regular_file(sp, ec)) {
+        const auto summary = nlohmann::json::parse(
+            gfmd::read_regular_file(sp.string(), 64u << 20, "summary file"), nullptr, false);
+        if (!summary.is_discarded()) {
+          bool found = plot == cfg.sweep.parameter;
+          for (const auto& [k, v] : gfmd::summary_row(summary)) {
+            found = found || k == plot;
+            if (v.is_number()) columns += (columns.empty() ? "" : ", ") + k;
+          }
+          if (found) columns.clear();
+        }
+      }
+    }
+    columns = gfmd::mpi::from_root(columns);
+    if (!columns.empty())
+      throw gfmd::InputError(plot_option ? "--plot" : "sweep.plot",
+                             "the summaries have no column '" + plot + "' (the first point is kept in " +
+                                 out_dir + "/; numeric columns: " + columns + ")");
+  };
   so.on_point = [&](int done, int total, const std::string& msg) {
+    if (!plot_checked && msg.find("retrying") == std::string::npos) check_plot(done);
     pp.done();
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (pp.quiet) return;
@@ -461,7 +496,10 @@ int cmd_flow(const std::string& dir, const std::string& direction, double tol, c
                            "must be x, y, both or an angle in degrees, got '" + direction + "'");
   const gfmd::DirectoryLock lock(dir, wait, stop_requested);
   const auto r = gfmd::compute_leakage(g, gap.data(), angles, tol, which, stop_requested);
-  gfmd::write_leakage(g, r, dir, {{"relative_contact_area", s.value("relative_contact_area", 0.0)}});
+  std::string unit;  // the case's grid.unit, if it named one
+  if (const auto gi = s["input"]["grid"]; gi.contains("unit") && gi["unit"].is_string())
+    unit = gi["unit"].get<std::string>();
+  gfmd::write_leakage(g, r, dir, {{"relative_contact_area", s.value("relative_contact_area", 0.0)}}, unit);
   (void)draw_maps({dir}, {"--only", "current"});
   std::printf("%s/flow.json:\n%s\n", dir.c_str(), r.json.dump(2).c_str());
   return 0;

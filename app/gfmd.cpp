@@ -1,6 +1,8 @@
 // gfmd command line: the options of each subcommand (CLI11) and the mapping of errors to
 // exit codes; the subcommands are in commands.cpp, child processes in child.cpp, pictures in
 // maps.cpp.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstdlib>
@@ -11,6 +13,7 @@
 
 #include "child.hpp"
 #include "commands.hpp"
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/mpi.hpp"
 #include "gfmd/version.hpp"
@@ -19,6 +22,19 @@
 using namespace gfmd::cli;
 
 namespace {
+// OpenMP threads that reach a barrier first spin before they sleep: libgomp spins 300 000
+// times by default, long enough that two programs sharing the cores (two gfmd runs, a build)
+// spin against each other's work (measured on 2 cores, two 128^2 runs at once: 19 s each
+// against 0.12 s alone; BENCHMARKS.md). Unless the user chose a policy (OMP_WAIT_POLICY or
+// GOMP_SPINCOUNT), gfmd starts itself again, once, with GOMP_SPINCOUNT=10000: the same speed
+// alone, 3-6x faster shared. libgomp reads it only when it is loaded, hence the exec (of
+// this program, by argument vector; if it fails, the run goes on with the default).
+void bound_spin_wait(char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY") != nullptr || std::getenv("GOMP_SPINCOUNT") != nullptr) return;
+  if (::setenv("GOMP_SPINCOUNT", gfmd::kSpinCount, 1) != 0) return;
+  ::execv("/proc/self/exe", argv);
+}
+
 int run_main(int argc, char** argv) {
   CLI::App app{"gfmd: steady sliding contacts with full elastic coupling"};
   app.set_version_flag("--version", std::string(gfmd::kVersion) + " (" + gfmd::kGitCommit + ")");
@@ -26,10 +42,13 @@ int run_main(int argc, char** argv) {
 
   std::string case_path, out_dir;
   std::vector<std::string> sets;
+  // -o "" would fall back to the default directory without saying so: refused.
+  const CLI::Validator non_empty(
+      [](std::string& v) -> std::string { return v.empty() ? "must not be empty" : ""; }, "PATH");
   bool quiet = false;
   auto* run = app.add_subcommand("run", "solve one case and write summary.json, fields.nc and PNG maps");
   run->add_option("case", case_path, "case file (TOML)")->required();
-  run->add_option("-o,--output", out_dir, "output directory (default: out/<case name>)");
+  run->add_option("-o,--output", out_dir, "output directory (default: out/<case name>)")->check(non_empty);
   run->add_option("--set", sets, "override a key: section.key=value (repeatable)");
   run->add_flag("-q,--quiet", quiet, "no progress display");
   bool verbose = false, resume = false;
@@ -54,7 +73,8 @@ int run_main(int argc, char** argv) {
   auto* sweep =
       app.add_subcommand("sweep", "solve a case for a list of values of one key, warm-starting each point");
   sweep->add_option("case", case_path, "case file (TOML)")->required();
-  sweep->add_option("-o,--output", out_dir, "output directory (default: out/<case name>_sweep)");
+  sweep->add_option("-o,--output", out_dir, "output directory (default: out/<case name>_sweep)")
+      ->check(non_empty);
   sweep->add_option("--set", sets, "override a key; one key may take a comma-separated list: the sweep");
   sweep->add_option("--plot", plot,
                     "summary key to plot against the swept value (default friction_coefficient)");
@@ -72,7 +92,8 @@ int run_main(int argc, char** argv) {
                    "log-spaced values from FROM to TO inclusive (0.001:1:10 gives 10 values; "
                    "0.001:0.01:4,0.05 mixes both); sorted ascending, each > 0, none twice")
       ->required();
-  curve->add_option("-o,--output", out_dir, "output directory (default: out/<case name>_curve)");
+  curve->add_option("-o,--output", out_dir, "output directory (default: out/<case name>_curve)")
+      ->check(non_empty);
   curve->add_option("--set", sets, "override a key: section.key=value (repeatable; not load.*)");
   curve->add_flag("--no-png", no_png, "no curve.png (as output.png = false)");
   curve->add_flag("-q,--quiet", quiet, "no progress display");
@@ -94,14 +115,14 @@ int run_main(int argc, char** argv) {
   green->add_option("--from", green_from, "smallest qh");
   green->add_option("--to", green_to, "largest qh");
   green->add_option("--points", green_points, "points per Poisson ratio (log spaced)");
-  green->add_option("-o,--output", out_dir, "CSV file (default: standard output)");
+  green->add_option("-o,--output", out_dir, "CSV file (default: standard output)")->check(non_empty);
 
   std::string flow_dir, direction = "both", seeds = "0..7";
   double flow_tol = 1e-10, area_tol = 0.002;
   std::string flow_solver = "auto";
   auto* flow = app.add_subcommand("flow", "Reynolds flow through the gap of a solved case directory");
   flow->add_option("dir", flow_dir, "a directory written by gfmd run")->required();
-  flow->add_option("--direction", direction, "x, y or both (default)");
+  flow->add_option("--direction", direction, "x, y, both (default) or an angle in degrees");
   flow->add_option("--tolerance", flow_tol, "relative residual of the linear solve (default 1e-10)");
   flow->add_option("--solver", flow_solver,
                    "linear solver: auto (ours, HYPRE's BoomerAMG if ours does not converge; default), amg or "
@@ -111,7 +132,7 @@ int run_main(int argc, char** argv) {
       app.add_subcommand("percolation", "critical contact area at which the flow along a direction stops");
   perc->add_option("case", case_path, "case file (TOML)")->required();
   perc->add_option("--direction", direction, "x or y")->required();
-  perc->add_option("-o,--output", out_dir, "output directory");
+  perc->add_option("-o,--output", out_dir, "output directory")->check(non_empty);
   perc->add_option("--set", sets, "override a key (repeatable)");
   perc->add_option("--area-tolerance", area_tol,
                    "stop when the bracket's contact areas differ by less (default 0.002)");
@@ -121,7 +142,7 @@ int run_main(int argc, char** argv) {
       app.add_subcommand("ensemble", "flow over roughness seeds, Bruggeman average, friction on/off pairs");
   ens->add_option("case", case_path, "case file (TOML) with a selfaffine indenter")->required();
   ens->add_option("--seeds", seeds, "FIRST..LAST (default 0..7)");
-  ens->add_option("-o,--output", out_dir, "output directory");
+  ens->add_option("-o,--output", out_dir, "output directory")->check(non_empty);
   ens->add_option("--set", sets, "override a key (repeatable)");
   ens->add_flag("-q,--quiet", quiet, "no log lines");
   ens->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
@@ -137,7 +158,7 @@ int run_main(int argc, char** argv) {
   auto* study = app.add_subcommand("study", "run a study of studies/ and draw its figure (matplotlib)");
   study->add_option("study", study_path, "study file (TOML)")->required();
   study->add_flag("--quick", study_quick, "reduced resolution that runs in minutes");
-  study->add_option("-o,--output", out_dir, "output root (default out/studies)");
+  study->add_option("-o,--output", out_dir, "output root (default out/studies)")->check(non_empty);
   study->add_option(
       "--set", sets,
       "a setting for every run of the study, after its own, e.g. solver.backend=\"cuda\" (repeatable)");
@@ -210,6 +231,7 @@ int run_main(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  bound_spin_wait(argv);
   // Started by mpirun: join the other processes first (core/mpi.hpp); every process then
   // exits with the same code.
   try {

@@ -22,6 +22,7 @@
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/elastic/elastic.hpp"
 #include "gfmd/io/height_map.hpp"
 #include "gfmd/studies/curve.hpp"
 #include "gfmd/studies/ensemble.hpp"
@@ -185,13 +186,14 @@ void draw_maps(const std::string& dir) {
 // Writes a run directory as `gfmd run -o` does: one writer (the lock), no stale files of an
 // earlier run, status.json, the maps (output.png); a write error (disk full, permissions)
 // raises OSError naming the file and leaves no half-written set.
-void write_run(const gfmd::CaseResult& r, const std::string& dir) {
+// png: draw the maps (as output.png does; fields.nc must be written, output.fields).
+void write_run(const gfmd::CaseResult& r, const std::string& dir, bool png) {
   try {
     py::gil_scoped_release release;
     const gfmd::DirectoryLock lock(dir);
     gfmd::clear_run_outputs(dir);
     gfmd::publish_outputs(r, dir, [&] {
-      if (r.config.output.png) draw_maps(dir);
+      if (png) draw_maps(dir);
     });
   } catch (const gfmd::InputError&) {
     throw;
@@ -305,7 +307,7 @@ py::dict flow_of(const Solution& s, const std::vector<double>& angles, double to
   py::dict out;
   out["summary"] = json_to_py(lk.json);
   std::vector<gfmd::NamedField> fields;
-  gfmd::append_current_fields(lk, fields);
+  gfmd::append_current_fields(lk, fields, s.r.config.length_unit);
   py::dict f;
   for (const auto& nf : fields) f[py::str(nf.name)] = to_array(s.r.config.grid, nf.data);
   out["fields"] = f;
@@ -378,11 +380,29 @@ PYBIND11_MODULE(_core, m) {
   py::register_exception<gfmd::InputError>(m, "InputError", PyExc_ValueError);
   py::register_exception<gfmd::SolveError>(m, "SolveError", PyExc_RuntimeError);
   m.def(
+      "scripts_dir",
+      [] {
+        const std::string s = find_plot_maps();
+        return s.empty() ? std::string() : std::filesystem::path(s).parent_path().string();
+      },
+      "The folder of the plotting helpers (share/gfmd/scripts) beside this module; '' if none.");
+  m.def(
+      "check_elastic",
+      [](double contact_modulus, double poisson, double thickness) {
+        gfmd::ElasticParams e;
+        e.contact_modulus = contact_modulus;
+        e.poisson = poisson;
+        e.thickness = thickness;
+        e.validate();  // a ParameterError naming the argument: InputError in Python
+      },
+      py::arg("contact_modulus"), py::arg("poisson"), py::arg("thickness"),
+      "Check an elastic body's parameters as the case files' [elastic] are checked.");
+  m.def(
       "run",
       [](const std::string& path, const std::vector<std::string>& set, const std::string& output) {
         const gfmd::Config cfg = gfmd::load_config(path, set);
         const gfmd::CaseResult r = solve(cfg);
-        if (!output.empty()) write_run(r, output);
+        if (!output.empty()) write_run(r, output, r.config.output.png);
         return result(r);
       },
       py::arg("case"), py::arg("set") = std::vector<std::string>{}, py::arg("output") = "",
@@ -426,7 +446,13 @@ PYBIND11_MODULE(_core, m) {
           },
           py::arg("name"))
       .def(
-          "save", [](const Solution& s, const std::string& dir) { write_run(s.r, dir); }, py::arg("dir"))
+          "save",
+          [](const Solution& s, const std::string& dir, bool png) {
+            if (png && !s.r.config.output.fields)
+              throw gfmd::InputError("png", "the maps are drawn from fields.nc: solve with output.fields on");
+            write_run(s.r, dir, png || s.r.config.output.png);
+          },
+          py::arg("dir"), py::arg("png") = false)
       .def("flow", &flow_of, py::arg("angles"), py::arg("tolerance") = 1e-10, py::arg("solver") = "auto")
       .def_property_readonly("toml", [](const Solution& s) { return s.r.config.to_toml(); });
   m.def("solve_case", &solve_case, py::arg("toml"), py::arg("heights"), py::arg("lx"), py::arg("ly"),

@@ -1,5 +1,6 @@
 // The gfmd executable: bad input gives a clear message, a non-zero exit and no output.
 #include <gtest/gtest.h>
+#include <netcdf.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 
@@ -190,6 +191,12 @@ TEST(Cli, BadInputIsRefusedCleanly) {
            "rms_height = 0.01\nseed = -3"),
        "", "indenter.seed"},
       {"case_is_fifo", "", "", "not a regular file"},
+      // Once out of the checks: a thickness of 1e-310 overflowed the layer's stiffness (exit 3).
+      {"h_denormal", sub(kGood, "poisson = 0.25", "poisson = 0.25\nthickness = 1e-310"), "",
+       "elastic.thickness: must be at least 1e-12 of the cell size"},
+      {"flow_direction_bool", kGood + "[flow]\ndirection = true\n", "",
+       "flow.direction: must be \"x\", \"y\", \"both\" or an angle in degrees, got boolean"},
+      {"flow_direction_word", kGood + "[flow]\ndirection = \"diagonal\"\n", "", "got \"diagonal\""},
   };
   ASSERT_EQ(::mkfifo((d / "fifo.txt").c_str(), 0600), 0);
   for (const auto& c : cases) {
@@ -320,4 +327,87 @@ TEST(Cli, UnconvergedSolveWritesNothing) {
   EXPECT_EQ(r.code, 3);
   EXPECT_NE(r.output.find("not converged"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(d / "out" / "summary.json"));
+}
+
+// The OpenMP wait: bounded spinning (GOMP_SPINCOUNT=10000, set by gfmd restarting itself) unless
+// the user chose a policy; summary.json says which one the run had.
+TEST(Cli, OpenMpSpinIsBoundedUnlessTheUserChoseAPolicy) {
+  const fs::path d = scratch("spin");
+  write_file(d / "case.toml", kGood + "[output]\npng = false\nfields = false\n");
+  const auto omp_wait = [&](const std::string& env, const std::string& out) {
+    const std::string cmd = "env -u OMP_WAIT_POLICY -u GOMP_SPINCOUNT " + env + " " + GFMD_EXE + " run " +
+                            (d / "case.toml").string() + " -q -o " + (d / out).string() + " 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    std::array<char, 4096> buf{};
+    std::string log;
+    while (pipe && fgets(buf.data(), buf.size(), pipe)) log += buf.data();
+    EXPECT_EQ(pipe ? pclose(pipe) : -1, 0) << log;
+    std::ifstream in(d / out / "summary.json");
+    return nlohmann::json::parse(in)["omp_wait"].get<std::string>();
+  };
+  EXPECT_EQ(omp_wait("", "none"), "GOMP_SPINCOUNT=10000");
+  EXPECT_EQ(omp_wait("GOMP_SPINCOUNT=500", "count"), "GOMP_SPINCOUNT=500");
+  EXPECT_EQ(omp_wait("OMP_WAIT_POLICY=passive", "policy"), "OMP_WAIT_POLICY=passive");
+}
+
+// Review findings (2026-11-26): -o "" is refused instead of writing to the default directory;
+// grid.unit reaches the units of fields.nc and flow.nc; a numeric flow.direction is an angle.
+TEST(Cli, EmptyOutputUnitsAndNumericFlowDirection) {
+  const fs::path d = scratch("units");
+  write_file(d / "case.toml", kGood + "[output]\npng = false\n");
+  const auto empty = run_gfmd("run " + (d / "case.toml").string() + " -q -o \"\"");
+  EXPECT_EQ(empty.code, 2) << empty.output;
+  EXPECT_NE(empty.output.find("--output: must not be empty"), std::string::npos) << empty.output;
+  EXPECT_FALSE(fs::exists("out/case")) << "an empty -o fell back to the default directory";
+  const auto r = run_gfmd("run " + (d / "case.toml").string() + " -q -o " + (d / "out").string() +
+                          " --set 'grid.unit=\"um\"' --set flow.direction=30");
+  ASSERT_EQ(r.code, 0) << r.output;
+  // The units attribute of a variable ("" if it has none).
+  const auto units = [](const fs::path& file, const char* var) {
+    int nc = -1, v = -1;
+    std::size_t len = 0;
+    std::string text;
+    if (nc_open(file.c_str(), NC_NOWRITE, &nc) != NC_NOERR) return std::string("(cannot open)");
+    if (nc_inq_varid(nc, var, &v) == NC_NOERR && nc_inq_attlen(nc, v, "units", &len) == NC_NOERR) {
+      text.resize(len);
+      if (nc_get_att_text(nc, v, "units", text.data()) != NC_NOERR) text = "(unreadable)";
+    }
+    nc_close(nc);
+    return text;
+  };
+  for (const char* var : {"x", "y", "topography", "gap", "ux", "uz"})
+    EXPECT_EQ(units(d / "out" / "fields.nc", var), "um") << var;
+  EXPECT_EQ(units(d / "out" / "fields.nc", "pressure"), "E*");
+  EXPECT_EQ(units(d / "out" / "fields.nc", "current_30deg"), "um^3");
+  EXPECT_EQ(units(d / "out" / "flow.nc", "current_x_30deg"), "um^3");
+  EXPECT_EQ(units(d / "out" / "flow.nc", "x"), "um");
+  std::ifstream in(d / "out" / "flow.json");
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_TRUE(j.contains("flow_factor_30deg")) << j.dump();
+}
+
+// A sweep's plot column that the summaries do not have stops the sweep after its first point
+// (exit 2, naming the option), not after every point with a warning.
+TEST(Cli, SweepPlotColumnIsCheckedAtTheFirstPoint) {
+  const fs::path d = scratch("sweep_plot");
+  write_file(d / "case.toml", kGood + "[output]\npng = false\nfields = false\n");
+  const auto r = run_gfmd("sweep " + (d / "case.toml").string() + " -q -o " + (d / "s").string() +
+                          " --set load.force=0.005,0.01,0.02 --plot contact_areaa");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("--plot: the summaries have no column 'contact_areaa'"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("relative_contact_area"), std::string::npos) << r.output;  // the columns it has
+  EXPECT_TRUE(fs::exists(d / "s" / "point_000" / "summary.json"));
+  EXPECT_FALSE(fs::exists(d / "s" / "point_001"));
+  // The case's [sweep] plot likewise, named by its key; a column that exists draws as before.
+  write_file(d / "sw.toml", kGood +
+                                "[output]\npng = false\nfields = false\n[sweep]\nparameter = \"load.force\"\n"
+                                "values = [0.005, 0.01]\nplot = \"nope\"\n");
+  const auto k = run_gfmd("sweep " + (d / "sw.toml").string() + " -q -o " + (d / "k").string());
+  EXPECT_EQ(k.code, 2) << k.output;
+  EXPECT_NE(k.output.find("sweep.plot: the summaries have no column 'nope'"), std::string::npos) << k.output;
+  const auto ok = run_gfmd("sweep " + (d / "case.toml").string() + " -q -o " + (d / "s").string() +
+                           " --set load.force=0.005,0.01 --plot max_pressure");
+  EXPECT_EQ(ok.code, 0) << ok.output;
+  EXPECT_TRUE(fs::exists(d / "s" / "sweep_max_pressure.png")) << ok.output;
 }

@@ -16,8 +16,17 @@ arrays of shape (ny, nx): row iy is y = iy * ly / ny, column ix is x = ix * lx /
 
 Case files work as with the command line: gfmd.run("case.toml", set=["grid.nx=512"]).
 """
-from ._core import InputError, SolveError, __version__
-from ._api import ElasticBody, Result, Topography, curve, ensemble, percolation, run, run_toml, solve, study, sweep
+import os as _os
+
+# OpenMP threads waiting at a barrier spin 300 000 times by default before they sleep: where
+# other programs share the cores that is many times slower (the CLI does the same; README).
+# Only effective if this is the first library of the process to load libgomp.
+if "OMP_WAIT_POLICY" not in _os.environ and "GOMP_SPINCOUNT" not in _os.environ:
+    _os.environ["GOMP_SPINCOUNT"] = "10000"  # = gfmd::kSpinCount (core/backend.hpp)
+
+from ._core import InputError, SolveError, __version__  # noqa: E402
+from ._api import (ElasticBody, Result, Topography, curve, ensemble, percolation, run, run_toml,  # noqa: E402
+                   solve, study, sweep)
 
 __all__ = [
     "ElasticBody",

@@ -220,7 +220,7 @@ class ElasticBody:
     """An elastic layer of the given thickness on a rigid base, or a half-space (thickness = inf).
 
     contact_modulus: E* = E / (1 - nu^2), the unit of pressures and stresses. poisson: nu in
-    [0, 0.5] (0.5 only for a half-space). coupling = False drops the normal/in-plane coupling
+    (-1, 0.5] (0.5 only for a half-space); checked on construction (InputError). coupling = False drops the normal/in-plane coupling
     (the usual uncoupled approximation) for comparison.
     """
 
@@ -228,6 +228,19 @@ class ElasticBody:
     poisson: float = 0.25
     thickness: float = math.inf
     coupling: bool = True
+
+    def __post_init__(self):
+        # Checked here, as [elastic] is in a case file, not only when a solve uses the body.
+        for name in ("contact_modulus", "poisson", "thickness"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, numbers.Real):
+                raise InputError(f"ElasticBody.{name}: must be a number, got {v!r}")
+        if not isinstance(self.coupling, bool):
+            raise InputError(f"ElasticBody.coupling: must be True or False, got {self.coupling!r}")
+        try:
+            _core.check_elastic(float(self.contact_modulus), float(self.poisson), float(self.thickness))
+        except InputError as e:
+            raise InputError(f"ElasticBody.{e}") from None
 
 
 _SOLVER_KEYS = {"tolerance", "max_iterations", "max_outer", "max_tangential", "anderson", "mixing", "threads",
@@ -302,9 +315,12 @@ class Result:
         """The case as TOML (what `gfmd run` would read)."""
         return self._s.toml
 
-    def save(self, directory: str) -> None:
-        """Writes the run directory `gfmd run -o DIR` writes (summary.json, fields.nc, ...; maps with output.png)."""
-        self._s.save(str(directory))
+    def save(self, directory: str, png: bool = False) -> None:
+        """Writes the run directory `gfmd run -o DIR` writes (summary.json, fields.nc, profiles.csv, ...);
+        png=True also draws its PNG maps and profiles.png as `gfmd run` does (in a separate Python)."""
+        if not isinstance(png, bool):
+            raise InputError(f"png: must be True or False, got {png!r}")
+        self._s.save(str(directory), png)
 
     def flow(self, directions: Iterable = ("x", "y"), tolerance: float = 1e-10, solver: str = "auto") -> dict:
         """Reynolds flow through the deformed gap (as `gfmd flow`): {'summary': flow.json keys, 'fields': currents}.
@@ -446,16 +462,45 @@ def run_toml(toml: str, set: Iterable[str] = ()) -> dict:
 
 # --- studies over case files (the same C++ studies as the command line) -------------------
 
-def sweep(case: str, parameter: str, values: Iterable[float], output: str, set: Iterable[str] = ()) -> dict:
+def sweep(case: str, parameter: str, values: Iterable[float], output: str, set: Iterable[str] = (),
+          plot: Optional[str] = None) -> dict:
     """A load sweep as `gfmd sweep CASE --set parameter=v1,v2,...`: points solved in order, each
     warm-started from the previous one, into output/point_NNN/; returns sweep.json (one row of
-    scalar summary keys per point). Points already solved with the same input are reused."""
+    scalar summary keys per point). Points already solved with the same input are reused.
+    plot: a column (summary key) to draw against the parameter into output/sweep_<plot>.png, as
+    `gfmd sweep --plot` does (InputError if the summaries have no such column)."""
     vals = [float(v) for v in values]
     if not isinstance(parameter, str) or "." not in parameter:
         raise InputError(f"parameter: a config key section.key (got {parameter!r})")
+    if plot is not None and (not isinstance(plot, str) or not plot):
+        raise InputError(f"plot: a summary key such as 'friction_coefficient' (got {plot!r})")
     _core.sweep_case(str(case), parameter, vals, list(set), str(output))
     with open(os.path.join(str(output), "sweep.json")) as f:
-        return json.load(f)
+        table = json.load(f)
+    if plot is not None:
+        _draw_sweep(str(output), plot, table)
+    return table
+
+
+def _draw_sweep(output: str, column: str, table: dict) -> None:
+    """sweep_<column>.png by plot_sweep.py in a separate interpreter, as the CLI draws it."""
+    import subprocess
+    import sys
+    import warnings
+    columns = {k for p in table.get("points", []) for k, v in p.items() if isinstance(v, (int, float))}
+    if column not in columns:
+        raise InputError(f"plot: the summaries have no column '{column}' (numeric columns: "
+                         f"{', '.join(sorted(columns))})")
+    scripts = _core.scripts_dir()
+    if not scripts:
+        warnings.warn("could not draw the sweep: plot_sweep.py not found next to the gfmd module")
+        return
+    script = os.path.join(scripts, "plot_sweep.py")
+    python = os.environ.get("GFMD_PYTHON") or sys.executable or "/usr/bin/python3"
+    p = subprocess.run([python, script, os.path.join(output, "sweep.csv"), "--y", column],
+                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        warnings.warn(f"could not draw sweep_{column}.png ({python} {script}): {p.stderr.strip()}")
 
 
 def percolation(case: str, direction: str = "x", set: Iterable[str] = (), area_tolerance: float = 0.002,

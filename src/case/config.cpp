@@ -187,11 +187,15 @@ class Section {
     }
     return x;
   }
+
+ public:
   static std::string type_name(const toml::value& v) {
     std::ostringstream os;
     os << v.type();
     return os.str();
   }
+
+ private:
   std::string name_;
   std::vector<std::string>& errors_;
   const toml::value* tbl_ = nullptr;
@@ -604,10 +608,21 @@ Config build(const toml::value& root, const std::string& name, const std::string
     const std::string solver = fl.string("solver", "auto");
     if (!parse_flow_solver(solver, c.flow.solver))
       fl.error("solver", "must be \"auto\", \"amg\" or \"boomeramg\", got \"" + solver + "\"");
-    const std::string dir = fl.string("direction", "both");
-    c.flow.angles = parse_flow_directions(dir);
-    if (c.flow.angles.empty())
-      fl.error("direction", "must be \"x\", \"y\", \"both\" or an angle in degrees, got \"" + dir + "\"");
+    // "x", "y", "both", or an angle in degrees (a number, or a string holding one).
+    const toml::value* dv = fl.raw("direction");
+    if (dv && (dv->is_floating() || dv->is_integer())) {
+      const double a = fl.number("direction", 0.0);
+      if (std::isfinite(a)) c.flow.angles = {a};
+    } else if (dv && !dv->is_string()) {
+      fl.error("direction", "must be \"x\", \"y\", \"both\" or an angle in degrees, got " +
+                                Section::type_name(*dv) + fl.at("direction"));
+    } else {
+      const std::string dir = fl.string("direction", "both");
+      c.flow.angles = parse_flow_directions(dir);
+      if (c.flow.angles.empty())
+        fl.error("direction", "must be \"x\", \"y\", \"both\" or an angle in degrees, got \"" + dir + "\"" +
+                                  fl.at("direction"));
+    }
   }
   fl.finish();
 
@@ -619,6 +634,15 @@ Config build(const toml::value& root, const std::string& name, const std::string
 
   // Combinations.
   if (errors.empty()) {
+    // A layer much thinner than the cell: its uniaxial stiffness ~ E*/h leaves the range in
+    // which the layer's Green's tensor and the solve are computed (h = 1e-310 overflows).
+    if (const double l = std::max(c.grid.lx, c.grid.ly);
+        !c.elastic.half_space() && c.elastic.thickness < kMinThicknessRatio * l) {
+      std::ostringstream os;
+      os << "must be at least " << kMinThicknessRatio << " of the cell size (" << l << "), got "
+         << c.elastic.thickness;
+      errors.push_back("elastic.thickness: " + os.str() + el.at("thickness"));
+    }
     if (c.indenter.type == "hertz" && c.load.mode == LoadMode::Force) {
       const double r = std::sqrt(c.indenter.radius_x * c.indenter.radius_y);
       const double a = std::cbrt(3 * c.load.value * r / (4 * c.elastic.contact_modulus));

@@ -21,16 +21,18 @@ std::string direction_tag(double angle) {
   return buf;
 }
 
-void append_current_fields(const LeakageResult& r, std::vector<NamedField>& fields) {
+void append_current_fields(const LeakageResult& r, std::vector<NamedField>& fields,
+                           const std::string& length_unit) {
+  const std::string cubed = length_units(length_unit) + "^3";
   for (std::size_t k = 0; k < r.flows.size(); ++k) {
     const FlowResult& f = r.flows[k];
     const std::string s = direction_tag(f.angle_deg);
     fields.push_back(
-        {"current_x_" + s, f.qx.data(), "current density x for a unit gradient along " + s, "length^3"});
+        {"current_x_" + s, f.qx.data(), "current density x for a unit gradient along " + s, cubed});
     fields.push_back(
-        {"current_y_" + s, f.qy.data(), "current density y for a unit gradient along " + s, "length^3"});
-    fields.push_back({"current_" + s, r.magnitude[k].data(), "current density magnitude, gradient along " + s,
-                      "length^3"});
+        {"current_y_" + s, f.qy.data(), "current density y for a unit gradient along " + s, cubed});
+    fields.push_back(
+        {"current_" + s, r.magnitude[k].data(), "current density magnitude, gradient along " + s, cubed});
   }
 }
 
@@ -84,13 +86,13 @@ LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vecto
   return r;
 }
 
-void write_leakage(const Grid& g, const LeakageResult& r, const std::string& dir,
-                   const nlohmann::json& extra) {
+void write_leakage(const Grid& g, const LeakageResult& r, const std::string& dir, const nlohmann::json& extra,
+                   const std::string& length_unit) {
   fs::create_directories(dir);
   std::vector<NamedField> fields;
-  append_current_fields(r, fields);
+  append_current_fields(r, fields, length_unit);
   write_fields_netcdf((fs::path(dir) / "flow.nc").string(), g, fields,
-                      {{"gfmd_version", kVersion}, {"git_commit", kGitCommit}}, "length");
+                      {{"gfmd_version", kVersion}, {"git_commit", kGitCommit}}, length_units(length_unit));
   nlohmann::json j = r.json;
   j.update(extra);
   j["version"] = kVersion;

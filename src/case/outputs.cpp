@@ -196,6 +196,7 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["interaction_stiffness"] =
       std::isinf(r.info.stiffness) ? nlohmann::json("inf") : nlohmann::json(r.info.stiffness);
   j["threads"] = threads();
+  j["omp_wait"] = omp_wait_setting();
   j["backend"] = r.config.backend;
   if (r.info.device_bytes > 0) j["device_memory_bytes"] = r.info.device_bytes;  // the CUDA solve's peak
   if (r.stress_summary) j["stress_time_s"] = r.stress_time_s;
@@ -237,20 +238,21 @@ nlohmann::json summary_json(const CaseResult& r) {
 
 FieldSet result_fields(const CaseResult& r, bool maps_only) {
   FieldSet set;
+  const std::string length = length_units(r.config.length_unit);
   std::vector<NamedField>& fields = set.fields;
   set.masks.reserve(2);
   const std::size_t n = r.config.grid.size();
   RealField& cm = set.masks.emplace_back(n);
   for (std::size_t i = 0; i < n; ++i) cm[i] = r.fields.pressure[i] > 0 ? 1.0 : 0.0;
   if (!maps_only)
-    fields.push_back({"topography", r.topography.h.data(), "indenter height towards the body", "length"});
+    fields.push_back({"topography", r.topography.h.data(), "indenter height towards the body", length});
   fields.push_back(
       {"pressure", r.fields.pressure.data(), "contact pressure on the body (compressive positive)", "E*"});
-  fields.push_back({"gap", r.fields.gap.data(), "gap between indenter and deformed surface", "length"});
+  fields.push_back({"gap", r.fields.gap.data(), "gap between indenter and deformed surface", length});
   if (!maps_only) {
-    fields.push_back({"ux", r.fields.ux.data(), "surface displacement along x", "length"});
-    fields.push_back({"uy", r.fields.uy.data(), "surface displacement along y", "length"});
-    fields.push_back({"uz", r.fields.uz.data(), "surface displacement along z (out of the body)", "length"});
+    fields.push_back({"ux", r.fields.ux.data(), "surface displacement along x", length});
+    fields.push_back({"uy", r.fields.uy.data(), "surface displacement along y", length});
+    fields.push_back({"uz", r.fields.uz.data(), "surface displacement along z (out of the body)", length});
   }
   fields.push_back({"contact", cm.data(), "contact mask (1 = in contact)", "1"});
   const DerivedFields& d = r.derived;
@@ -320,7 +322,7 @@ FieldSet result_fields(const CaseResult& r, bool maps_only) {
       }
   }
   // The current maps are drawn from flow.nc, which write_leakage writes with every flow.
-  if (!maps_only && r.leakage) append_current_fields(*r.leakage, fields);
+  if (!maps_only && r.leakage) append_current_fields(*r.leakage, fields, r.config.length_unit);
   return set;
 }
 
@@ -332,8 +334,10 @@ void write_fields_file(const CaseResult& r, const std::string& path, bool maps_o
       {{"gfmd_version", kVersion},
        {"git_commit", kGitCommit},
        {"input_toml", r.config.to_toml()},
-       {"normalisation", "lengths in units of grid.lx, pressures in units of E* (contact_modulus)"}},
-      "length");
+       {"normalisation", (r.config.length_unit.empty() ? std::string("lengths in the unit of grid.lx")
+                                                       : "lengths in " + r.config.length_unit) +
+                             ", pressures in units of E* (contact_modulus)"}},
+      length_units(r.config.length_unit));
 }
 
 std::vector<std::string> plot_maps_arguments(const std::vector<std::string>& dirs,
@@ -362,7 +366,8 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
   if (r.config.stress.profiles && !r.profiles_csv.empty())
     write_text_atomic((fs::path(dir) / "profiles.csv").string(), r.profiles_csv);
   if (r.leakage)
-    write_leakage(g, *r.leakage, dir, {{"relative_contact_area", r.observables.relative_contact_area}});
+    write_leakage(g, *r.leakage, dir, {{"relative_contact_area", r.observables.relative_contact_area}},
+                  r.config.length_unit);
   if (r.analysis) {
     write_text_atomic((fs::path(dir) / "patches.csv").string(), patches_csv(*r.analysis));
     write_text_atomic((fs::path(dir) / "distributions.csv").string(), distributions_csv(*r.analysis));

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <atomic>
+#include <cstdlib>
 #include <mutex>
 #include <stdexcept>
 
@@ -10,6 +11,14 @@
 #include "gfmd/core/fft.hpp"
 
 namespace gfmd {
+
+std::string omp_wait_setting() {
+  std::string out;
+  for (const char* v : {"OMP_WAIT_POLICY", "GOMP_SPINCOUNT"})
+    if (const char* x = std::getenv(v); x != nullptr)
+      out += (out.empty() ? "" : " ") + std::string(v) + "=" + std::string(x).substr(0, 64);
+  return out.empty() ? "default" : out;
+}
 
 namespace {
 

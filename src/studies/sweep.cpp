@@ -67,7 +67,7 @@ void write_sweep_tables(const std::string& dir, const std::string& param, const 
   j["values"] = values;
   j["points"] = nlohmann::json::array();
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    csv << values[i];
+    csv << format_number(values[i]);  // shortest text that reads back exactly
     nlohmann::json pj;
     pj[param] = values[i];
     for (const auto& c : cols) {

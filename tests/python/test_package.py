@@ -151,6 +151,10 @@ def test_save_writes_what_gfmd_run_writes_and_flow_matches_the_cli(tmp_path):
         saved = json.load(f)
     assert saved["friction_coefficient"] == r.summary["friction_coefficient"]
     assert (d / "fields.nc").is_file()
+    assert not (d / "pressure.png").exists()  # maps only when asked for
+    r.save(str(tmp_path / "drawn"), png=True)  # ... as gfmd run draws them
+    for png in ("pressure.png", "gap.png", "slip_longitudinal.png", "profiles.png"):
+        assert (tmp_path / "drawn" / png).stat().st_size > 1000, png
     fl = r.flow(("x", "y"))
     p = subprocess.run([os.path.join(BUILD, "gfmd"), "flow", str(d)], capture_output=True, text=True, env=ENV)
     assert p.returncode == 0, p.stderr
@@ -185,6 +189,15 @@ def test_bad_arguments_name_themselves():
         gfmd.solve(np.zeros((4, 4)), body, force=0.01)
     with pytest.raises(gfmd.InputError, match="poisson"):
         gfmd.solve(top, gfmd.ElasticBody(poisson=0.7), force=0.01)
+    # The body is checked when it is made, as [elastic] is (not only when a solve uses it).
+    for kw, what in [(dict(poisson=0.6), "ElasticBody.poisson"), (dict(thickness=-1.0), "ElasticBody.thickness"),
+                     (dict(poisson=0.5, thickness=0.1), "ElasticBody.poisson.*singular"),
+                     (dict(contact_modulus=0.0), "ElasticBody.contact_modulus"),
+                     (dict(thickness="thin"), "ElasticBody.thickness: must be a number"),
+                     (dict(coupling=1), "ElasticBody.coupling")]:
+        with pytest.raises(gfmd.InputError, match=what):
+            gfmd.ElasticBody(**kw)
+    assert gfmd.ElasticBody(poisson=0.5).thickness == float("inf")  # incompressible half-space: fine
     with pytest.raises(gfmd.SolveError):
         gfmd.solve(top, body, force=0.01, max_iterations=2)
 
@@ -273,8 +286,8 @@ def cli(*args):
     return p
 
 
-def numbers_equal(a, b, skip=("time", "seconds", "elapsed")):
-    """Recursively: the same keys and the same numbers, except timings."""
+def numbers_equal(a, b, skip=("time", "seconds", "elapsed", "omp_wait")):
+    """Recursively: the same keys and the same numbers, except timings and how threads waited."""
     if isinstance(a, dict):
         assert set(a) == set(b)
         for k in a:
@@ -292,7 +305,11 @@ def test_sweep_percolation_ensemble_match_the_cli(tmp_path):
     case = tmp_path / "rough.toml"
     case.write_text(ROUGH_TOML)
     # sweep: the same sweep.json as gfmd sweep
-    py = gfmd.sweep(str(case), "load.pressure", [0.02, 0.05], output=str(tmp_path / "py_sweep"))
+    py = gfmd.sweep(str(case), "load.pressure", [0.02, 0.05], output=str(tmp_path / "py_sweep"),
+                    plot="relative_contact_area")
+    assert (tmp_path / "py_sweep" / "sweep_relative_contact_area.png").stat().st_size > 1000
+    with pytest.raises(gfmd.InputError, match="no column 'area'"):  # the finished points are reused
+        gfmd.sweep(str(case), "load.pressure", [0.02, 0.05], output=str(tmp_path / "py_sweep"), plot="area")
     cli("sweep", str(case), "--set", "load.pressure=0.02,0.05", "-o", str(tmp_path / "cli_sweep"), "-q")
     with open(tmp_path / "cli_sweep" / "sweep.json") as f:
         numbers_equal(py, json.load(f))

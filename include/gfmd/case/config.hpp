@@ -23,6 +23,8 @@ inline constexpr std::size_t kMaxStressDepths = 64;             // stress.depths
 inline constexpr int kMaxTomlNesting = 64;                      // arrays, inline tables and dotted keys
 inline constexpr std::size_t kMaxCaseFileBytes = 1u << 20;      // and arrays of <= kMaxSweepPoints
 inline constexpr double kMinLength = 1e-30, kMaxLength = 1e30;  // grid.lx, grid.ly
+// The thinnest layer, relative to the larger cell side (elastic.thickness).
+inline constexpr double kMinThicknessRatio = 1e-12;
 // The largest mean pressure / E* a load may ask for (force / (E* lx ly) likewise).
 inline constexpr double kMaxPressureOverModulus = 1e3;
 

@@ -30,13 +30,20 @@ LeakageResult compute_leakage(const Grid& g, const double* gap, const std::vecto
 // "x" for 0 degrees, "y" for 90, "<angle>deg" otherwise: the suffix of keys, fields and files.
 std::string direction_tag(double angle_deg);
 
-// Appends the current-density components and magnitude of every flow (views into r).
-void append_current_fields(const LeakageResult& r, std::vector<NamedField>& fields);
+// Appends the current-density components and magnitude of every flow (views into r);
+// length_unit: the case's length unit (grid.unit; "" = none named, written as "length").
+void append_current_fields(const LeakageResult& r, std::vector<NamedField>& fields,
+                           const std::string& length_unit);
 
 // Writes flow.json and flow.nc (current density components and magnitude per direction)
 // into dir. The maps current_<x|y|angle>.png are drawn from flow.nc by the front ends
 // (scripts/plot_maps.py).
-void write_leakage(const Grid& g, const LeakageResult& r, const std::string& dir,
-                   const nlohmann::json& extra);
+void write_leakage(const Grid& g, const LeakageResult& r, const std::string& dir, const nlohmann::json& extra,
+                   const std::string& length_unit);
+
+// The units attribute of a length in the outputs: the case's unit, or "length" without one.
+inline std::string length_units(const std::string& length_unit) {
+  return length_unit.empty() ? std::string("length") : length_unit;
+}
 
 }  // namespace gfmd

@@ -16,6 +16,13 @@
 
 namespace gfmd {
 
+// The OpenMP spin count the front ends set where the user chose no wait policy (app/gfmd.cpp,
+// python/gfmd/__init__.py): threads at a barrier spin this many times, then sleep.
+inline constexpr const char* kSpinCount = "10000";
+// How this process's OpenMP threads wait, as its environment says ("GOMP_SPINCOUNT=10000",
+// "OMP_WAIT_POLICY=passive", ...; "default": libgomp's own); summary.json "omp_wait".
+std::string omp_wait_setting();
+
 struct Grid;
 class FftEngine;
 enum class Planner;
