@@ -195,13 +195,22 @@ TEST(Abuse, ShellMetacharactersInPathsAreData) {
   EXPECT_FALSE(fs::exists(d / "PWNED2"));
   EXPECT_TRUE(fs::exists(fs::path(out) / "summary.json"));
   EXPECT_TRUE(fs::exists(fs::path(out) / "profiles.png")) << "the plotting helper did not get the path";
-  // A sweep plot with a quote in the --plot key and the directory.
+  // A sweep plot with a quote in the --plot key and the directory: the key is data (a column
+  // the summaries do not have: exit 2 naming it), the directory too.
   const std::string sout = (d / "s\"$(touch PWNED3)").string();
   EXPECT_EQ(run({"sweep", (d / "case.toml").string(), "-o", sout, "-q", "--set", "load.force=0.005,0.01",
                  "--plot", "relative_contact_area\"$(touch PWNED4)"},
                 d / "log2", in_dir(d)),
-            0)
+            2)
       << read_file(d / "log2");
+  EXPECT_NE(read_file(d / "log2").find("no column 'relative_contact_area\"$(touch PWNED4)'"), std::string::npos)
+      << read_file(d / "log2");
+  EXPECT_EQ(run({"sweep", (d / "case.toml").string(), "-o", sout, "-q", "--set", "load.force=0.005,0.01",
+                 "--plot", "relative_contact_area"},
+                d / "log3", in_dir(d)),
+            0)
+      << read_file(d / "log3");
+  EXPECT_TRUE(fs::exists(fs::path(sout) / "sweep_relative_contact_area.png"));
   for (const char* f : {"PWNED3", "PWNED4"}) EXPECT_FALSE(fs::exists(d / f)) << f;
 }
 
@@ -384,6 +393,11 @@ TEST(Abuse, ResumeReportsCumulativeWork) {
                                     gfmd::load_config((d / "slow.toml").string()), f, &before));
   EXPECT_GT(before.iterations, 0);
   EXPECT_GT(before.wall_time_s, 0.2);
+  // The message and status.json count what the checkpoint counts (they once left out the
+  // frictionless reference's iterations).
+  const std::string said = "interrupted after " + std::to_string(before.iterations) + " iterations";
+  EXPECT_NE(read_file(d / "log").find(said), std::string::npos) << read_file(d / "log");
+  EXPECT_NE(read_file(out / "status.json").find(said), std::string::npos) << read_file(out / "status.json");
   ASSERT_EQ(run({"run", (d / "slow.toml").string(), "-o", out.string(), "-q", "--resume"}, d / "log2"), 0)
       << read_file(d / "log2");
   std::ifstream in(out / "summary.json");

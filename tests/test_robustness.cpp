@@ -194,6 +194,10 @@ TEST(Robustness, InterruptedSweepKeepsFinishedPointsAndResumes) {
   const auto partial = nlohmann::json::parse(t1);
   EXPECT_EQ(partial["completed"].get<int>(), 2);
   EXPECT_TRUE(fs::exists(dir / "out" / "point_002" / "checkpoint.bin"));
+  // status.json says where it stopped: the sweep and its point interrupted, finished points converged.
+  EXPECT_EQ(read_status((dir / "out").string()), "interrupted");
+  EXPECT_EQ(read_status((dir / "out" / "point_002").string()), "interrupted");
+  EXPECT_EQ(read_status((dir / "out" / "point_001").string()), "converged");
   // Resume: the finished points are reused, not recomputed.
   SweepOptions again;
   std::vector<std::string> messages;
@@ -206,6 +210,8 @@ TEST(Robustness, InterruptedSweepKeepsFinishedPointsAndResumes) {
   std::ifstream t2(dir / "out" / "sweep.json");
   const auto full = nlohmann::json::parse(t2);
   EXPECT_EQ(full["completed"].get<int>(), 3);
+  EXPECT_EQ(read_status((dir / "out").string()), "converged");
+  EXPECT_EQ(read_status((dir / "out" / "point_002").string()), "converged");
   // Same answer as an uninterrupted solve of the last point.
   const CaseResult last = run_case(parse_config(kSliding, "t.toml", {"load.force=0.01"}));
   EXPECT_NEAR(full["points"][2]["friction_coefficient"].get<double>(), last.observables.friction_coefficient,

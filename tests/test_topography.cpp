@@ -645,9 +645,13 @@ TEST_F(TopographyFile, TextErrors) {
   expect_input_error([&] { (void)gfmd::read_topography(p, 1, 1); }, p, "line 1: non-finite");
   p = write_text("huge.txt", "1 1e999\n");
   expect_input_error([&] { (void)gfmd::read_topography(p, 1, 1); }, p, "line 1: non-finite");
-  p = write_text("nosize.txt", "# ly = 2\n1 2\n3 4\n");
+  p = write_text("nosize.txt", "1 2\n3 4\n5 6\n");
   expect_input_error([&] { (void)gfmd::read_topography(p, 0, 0); }, p, "no physical size lx");
-  EXPECT_NO_THROW((void)gfmd::read_topography(p, 1.0, 0.0));  // lx from the argument, ly from the file
+  EXPECT_DOUBLE_EQ(gfmd::read_topography(p, 1.0, 0.0).grid.ly, 1.5);  // ly = lx ny/nx: square pixels
+  p = write_text("onlyly.txt", "# ly = 3\n1 2\n3 4\n5 6\n");
+  EXPECT_DOUBLE_EQ(gfmd::read_topography(p, 0, 0).grid.lx, 2.0);  // lx = ly nx/ny from the file's ly
+  EXPECT_DOUBLE_EQ(gfmd::read_topography(p, 1.0, 0.0).grid.ly,
+                   3.0);  // lx from the argument, ly from the file
   p = write_text("empty.txt", "");
   expect_input_error([&] { (void)gfmd::read_topography(p, 1, 1); }, p, "empty");
   p = write_text("comments.txt", "# nothing here\n\n");

@@ -328,8 +328,16 @@ Config build(const toml::value& root, const std::string& name, const std::string
     s.rms_gradient = ind.number("rms_gradient", 0.0);
     s.lambda_rolloff = ind.number("lambda_rolloff", 0.0);
     s.seed = static_cast<std::uint64_t>(ind.integer("seed", 0, 0, std::numeric_limits<long long>::max()));
-    if ((s.rms_height > 0) == (s.rms_gradient > 0))
+    if ((s.rms_height > 0) == (s.rms_gradient > 0)) {
       ind.error("rms_height", "give exactly one of rms_height and rms_gradient (positive)");
+    } else {
+      // The surface's own checks (band, resolution), here so that they name the line.
+      try {
+        check_selfaffine(c.grid, s);
+      } catch (const ParameterError& e) {
+        ind.error(e.where(), e.why() + ind.at(e.where()));
+      }
+    }
   } else if (in.type == "array") {
     // Heights handed over by a program (Python's gfmd.solve: RunOptions::topography); no keys.
   } else if (in.type == "file") {
@@ -390,7 +398,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
         else
           ind.error("path", why + (why.find("no physical size") != std::string::npos &&
                                            why.find("grid.lx") == std::string::npos
-                                       ? " (or give grid.lx and grid.ly)"
+                                       ? " (or give grid.lx)"
                                        : ""));
       }
     }
@@ -400,7 +408,9 @@ Config build(const toml::value& root, const std::string& name, const std::string
   Section load(root, "load", errors);
   const bool hf = load.has("force"), hp = load.has("pressure"), ha = load.has("approach");
   if (int(hf) + int(hp) + int(ha) != 1) {
-    errors.push_back("load: give exactly one of force, pressure, approach");
+    std::string at;  // where the loads given are
+    for (const char* k : {"force", "pressure", "approach"}) at += load.at(k);
+    errors.push_back("load: give exactly one of force, pressure, approach" + at);
   }
   if (hf) {
     c.load = {LoadMode::Force, load.number("force", 0.0)};

@@ -223,6 +223,13 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
 bool outputs_need_stress_fields(const Config& cfg) { return cfg.output.fields || cfg.output.png; }
 
 namespace {
+
+// The interruption as the run reports it: the iterations of every solve of the run so far
+// (earlier sessions and a finished frictionless reference included), as its checkpoint and
+// summary.json's resumed.iterations_before count them.
+Interrupted interrupted_after(const CheckpointProgress& p) {
+  return Interrupted("interrupted after " + std::to_string(p.iterations) + " iterations");
+}
 // This process's rows of the warm start that rank 0 holds (a checkpoint it read, a sweep's
 // previous point): pressure and tractions, scattered by rows.
 ContactFields warm_start_rows(const Grid& slab, const ContactFields& whole) {
@@ -505,7 +512,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
       ref_info = ref.solve(cfg.load, rf);
     } catch (const Interrupted&) {
       save(rf);
-      throw;
+      throw interrupted_after(progress_now());
     }
     running = nullptr;
     finished_iterations = ref_info.iterations;
@@ -535,7 +542,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
       r.info = solver.solve(cfg.load, r.fields);
     } catch (const Interrupted&) {
       save(r.fields);
-      throw;
+      throw interrupted_after(progress_now());
     }
     running = nullptr;
     if (r.reference) {

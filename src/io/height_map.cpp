@@ -235,7 +235,7 @@ double choose_size(const std::string& path, const char* name, double arg, double
 }
 
 std::string size_source(const std::string& format) {
-  if (format == "text") return "'# lx = <value>' header line";
+  if (format == "text") return "'# lx = <value>' or '# ly = <value>' header line";
   if (format == "netcdf") return "attribute 'lx'/'ly' or 1-D coordinate variable";
   return "physical size (" + format + " files never carry one)";
 }
@@ -291,6 +291,10 @@ HeightMap read_height_map(const std::string& path, double lx, double ly) {
   HeightMap m = read_height_file(path);
   if (m.missing > 0) throw InputError(path, missing_points_message(m.missing, m.first_missing));
   const std::string how = size_source(m.format);
+  // One side known (given or from the file) gives the other by square pixels.
+  const double known_x = lx > 0 ? lx : m.lx, known_y = ly > 0 ? ly : m.ly;
+  if (!(ly > 0) && !(m.ly > 0) && known_x > 0 && std::isfinite(known_x)) m.ly = known_x * m.ny / m.nx;
+  if (!(lx > 0) && !(m.lx > 0) && known_y > 0 && std::isfinite(known_y)) m.lx = known_y * m.nx / m.ny;
   m.lx = choose_size(path, "lx", lx, m.lx, how);
   m.ly = choose_size(path, "ly", ly, m.ly, how);
   return m;

@@ -132,6 +132,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       else if (name.rfind("sweep_", 0) == 0 && e.path().extension() == ".png")
         fs::remove(e.path(), ec);
     }
+    write_status(dir, "running");
   });
   std::vector<nlohmann::json> summaries;
   ContactFields warm;
@@ -167,7 +168,20 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     } else if (have_warm) {
       ro.warm_start = &warm;
     }
-    CaseResult r = run_case(cfg, ro);
+    // status.json of the point and of the sweep say where an interrupted sweep stopped (the
+    // point keeps its checkpoint; the same command continues from it).
+    const auto solve_point = [&] {
+      try {
+        return run_case(cfg, ro);
+      } catch (const Interrupted& e) {
+        on_root([&] {
+          write_status(pdir, "interrupted", e.what());
+          write_status(dir, "interrupted", std::string(name) + ": " + e.what());
+        });
+        throw;
+      }
+    };
+    CaseResult r = solve_point();
     bool retried = false;
     if (!r.info.converged && !from_checkpoint && have_warm) {
       // Started from the previous point's solution, the friction fixed point can fall into
@@ -175,22 +189,25 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       if (opts.on_point)
         opts.on_point(i, total, std::string(name) + ": " + r.info.status + "; retrying from a cold start");
       ro.warm_start = nullptr;
-      r = run_case(cfg, ro);
+      r = solve_point();
       retried = true;
     }
     std::error_code ec;
     if (root) fs::remove(ro.checkpoint_path, ec);
     if (!r.info.converged) {
+      const std::string why = std::string(name) + " (" + sw.parameter + " = " + format_number(sw.values[i]) +
+                              "): " + r.info.status + "; the " + std::to_string(i) +
+                              " finished points are kept";
       on_root([&] {
         fs::remove(pdir, ec);  // only if empty: no bare point directory is left behind
         write_sweep_tables(dir, sw.parameter, sw.values, summaries);
+        write_status(dir, "failed", why);
       });
-      throw SolveError(std::string(name) + " (" + sw.parameter + " = " + format_number(sw.values[i]) +
-                       "): " + r.info.status + "; the " + std::to_string(i) + " finished points are kept");
+      throw SolveError(why);
     }
     on_root([&] {
-      clear_run_outputs(pdir);  // a point recomputed owns its directory, as a run does
-      write_outputs(r, pdir);
+      clear_run_outputs(pdir);       // a point recomputed owns its directory, as a run does
+      publish_outputs(r, pdir, {});  // with status.json "converged", as gfmd run writes it
       summaries.push_back(summary_json(r));
       write_sweep_tables(dir, sw.parameter, sw.values, summaries);
     });
@@ -203,7 +220,10 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       opts.on_point(i + 1, total, msg);
     }
   }
-  on_root([&] { write_sweep_tables(dir, sw.parameter, sw.values, summaries); });
+  on_root([&] {
+    write_sweep_tables(dir, sw.parameter, sw.values, summaries);
+    write_status(dir, "converged");
+  });
   nlohmann::json j;
   j["points"] = summaries.size();
   return j;

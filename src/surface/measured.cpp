@@ -219,15 +219,18 @@ Topography load_height_map(const std::string& path, const MapOptions& o, MapRepo
     g.ny = static_cast<int>(cy);
     h = std::move(c);
   }
-  // Size: the caller's wins, else the file's.
+  // Size: the caller's wins, else the file's; one side known gives the other by square
+  // pixels (ly = lx ny / nx).
   g.lx = o.lx > 0 ? o.lx : m.lx;
-  g.ly = o.ly > 0 ? o.ly : (o.lx > 0 && m.ly <= 0 ? o.lx * g.ny / g.nx : m.ly);
+  g.ly = o.ly > 0 ? o.ly : m.ly;
+  if (!(g.ly > 0) && g.lx > 0) g.ly = g.lx * g.ny / g.nx;
+  if (!(g.lx > 0) && g.ly > 0) g.lx = g.ly * g.nx / g.ny;
   for (const auto& [name, v] : {std::pair{"lx", g.lx}, std::pair{"ly", g.ly}})
     if (!(v > 0) || !std::isfinite(v))
       throw InputError(
           path, std::string("no physical size ") + name + ": the " + m.format + " file gives none" +
-                    (m.format == "text" ? " (no '# " + std::string(name) + " = <value>' header line)" : "") +
-                    "; give grid.lx and grid.ly");
+                    (m.format == "text" ? " (no '# lx = <value>' or '# ly = <value>' header line)" : "") +
+                    "; give grid.lx (ly = lx ny/nx for square pixels unless given)");
 
   // Missing points and detrending, over the valid points.
   std::size_t missing = 0;

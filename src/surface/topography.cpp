@@ -171,8 +171,7 @@ Topography make_eggcrate(const Grid& grid, double wavelength, double amplitude) 
 // ---------------------------------------------------------------------------------------
 // Self-affine surfaces
 
-Topography make_selfaffine(const Grid& g, const SelfAffineParams& p) {
-  validate_grid(g);
+void check_selfaffine(const Grid& g, const SelfAffineParams& p) {
   if (!(p.hurst > 0.0 && p.hurst < 1.0))
     throw ParameterError("hurst", "the Hurst exponent must satisfy 0 < H < 1 (got " + num(p.hurst) + ")");
   const double lmin = std::min(g.lx, g.ly), lmax = std::max(g.lx, g.ly);
@@ -188,8 +187,8 @@ Topography make_selfaffine(const Grid& g, const SelfAffineParams& p) {
                                              " (got " + num(p.lambda_short) + ")");
   const double spacing = std::max(g.dx(), g.dy());
   if (p.lambda_short < 2.0 * spacing * (1.0 - 1e-12))
-    throw InputError(
-        "indenter.lambda_short",
+    throw ParameterError(
+        "lambda_short",
         "lambda_short = " + num(p.lambda_short) + " is shorter than twice the grid spacing (2 * " +
             num(spacing) + " = " + num(2.0 * spacing) +
             "): the grid spacing is too coarse to resolve it; refine the grid or raise lambda_short");
@@ -211,7 +210,12 @@ Topography make_selfaffine(const Grid& g, const SelfAffineParams& p) {
                          "give exactly one of rms_height and rms_gradient (> 0) to normalise "
                          "the surface (got rms_height = " +
                              num(p.rms_height) + ", rms_gradient = " + num(p.rms_gradient) + ")");
+}
 
+Topography make_selfaffine(const Grid& g, const SelfAffineParams& p) {
+  validate_grid(g);
+  check_selfaffine(g, p);
+  const bool rolloff = p.lambda_rolloff != 0.0;
   const double expo = -1.0 - p.hurst;  // |h~| ∝ q^(-1-H)
   const double q_l = kTwoPi / p.lambda_long, q_s = kTwoPi / p.lambda_short;
   const double q_r = rolloff ? kTwoPi / p.lambda_rolloff : q_l;

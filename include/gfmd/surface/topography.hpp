@@ -79,6 +79,9 @@ struct SelfAffineParams {
 // lambda_rolloff, rms_height (not exactly one of rms_height /
 // rms_gradient > 0; a negative rms_gradient names rms_gradient), grid.
 Topography make_selfaffine(const Grid& grid, const SelfAffineParams& params);
+// The checks make_selfaffine makes of its parameters on a grid (ParameterError naming the
+// parameter), without making the surface: case files are checked with them when read.
+void check_selfaffine(const Grid& grid, const SelfAffineParams& params);
 
 // Realised statistics (see TopographyStats). Throws std::invalid_argument if h does not
 // match the grid.
