@@ -203,7 +203,8 @@ TEST(Abuse, ShellMetacharactersInPathsAreData) {
                 d / "log2", in_dir(d)),
             2)
       << read_file(d / "log2");
-  EXPECT_NE(read_file(d / "log2").find("no column 'relative_contact_area\"$(touch PWNED4)'"), std::string::npos)
+  EXPECT_NE(read_file(d / "log2").find("no column 'relative_contact_area\"$(touch PWNED4)'"),
+            std::string::npos)
       << read_file(d / "log2");
   EXPECT_EQ(run({"sweep", (d / "case.toml").string(), "-o", sout, "-q", "--set", "load.force=0.005,0.01",
                  "--plot", "relative_contact_area"},
