@@ -316,6 +316,11 @@ TEST(Sliding, AutomaticDerivativeTurnsUpwindWhereTheSolveMeetsStick) {
   EXPECT_LT(d_spec, 1e-8);
   EXPECT_GT(d_up, 100 * d_spec);
   EXPECT_EQ(h.observables.relative_contact_area, hs.observables.relative_contact_area);
+  // The turn costs a few friction steps, not a stall: the mixing restarts on the new map
+  // (measured: 67 steps against 56 for the explicit spectral solve; 79 when the first mixing
+  // step after the turn still combined the two maps' residuals).
+  EXPECT_LE(h.info.outer_iterations, hs.info.outer_iterations + 15)
+      << "spectral " << hs.info.outer_iterations << ", upwind2 " << hu.info.outer_iterations;
 }
 
 // Carter (1926) steady rolling of a cylinder with traction, plane strain, nu = 0.5 (the

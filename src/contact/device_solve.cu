@@ -903,6 +903,7 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
                         !fric_.slip_derivative && deriv_kind_ == SlipDerivative::Spectral);
     bool tangential_ok = !steps.stick_mode();
     double stick_now = 0.0;
+    bool map_changed = false;  // the slip derivative turned in this friction step (solver.cpp)
     have_z_ = false;
     double omega = sp_.mixing;
     info.status = "not converged: friction fixed point did not settle";
@@ -951,6 +952,7 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
           use_derivative(SlipDerivative::Upwind2);
           have_z_ = false;
           tangential_ok = false;
+          map_changed = true;
         }
       }
       err = dn[1] > 0 ? dn[0] / dn[1] : 0.0;
@@ -967,7 +969,7 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
         use_derivative(SlipDerivative::Spectral);
         have_z_ = false;
         tangential_ok = false;
-        if (mixer) mixer->restart();
+        map_changed = true;
       } else if (done) {
         tx_.swap(ntx_);
         ty_.swap(nty_);
@@ -996,6 +998,14 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
         const Phase ph(this, 4);
         add_support(false);
         if (mixer) mixer->resize(2 * supp_len_);
+      }
+      if (map_changed) {
+        // As on the host: the image becomes the iterate, the mixing starts afresh.
+        map_changed = false;
+        cuda_check(cudaMemcpy(ftx, tx, n * sizeof(double), cudaMemcpyDeviceToDevice), "copy");
+        cuda_check(cudaMemcpy(fty, ty, n * sizeof(double), cudaMemcpyDeviceToDevice), "copy");
+        if (mixer) mixer->restart();
+        continue;
       }
       double* zx = zx_.get();
       double* zy = zy_.get();

@@ -270,6 +270,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       return r > 0 && zx_[i] * zx_[i] + zy_[i] * zy_[i] < r * r;
     };
     double stick_now = 0.0;                    // contact points that stick in the last stick-slip solve
+    bool map_changed = false;                  // the slip derivative turned in this friction step
     bool tangential_ok = !steps.stick_mode();  // the last stick-slip solve met the final tolerance
     have_z_ = false;
     const bool accelerated = fric_.stick_acceleration > 0;
@@ -319,6 +320,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
           use_derivative(SlipDerivative::Upwind2);
           have_z_ = false;
           tangential_ok = false;
+          map_changed = true;
         }
       }
       err = dn[1] > 0 ? dn[0] / dn[1] : 0.0;
@@ -332,11 +334,11 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       if (steps.turns_back(done, stick_now)) {
         // Converged with the automatic derivative turned to upwind2, and every contact point
         // slips: continue from here with the spectral one (its answer differs by the
-        // discretisation, ~1e-5), z afresh, a fresh mixing history.
+        // discretisation, ~1e-5), z afresh, a fresh mixing history (below).
         use_derivative(SlipDerivative::Spectral);
         have_z_ = false;
         tangential_ok = false;
-        if (mixer) mixer->restart();
+        map_changed = true;
       } else if (done) {
         f.tx.swap(tx);
         f.ty.swap(ty);
@@ -378,6 +380,17 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
           mixer->resize(2 * supp.size());
           group_support();
         }
+      }
+      if (map_changed) {
+        // The friction map changed with the slip derivative: this step's residual and the
+        // mixing history belong to the old map, and Anderson would read the jump between the
+        // two as the response to the last (tiny) step and stay put (measured: ten friction
+        // steps without progress). The image becomes the iterate; the mixing starts afresh.
+        map_changed = false;
+        f.tx.swap(tx);
+        f.ty.swap(ty);
+        if (mixer) mixer->restart();
+        continue;
       }
       // The exact law's splitting variable follows the mixed traction: z <- z + (tau_mixed -
       // tau), so the next stick-slip solve starts from the mixed iterate (z - tau = gamma v
