@@ -197,6 +197,10 @@ TEST(Cli, BadInputIsRefusedCleanly) {
       {"flow_direction_bool", kGood + "[flow]\ndirection = true\n", "",
        "flow.direction: must be \"x\", \"y\", \"both\" or an angle in degrees, got boolean"},
       {"flow_direction_word", kGood + "[flow]\ndirection = \"diagonal\"\n", "", "got \"diagonal\""},
+      {"map_unit",
+       sub(sub(kGood, "type = \"hertz\"", "type = \"file\""), "radius = 1.0",
+           "path = \"nan.txt\"\nunit = \"furlong\""),
+       "", "1 problem in the case:\n  - indenter.unit: unknown length unit \"furlong\""},
   };
   ASSERT_EQ(::mkfifo((d / "fifo.txt").c_str(), 0600), 0);
   for (const auto& c : cases) {

@@ -371,9 +371,10 @@ Config build(const toml::value& root, const std::string& name, const std::string
         ind.error(key, "\"" + value + "\" is not one of \"" + ok[0] + "\", \"" + ok[1] + "\", \"" + ok[2] +
                            "\"" + did_you_mean(value, ok) + ind.at(key));
     }
-    if (!in.unit.empty() && metres_per_unit(in.unit) == 0.0)
+    const bool unit_ok = in.unit.empty() || metres_per_unit(in.unit) != 0.0;
+    if (!unit_ok)
       ind.error("unit", "unknown length unit \"" + in.unit + "\" (m, mm, um, nm, pm or A)" + ind.at("unit"));
-    if (!in.path.empty() && (!grid_nx || !grid_ny || !grid_lx || !grid_ly)) {
+    if (unit_ok && !in.path.empty() && (!grid_nx || !grid_ny || !grid_lx || !grid_ly)) {
       // The grid keys not given come from the prepared map (read once here; the solve reads it again).
       try {
         MapOptions mo = map_options(c);
