@@ -128,10 +128,11 @@ int cmd_plot(const std::string& dir_in) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) throw gfmd::InputError(dir_in, "no such directory");
   const bool study = has_file(dir, "study.json"), ensemble = has_file(dir, "ensemble.json");
-  if (!study && !ensemble && !is_sweep(dir) && !is_run(dir))
+  const bool curve = has_file(dir, "curve.csv");  // gfmd curve: curve.png, its points in points/
+  if (!study && !ensemble && !curve && !is_sweep(dir) && !is_run(dir))
     throw gfmd::InputError(dir_in,
-                           "not a gfmd run, sweep or study directory (no summary.json, fields.nc, sweep.csv, "
-                           "study.json or ensemble.json in it)");
+                           "not a gfmd run, sweep, curve or study directory (no summary.json, fields.nc, "
+                           "sweep.csv, curve.csv, study.json or ensemble.json in it)");
   const gfmd::DirectoryLock lock(dir_in, false, stop_requested);
   std::vector<fs::path> runs, sweeps;
   std::function<void(const fs::path&, int)> collect = [&](const fs::path& d, int depth) {
@@ -147,21 +148,24 @@ int cmd_plot(const std::string& dir_in) {
   };
   if (study || ensemble) {
     for (const auto& p : subdirs(dir)) collect(p, 1);
+  } else if (curve) {
+    collect(dir / "points", 0);
   } else {
     collect(dir, 0);
   }
   bool ok = true;
-  int drawn = 0;
+  int drawn = 0, profiles_only = 0;
   std::vector<std::string> with_fields;
   for (const auto& d : runs) {
     if (has_file(d, "fields.nc") || has_file(d, gfmd::kMapsStagingFile)) {
       with_fields.push_back(d.string());
     } else if (has_file(d, "profiles.csv")) {
       if (run_script("plot_profiles.py", {(d / "profiles.csv").string()}, false))
-        ++drawn;
+        ++profiles_only;
       else
         ok = false;
-      std::fprintf(stderr, "gfmd: note: %s has no fields.nc (output.fields = false): no maps drawn\n",
+      std::fprintf(stderr,
+                   "gfmd: note: %s has no fields.nc (output.fields = false): profiles.png only, no maps\n",
                    d.c_str());
     } else {
       std::fprintf(stderr, "gfmd: note: %s has no fields.nc (output.fields = false): nothing to draw\n",
@@ -199,6 +203,14 @@ int cmd_plot(const std::string& dir_in) {
       }
     }
   }
+  if (curve) {
+    if (run_script("plot_curve.py", {(dir / "curve.csv").string()}, false)) {
+      ++drawn;
+    } else {
+      ok = false;
+      std::fprintf(stderr, "gfmd: warning: %s/curve.png not drawn\n", dir_in.c_str());
+    }
+  }
   if (study) {
     std::string name = "the study";
     try {
@@ -214,8 +226,11 @@ int cmd_plot(const std::string& dir_in) {
                  "which reuses every finished run\n",
                  name.c_str(), dir_in.c_str(), name.c_str());
   }
-  std::printf("%s: %d figure sets redrawn (%zu run directories, %zu sweeps)%s\n", dir_in.c_str(), drawn,
-              runs.size(), sweeps.size(), ok ? "" : "; some could not be drawn");
+  std::printf("%s: %d figure sets redrawn (%zu run directories, %zu sweeps%s)", dir_in.c_str(), drawn,
+              runs.size(), sweeps.size(), curve ? ", a curve" : "");
+  if (profiles_only > 0)
+    std::printf("; profiles.png only in %d run directories without fields.nc", profiles_only);
+  std::printf("%s\n", ok ? "" : "; some could not be drawn");
   return ok ? 0 : 1;
 }
 

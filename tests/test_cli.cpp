@@ -314,7 +314,7 @@ TEST(Cli, PlotRefusesADirectoryWithoutResults) {
   fs::create_directories(d / "empty");
   const auto r = run_gfmd("plot " + (d / "empty").string());
   EXPECT_EQ(r.code, 2) << r.output;
-  EXPECT_NE(r.output.find((d / "empty").string() + ": not a gfmd run, sweep or study directory"),
+  EXPECT_NE(r.output.find((d / "empty").string() + ": not a gfmd run, sweep, curve or study directory"),
             std::string::npos)
       << r.output;
   EXPECT_TRUE(fs::is_empty(d / "empty"));

@@ -274,6 +274,12 @@ TEST(Curve, CommandLineReplacesAForceLoadAndDrawsTheFigure) {
   ASSERT_EQ(again.code, 0) << again.output;
   EXPECT_FALSE(fs::exists(d / "out" / "curve.png"));
   EXPECT_EQ(read_file(d / "out" / "curve.csv"), first_csv);
+  // gfmd plot redraws it from curve.csv (and says so).
+  const auto redraw = run_gfmd("plot " + (d / "out").string());
+  ASSERT_EQ(redraw.code, 0) << redraw.output;
+  EXPECT_TRUE(fs::exists(d / "out" / "curve.png")) << redraw.output;
+  EXPECT_NE(redraw.output.find("a curve"), std::string::npos) << redraw.output;
+  EXPECT_EQ(read_file(d / "out" / "curve.csv"), first_csv);
 
   // A case under approach control, a log-spaced range and output.png = false in the case.
   std::string approach = kEgg;

@@ -142,7 +142,7 @@ def test_maps_without_fields_nc_use_a_staging_file(tmp_path):
 def test_plot_refuses_a_directory_that_is_not_a_result(tmp_path):
     p = gfmd("plot", str(tmp_path), check=False)
     assert p.returncode == 2
-    assert str(tmp_path) in p.stderr and "not a gfmd run, sweep or study directory" in p.stderr
+    assert str(tmp_path) in p.stderr and "not a gfmd run, sweep, curve or study directory" in p.stderr
     assert os.listdir(tmp_path) == []
 
 
