@@ -5,6 +5,7 @@ import json
 import math
 import numbers
 import os
+import re
 from dataclasses import dataclass
 from typing import Callable, Iterable, Optional
 
@@ -416,6 +417,10 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
     try:
         solution = _core.solve_case("\n".join(lines) + "\n", topography.heights, topography.lx, topography.ly,
                                     progress)
+    except InputError as e:
+        # The case text is made here from the arguments: its line numbers mean nothing to the caller.
+        text = re.sub(r" \[<gfmd\.solve>:\d+\]", "", str(e))
+        raise InputError(text.replace("<gfmd.solve>: ", "gfmd.solve: ", 1)) from None
     finally:
         if bar is not None:
             bar.close()
