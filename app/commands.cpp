@@ -299,38 +299,12 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   so.progress = [&pp](const gfmd::Progress& p) { pp(p); };
   so.stop_request = stop_requested;
   const auto t0 = std::chrono::steady_clock::now();
-  // A plot column the summaries do not have is bad input: the columns are known once the
-  // first point is written, so the sweep stops there (exit 2) instead of after every point.
-  bool plot_checked = !plot_given;
-  const auto check_plot = [&](int done) {
-    plot_checked = true;
-    std::string columns;  // empty: the column is there
-    if (root) {
-      char name[32];
-      std::snprintf(name, sizeof name, "point_%03d", done - 1);
-      const auto sp = std::filesystem::path(out_dir) / name / "summary.json";
-      std::error_code ec;
-      if (std::filesystem::is_regular_file(sp, ec)) {
-        const auto summary = nlohmann::json::parse(
-            gfmd::read_regular_file(sp.string(), 64u << 20, "summary file"), nullptr, false);
-        if (!summary.is_discarded()) {
-          bool found = plot == cfg.sweep.parameter;
-          for (const auto& [k, v] : gfmd::summary_row(summary)) {
-            found = found || k == plot;
-            if (v.is_number()) columns += (columns.empty() ? "" : ", ") + k;
-          }
-          if (found) columns.clear();
-        }
-      }
-    }
-    columns = gfmd::mpi::from_root(columns);
-    if (!columns.empty())
-      throw gfmd::InputError(plot_option ? "--plot" : "sweep.plot",
-                             "the summaries have no column '" + plot + "' (the first point is kept in " +
-                                 out_dir + "/; numeric columns: " + columns + ")");
-  };
+  // An explicit column is checked by the sweep on its first point.
+  if (plot_given) {
+    so.plot_column = plot;
+    so.plot_key = plot_option ? "--plot" : "sweep.plot";
+  }
   so.on_point = [&](int done, int total, const std::string& msg) {
-    if (!plot_checked && msg.find("retrying") == std::string::npos) check_plot(done);
     pp.done();
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (pp.quiet) return;

@@ -317,13 +317,14 @@ py::dict flow_of(const Solution& s, const std::vector<double>& angles, double to
 // The studies below run interruptible: on Ctrl-C what a study keeps on disk stays, as with the CLI.
 py::object sweep_case(const std::string& case_path, const std::string& parameter,
                       const std::vector<double>& values, const std::vector<std::string>& set,
-                      const std::string& dir) {
+                      const std::string& dir, const std::string& plot) {
   const gfmd::Config cfg = gfmd::sweep_config(case_path, set, parameter, values);
   return json_to_py(interruptible([&](const std::function<bool()>& stop) {
     const gfmd::DirectoryLock lock(dir);
     gfmd::SweepOptions so;
     so.overrides = set;
     so.stop_request = stop;
+    so.plot_column = plot;  // checked on the first point ("" = none)
     return gfmd::run_sweep(case_path, cfg, dir, so);
   }));
 }
@@ -551,7 +552,7 @@ PYBIND11_MODULE(_core, m) {
       },
       py::arg("heights"), py::arg("lx"), py::arg("ly"));
   m.def("sweep_case", &sweep_case, py::arg("case"), py::arg("parameter"), py::arg("values"), py::arg("set"),
-        py::arg("output"));
+        py::arg("output"), py::arg("plot") = "");
   m.def("percolation_case", &percolation_case, py::arg("case"), py::arg("direction"), py::arg("set"),
         py::arg("area_tolerance"), py::arg("output"));
   m.def("curve_case", &curve_case, py::arg("case"), py::arg("pressures"), py::arg("set"), py::arg("output"));

@@ -479,23 +479,19 @@ def sweep(case: str, parameter: str, values: Iterable[float], output: str, set: 
         raise InputError(f"parameter: a config key section.key (got {parameter!r})")
     if plot is not None and (not isinstance(plot, str) or not plot):
         raise InputError(f"plot: a summary key such as 'friction_coefficient' (got {plot!r})")
-    _core.sweep_case(str(case), parameter, vals, list(set), str(output))
-    with open(os.path.join(str(output), "sweep.json")) as f:
-        table = json.load(f)
+    _core.sweep_case(str(case), parameter, vals, list(set), str(output), plot or "")
     if plot is not None:
-        _draw_sweep(str(output), plot, table)
-    return table
+        _draw_sweep(str(output), plot)
+    with open(os.path.join(str(output), "sweep.json")) as f:
+        return json.load(f)
 
 
-def _draw_sweep(output: str, column: str, table: dict) -> None:
-    """sweep_<column>.png by plot_sweep.py in a separate interpreter, as the CLI draws it."""
+def _draw_sweep(output: str, column: str) -> None:
+    """sweep_<column>.png by plot_sweep.py in a separate interpreter, as the CLI draws it (the
+    sweep has checked the column)."""
     import subprocess
     import sys
     import warnings
-    columns = {k for p in table.get("points", []) for k, v in p.items() if isinstance(v, (int, float))}
-    if column not in columns:
-        raise InputError(f"plot: the summaries have no column '{column}' (numeric columns: "
-                         f"{', '.join(sorted(columns))})")
     scripts = _core.scripts_dir()
     if not scripts:
         warnings.warn("could not draw the sweep: plot_sweep.py not found next to the gfmd module")

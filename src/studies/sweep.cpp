@@ -91,6 +91,18 @@ void write_sweep_tables(const std::string& dir, const std::string& param, const 
   write_text_atomic((fs::path(dir) / "sweep.json").string(), j.dump(2) + "\n");
 }
 
+// "" where the summary has `column` (or it is the swept parameter), else its numeric columns.
+std::string missing_column(const nlohmann::json& summary, const std::string& column,
+                           const std::string& param) {
+  std::string columns;
+  bool found = column == param;
+  for (const auto& [k, v] : summary_row(summary)) {
+    found = found || k == column;
+    if (v.is_number()) columns += (columns.empty() ? "" : ", ") + k;
+  }
+  return found ? std::string() : columns;
+}
+
 std::string format_value(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -138,6 +150,16 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   ContactFields warm;
   bool have_warm = false;
   const int total = static_cast<int>(sw.values.size());
+  // The column to draw, checked on the first point (opts.plot_column).
+  const auto check_column = [&](int point) {
+    if (opts.plot_column.empty() || point != 0) return;
+    const std::string columns = mpi::from_root(
+        root && !summaries.empty() ? missing_column(summaries.front(), opts.plot_column, sw.parameter) : "");
+    if (!columns.empty())
+      throw InputError(opts.plot_key, "the summaries have no column '" + opts.plot_column +
+                                          "' (the first point is kept in " + dir +
+                                          "/; numeric columns: " + columns + ")");
+  };
   for (int i = 0; i < total; ++i) {
     std::vector<std::string> sets = opts.overrides;
     sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
@@ -149,6 +171,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     if (root) old = finished_summary(pdir, cfg);
     if (mpi::from_root(old ? 1 : 0) == 1) {
       if (root) summaries.push_back(std::move(*old));
+      check_column(i);
       have_warm = false;
       if (opts.on_point) opts.on_point(i + 1, total, std::string(name) + " reused (finished earlier)");
       continue;
@@ -211,6 +234,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       summaries.push_back(summary_json(r));
       write_sweep_tables(dir, sw.parameter, sw.values, summaries);
     });
+    check_column(i);
     warm = std::move(r.fields);
     have_warm = cfg.grid.size() == base.grid.size();
     if (opts.on_point) {

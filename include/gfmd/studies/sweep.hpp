@@ -21,6 +21,10 @@ struct SweepOptions {
   std::vector<std::string> overrides;  // --set values applied to every point
   std::function<bool()> stop_request;  // as in RunOptions; the current point keeps a checkpoint
   double checkpoint_interval_s = 60.0;
+  // A summary column the front end will draw (sweep_<column>.png; "" = none): a column the
+  // summaries lack is bad input, found on the first point (InputError named plot_key, e.g.
+  // "--plot"; that point is kept), not after the last.
+  std::string plot_column, plot_key = "plot";
 };
 // The case of a sweep of `parameter` (section.key) over `values`, given by a front end
 // rather than the case's [sweep] table: the case file with the overrides and the first
