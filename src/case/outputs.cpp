@@ -46,6 +46,12 @@ void publish_outputs(const CaseResult& r, const std::string& dir, const std::fun
 }
 
 namespace {
+
+// What the lengths of the outputs are measured in, for summary.json and fields.nc.
+std::string lengths_in(const Config& c) {
+  return c.length_unit.empty() ? std::string("lengths in the unit of grid.lx")
+                               : "lengths in " + c.length_unit;
+}
 nlohmann::json observables_json(const Observables& o) {
   nlohmann::json j = {{"relative_contact_area", o.relative_contact_area},
                       {"normal_force", o.normal_force},
@@ -221,8 +227,7 @@ nlohmann::json summary_json(const CaseResult& r) {
   if (r.map_report) j["topography"]["preprocessing"] = map_report_json(*r.map_report);
   if (r.analysis) j["analysis"] = analysis_json(*r.analysis, r.config.grid);
   j["input"] = r.config.to_json();
-  j["units"] = std::string(r.config.length_unit.empty() ? "lengths in the unit of grid.lx"
-                                                        : "lengths in " + r.config.length_unit) +
+  j["units"] = lengths_in(r.config) +
                "; pressures, stresses and E* in the unit of elastic.contact_modulus; "
                "forces = pressure x length^2";
   j["conventions"] = {
@@ -334,9 +339,7 @@ void write_fields_file(const CaseResult& r, const std::string& path, bool maps_o
       {{"gfmd_version", kVersion},
        {"git_commit", kGitCommit},
        {"input_toml", r.config.to_toml()},
-       {"normalisation", (r.config.length_unit.empty() ? std::string("lengths in the unit of grid.lx")
-                                                       : "lengths in " + r.config.length_unit) +
-                             ", pressures in units of E* (contact_modulus)"}},
+       {"normalisation", lengths_in(r.config) + ", pressures in units of E* (contact_modulus)"}},
       length_units(r.config.length_unit));
 }
 
