@@ -123,56 +123,59 @@ gfmd::CaseResult solve(const gfmd::Config& cfg, gfmd::RunOptions ro = {}) {
   return r;
 }
 
-// scripts/plot_maps.py beside this module: <package>/share/gfmd/scripts in an installed
+// A plotting helper beside this module: <package>/share/gfmd/scripts in an installed
 // package, <build>/share/gfmd/scripts from <build>/python/gfmd/_core*.so. Empty if not found.
-std::string find_plot_maps() {
+std::string find_script(const std::string& name) {
   Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&find_plot_maps), &info) == 0 || info.dli_fname == nullptr) return "";
+  if (dladdr(reinterpret_cast<void*>(&find_script), &info) == 0 || info.dli_fname == nullptr) return "";
   std::error_code ec;
   const auto dir = std::filesystem::absolute(info.dli_fname, ec).parent_path();
-  for (const auto& cand : {dir / "share" / "gfmd" / "scripts" / "plot_maps.py",
-                           dir / ".." / "share" / "gfmd" / "scripts" / "plot_maps.py",
-                           dir / ".." / ".." / "share" / "gfmd" / "scripts" / "plot_maps.py"})
+  for (const auto& cand :
+       {dir / "share" / "gfmd" / "scripts" / name, dir / ".." / "share" / "gfmd" / "scripts" / name,
+        dir / ".." / ".." / "share" / "gfmd" / "scripts" / name})
     if (std::filesystem::is_regular_file(cand, ec)) return cand.lexically_normal().string();
   return "";
 }
 
-// The maps and profiles.png of a run directory (output.png), drawn as `gfmd run` draws them:
-// plot_maps.py in a separate interpreter ($GFMD_PYTHON, else this one), so that matplotlib's
-// backend and state in the caller's process stay untouched. A failure only warns on stderr:
-// the data files are complete. The staging file of the maps (output.fields off) is removed.
-// Called with the GIL released.
+// Runs the plotting helper `name` (share/gfmd/scripts beside this module) with args in a
+// separate interpreter ($GFMD_PYTHON, else this one), so that matplotlib's backend and state
+// in the caller's process stay untouched. Returns "" or what went wrong. Needs the GIL.
+std::string run_plot_script(const std::string& name, const std::vector<std::string>& arguments) {
+  try {
+    const std::string script = find_script(name);
+    if (script.empty()) return name + " not found next to the gfmd module";
+    const char* env = std::getenv("GFMD_PYTHON");
+    std::string python =
+        env && *env ? env : py::module_::import("sys").attr("executable").cast<std::string>();
+    if (python.empty()) python = "/usr/bin/python3";
+    py::list args;
+    args.append(python);
+    args.append(script);
+    for (const auto& a : arguments) args.append(a);
+    const py::module_ subprocess = py::module_::import("subprocess");
+    const py::object p =
+        subprocess.attr("run")(args, py::arg("stdout") = subprocess.attr("DEVNULL"),
+                               py::arg("stderr") = subprocess.attr("PIPE"), py::arg("text") = true);
+    if (const int rc = p.attr("returncode").cast<int>(); rc != 0)
+      return python + " " + script + " failed (exit status " + std::to_string(rc) +
+             "): " + p.attr("stderr").cast<std::string>();
+    return "";
+  } catch (py::error_already_set& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+}
+
+// The maps and profiles.png of a run directory (output.png), drawn as `gfmd run` draws them
+// (plot_maps.py, run_plot_script). A failure only warns on stderr: the data files are
+// complete. The staging file of the maps (output.fields off) is removed. Called with the GIL
+// released.
 void draw_maps(const std::string& dir) {
   const auto staging = std::filesystem::path(dir) / gfmd::kMapsStagingFile;
-  std::string problem;
   {
     py::gil_scoped_acquire acquire;
-    try {
-      const std::string script = find_plot_maps();
-      if (script.empty()) {
-        problem = "plot_maps.py not found next to the gfmd module";
-      } else {
-        const char* env = std::getenv("GFMD_PYTHON");
-        std::string python =
-            env && *env ? env : py::module_::import("sys").attr("executable").cast<std::string>();
-        if (python.empty()) python = "/usr/bin/python3";
-        py::list args;
-        args.append(python);
-        args.append(script);
-        for (const auto& a : gfmd::plot_maps_arguments({dir}, {"--profiles"})) args.append(a);
-        const py::module_ subprocess = py::module_::import("subprocess");
-        const py::object p =
-            subprocess.attr("run")(args, py::arg("stdout") = subprocess.attr("DEVNULL"),
-                                   py::arg("stderr") = subprocess.attr("PIPE"), py::arg("text") = true);
-        if (const int rc = p.attr("returncode").cast<int>(); rc != 0)
-          problem = python + " " + script + " failed (exit status " + std::to_string(rc) +
-                    "): " + p.attr("stderr").cast<std::string>();
-      }
-    } catch (py::error_already_set& e) {
-      problem = e.what();
-    } catch (const std::exception& e) {
-      problem = e.what();
-    }
+    std::string problem = run_plot_script("plot_maps.py", gfmd::plot_maps_arguments({dir}, {"--profiles"}));
     if (!problem.empty()) {
       while (!problem.empty() && problem.back() == '\n') problem.pop_back();
       PySys_WriteStderr("gfmd: warning: the PNG maps of %.200s were not (all) drawn: %.1500s\n", dir.c_str(),
@@ -380,13 +383,9 @@ PYBIND11_MODULE(_core, m) {
   m.attr("__version__") = gfmd::kVersion;
   py::register_exception<gfmd::InputError>(m, "InputError", PyExc_ValueError);
   py::register_exception<gfmd::SolveError>(m, "SolveError", PyExc_RuntimeError);
-  m.def(
-      "scripts_dir",
-      [] {
-        const std::string s = find_plot_maps();
-        return s.empty() ? std::string() : std::filesystem::path(s).parent_path().string();
-      },
-      "The folder of the plotting helpers (share/gfmd/scripts) beside this module; '' if none.");
+  m.def("run_plot_script", &run_plot_script, py::arg("name"), py::arg("args"),
+        "Run a plotting helper of share/gfmd/scripts in a separate interpreter, as the maps are drawn; "
+        "returns '' or what went wrong.");
   m.def(
       "check_elastic",
       [](double contact_modulus, double poisson, double thickness) {

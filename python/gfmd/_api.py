@@ -489,19 +489,10 @@ def sweep(case: str, parameter: str, values: Iterable[float], output: str, set: 
 def _draw_sweep(output: str, column: str) -> None:
     """sweep_<column>.png by plot_sweep.py in a separate interpreter, as the CLI draws it (the
     sweep has checked the column)."""
-    import subprocess
-    import sys
-    import warnings
-    scripts = _core.scripts_dir()
-    if not scripts:
-        warnings.warn("could not draw the sweep: plot_sweep.py not found next to the gfmd module")
-        return
-    script = os.path.join(scripts, "plot_sweep.py")
-    python = os.environ.get("GFMD_PYTHON") or sys.executable or "/usr/bin/python3"
-    p = subprocess.run([python, script, os.path.join(output, "sweep.csv"), "--y", column],
-                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    if p.returncode != 0:
-        warnings.warn(f"could not draw sweep_{column}.png ({python} {script}): {p.stderr.strip()}")
+    problem = _core.run_plot_script("plot_sweep.py", [os.path.join(output, "sweep.csv"), "--y", column])
+    if problem:
+        import warnings
+        warnings.warn(f"could not draw sweep_{column}.png: {problem.strip()}")
 
 
 def percolation(case: str, direction: str = "x", set: Iterable[str] = (), area_tolerance: float = 0.002,
