@@ -104,6 +104,8 @@ TEST(Cli, BadInputIsRefusedCleanly) {
       {"syntax", "[grid\nnx = 3", "", "not valid TOML"},
       {"bad_set", kGood, "--set nonsense", "expected section.key=value"},
       {"set_unknown", kGood, "--set solver.tolerence=1e-6", "did you mean 'tolerance'"},
+      // a bare word is a string, and its error names the override as a number's does
+      {"set_bare_word", kGood, "--set grid.nx=abc", "grid.nx: must be an integer, got string [--set:1]"},
       {"tolerance", sub(kGood, "force = 0.01", "force = 0.01\n[solver]\ntolerance = 2"), "",
        "solver.tolerance"},
       {"invalid_utf8", kGood + "# \xff\xfe\n", "", "not valid UTF-8"},

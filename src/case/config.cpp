@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -204,6 +205,29 @@ class Section {
 
 using config_detail::kSections;
 
+namespace {
+
+// text as a TOML basic string: quotes, backslashes and control characters escaped.
+std::string toml_basic_string(const std::string& text) {
+  std::string out = "\"";
+  for (const char ch : text) {
+    const auto u = static_cast<unsigned char>(ch);
+    if (ch == '"' || ch == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (u < 0x20 || u == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(u));
+      out += buf;
+    } else {
+      out += ch;
+    }
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
 void apply_override(toml::value& root, const std::string& spec) {
   const auto eq = spec.find('=');
   if (eq == std::string::npos || eq == 0) throw InputError("--set " + spec, "expected section.key=value");
@@ -218,7 +242,14 @@ void apply_override(toml::value& root, const std::string& spec) {
     std::istringstream is("v = " + text);
     val = toml::parse(is, "--set").as_table().at("v");
   } catch (const std::exception&) {
-    val = toml::value(text);  // a bare word: a string
+    // A bare word is a string; it is parsed as one so that a later error about it names
+    // "[--set:1]" as it does for any other override.
+    try {
+      std::istringstream is("v = " + toml_basic_string(text));
+      val = toml::parse(is, "--set").as_table().at("v");
+    } catch (const std::exception&) {
+      val = toml::value(text);  // not valid UTF-8: kept as it is, without a location
+    }
   }
   if (!root.is_table()) root = toml::table{};
   auto& tbl = root.as_table();
