@@ -21,6 +21,7 @@
 #include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/elastic/elastic.hpp"
 #include "gfmd/io/height_map.hpp"
@@ -381,6 +382,7 @@ py::object ensemble_case(const std::string& case_path, int first, int last,
 PYBIND11_MODULE(_core, m) {
   m.doc() = "gfmd's compiled core (use the package gfmd)";
   m.attr("__version__") = gfmd::kVersion;
+  m.attr("spin_count") = gfmd::kSpinCount;  // what the package sets GOMP_SPINCOUNT to (__init__.py)
   py::register_exception<gfmd::InputError>(m, "InputError", PyExc_ValueError);
   py::register_exception<gfmd::SolveError>(m, "SolveError", PyExc_RuntimeError);
   m.def("run_plot_script", &run_plot_script, py::arg("name"), py::arg("args"),

@@ -22,7 +22,7 @@ import os as _os
 # other programs share the cores that is many times slower (the CLI does the same; README).
 # Only effective if this is the first library of the process to load libgomp.
 if "OMP_WAIT_POLICY" not in _os.environ and "GOMP_SPINCOUNT" not in _os.environ:
-    _os.environ["GOMP_SPINCOUNT"] = "10000"  # = gfmd::kSpinCount (core/backend.hpp)
+    _os.environ["GOMP_SPINCOUNT"] = "10000"  # = gfmd::kSpinCount, _core.spin_count (tested)
 
 from ._core import InputError, SolveError, __version__  # noqa: E402
 from ._api import (ElasticBody, Result, Topography, curve, ensemble, percolation, run, run_toml,  # noqa: E402

@@ -240,6 +240,23 @@ def test_ctrl_c_raises_keyboard_interrupt_quickly():
     assert time.monotonic() - t0 < 5.0
 
 
+def test_openmp_spin_is_bounded_unless_the_user_chose_a_policy(tmp_path):
+    # The package sets GOMP_SPINCOUNT to the command line's value before its core loads libgomp,
+    # and a run's summary records it; a policy the user set is left alone.
+    code = ("import os, json, gfmd\n"
+            "assert os.environ.get('GOMP_SPINCOUNT') == gfmd._core.spin_count, os.environ.get('GOMP_SPINCOUNT')\n"
+            "r = gfmd.solve(gfmd.Topography.hertz(nx=32, lx=1.0, radius=1.0), gfmd.ElasticBody(), pressure=0.01)\n"
+            "print(r.summary['omp_wait'])\n")
+    env = {k: v for k, v in ENV.items() if k not in ("OMP_WAIT_POLICY", "GOMP_SPINCOUNT")}
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.strip() == "GOMP_SPINCOUNT=" + gfmd._core.spin_count
+    p = subprocess.run([sys.executable, "-c", "import os, gfmd; print(os.environ.get('GOMP_SPINCOUNT'))"],
+                       capture_output=True, text=True, env=dict(env, OMP_WAIT_POLICY="active"))
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.strip() == "None"
+
+
 def test_python_m_gfmd_is_the_program():
     exe = os.path.join(BUILD, "gfmd")
     a = subprocess.run([exe, "--version"], capture_output=True, text=True, env=ENV)
