@@ -46,22 +46,18 @@ py::array_t<double> to_array(const gfmd::Grid& g, const double* data) {
 }
 py::array_t<double> to_array(const gfmd::Grid& g, const gfmd::RealField& f) { return to_array(g, f.data()); }
 
+// {'summary': dict, 'fields': {name: ndarray}} with every field of fields.nc (copies), as
+// gfmd.run has returned it; traction_x / traction_y are there without friction too (zeros).
 py::dict result(const gfmd::CaseResult& r) {
   py::dict out;
   out["summary"] = json_to_py(gfmd::summary_json(r));
   py::dict f;
   const gfmd::Grid& g = r.config.grid;
-  f["topography"] = to_array(g, r.topography.h);
-  f["pressure"] = to_array(g, r.fields.pressure);
-  f["gap"] = to_array(g, r.fields.gap);
-  f["ux"] = to_array(g, r.fields.ux);
-  f["uy"] = to_array(g, r.fields.uy);
-  f["uz"] = to_array(g, r.fields.uz);
-  f["traction_x"] = to_array(g, r.fields.tx);
-  f["traction_y"] = to_array(g, r.fields.ty);
-  if (!r.principal.s1.empty()) {
-    f["sigma_1"] = to_array(g, r.principal.s1);
-    f["von_mises"] = to_array(g, r.principal.von_mises);
+  const gfmd::FieldSet set = gfmd::result_fields(r);
+  for (const auto& nf : set.fields) f[nf.name.c_str()] = to_array(g, nf.data);
+  if (!f.contains("traction_x")) {
+    f["traction_x"] = to_array(g, r.fields.tx);
+    f["traction_y"] = to_array(g, r.fields.ty);
   }
   out["fields"] = f;
   return out;

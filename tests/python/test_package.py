@@ -128,6 +128,10 @@ def test_solve_equals_the_case_file_and_fields_are_views():
     assert r.summary["input"]["indenter"]["type"] == "array"
     assert np.array_equal(r.pressure, ref["fields"]["pressure"])
     assert np.array_equal(r["traction_x"], ref["fields"]["traction_x"])
+    # run / run_toml return every field of fields.nc too (copies), with the same numbers
+    assert set(ref["fields"]) == set(r.field_names)
+    for name in r.field_names:
+        assert np.array_equal(r[name], ref["fields"][name]), name
     # every field of fields.nc, read-only views of the result (no copies)
     for name in ["topography", "pressure", "gap", "ux", "uy", "uz", "contact", "traction_x", "traction_y",
                  "slip_longitudinal", "slip_transverse", "dissipation", "sigma_1", "von_mises"]:

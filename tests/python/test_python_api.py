@@ -39,6 +39,8 @@ def test_hertz_matches_closed_form_and_cli_summary(tmp_path):
     r2 = gfmd.run(str(case), set=["elastic.poisson=0.3"], output=str(tmp_path / "out"))
     assert (tmp_path / "out" / "summary.json").exists()
     assert r2["summary"]["max_pressure"] == s["max_pressure"]
+    # frictionless: the tractions are there (zeros), the slip fields are not (as in fields.nc)
+    assert not f["traction_x"].any() and "slip_longitudinal" not in f and f["contact"].sum() > 0
 
 
 def test_friction_fields_and_errors():
