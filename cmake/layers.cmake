@@ -4,7 +4,8 @@
 # library gfmd_NAME from src/NAME/*.cpp, records the parts it may use (DEPENDS and, through
 # them, everything below) and links them publicly. gfmd_check_layers() then
 #  - at configure time, fails if a file of a part includes a header of a part it may not use
-#    ("gfmd/<part>/..." includes in include/gfmd/NAME and src/NAME);
+#    ("gfmd/<part>/..." or <gfmd/<part>/...> includes, indented too, in the .hpp, .cpp, .cu
+#    and .cuh files of include/gfmd/NAME and src/NAME);
 #  - at build time, links each part whole (every object, --whole-archive) with only its
 #    declared dependencies into a small program, so that a call into a part above fails the
 #    build with an undefined reference;
@@ -50,8 +51,11 @@ function(gfmd_check_layers)
   foreach(name ${parts})
     get_property(allowed GLOBAL PROPERTY GFMD_PART_CLOSURE_${name})
     list(APPEND allowed ${name})
+    # The CUDA sources (.cu, .cuh) are read too: they are part of their folder's part.
     file(GLOB_RECURSE files CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/include/gfmd/${name}/*.hpp
-         ${CMAKE_SOURCE_DIR}/src/${name}/*.hpp ${CMAKE_SOURCE_DIR}/src/${name}/*.cpp)
+         ${CMAKE_SOURCE_DIR}/include/gfmd/${name}/*.cuh ${CMAKE_SOURCE_DIR}/src/${name}/*.hpp
+         ${CMAKE_SOURCE_DIR}/src/${name}/*.cpp ${CMAKE_SOURCE_DIR}/src/${name}/*.cu
+         ${CMAKE_SOURCE_DIR}/src/${name}/*.cuh)
     foreach(f ${files})
       file(RELATIVE_PATH relf ${CMAKE_SOURCE_DIR} ${f})
       if(NOT name STREQUAL "core" AND NOT relf IN_LIST GFMD_OPENMP_KERNELS)
@@ -60,9 +64,9 @@ function(gfmd_check_layers)
           list(APPEND violations "${relf}: OpenMP pragma outside core (write the loop as a backend pass: parallel_for, for_rows)")
         endif()
       endif()
-      file(STRINGS ${f} includes REGEX "^#include \"gfmd/[a-z_]+/")
+      file(STRINGS ${f} includes REGEX "^[ \t]*#[ \t]*include[ \t]*[\"<]gfmd/[a-z_]+/")
       foreach(line ${includes})
-        string(REGEX REPLACE "^#include \"gfmd/([a-z_]+)/.*" "\\1" used "${line}")
+        string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*[\"<]gfmd/([a-z_]+)/.*" "\\1" used "${line}")
         if(NOT used IN_LIST allowed)
           file(RELATIVE_PATH rel ${CMAKE_SOURCE_DIR} ${f})
           list(APPEND violations "${rel}: part '${name}' includes part '${used}' (allowed: ${allowed})")
