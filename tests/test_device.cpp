@@ -153,7 +153,7 @@ void compare_stresses_with_host(const std::string& toml, const std::vector<std::
   EXPECT_LE(worst, bound);
   EXPECT_LE(de, 1e-8);
   EXPECT_NEAR(d.area_above_half_max, h.area_above_half_max, 2.5 / static_cast<double>(cells));
-  EXPECT_EQ(d.profiles_csv.size() > 0, h.profiles_csv.size() > 0);
+  EXPECT_EQ(d.profiles.has_value(), h.profiles.has_value());
   ASSERT_EQ(d.subsurface.size(), 1U);
   ASSERT_EQ(h.subsurface.size(), 1U);
   EXPECT_LE(relative(d.subsurface[0].summary.max_von_mises, h.subsurface[0].summary.max_von_mises), bound);

@@ -46,6 +46,19 @@ RunAnalysis analyse_run(const Topography& topo, const ContactFields& f) {
   for (std::size_t i = 0; i < open.size(); ++i) open[i] = contact[i] ? 0 : 1;
   a.gap = histogram(f.gap.data(), f.gap.size(), kDistributionBins, open.data());
   a.pressure = histogram(f.pressure.data(), f.pressure.size(), kDistributionBins, contact.data());
+  const PatchStats& p = a.patches;
+  const double cell = g.lx * g.ly;
+  a.largest_area_fraction = cell > 0 ? p.largest_area / cell : 0.0;
+  a.mean_area = p.count ? p.contact_area / static_cast<double>(p.count) : 0.0;
+  a.total_perimeter = std::accumulate(p.perimeters.begin(), p.perimeters.end(), 0.0);
+  a.single_cell_patches =
+      static_cast<std::size_t>(std::count(p.cells.begin(), p.cells.end(), std::size_t{1}));
+  if (p.count > 0)  // areas are sorted descending
+    a.median_area =
+        p.count % 2 ? p.areas[p.count / 2] : 0.5 * (p.areas[p.count / 2 - 1] + p.areas[p.count / 2]);
+  a.gap_median = quantile(a.gap, 0.5);
+  a.pressure_median = quantile(a.pressure, 0.5);
+  a.pressure_p90 = quantile(a.pressure, 0.9);
   a.psd = isotropic_psd(topo, 64);
   a.bands = band_statistics(topo);
   a.rough = topo.kind == "selfaffine" || topo.kind == "file" || topo.kind == "array";
@@ -62,30 +75,25 @@ RunAnalysis analyse_run(const Topography& topo, const ContactFields& f) {
   return a;
 }
 
-nlohmann::json analysis_json(const RunAnalysis& a, const Grid& g) {
+nlohmann::json analysis_json(const RunAnalysis& a) {
   const PatchStats& p = a.patches;
-  const double cell = g.lx * g.ly;
-  const double perimeter = std::accumulate(p.perimeters.begin(), p.perimeters.end(), 0.0);
-  const auto singles = std::count(p.cells.begin(), p.cells.end(), std::size_t{1});
   nlohmann::json patches = {{"count", p.count},
                             {"largest_area", p.largest_area},
-                            {"largest_area_fraction", cell > 0 ? p.largest_area / cell : 0.0},
-                            {"mean_area", p.count ? p.contact_area / static_cast<double>(p.count) : 0.0},
-                            {"total_perimeter", perimeter},
+                            {"largest_area_fraction", a.largest_area_fraction},
+                            {"mean_area", a.mean_area},
+                            {"total_perimeter", a.total_perimeter},
                             {"percolating", p.percolating},
                             {"percolates_x", p.percolates_x},
                             {"percolates_y", p.percolates_y},
-                            {"single_cell_patches", singles}};
-  if (p.count > 0)  // areas are sorted descending
-    patches["median_area"] =
-        p.count % 2 ? p.areas[p.count / 2] : 0.5 * (p.areas[p.count / 2 - 1] + p.areas[p.count / 2]);
+                            {"single_cell_patches", a.single_cell_patches}};
+  if (a.median_area) patches["median_area"] = *a.median_area;
   nlohmann::json j = {{"patches", patches},
                       {"gap", histogram_json(a.gap)},
                       {"pressure", histogram_json(a.pressure)},
                       {"files", {"patches.csv", "distributions.csv", "spectrum.csv", "bands.csv"}}};
-  j["gap"]["median"] = quantile(a.gap, 0.5);
-  j["pressure"]["median"] = quantile(a.pressure, 0.5);
-  j["pressure"]["p90"] = quantile(a.pressure, 0.9);
+  j["gap"]["median"] = a.gap_median;
+  j["pressure"]["median"] = a.pressure_median;
+  j["pressure"]["p90"] = a.pressure_p90;
   if (a.rough && a.hurst.points >= 2) {
     j["spectrum"] = {{"hurst", a.hurst.hurst},
                      {"prefactor", a.hurst.prefactor},

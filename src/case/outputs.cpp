@@ -21,6 +21,7 @@
 #include <sstream>
 
 #include "gfmd/case/run_dir.hpp"
+#include "gfmd/contact/patches.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/io/netcdf.hpp"
@@ -51,6 +52,22 @@ namespace {
 std::string lengths_in(const Config& c) {
   return c.length_unit.empty() ? std::string("lengths in the unit of grid.lx")
                                : "lengths in " + c.length_unit;
+}
+// profiles.csv: a comment naming the centre, then s and the columns (10 significant digits).
+std::string profiles_csv(const LineProfiles& pr) {
+  std::ostringstream os;
+  os.precision(10);
+  os << "# profiles through the pressure maximum at (" << pr.centre_x << ", " << pr.centre_y
+     << "); s = distance along the line; longitudinal = along the sliding direction, transverse = across\n";
+  os << "s";
+  for (const std::string& c : pr.columns) os << "," << c;
+  os << "\n";
+  for (std::size_t k = 0; k < pr.s.size(); ++k) {
+    os << pr.s[k];
+    for (const std::vector<double>& v : pr.values) os << "," << v[k];
+    os << "\n";
+  }
+  return os.str();
 }
 nlohmann::json observables_json(const Observables& o) {
   nlohmann::json j = {{"relative_contact_area", o.relative_contact_area},
@@ -162,11 +179,12 @@ nlohmann::json summary_json(const CaseResult& r) {
       nlohmann::json e = stress_json(pa.summary);
       e["kind"] = pa.kind;
       e["area_fraction_above_half_max"] = pa.area_above_half_max;
-      const auto ratio = [](double a, double b) { return b > 0 ? nlohmann::json(a / b) : nlohmann::json(); };
-      e["ratio_max_tensile_stress"] =
-          ratio(r.stress_summary->max_tensile_stress, pa.summary.max_tensile_stress);
-      e["ratio_max_von_mises"] = ratio(r.stress_summary->max_von_mises, pa.summary.max_von_mises);
-      e["ratio_area_above_half_max"] = ratio(r.area_above_half_max, pa.area_above_half_max);
+      const auto value = [](const std::optional<double>& v) {
+        return v ? nlohmann::json(*v) : nlohmann::json();
+      };
+      e["ratio_max_tensile_stress"] = value(pa.ratio_max_tensile_stress);
+      e["ratio_max_von_mises"] = value(pa.ratio_max_von_mises);
+      e["ratio_area_above_half_max"] = value(pa.ratio_area_above_half_max);
       return e;
     };
     j["post_analysis"] = pa_json(r.post_analyses.front());
@@ -174,9 +192,8 @@ nlohmann::json summary_json(const CaseResult& r) {
     j["area_fraction_above_half_max"] = r.area_above_half_max;
   }
   if (r.leakage) j["flow"] = r.leakage->json;
-  if (!r.post_analyses.empty() && r.post_analyses.front().summary.max_tensile_stress > 0)
-    j["tensile_stress_ratio_to_post_analysis"] =
-        r.stress_summary->max_tensile_stress / r.post_analyses.front().summary.max_tensile_stress;
+  const Comparisons& cmp = r.comparisons;
+  if (cmp.tensile_stress_ratio) j["tensile_stress_ratio_to_post_analysis"] = *cmp.tensile_stress_ratio;
   if (!r.subsurface.empty()) {
     j["subsurface"] = nlohmann::json::array();
     for (const auto& ss : r.subsurface) {
@@ -185,17 +202,13 @@ nlohmann::json summary_json(const CaseResult& r) {
       j["subsurface"].push_back(e);
     }
   }
-  if (r.config.friction.coefficient > 0) {
-    const double mu = r.config.friction.coefficient;
-    j["delta_mu_over_mu_c"] = (r.observables.friction_coefficient - mu) / mu;
-    j["delta_mu_over_mu_c_downhill"] = (r.observables.friction_coefficient_downhill - mu) / mu;
-  }
+  if (cmp.delta_mu_over_mu_c) j["delta_mu_over_mu_c"] = *cmp.delta_mu_over_mu_c;
+  if (cmp.delta_mu_over_mu_c_downhill) j["delta_mu_over_mu_c_downhill"] = *cmp.delta_mu_over_mu_c_downhill;
   if (r.reference) {
     j["frictionless"] = observables_json(r.reference->observables);
     j["frictionless"]["iterations"] = r.reference->info.iterations;
-    j["delta_area_over_area"] =
-        r.observables.relative_contact_area / r.reference->observables.relative_contact_area - 1.0;
   }
+  if (cmp.delta_area_over_area) j["delta_area_over_area"] = *cmp.delta_area_over_area;
   j["time_per_iteration_s"] = r.info.iterations > 0 ? r.info.wall_time_s / r.info.iterations : 0.0;
   j["fft_count"] = r.info.transforms;
   j["fft_time_s"] = r.info.fft_seconds;  // time inside the transforms (part of wall_time_s)
@@ -225,7 +238,7 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["topography"] = topography_stats_json(s);
   j["topography"]["kind"] = r.topography.kind;
   if (r.map_report) j["topography"]["preprocessing"] = map_report_json(*r.map_report);
-  if (r.analysis) j["analysis"] = analysis_json(*r.analysis, r.config.grid);
+  if (r.analysis) j["analysis"] = analysis_json(*r.analysis);
   j["input"] = r.config.to_json();
   j["units"] = lengths_in(r.config) +
                "; pressures, stresses and E* in the unit of elastic.contact_modulus; "
@@ -248,7 +261,8 @@ FieldSet result_fields(const CaseResult& r, bool maps_only) {
   set.masks.reserve(2);
   const std::size_t n = r.config.grid.size();
   RealField& cm = set.masks.emplace_back(n);
-  for (std::size_t i = 0; i < n; ++i) cm[i] = r.fields.pressure[i] > 0 ? 1.0 : 0.0;
+  const std::vector<unsigned char> in_contact = contact_mask(r.fields);
+  for (std::size_t i = 0; i < n; ++i) cm[i] = in_contact[i];
   if (!maps_only)
     fields.push_back({"topography", r.topography.h.data(), "indenter height towards the body", length});
   fields.push_back(
@@ -366,8 +380,8 @@ void write_outputs(const CaseResult& r, const std::string& dir) {
     write_fields_file(r, (fs::path(dir) / "fields.nc").string());
   else if (r.config.output.png)
     write_fields_file(r, (fs::path(dir) / kMapsStagingFile).string(), true);
-  if (r.config.stress.profiles && !r.profiles_csv.empty())
-    write_text_atomic((fs::path(dir) / "profiles.csv").string(), r.profiles_csv);
+  if (r.config.stress.profiles && r.profiles)
+    write_text_atomic((fs::path(dir) / "profiles.csv").string(), profiles_csv(*r.profiles));
   if (r.leakage)
     write_leakage(g, *r.leakage, dir, {{"relative_contact_area", r.observables.relative_contact_area}},
                   r.config.length_unit);

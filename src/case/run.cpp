@@ -41,7 +41,7 @@ namespace {
 // tensor; the principal values are evaluated at the line points only. The fields are those
 // held here (the whole cell, or a slab: the line points' values are picked from the
 // processes that hold them, and every process makes the same table).
-std::string profiles_table(const Grid& g, const CaseResult& r) {
+LineProfiles line_profiles(const Grid& g, const CaseResult& r) {
   const std::size_t imax = grid_argmax(g, [&](std::size_t i) { return r.fields.pressure[i]; }).first;
   const int cx = static_cast<int>(imax % g.nx), cy = static_cast<int>(imax / g.nx);
   const double th = r.config.friction.direction_deg * std::numbers::pi / 180.0;
@@ -80,29 +80,34 @@ std::string profiles_table(const Grid& g, const CaseResult& r) {
   }
   std::vector<std::vector<double>> values;
   for (const auto& c : cols) values.push_back(mpi::pick(g, *c.second, points));
-  std::ostringstream os;
-  os.precision(10);
-  os << "# profiles through the pressure maximum at (" << g.x(cx) << ", " << g.y(cy)
-     << "); s = distance along the line; longitudinal = along the sliding direction, transverse = across\n";
-  os << "s";
-  for (const char* dir_name : {"longitudinal", "transverse"}) {
-    for (const auto& c : cols) os << "," << c.first << "_" << dir_name;
-    for (const char* c : kPrincipal) os << "," << c << "_" << dir_name;
-  }
-  os << "\n";
-  for (int k = -half, row = 0; k < half; ++k, ++row) {
-    os << k * ds;
-    for (int line = 0; line < 2; ++line) {
-      const std::size_t j = 2 * static_cast<std::size_t>(row) + line;
-      for (const auto& v : values) os << "," << v[j];
-      const auto sv = [&](std::size_t c) { return values[stress_from + c][j]; };
-      const Principal3 e = principal(sv(0), sv(1), sv(2), sv(3), sv(4), sv(5));
-      for (double v : {e.s1, von_mises(sv(0), sv(1), sv(2), sv(3), sv(4), sv(5)), e.e1[0], e.e1[1], e.e1[2]})
-        os << "," << v;
+  LineProfiles out;
+  out.centre_x = g.x(cx);
+  out.centre_y = g.y(cy);
+  for (int k = -half; k < half; ++k) out.s.push_back(k * ds);
+  const std::size_t rows = out.s.size();
+  out.columns.reserve(2 * (cols.size() + std::size(kPrincipal)));
+  out.values.reserve(2 * (cols.size() + std::size(kPrincipal)));  // the references below stay valid
+  for (int line = 0; line < 2; ++line) {
+    const std::string dir_name = line == 0 ? "longitudinal" : "transverse";
+    const auto column = [&](const std::string& name) -> std::vector<double>& {
+      out.columns.push_back(name + "_" + dir_name);
+      return out.values.emplace_back(rows);
+    };
+    for (std::size_t c = 0; c < cols.size(); ++c) {
+      std::vector<double>& v = column(cols[c].first);
+      for (std::size_t row = 0; row < rows; ++row) v[row] = values[c][2 * row + line];
     }
-    os << "\n";
+    std::vector<std::vector<double>*> principal_cols;
+    for (const char* c : kPrincipal) principal_cols.push_back(&column(c));
+    for (std::size_t row = 0; row < rows; ++row) {
+      const auto sv = [&](std::size_t c) { return values[stress_from + c][2 * row + line]; };
+      const Principal3 e = principal(sv(0), sv(1), sv(2), sv(3), sv(4), sv(5));
+      const double pv[] = {e.s1, von_mises(sv(0), sv(1), sv(2), sv(3), sv(4), sv(5)), e.e1[0], e.e1[1],
+                           e.e1[2]};
+      for (std::size_t c = 0; c < principal_cols.size(); ++c) (*principal_cols[c])[row] = pv[c];
+    }
   }
-  return os.str();
+  return out;
 }
 
 // Stresses, their summaries and the profiles table, on the fields held here (fft's grid).
@@ -146,7 +151,7 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
     if (!cfg.stress.post_analysis.empty())
       r.area_above_half_max = above_half(r.principal.s1, r.stress_summary->max_tensile_stress);
   }
-  if (cfg.stress.profiles) r.profiles_csv = profiles_table(g, r);
+  if (cfg.stress.profiles) r.profiles = line_profiles(g, r);
   if (!keep_fields) {
     r.stress = StressField{};
     r.principal = PrincipalField{};
@@ -179,7 +184,11 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
             kind == "paper" ? device_paper_post_analysis_stress(g, cfg.elastic, rf, mu, angle, summary_s1)
                             : device_post_analysis_stress(body, rf.pressure, mu, angle, summary_s1);
         if (d) {
-          r.post_analyses.push_back({kind, d->summary, d->above_half, std::move(d->principal.s1)});
+          CaseResult::PostAnalysis& pa = r.post_analyses.emplace_back();
+          pa.kind = kind;
+          pa.summary = d->summary;
+          pa.area_above_half_max = d->above_half;
+          pa.s1 = std::move(d->principal.s1);
           continue;
         }
         r.stress_on_device = false;
@@ -239,6 +248,8 @@ ContactFields warm_start_rows(const Grid& slab, const ContactFields& whole) {
   f.ty = mpi::scatter(slab, whole.ty);
   return f;
 }
+void compare_with_references(const Config& cfg, CaseResult& r);
+
 // Everything after the solve that works on the fields where they are -- the whole cell in
 // one process, this process's slab in a distributed run, where every process calls it (its
 // passes, transforms and reductions are collectives): observables, derived fields, stresses
@@ -277,6 +288,29 @@ void after_solve_here(const Config& cfg, const RunOptions& opts, const Grid& gri
   if (r.info.converged && cfg.flow.enabled)
     r.leakage = compute_leakage(grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance,
                                 cfg.flow.solver, opts.stop_request);
+  compare_with_references(cfg, r);
+}
+
+// The solution's figures over its references' (summary.json; Comparisons), from the
+// observables and the stress summaries that every process holds.
+void compare_with_references(const Config& cfg, CaseResult& r) {
+  Comparisons& c = r.comparisons;
+  if (cfg.friction.coefficient > 0) {
+    const double mu = cfg.friction.coefficient;
+    c.delta_mu_over_mu_c = (r.observables.friction_coefficient - mu) / mu;
+    c.delta_mu_over_mu_c_downhill = (r.observables.friction_coefficient_downhill - mu) / mu;
+  }
+  if (r.reference)
+    c.delta_area_over_area =
+        r.observables.relative_contact_area / r.reference->observables.relative_contact_area - 1.0;
+  if (!r.stress_summary) return;
+  const auto ratio = [](double a, double b) { return b > 0 ? std::optional<double>(a / b) : std::nullopt; };
+  for (CaseResult::PostAnalysis& pa : r.post_analyses) {
+    pa.ratio_max_tensile_stress = ratio(r.stress_summary->max_tensile_stress, pa.summary.max_tensile_stress);
+    pa.ratio_max_von_mises = ratio(r.stress_summary->max_von_mises, pa.summary.max_von_mises);
+    pa.ratio_area_above_half_max = ratio(r.area_above_half_max, pa.area_above_half_max);
+  }
+  if (!r.post_analyses.empty()) c.tensile_stress_ratio = r.post_analyses.front().ratio_max_tensile_stress;
 }
 
 // What needs the whole cell at once, in one process (rank 0 of a distributed run): the run's

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,13 @@ struct RunAnalysis {
   bool rough = false;  // a random or measured surface: the Hurst fit means something
   HurstFit hurst;      // fitted between lambda = L/2 and 8 grid spacings (rough surfaces only)
   std::vector<BandStats> bands;
+  // Figures of the above (summary.json "analysis"): patch areas over the cell, the median
+  // patch area (none without contact), perimeters, one-cell patches; distribution quantiles
+  // (linear within a bin).
+  double largest_area_fraction = 0, mean_area = 0, total_perimeter = 0;
+  std::optional<double> median_area;
+  std::size_t single_cell_patches = 0;
+  double gap_median = 0, pressure_median = 0, pressure_p90 = 0;
 };
 
 // The bins of the gap and pressure distributions.
@@ -32,7 +40,7 @@ RunAnalysis analyse_run(const Topography& topo, const ContactFields& fields);
 
 // summary.json's "analysis": scalars and the fit; the per-patch, per-bin and per-band
 // tables are in the CSV files below.
-nlohmann::json analysis_json(const RunAnalysis& a, const Grid& g);
+nlohmann::json analysis_json(const RunAnalysis& a);
 // patches.csv: one row per contact patch, largest first (area, perimeter, cells).
 std::string patches_csv(const RunAnalysis& a);
 // distributions.csv: the gap and pressure histograms (bin centre, count, pdf).

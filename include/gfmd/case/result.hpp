@@ -21,6 +21,24 @@ struct CheckpointProgress {
   double wall_time_s = 0.0;
 };
 
+// Line profiles through the pressure maximum along and across the sliding direction
+// (profiles.csv): values[c][k] is column c at distance s[k] from the maximum.
+struct LineProfiles {
+  double centre_x = 0, centre_y = 0;  // the pressure maximum
+  std::vector<double> s;
+  std::vector<std::string> columns;  // e.g. "pressure_longitudinal", "sigma_1_transverse"
+  std::vector<std::vector<double>> values;
+};
+
+// The solution's figures against its references (summary.json): set where the reference
+// exists and the ratio is defined.
+struct Comparisons {
+  std::optional<double> delta_mu_over_mu_c;           // (mu - mu_c) / mu_c, with friction
+  std::optional<double> delta_mu_over_mu_c_downhill;  // the same for the downhill estimate
+  std::optional<double> delta_area_over_area;         // A / A_frictionless - 1
+  std::optional<double> tensile_stress_ratio;         // max sigma_I / the first post-analysis's
+};
+
 struct CaseResult {
   Config config;
   Topography topography;
@@ -42,7 +60,7 @@ struct CaseResult {
   // Stresses (SPEC §5): the summary after a converged solve; the fields only if
   // RunOptions::keep_stress_fields.
   std::optional<StressSummary> stress_summary;
-  std::string profiles_csv;  // profiles.csv (stress.profiles)
+  std::optional<LineProfiles> profiles;  // profiles.csv (stress.profiles)
   StressField stress;
   PrincipalField principal;
   bool stress_on_device = false;  // every stress evaluated on the CUDA device
@@ -54,6 +72,8 @@ struct CaseResult {
     StressSummary summary;
     double area_above_half_max = 0;  // fraction of cells with s1 >= 0.5 max s1 of this field
     RealField s1;                    // sigma_I
+    // The full solution's figure over this reference's (unset where the reference's is 0).
+    std::optional<double> ratio_max_tensile_stress, ratio_max_von_mises, ratio_area_above_half_max;
   };
   std::vector<PostAnalysis> post_analyses;
   double area_above_half_max = 0;  // the full solution's, as PostAnalysis::area_above_half_max
@@ -76,6 +96,7 @@ struct CaseResult {
     double peak_bytes = 0.0;
   };
   std::optional<MpiUsage> mpi_usage;
+  Comparisons comparisons;
   std::optional<RunAnalysis> analysis;  // output.analysis, after a converged solve
   CheckpointProgress resumed;           // earlier sessions' work, included in info (RunOptions::resumed)
 };
