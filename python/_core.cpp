@@ -29,6 +29,7 @@
 #include "gfmd/studies/ensemble.hpp"
 #include "gfmd/studies/percolation.hpp"
 #include "gfmd/studies/sweep.hpp"
+#include "gfmd/surface/spectrum.hpp"
 #include "gfmd/surface/topography.hpp"
 #include "gfmd/version.hpp"
 
@@ -548,6 +549,15 @@ PYBIND11_MODULE(_core, m) {
             gfmd::topography_stats_json(gfmd::statistics(heights_to_topography(h, lx, ly, "array"))));
       },
       py::arg("heights"), py::arg("lx"), py::arg("ly"));
+  m.def(
+      "isotropic_psd",
+      [](const py::array_t<double, py::array::c_style>& h, double lx, double ly, int bins) {
+        const gfmd::IsotropicPsd psd = gfmd::isotropic_psd(heights_to_topography(h, lx, ly, "array"), bins);
+        return py::make_tuple(py::array_t<double>(static_cast<py::ssize_t>(psd.q.size()), psd.q.data()),
+                              py::array_t<double>(static_cast<py::ssize_t>(psd.c.size()), psd.c.data()));
+      },
+      py::arg("heights"), py::arg("lx"), py::arg("ly"), py::arg("bins"),
+      "The radially averaged PSD (q, C(q)) over logarithmic bins with modes, as spectrum.csv.");
   m.def("sweep_case", &sweep_case, py::arg("case"), py::arg("parameter"), py::arg("values"), py::arg("set"),
         py::arg("output"), py::arg("plot") = "");
   m.def("percolation_case", &percolation_case, py::arg("case"), py::arg("direction"), py::arg("set"),

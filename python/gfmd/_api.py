@@ -195,22 +195,12 @@ class Topography:
         """Radially averaged power spectral density C(q) (length^4), with its wave numbers q (1/length).
 
         C(q) = (lx ly) / (2 pi)^2 |h~(q)|^2 / (nx ny)^2 with h~ the discrete transform; returns
-        (q, C) over logarithmic bins between the smallest and largest |q| with modes.
+        (q, C) over logarithmic bins between the smallest and largest |q| with modes: the
+        geometric bin centres and the mean C over each bin's modes, as a run's spectrum.csv.
         """
-        ny, nx = self._h.shape
-        spec = np.fft.fft2(self._h - self._h.mean())
-        qx = 2 * np.pi * np.fft.fftfreq(nx, d=self.lx / nx)
-        qy = 2 * np.pi * np.fft.fftfreq(ny, d=self.ly / ny)
-        q = np.hypot(*np.meshgrid(qx, qy))
-        c = self.lx * self.ly / (2 * np.pi) ** 2 * np.abs(spec) ** 2 / (nx * ny) ** 2
-        mask = q > 0
-        edges = np.geomspace(q[mask].min(), q[mask].max() * (1 + 1e-12), bins + 1)
-        idx = np.digitize(q[mask], edges) - 1
-        sums = np.bincount(idx, weights=c[mask], minlength=bins)[:bins]
-        counts = np.bincount(idx, minlength=bins)[:bins]
-        keep = counts > 0
-        centres = np.sqrt(edges[:-1] * edges[1:])
-        return centres[keep], sums[keep] / counts[keep]
+        if isinstance(bins, bool) or not isinstance(bins, (int, np.integer)) or bins < 1:
+            raise InputError(f"bins: must be a positive integer (got {bins!r})")
+        return _core.isotropic_psd(self._h, self.lx, self.ly, int(bins))
 
     def __repr__(self) -> str:
         return f"Topography({self.kind}, {self.nx} x {self.ny} on {self.lx:g} x {self.ly:g})"

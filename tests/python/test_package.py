@@ -72,6 +72,22 @@ def test_self_affine_statistics_seed_and_spectrum():
     band = (q > 2 * math.pi / 0.5 * 1.3) & (q < 2 * math.pi * 32 / 1.3)
     slope = np.polyfit(np.log(q[band]), np.log(c[band]), 1)[0]
     assert slope == pytest.approx(-2 - 2 * 0.7, abs=0.15)
+    # The same numbers as an independent numpy evaluation of the definition (full complex
+    # transform, logarithmic bins between the smallest and largest |q|, geometric centres).
+    h = t.heights
+    spec = np.fft.fft2(h - h.mean())
+    qq = 2 * math.pi * np.fft.fftfreq(256, d=1 / 256)
+    qm = np.hypot(*np.meshgrid(qq, qq))
+    cm = 1.0 / (2 * math.pi) ** 2 * np.abs(spec) ** 2 / 256 ** 4
+    on = qm > 0
+    edges = np.geomspace(qm[on].min(), qm[on].max() * (1 + 1e-12), 41)
+    idx = np.digitize(qm[on], edges) - 1
+    sums, counts = np.bincount(idx, weights=cm[on], minlength=40)[:40], np.bincount(idx, minlength=40)[:40]
+    keep = counts > 0
+    np.testing.assert_allclose(q, np.sqrt(edges[:-1] * edges[1:])[keep], rtol=1e-12)
+    np.testing.assert_allclose(c, sums[keep] / counts[keep], rtol=1e-9, atol=1e-12 * c.max())  # zero bands: round-off
+    with pytest.raises(gfmd.InputError, match="bins"):
+        t.psd(bins=0)
 
 
 def test_from_array_converts_or_refuses_naming_the_argument():
