@@ -500,4 +500,19 @@ png = false
   const auto a = nlohmann::json::parse(first),
              b = nlohmann::json::parse(read_file(d / "e" / "ensemble.json"));
   EXPECT_EQ(a["conductivity_x"], b["conductivity_x"]);
+  // Each seed reports the solved mu of its summary.json (and mu_c apart), fresh or reused.
+  for (const auto* j : {&a, &b}) {
+    ASSERT_EQ((*j)["seeds"].size(), 4U);
+    for (const auto& e : (*j)["seeds"]) {
+      const bool frictionless = e["mu_c"].get<double>() == 0.0;
+      const auto s = nlohmann::json::parse(read_file(
+          d / "e" / ((frictionless ? "frictionless_seed_" : "seed_") + std::to_string(e["seed"].get<int>())) /
+          "summary.json"));
+      EXPECT_EQ(e["friction_coefficient"].get<double>(), s.value("friction_coefficient", 0.0));
+      if (!frictionless) {
+        EXPECT_GT(std::abs(e["friction_coefficient"].get<double>() - 0.5), 1e-6);
+      }
+    }
+  }
+  EXPECT_EQ(a["friction_coefficient"], b["friction_coefficient"]);
 }

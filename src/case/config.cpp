@@ -151,8 +151,12 @@ class Section {
     if (!tbl_ || !tbl_->as_table().count(key)) return "";
     return where(tbl_->as_table().at(key));
   }
+  // A problem with key; the key's place in the file ("[case.toml:12]", "[--set:1]") is added
+  // unless the reason already names a place in that file (an array element's, say).
   void error(const std::string& key, const std::string& why) {
-    errors_.push_back(name_ + "." + key + ": " + why);
+    const std::string loc = at(key);
+    const bool placed = loc.empty() || why.find(loc.substr(0, loc.rfind(':') + 1)) != std::string::npos;
+    errors_.push_back(name_ + "." + key + ": " + why + (placed ? "" : loc));
   }
   // Keys in the file that no getter asked for.
   void finish(const std::vector<std::string>& also_allowed = {}) {
@@ -525,7 +529,8 @@ Config build(const toml::value& root, const std::string& name, const std::string
     ia.error("model", "unknown model \"" + model + "\"; one of harmonic, hardwall" + ia.at("model"));
   }
   c.interaction.stiffness = ia.number("stiffness", 0.0);
-  if (!(c.interaction.stiffness >= 0)) ia.error("stiffness", "must be positive (0 = default 2 E*/dx)");
+  if (!(c.interaction.stiffness >= 0))
+    ia.error("stiffness", "must be zero (the default, 2 E*/dx) or positive");
   ia.finish();
 
   Section so(root, "solver", errors);

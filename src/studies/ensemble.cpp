@@ -37,7 +37,7 @@ nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir
   const bool pairs = probe.friction.coefficient > 0;
   nlohmann::json j;
   j["seeds"] = nlohmann::json::array();
-  std::vector<double> kx, ky, kx0, ky0, ac, ac0;
+  std::vector<double> kx, ky, kx0, ky0, ac, ac0, mus;
   for (int seed = opts.first_seed; seed <= opts.last_seed; ++seed) {
     for (int variant = 0; variant < (pairs ? 2 : 1); ++variant) {
       std::vector<std::string> ss = opts.overrides;
@@ -47,7 +47,7 @@ nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir
       const Config c = load_config(case_path, ss);
       const std::string d =
           (fs::path(dir) / ((variant ? "frictionless_seed_" : "seed_") + std::to_string(seed))).string();
-      double x = 0, y = 0, a = 0;
+      double x = 0, y = 0, a = 0, mu = 0;
       // A seed finished earlier with the same input is read back (as sweep points are); under
       // mpirun rank 0 reads it and hands the figures on.
       std::string found;
@@ -56,10 +56,11 @@ nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir
           std::ifstream fj(fs::path(d) / "flow.json");
           try {
             const nlohmann::json fl = nlohmann::json::parse(fj);
-            found = nlohmann::json::array({fl.at("conductivity_x").get<double>(),
-                                           fl.at("conductivity_y").get<double>(),
-                                           old->at("relative_contact_area").get<double>()})
-                        .dump();
+            found =
+                nlohmann::json::array(
+                    {fl.at("conductivity_x").get<double>(), fl.at("conductivity_y").get<double>(),
+                     old->at("relative_contact_area").get<double>(), old->value("friction_coefficient", 0.0)})
+                    .dump();
           } catch (const std::exception&) {
             found.clear();  // incomplete: solve again
           }
@@ -71,6 +72,7 @@ nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir
         x = v[0];
         y = v[1];
         a = v[2];
+        mu = v[3];
       } else {
         RunOptions ro;
         ro.keep_stress_fields = outputs_need_stress_fields(c);
@@ -86,12 +88,17 @@ nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir
         x = r.leakage->json["conductivity_x"];
         y = r.leakage->json["conductivity_y"];
         a = r.observables.relative_contact_area;
+        mu = c.friction.coefficient > 0 ? r.observables.friction_coefficient : 0.0;
       }
       (variant ? kx0 : kx).push_back(x);
       (variant ? ky0 : ky).push_back(y);
       (variant ? ac0 : ac).push_back(a);
+      if (variant == 0 && c.friction.coefficient > 0) mus.push_back(mu);
+      // mu_c: the variant's Coulomb coefficient; friction_coefficient: the solved mu, as in
+      // the seed's summary.json.
       j["seeds"].push_back({{"seed", seed},
-                            {"friction_coefficient", c.friction.coefficient},
+                            {"mu_c", c.friction.coefficient},
+                            {"friction_coefficient", mu},
                             {"relative_contact_area", a},
                             {"conductivity_x", x},
                             {"conductivity_y", y}});
@@ -119,6 +126,7 @@ nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir
   j["conductivity_x"] = stats(kx);
   j["conductivity_y"] = stats(ky);
   j["relative_contact_area"] = stats(ac);
+  if (!mus.empty()) j["friction_coefficient"] = spread(mus);
   if (pairs) {
     j["frictionless"] = {{"conductivity_x", stats(kx0)},
                          {"conductivity_y", stats(ky0)},
