@@ -445,6 +445,11 @@ int cmd_flow(const std::string& dir, const std::string& direction, double tol, c
   const fs::path sp = fs::path(dir) / "summary.json";
   if (!fs::exists(sp)) throw gfmd::InputError(sp.string(), "no solved case here (run gfmd run first)");
   const std::string text = gfmd::read_regular_file(sp.string(), 64u << 20, "summary file");
+  if (!fs::exists(fs::path(dir) / "fields.nc"))
+    throw gfmd::InputError((fs::path(dir) / "fields.nc").string(),
+                           "no fields file: the run was made with output.fields = false (rerun it with "
+                           "--set output.fields=true, or solve the leakage in the run itself: [flow] "
+                           "enabled = true)");
   gfmd::require_regular_file((fs::path(dir) / "fields.nc").string(), "fields file");
   nlohmann::json s;
   try {

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -198,7 +199,17 @@ int run_main(int argc, char** argv) {
     if (green->parsed()) return cmd_green(green_nu, green_from, green_to, green_points, out_dir);
     if (study->parsed()) return cmd_study(study_path, study_quick, out_dir, sets);
   } catch (const gfmd::InputError& e) {
-    if (report_common) std::fprintf(stderr, "gfmd: error: %s%s\n", e.what(), with_sets().c_str());
+    // A bare list ("--set load.force=1e-3,2e-3") is a sweep's: say so where another command got one.
+    const bool list_given =
+        !sweep->parsed() && std::any_of(sets.begin(), sets.end(), [](const std::string& v) {
+          const std::string value = v.substr(v.find('=') == std::string::npos ? v.size() : v.find('=') + 1);
+          return value.find(',') != std::string::npos && value.find_first_of("[\"'") == std::string::npos;
+        });
+    if (report_common)
+      std::fprintf(stderr, "gfmd: error: %s%s%s\n", e.what(), with_sets().c_str(),
+                   list_given
+                       ? "\n  (a comma-separated list of values is for `gfmd sweep CASE --set key=a,b,c`)"
+                       : "");
     return 2;
   } catch (const gfmd::Interrupted& e) {
     std::fprintf(stderr, "gfmd: %s; stopped on request%s\n", e.what(), with_sets().c_str());

@@ -150,6 +150,16 @@ int cmd_plot(const std::string& dir_in) {
     for (const auto& p : subdirs(dir)) collect(p, 1);
   } else if (curve) {
     collect(dir / "points", 0);
+    // The curve's points are a sweep of its own making; they count as one only where a sweep
+    // plot was drawn there.
+    const auto has_sweep_plot = [&ec](const fs::path& d) {
+      for (const auto& e : fs::directory_iterator(d, ec)) {
+        const std::string name = e.path().filename().string();
+        if (name.rfind("sweep_", 0) == 0 && e.path().extension() == ".png") return true;
+      }
+      return false;
+    };
+    std::erase_if(sweeps, [&](const fs::path& d) { return !has_sweep_plot(d); });
   } else {
     collect(dir, 0);
   }

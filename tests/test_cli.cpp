@@ -395,6 +395,27 @@ TEST(Cli, EmptyOutputUnitsAndNumericFlowDirection) {
   EXPECT_TRUE(j.contains("flow_factor_30deg")) << j.dump();
 }
 
+// Review findings (2026-11-26, second review): a list given to `gfmd run` points to `gfmd sweep`;
+// `gfmd flow` on a run without fields.nc says which key was off.
+TEST(Cli, HintsForAListAndForAFlowWithoutFields) {
+  const fs::path d = scratch("hints");
+  write_file(d / "case.toml", kGood + "[output]\npng = false\nfields = false\n");
+  const auto list = run_gfmd("run " + (d / "case.toml").string() + " -q -o " + (d / "a").string() +
+                             " --set load.force=1e-3,2e-3");
+  EXPECT_EQ(list.code, 2) << list.output;
+  EXPECT_NE(list.output.find("is for `gfmd sweep"), std::string::npos) << list.output;
+  EXPECT_FALSE(fs::exists(d / "a" / "summary.json"));
+  const auto one = run_gfmd("run " + (d / "case.toml").string() + " -q -o " + (d / "b").string() +
+                            " --set 'load.force=\"a,b\"'");
+  EXPECT_EQ(one.code, 2) << one.output;
+  EXPECT_EQ(one.output.find("gfmd sweep"), std::string::npos)
+      << "a quoted string is not a list: " << one.output;
+  ASSERT_EQ(run_gfmd("run " + (d / "case.toml").string() + " -q -o " + (d / "c").string()).code, 0);
+  const auto flow = run_gfmd("flow " + (d / "c").string());
+  EXPECT_EQ(flow.code, 2) << flow.output;
+  EXPECT_NE(flow.output.find("output.fields = false"), std::string::npos) << flow.output;
+}
+
 // A sweep's plot column that the summaries do not have stops the sweep after its first point
 // (exit 2, naming the option), not after every point with a warning.
 TEST(Cli, SweepPlotColumnIsCheckedAtTheFirstPoint) {

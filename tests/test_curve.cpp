@@ -279,6 +279,9 @@ TEST(Curve, CommandLineReplacesAForceLoadAndDrawsTheFigure) {
   ASSERT_EQ(redraw.code, 0) << redraw.output;
   EXPECT_TRUE(fs::exists(d / "out" / "curve.png")) << redraw.output;
   EXPECT_NE(redraw.output.find("a curve"), std::string::npos) << redraw.output;
+  // Its points are not a sweep of the user's: no sweep counted, no note about a sweep plot.
+  EXPECT_NE(redraw.output.find("0 sweeps"), std::string::npos) << redraw.output;
+  EXPECT_EQ(redraw.output.find("no sweep plot"), std::string::npos) << redraw.output;
   EXPECT_EQ(read_file(d / "out" / "curve.csv"), first_csv);
 
   // A case under approach control, a log-spaced range and output.png = false in the case.
