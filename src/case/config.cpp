@@ -153,7 +153,10 @@ class Section {
   }
   // A problem with key; the key's place in the file ("[case.toml:12]", "[--set:1]") is added
   // unless the reason already names a place in that file (an array element's, say).
+  // One problem per key: a value of the wrong type is not also reported out of range.
   void error(const std::string& key, const std::string& why) {
+    if (std::find(reported_.begin(), reported_.end(), key) != reported_.end()) return;
+    reported_.push_back(key);
     const std::string loc = at(key);
     const bool placed = loc.empty() || why.find(loc.substr(0, loc.rfind(':') + 1)) != std::string::npos;
     errors_.push_back(name_ + "." + key + ": " + why + (placed ? "" : loc));
@@ -205,6 +208,7 @@ class Section {
   std::vector<std::string>& errors_;
   const toml::value* tbl_ = nullptr;
   std::vector<std::string> allowed_;
+  std::vector<std::string> reported_;  // keys with a problem recorded
 };
 
 using config_detail::kSections;
