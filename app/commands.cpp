@@ -445,12 +445,13 @@ int cmd_flow(const std::string& dir, const std::string& direction, double tol, c
   const fs::path sp = fs::path(dir) / "summary.json";
   if (!fs::exists(sp)) throw gfmd::InputError(sp.string(), "no solved case here (run gfmd run first)");
   const std::string text = gfmd::read_regular_file(sp.string(), 64u << 20, "summary file");
-  if (!fs::exists(fs::path(dir) / "fields.nc"))
-    throw gfmd::InputError((fs::path(dir) / "fields.nc").string(),
+  const std::string fields = (fs::path(dir) / "fields.nc").string();
+  if (!fs::exists(fields))
+    throw gfmd::InputError(fields,
                            "no fields file: the run was made with output.fields = false (rerun it with "
                            "--set output.fields=true, or solve the leakage in the run itself: [flow] "
                            "enabled = true)");
-  gfmd::require_regular_file((fs::path(dir) / "fields.nc").string(), "fields file");
+  gfmd::require_regular_file(fields, "fields file");
   nlohmann::json s;
   try {
     s = nlohmann::json::parse(text);
@@ -466,8 +467,7 @@ int cmd_flow(const std::string& dir, const std::string& direction, double tol, c
     throw gfmd::InputError(sp.string(), std::string("not a gfmd summary (input.grid): ") + e.what());
   }
   int nx = 0, ny = 0;
-  const std::vector<double> gap =
-      gfmd::read_netcdf_field((fs::path(dir) / "fields.nc").string(), "gap", nx, ny);
+  const std::vector<double> gap = gfmd::read_netcdf_field(fields, "gap", nx, ny);
   if (nx != g.nx || ny != g.ny) throw gfmd::InputError(dir, "fields.nc does not match summary.json");
   const std::vector<double> angles = gfmd::parse_flow_directions(direction);
   if (angles.empty())

@@ -202,7 +202,8 @@ int run_main(int argc, char** argv) {
     // A bare list ("--set load.force=1e-3,2e-3") is a sweep's: say so where another command got one.
     const bool list_given =
         !sweep->parsed() && std::any_of(sets.begin(), sets.end(), [](const std::string& v) {
-          const std::string value = v.substr(v.find('=') == std::string::npos ? v.size() : v.find('=') + 1);
+          const auto eq = v.find('=');
+          const std::string value = eq == std::string::npos ? "" : v.substr(eq + 1);
           return value.find(',') != std::string::npos && value.find_first_of("[\"'") == std::string::npos;
         });
     if (report_common)

@@ -113,6 +113,20 @@ std::vector<std::string> csv_columns(const fs::path& path) {
   return cols;
 }
 
+// The columns of the sweep plots a sweep directory holds (sweep_<column>.png), sorted.
+std::vector<std::string> sweep_plot_columns(const fs::path& dir) {
+  std::vector<std::string> ys;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.size() > 10 && name.rfind("sweep_", 0) == 0 && e.path().extension() == ".png" &&
+        name.find(".tmp.") == std::string::npos)
+      ys.push_back(name.substr(6, name.size() - 10));
+  }
+  std::sort(ys.begin(), ys.end());
+  return ys;
+}
+
 }  // namespace
 
 // gfmd plot DIR: redraws the figures of a run directory (maps from fields.nc, profiles.png
@@ -152,14 +166,7 @@ int cmd_plot(const std::string& dir_in) {
     collect(dir / "points", 0);
     // The curve's points are a sweep of its own making; they count as one only where a sweep
     // plot was drawn there.
-    const auto has_sweep_plot = [&ec](const fs::path& d) {
-      for (const auto& e : fs::directory_iterator(d, ec)) {
-        const std::string name = e.path().filename().string();
-        if (name.rfind("sweep_", 0) == 0 && e.path().extension() == ".png") return true;
-      }
-      return false;
-    };
-    std::erase_if(sweeps, [&](const fs::path& d) { return !has_sweep_plot(d); });
+    std::erase_if(sweeps, [](const fs::path& d) { return sweep_plot_columns(d).empty(); });
   } else {
     collect(dir, 0);
   }
@@ -190,14 +197,7 @@ int cmd_plot(const std::string& dir_in) {
   }
   for (const auto& d : sweeps) {
     // The plots the sweep drew (sweep_<y>.png), else plot_sweep.py's default column.
-    std::vector<std::string> ys;
-    for (const auto& e : fs::directory_iterator(d, ec)) {
-      const std::string name = e.path().filename().string();
-      if (name.size() > 10 && name.rfind("sweep_", 0) == 0 && e.path().extension() == ".png" &&
-          name.find(".tmp.") == std::string::npos)
-        ys.push_back(name.substr(6, name.size() - 10));
-    }
-    std::sort(ys.begin(), ys.end());
+    std::vector<std::string> ys = sweep_plot_columns(d);
     const auto cols = csv_columns(d / "sweep.csv");
     if (ys.empty() && std::find(cols.begin(), cols.end(), "friction_coefficient") != cols.end())
       ys.emplace_back("friction_coefficient");

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -103,7 +102,7 @@ class Section {
       std::string s = v->as_string();
       std::transform(s.begin(), s.end(), s.begin(), ::tolower);
       if (s == "inf" || s == "infinity" || s == "infinite") return std::numeric_limits<double>::infinity();
-      error(key, "must be a number or \"inf\", got \"" + std::string(v->as_string()) + "\"" + where(*v));
+      error(key, "must be a number or \"inf\", got \"" + std::string(v->as_string()) + "\"");
       return def;
     }
     return number_impl(key, def, true);
@@ -119,12 +118,12 @@ class Section {
                std::abs(v->as_floating()) < 1e15) {
       x = static_cast<long long>(v->as_floating());
     } else {
-      error(key, "must be an integer, got " + type_name(*v) + where(*v));
+      error(key, "must be an integer, got " + type_name(*v));
       return def;
     }
     if (x < lo || x > hi) {
       error(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
-                     std::to_string(x) + where(*v));
+                     std::to_string(x));
       return def;
     }
     return x;
@@ -133,14 +132,14 @@ class Section {
     const toml::value* v = raw(key);
     if (!v) return def;
     if (v->is_boolean()) return v->as_boolean();
-    error(key, "must be true or false, got " + type_name(*v) + where(*v));
+    error(key, "must be true or false, got " + type_name(*v));
     return def;
   }
   std::string string(const std::string& key, const std::string& def) {
     const toml::value* v = raw(key);
     if (!v) return def;
     if (v->is_string()) return v->as_string();
-    error(key, "must be a string, got " + type_name(*v) + where(*v));
+    error(key, "must be a string, got " + type_name(*v));
     return def;
   }
   int line(const std::string& key) const {
@@ -186,11 +185,11 @@ class Section {
     } else if (v->is_integer()) {
       x = static_cast<double>(v->as_integer());
     } else {
-      error(key, "must be a number, got " + type_name(*v) + where(*v));
+      error(key, "must be a number, got " + type_name(*v));
       return def;
     }
     if (std::isnan(x) || (std::isinf(x) && !(allow_inf && x > 0))) {
-      error(key, "must be a finite number, got " + std::string(std::isnan(x) ? "nan" : "inf") + where(*v));
+      error(key, "must be a finite number, got " + std::string(std::isnan(x) ? "nan" : "inf"));
       return def;
     }
     return x;
@@ -213,29 +212,6 @@ class Section {
 
 using config_detail::kSections;
 
-namespace {
-
-// text as a TOML basic string: quotes, backslashes and control characters escaped.
-std::string toml_basic_string(const std::string& text) {
-  std::string out = "\"";
-  for (const char ch : text) {
-    const auto u = static_cast<unsigned char>(ch);
-    if (ch == '"' || ch == '\\') {
-      out += '\\';
-      out += ch;
-    } else if (u < 0x20 || u == 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(u));
-      out += buf;
-    } else {
-      out += ch;
-    }
-  }
-  return out + "\"";
-}
-
-}  // namespace
-
 void apply_override(toml::value& root, const std::string& spec) {
   const auto eq = spec.find('=');
   if (eq == std::string::npos || eq == 0) throw InputError("--set " + spec, "expected section.key=value");
@@ -253,7 +229,7 @@ void apply_override(toml::value& root, const std::string& spec) {
     // A bare word is a string; it is parsed as one so that a later error about it names
     // "[--set:1]" as it does for any other override.
     try {
-      std::istringstream is("v = " + toml_basic_string(text));
+      std::istringstream is("v = " + toml::format(toml::value(text)));
       val = toml::parse(is, "--set").as_table().at("v");
     } catch (const std::exception&) {
       val = toml::value(text);  // not valid UTF-8: kept as it is, without a location
@@ -308,13 +284,12 @@ Config build(const toml::value& root, const std::string& name, const std::string
   c.grid.ny = static_cast<int>(ny);
   c.length_unit = grid.string("unit", "");
   if (!c.length_unit.empty() && metres_per_unit(c.length_unit) == 0.0)
-    grid.error("unit",
-               "unknown length unit \"" + c.length_unit + "\" (m, mm, um, nm, pm or A)" + grid.at("unit"));
+    grid.error("unit", "unknown length unit \"" + c.length_unit + "\" (m, mm, um, nm, pm or A)");
   // Lengths are bounded so that areas and volumes stay far from under- and overflow.
   if ((grid_lx || !file_indenter) && !(c.grid.lx >= kMinLength && c.grid.lx <= kMaxLength))
-    grid.error("lx", "must be a positive length in [1e-30, 1e30]" + grid.at("lx"));
+    grid.error("lx", "must be a positive length in [1e-30, 1e30]");
   if ((grid_ly || grid_lx || !file_indenter) && !(c.grid.ly >= kMinLength && c.grid.ly <= kMaxLength))
-    grid.error("ly", "must be a positive length in [1e-30, 1e30]" + grid.at("ly"));
+    grid.error("ly", "must be a positive length in [1e-30, 1e30]");
   grid.finish();
 
   Section el(root, "elastic", errors);
@@ -337,7 +312,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
   std::vector<std::string> extra;
   if (std::find(types.begin(), types.end(), in.type) == types.end()) {
     ind.error("type", "unknown indenter type \"" + in.type + "\"" + did_you_mean(in.type, types) +
-                          "; one of hertz, eggcrate, selfaffine, file" + ind.at("type"));
+                          "; one of hertz, eggcrate, selfaffine, file");
     extra = {"radius", "radius_x",       "radius_y",     "wavelength", "amplitude",
              "hurst",  "lambda_long",    "lambda_short", "rms_height", "rms_gradient",
              "seed",   "lambda_rolloff", "path",         "lx",         "ly"};
@@ -374,7 +349,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
       try {
         check_selfaffine(c.grid, s);
       } catch (const ParameterError& e) {
-        ind.error(e.where(), e.why() + ind.at(e.where()));
+        ind.error(e.where(), e.why());
       }
     }
   } else if (in.type == "array") {
@@ -398,8 +373,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
         if (ok) in.crop[k] = e.as_integer();
       }
       if (!ok)
-        ind.error("crop",
-                  "must be [ix0, iy0, nx, ny]: four integers in [0, 65536] (points of the file)" + where(*v));
+        ind.error("crop", "must be [ix0, iy0, nx, ny]: four integers in [0, 65536] (points of the file)");
     }
     const std::tuple<const char*, const std::string&, const std::vector<std::string>&> choices[] = {
         {"missing", in.missing, kMissingMethods},
@@ -408,11 +382,10 @@ Config build(const toml::value& root, const std::string& name, const std::string
     for (const auto& [key, value, ok] : choices) {
       if (std::find(ok.begin(), ok.end(), value) == ok.end())
         ind.error(key, "\"" + value + "\" is not one of \"" + ok[0] + "\", \"" + ok[1] + "\", \"" + ok[2] +
-                           "\"" + did_you_mean(value, ok) + ind.at(key));
+                           "\"" + did_you_mean(value, ok));
     }
     const bool unit_ok = in.unit.empty() || metres_per_unit(in.unit) != 0.0;
-    if (!unit_ok)
-      ind.error("unit", "unknown length unit \"" + in.unit + "\" (m, mm, um, nm, pm or A)" + ind.at("unit"));
+    if (!unit_ok) ind.error("unit", "unknown length unit \"" + in.unit + "\" (m, mm, um, nm, pm or A)");
     if (unit_ok && !in.path.empty() && (!grid_nx || !grid_ny || !grid_lx || !grid_ly)) {
       // The grid keys not given come from the prepared map (read once here; the solve reads it again).
       try {
@@ -454,22 +427,20 @@ Config build(const toml::value& root, const std::string& name, const std::string
   }
   if (hf) {
     c.load = {LoadMode::Force, load.number("force", 0.0)};
-    if (!(c.load.value > 0)) load.error("force", "must be positive" + load.at("force"));
+    if (!(c.load.value > 0)) load.error("force", "must be positive");
   } else if (hp) {
     c.load = {LoadMode::Pressure, load.number("pressure", 0.0)};
-    if (!(c.load.value > 0)) load.error("pressure", "must be positive" + load.at("pressure"));
+    if (!(c.load.value > 0)) load.error("pressure", "must be positive");
   } else if (ha) {
     c.load = {LoadMode::Approach, load.number("approach", 0.0)};
-    if (!(c.load.value >= 0)) load.error("approach", "must be zero or positive" + load.at("approach"));
+    if (!(c.load.value >= 0)) load.error("approach", "must be zero or positive");
   }
   if (hf && c.load.value > 0 && c.elastic.contact_modulus > 0 && c.grid.lx > 0 && c.grid.ly > 0 &&
       c.load.value / (c.elastic.contact_modulus * c.grid.lx * c.grid.ly) > kMaxPressureOverModulus)
-    load.error("force",
-               "the mean pressure force / (lx ly) exceeds 1000 E*: not a contact problem" + load.at("force"));
+    load.error("force", "the mean pressure force / (lx ly) exceeds 1000 E*: not a contact problem");
   if (hp && c.load.value / c.elastic.contact_modulus > kMaxPressureOverModulus)
-    load.error("pressure", "exceeds 1000 E*: not a contact problem" + load.at("pressure"));
-  if (ha && c.load.value > kMaxLength)
-    load.error("approach", "must be at most 1e30 (a length)" + load.at("approach"));
+    load.error("pressure", "exceeds 1000 E*: not a contact problem");
+  if (ha && c.load.value > kMaxLength) load.error("approach", "must be at most 1e30 (a length)");
   load.finish();
 
   Section fr(root, "friction", errors);
@@ -479,22 +450,17 @@ Config build(const toml::value& root, const std::string& name, const std::string
   if (!(c.friction.regularization >= 0 && c.friction.regularization < 1))
     fr.error("regularization", "must be in [0, 1) (slip speed / v0 below which the traction is regularised)");
   // Section::number has refused nan and inf already (they come back as the default).
-  if (!(c.friction.coefficient >= 0))
-    fr.error("coefficient", "must be a non-negative number" + fr.at("coefficient"));
+  if (!(c.friction.coefficient >= 0)) fr.error("coefficient", "must be a non-negative number");
   c.friction.creepage = fr.number("creepage", 1.0);
   if (!(c.friction.creepage > 0))
-    fr.error("creepage",
-             "must be a positive finite number (rigid slip speed / v0; 1 = sliding)" + fr.at("creepage"));
+    fr.error("creepage", "must be a positive finite number (rigid slip speed / v0; 1 = sliding)");
   else if (c.friction.creepage != 1.0 && !(c.friction.coefficient > 0))
-    fr.error("creepage",
-             "rolling with creepage needs friction: set friction.coefficient > 0" + fr.at("creepage"));
+    fr.error("creepage", "rolling with creepage needs friction: set friction.coefficient > 0");
   c.friction.lateral_creepage = fr.number("lateral_creepage", 0.0);
   if (c.friction.lateral_creepage != 0.0 && !(c.friction.coefficient > 0))
-    fr.error("lateral_creepage", "rolling with creepage needs friction: set friction.coefficient > 0" +
-                                     fr.at("lateral_creepage"));
+    fr.error("lateral_creepage", "rolling with creepage needs friction: set friction.coefficient > 0");
   else if (std::abs(c.friction.lateral_creepage) > 1e6)
-    fr.error("lateral_creepage",
-             "must be at most 1e6 in magnitude (rigid slip speed / v0)" + fr.at("lateral_creepage"));
+    fr.error("lateral_creepage", "must be at most 1e6 in magnitude (rigid slip speed / v0)");
   const std::string deriv = fr.string("slip_derivative", "auto");
   if (deriv == "spectral")
     c.friction.slip_derivative = SlipDerivative::Spectral;
@@ -507,19 +473,16 @@ Config build(const toml::value& root, const std::string& name, const std::string
         "slip_derivative",
         "unknown discretisation \"" + deriv +
             "\"; one of auto (upwind2 for rolling and where sliding meets stick, else spectral), spectral, "
-            "upwind, upwind2" +
-            fr.at("slip_derivative"));
+            "upwind, upwind2");
   c.friction.stick_step = fr.number("stick_step", 0.0);
   if (!(c.friction.stick_step >= 0) || c.friction.stick_step > 1e6)
-    fr.error("stick_step",
-             "must be 0 (automatic) or a positive step gamma/E* up to 1e6" + fr.at("stick_step"));
+    fr.error("stick_step", "must be 0 (automatic) or a positive step gamma/E* up to 1e6");
   c.friction.stick_acceleration = static_cast<int>(fr.integer("stick_acceleration", 0, 0, 50));
   if (c.friction.stick_acceleration > 0 && c.friction.slip_derivative == SlipDerivative::Spectral)
     fr.error("stick_acceleration",
              "needs an upwind slip derivative (friction.slip_derivative = \"auto\", \"upwind2\" or "
              "\"upwind\"): with the spectral one its looser inner solves stall the friction iteration "
-             "(docs/solver.md)" +
-                 fr.at("stick_acceleration"));
+             "(docs/solver.md)");
   c.friction_reference = fr.boolean("reference", true);
   fr.finish();
 
@@ -530,7 +493,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
   } else if (model == "hardwall" || model == "hard_wall") {
     c.interaction.hard_wall = true;
   } else {
-    ia.error("model", "unknown model \"" + model + "\"; one of harmonic, hardwall" + ia.at("model"));
+    ia.error("model", "unknown model \"" + model + "\"; one of harmonic, hardwall");
   }
   c.interaction.stiffness = ia.number("stiffness", 0.0);
   if (!(c.interaction.stiffness >= 0))
@@ -571,10 +534,10 @@ Config build(const toml::value& root, const std::string& name, const std::string
     c.sweep.plot = sw.string("plot", c.sweep.plot);
     if (const toml::value* v = sw.raw("values")) {
       if (!v->is_array()) {
-        sw.error("values", "must be an array of numbers" + where(*v));
+        sw.error("values", "must be an array of numbers");
       } else if (v->as_array().size() > static_cast<std::size_t>(kMaxSweepPoints)) {
         sw.error("values", "at most " + std::to_string(kMaxSweepPoints) + " values, got " +
-                               std::to_string(v->as_array().size()) + where(*v));
+                               std::to_string(v->as_array().size()));
       } else {
         for (const auto& e : v->as_array()) {
           if (e.is_floating() && std::isfinite(e.as_floating()))
@@ -633,10 +596,10 @@ Config build(const toml::value& root, const std::string& name, const std::string
     st.error("high_tension_fraction", "must be in (0, 1]");
   if (const toml::value* v = st.raw("depths")) {
     if (!v->is_array()) {
-      st.error("depths", "must be an array of depths below the surface" + where(*v));
+      st.error("depths", "must be an array of depths below the surface");
     } else if (v->as_array().size() > kMaxStressDepths) {
       st.error("depths", "at most " + std::to_string(kMaxStressDepths) + " depths, got " +
-                             std::to_string(v->as_array().size()) + where(*v));
+                             std::to_string(v->as_array().size()));
     } else {
       for (const auto& e : v->as_array()) {
         const double d = e.is_floating()  ? e.as_floating()
@@ -660,19 +623,17 @@ Config build(const toml::value& root, const std::string& name, const std::string
     if (!parse_flow_solver(solver, c.flow.solver))
       fl.error("solver", "must be \"auto\", \"amg\" or \"boomeramg\", got \"" + solver + "\"");
     // "x", "y", "both", or an angle in degrees (a number, or a string holding one).
+    const std::string expected = "must be \"x\", \"y\", \"both\" or an angle in degrees, got ";
     const toml::value* dv = fl.raw("direction");
     if (dv && (dv->is_floating() || dv->is_integer())) {
       const double a = fl.number("direction", 0.0);
       if (std::isfinite(a)) c.flow.angles = {a};
     } else if (dv && !dv->is_string()) {
-      fl.error("direction", "must be \"x\", \"y\", \"both\" or an angle in degrees, got " +
-                                Section::type_name(*dv) + fl.at("direction"));
+      fl.error("direction", expected + Section::type_name(*dv));
     } else {
       const std::string dir = fl.string("direction", "both");
       c.flow.angles = parse_flow_directions(dir);
-      if (c.flow.angles.empty())
-        fl.error("direction", "must be \"x\", \"y\", \"both\" or an angle in degrees, got \"" + dir + "\"" +
-                                  fl.at("direction"));
+      if (c.flow.angles.empty()) fl.error("direction", expected + "\"" + dir + "\"");
     }
   }
   fl.finish();

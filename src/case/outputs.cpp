@@ -192,8 +192,9 @@ nlohmann::json summary_json(const CaseResult& r) {
     j["area_fraction_above_half_max"] = r.area_above_half_max;
   }
   if (r.leakage) j["flow"] = r.leakage->json;
+  if (!r.post_analyses.empty() && r.post_analyses.front().ratio_max_tensile_stress)
+    j["tensile_stress_ratio_to_post_analysis"] = *r.post_analyses.front().ratio_max_tensile_stress;
   const Comparisons& cmp = r.comparisons;
-  if (cmp.tensile_stress_ratio) j["tensile_stress_ratio_to_post_analysis"] = *cmp.tensile_stress_ratio;
   if (!r.subsurface.empty()) {
     j["subsurface"] = nlohmann::json::array();
     for (const auto& ss : r.subsurface) {

@@ -85,26 +85,24 @@ LineProfiles line_profiles(const Grid& g, const CaseResult& r) {
   out.centre_y = g.y(cy);
   for (int k = -half; k < half; ++k) out.s.push_back(k * ds);
   const std::size_t rows = out.s.size();
-  out.columns.reserve(2 * (cols.size() + std::size(kPrincipal)));
-  out.values.reserve(2 * (cols.size() + std::size(kPrincipal)));  // the references below stay valid
   for (int line = 0; line < 2; ++line) {
     const std::string dir_name = line == 0 ? "longitudinal" : "transverse";
-    const auto column = [&](const std::string& name) -> std::vector<double>& {
-      out.columns.push_back(name + "_" + dir_name);
-      return out.values.emplace_back(rows);
-    };
     for (std::size_t c = 0; c < cols.size(); ++c) {
-      std::vector<double>& v = column(cols[c].first);
+      out.columns.push_back(cols[c].first + "_" + dir_name);
+      std::vector<double>& v = out.values.emplace_back(rows);
       for (std::size_t row = 0; row < rows; ++row) v[row] = values[c][2 * row + line];
     }
-    std::vector<std::vector<double>*> principal_cols;
-    for (const char* c : kPrincipal) principal_cols.push_back(&column(c));
+    const std::size_t first = out.values.size();  // the principal columns of this line
+    for (const char* c : kPrincipal) {
+      out.columns.push_back(c + ("_" + dir_name));
+      out.values.emplace_back(rows);
+    }
     for (std::size_t row = 0; row < rows; ++row) {
       const auto sv = [&](std::size_t c) { return values[stress_from + c][2 * row + line]; };
       const Principal3 e = principal(sv(0), sv(1), sv(2), sv(3), sv(4), sv(5));
       const double pv[] = {e.s1, von_mises(sv(0), sv(1), sv(2), sv(3), sv(4), sv(5)), e.e1[0], e.e1[1],
                            e.e1[2]};
-      for (std::size_t c = 0; c < principal_cols.size(); ++c) (*principal_cols[c])[row] = pv[c];
+      for (std::size_t c = 0; c < std::size(pv); ++c) out.values[first + c][row] = pv[c];
     }
   }
   return out;
@@ -248,7 +246,26 @@ ContactFields warm_start_rows(const Grid& slab, const ContactFields& whole) {
   f.ty = mpi::scatter(slab, whole.ty);
   return f;
 }
-void compare_with_references(const Config& cfg, CaseResult& r);
+// The solution's figures over its references' (summary.json; Comparisons), from the
+// observables and the stress summaries that every process holds.
+void compare_with_references(const Config& cfg, CaseResult& r) {
+  Comparisons& c = r.comparisons;
+  if (cfg.friction.coefficient > 0) {
+    const double mu = cfg.friction.coefficient;
+    c.delta_mu_over_mu_c = (r.observables.friction_coefficient - mu) / mu;
+    c.delta_mu_over_mu_c_downhill = (r.observables.friction_coefficient_downhill - mu) / mu;
+  }
+  if (r.reference)
+    c.delta_area_over_area =
+        r.observables.relative_contact_area / r.reference->observables.relative_contact_area - 1.0;
+  if (!r.stress_summary) return;
+  const auto ratio = [](double a, double b) { return b > 0 ? std::optional<double>(a / b) : std::nullopt; };
+  for (CaseResult::PostAnalysis& pa : r.post_analyses) {
+    pa.ratio_max_tensile_stress = ratio(r.stress_summary->max_tensile_stress, pa.summary.max_tensile_stress);
+    pa.ratio_max_von_mises = ratio(r.stress_summary->max_von_mises, pa.summary.max_von_mises);
+    pa.ratio_area_above_half_max = ratio(r.area_above_half_max, pa.area_above_half_max);
+  }
+}
 
 // Everything after the solve that works on the fields where they are -- the whole cell in
 // one process, this process's slab in a distributed run, where every process calls it (its
@@ -289,28 +306,6 @@ void after_solve_here(const Config& cfg, const RunOptions& opts, const Grid& gri
     r.leakage = compute_leakage(grid, r.fields.gap.data(), cfg.flow.angles, cfg.flow.tolerance,
                                 cfg.flow.solver, opts.stop_request);
   compare_with_references(cfg, r);
-}
-
-// The solution's figures over its references' (summary.json; Comparisons), from the
-// observables and the stress summaries that every process holds.
-void compare_with_references(const Config& cfg, CaseResult& r) {
-  Comparisons& c = r.comparisons;
-  if (cfg.friction.coefficient > 0) {
-    const double mu = cfg.friction.coefficient;
-    c.delta_mu_over_mu_c = (r.observables.friction_coefficient - mu) / mu;
-    c.delta_mu_over_mu_c_downhill = (r.observables.friction_coefficient_downhill - mu) / mu;
-  }
-  if (r.reference)
-    c.delta_area_over_area =
-        r.observables.relative_contact_area / r.reference->observables.relative_contact_area - 1.0;
-  if (!r.stress_summary) return;
-  const auto ratio = [](double a, double b) { return b > 0 ? std::optional<double>(a / b) : std::nullopt; };
-  for (CaseResult::PostAnalysis& pa : r.post_analyses) {
-    pa.ratio_max_tensile_stress = ratio(r.stress_summary->max_tensile_stress, pa.summary.max_tensile_stress);
-    pa.ratio_max_von_mises = ratio(r.stress_summary->max_von_mises, pa.summary.max_von_mises);
-    pa.ratio_area_above_half_max = ratio(r.area_above_half_max, pa.area_above_half_max);
-  }
-  if (!r.post_analyses.empty()) c.tensile_stress_ratio = r.post_analyses.front().ratio_max_tensile_stress;
 }
 
 // What needs the whole cell at once, in one process (rank 0 of a distributed run): the run's

@@ -31,12 +31,11 @@ struct LineProfiles {
 };
 
 // The solution's figures against its references (summary.json): set where the reference
-// exists and the ratio is defined.
+// exists and the ratio is defined. The stress ratios are PostAnalysis::ratio_*.
 struct Comparisons {
   std::optional<double> delta_mu_over_mu_c;           // (mu - mu_c) / mu_c, with friction
   std::optional<double> delta_mu_over_mu_c_downhill;  // the same for the downhill estimate
   std::optional<double> delta_area_over_area;         // A / A_frictionless - 1
-  std::optional<double> tensile_stress_ratio;         // max sigma_I / the first post-analysis's
 };
 
 struct CaseResult {
