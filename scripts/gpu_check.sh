@@ -18,8 +18,11 @@ failed=0
 has() { [[ " ${steps[*]} " == *" $1 "* ]]; }
 tar -C /tmp -xJf .devcarry/devlibs.tar.xz
 export LD_LIBRARY_PATH=/tmp/devlibs/lib:/usr/local/cuda/lib64:${LD_LIBRARY_PATH:-}
-# The tests read the examples and run the program where they were built.
-if [ ! -e /work/main ]; then mkdir -p /work && ln -s "$PWD" /work/main; fi
+# The tests read the examples and run the program where they were built (the source path
+# gpu_pack.sh recorded; /work/main by default).
+for src in /work/main $(cat .devcarry/source_dir 2>/dev/null); do
+  if [ ! -e "$src" ]; then mkdir -p "$(dirname "$src")" && ln -s "$PWD" "$src"; fi
+done
 nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv,noheader | tee "$out/gpu.txt"
 ./build/gfmd --version || { echo "gfmd does not start here"; ldd ./build/gfmd | grep -i "not found"; exit 1; }
 export OMP_WAIT_POLICY=PASSIVE PYTHONUNBUFFERED=1

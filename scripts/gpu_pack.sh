@@ -19,5 +19,7 @@ for b in build/gfmd build/gfmd_tests build/bench_kernels; do ldd "$b" | awk '$3 
   done
 cp -L /lib64/ld-linux-x86-64.so.2 "$tmp/devlibs/sys/"
 tar -C "$tmp" -cJf .devcarry/devlibs.tar.xz devlibs
+# The tests read the examples through the source path they were built from: gpu_check.sh links it.
+sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' build/CMakeCache.txt > .devcarry/source_dir
 rm -rf "$tmp"
 ls -la .devcarry/devlibs.tar.xz
