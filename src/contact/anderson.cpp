@@ -23,6 +23,25 @@ void AndersonMixer::resize(std::size_t len) {
   }
 }
 
+void AndersonMixer::restore(bool have_prev, const std::vector<std::size_t>& slots,
+                            const std::vector<double>& gram) {
+  const auto mm = static_cast<std::size_t>(m_);
+  if (slots.size() > mm || gram.size() != mm * mm)
+    throw std::invalid_argument("AndersonMixer::restore: a state of another depth");
+  std::vector<bool> used(mm, false);
+  for (std::size_t sl : slots) {
+    if (sl >= mm || used[sl]) throw std::invalid_argument("AndersonMixer::restore: bad slots");
+    used[sl] = true;
+  }
+  have_prev_ = have_prev;
+  slots_ = slots;
+  gram_ = gram;
+  for (std::size_t sl : slots_) {
+    grow(df_[sl], xprev_.size());
+    grow(dx_[sl], xprev_.size());
+  }
+}
+
 std::size_t AndersonMixer::next_slot() {
   std::size_t slot = 0;
   if (slots_.size() == static_cast<std::size_t>(m_)) {

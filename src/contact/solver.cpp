@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <numbers>
 #include <optional>
@@ -151,12 +152,69 @@ void ContactSolver::poll(const ContactFields* f, const std::function<void()>& se
     save = (all & 2u) != 0;
   }
   if ((stop || save) && settle) settle();
+  // In the friction loop: its restart point (what the checkpoint holds; kept after a stop).
+  if ((stop || save) && restart_maker_) restart_maker_();
   if (stop) throw Interrupted("interrupted at iteration " + std::to_string(total_it_));
   if (save) {
     last_checkpoint_ = now;
     checkpoint_(*f);
+    restart_.reset();
     if (unsettle) unsettle();
   }
+}
+
+double pack_floats(float x, float y) {
+  std::uint32_t bits[2];
+  std::memcpy(&bits[0], &x, 4);
+  std::memcpy(&bits[1], &y, 4);
+  const std::uint64_t u = (static_cast<std::uint64_t>(bits[1]) << 32) | bits[0];
+  double d;
+  std::memcpy(&d, &u, 8);
+  return d;
+}
+
+void unpack_floats(double packed, float& x, float& y) {
+  std::uint64_t u;
+  std::memcpy(&u, &packed, 8);
+  const auto lo = static_cast<std::uint32_t>(u & 0xffffffffu), hi = static_cast<std::uint32_t>(u >> 32);
+  std::memcpy(&x, &lo, 4);
+  std::memcpy(&y, &hi, 4);
+}
+
+namespace {
+// Why a restart point does not fit this solve ("" when it does): n points held here, the
+// Anderson depth and the configured slip derivative.
+std::string restart_mismatch(const FrictionRestart& r, std::size_t n, int depth,
+                             const std::optional<SlipDerivative>& fixed) {
+  if (r.support.size() != n) return "its fields are not on this grid";
+  if (r.have_z && (r.zx.size() != n || r.zy.size() != n)) return "its splitting variable is not on this grid";
+  if (r.mixer != (depth > 0)) return "it was made with another solver.anderson";
+  if (r.mixer) {
+    const auto m = static_cast<std::size_t>(depth);
+    if (r.mixer_gram.size() != m * m || r.mixer_slots.size() > m || r.df.size() != r.mixer_slots.size() ||
+        r.dx.size() != r.mixer_slots.size())
+      return "its mixing history was made with another solver.anderson";
+    for (const RealField* fld : {&r.xprev_x, &r.xprev_y, &r.fprev_x, &r.fprev_y})
+      if (fld->size() != n) return "its mixing history is not on this grid";
+    for (std::size_t k = 0; k < r.df.size(); ++k)
+      if (r.df[k].size() != n || r.dx[k].size() != n) return "its mixing history is not on this grid";
+  }
+  if (fixed && r.derivative != *fixed) return "it was made with another friction.slip_derivative";
+  if (r.outer < 0 || r.iterations < 0 || r.tangential_iterations < 0) return "its counts are negative";
+  return "";
+}
+}  // namespace
+
+bool ContactSolver::finish(ContactFields& f, SolveInfo& info) {
+  if (device_) return false;
+  const std::size_t n = grid_.local_size();
+  for (auto* fld : {&f.pressure, &f.tx, &f.ty})
+    if (fld->size() != n) fld->assign(n, 0.0);
+  if (fric_.coefficient == 0.0) f.stick.clear();
+  for (auto* fld : {&f.ux, &f.uy, &f.uz, &f.gap}) fld->resize(n);
+  update_displacements(f);
+  check_final_state(info, f, info.approach);
+  return true;
 }
 
 void ContactSolver::check_final_state(SolveInfo& info, ContactFields& f, double delta) {
@@ -176,7 +234,9 @@ void ContactSolver::check_final_state(SolveInfo& info, ContactFields& f, double 
   }
 }
 
-SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
+SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const FrictionRestart* resume) {
+  restart_.reset();
+  // The device solve resumes from the fields alone (a warm start).
   if (device_) return solve_on_device(load, f);
   const auto t0 = Clock::now();
   const std::uint64_t transforms0 = fft_.transforms();
@@ -218,12 +278,33 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     // interleaved (entry 2j: tau_x at supp[j], 2j + 1: tau_y).
     std::vector<std::uint32_t> supp;
     std::vector<unsigned char> in_supp(n, 0);
-    // A warm start's traction starts the support (the slip pass reads nothing outside it).
-    for (std::size_t i = 0; i < n; ++i)
-      if (f.tx[i] != 0.0 || f.ty[i] != 0.0) {
-        in_supp[i] = 1;
-        supp.push_back(static_cast<std::uint32_t>(i));
+    // Where the support grew (a restart point's order): (friction steps done, first entry);
+    // the warm start's points come at 0.
+    std::vector<std::pair<std::int32_t, std::size_t>> batches;
+    if (resume) {
+      const std::string why = restart_mismatch(*resume, n, sp_.anderson, fric_.slip_derivative);
+      if (!why.empty()) throw ParameterError("resume", "the restart point does not fit this solve: " + why);
+      // The support in its order of entry: by the step it joined at, then by grid index.
+      std::vector<std::pair<std::int32_t, std::uint32_t>> order;
+      for (std::size_t i = 0; i < n; ++i)
+        if (resume->support[i] >= 0) {
+          order.emplace_back(static_cast<std::int32_t>(resume->support[i]), static_cast<std::uint32_t>(i));
+          in_supp[i] = 1;
+        }
+      std::sort(order.begin(), order.end());
+      for (const auto& [step, i] : order) {
+        if (batches.empty() || batches.back().first != step) batches.emplace_back(step, supp.size());
+        supp.push_back(i);
       }
+    } else {
+      // A warm start's traction starts the support (the slip pass reads nothing outside it).
+      batches.emplace_back(0, 0);
+      for (std::size_t i = 0; i < n; ++i)
+        if (f.tx[i] != 0.0 || f.ty[i] != 0.0) {
+          in_supp[i] = 1;
+          supp.push_back(static_cast<std::uint32_t>(i));
+        }
+    }
     // The mixer's sums go by grid row (the same sums on any number of processes): the
     // support's entries listed row by row, in their order of entry (rebuilt as it grows).
     std::vector<std::uint32_t> row_start, row_order;
@@ -248,6 +329,29 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       mixer->resize(2 * supp.size());
       group_support();
       mixer->group_by_rows(&grid_, &row_start, &row_order);
+      if (resume && resume->mixer) {
+        std::vector<std::size_t> slots(resume->mixer_slots.begin(), resume->mixer_slots.end());
+        for (const std::int32_t sl : resume->mixer_slots)
+          if (sl < 0) throw ParameterError("resume", "the restart point's mixing history is damaged");
+        mixer->restore(resume->mixer_have_prev, slots, resume->mixer_gram);
+        auto& xp = mixer->previous_iterate();
+        auto& fp = mixer->previous_residual();
+        for (std::size_t j = 0; j < supp.size(); ++j) {
+          const std::uint32_t i = supp[j];
+          xp[2 * j] = resume->xprev_x[i];
+          xp[2 * j + 1] = resume->xprev_y[i];
+          fp[2 * j] = resume->fprev_x[i];
+          fp[2 * j + 1] = resume->fprev_y[i];
+        }
+        for (std::size_t k = 0; k < slots.size(); ++k) {
+          auto& df = mixer->residual_differences(slots[k]);
+          auto& dx = mixer->iterate_differences(slots[k]);
+          for (std::size_t j = 0; j < supp.size(); ++j) {
+            unpack_floats(resume->df[k][supp[j]], df[2 * j], df[2 * j + 1]);
+            unpack_floats(resume->dx[k][supp[j]], dx[2 * j], dx[2 * j + 1]);
+          }
+        }
+      }
     }
     double err = 1.0;
     // Per friction step: the traction change and the tangential force (sum of tau_x and of
@@ -275,9 +379,143 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
     have_z_ = false;
     const bool accelerated = fric_.stick_acceleration > 0;
     double omega = sp_.mixing;
+    int first_outer = 0;
+    if (resume) {
+      // Where the interrupted solve stood at the start of its step.
+      first_outer = resume->outer;
+      total_it_ = resume->iterations;
+      info.outer_iterations = resume->outer;
+      info.tangential_iterations = resume->tangential_iterations;
+      err = resume->error;
+      if (resume->outer > 0) info.friction_error = err;
+      omega = resume->mixing;
+      stick_now = resume->stick_points;
+      tangential_ok = resume->tangential_ok;
+      have_slip = resume->have_slip;
+      if (deriv_ != resume->derivative) use_derivative(resume->derivative);
+      steps.restore(resume->steps);
+      gw_mean_ref_ = resume->gw_mean_ref;
+      g_mean_ref_ = resume->g_mean_ref;
+      pk = PKResult{resume->pk_iterations, resume->pk_error, resume->pk_delta, resume->pk_converged};
+      hist_change = resume->history_change;
+      hist_force = resume->history_force;
+      have_z_ = resume->have_z;
+      if (have_z_) {
+        zx_ = resume->zx;
+        zy_ = resume->zy;
+      }
+    }
+    // The restart point (the start of the step in progress) for a checkpoint or a stop: the
+    // loop's numbers and the pressure and splitting variable at the start of the step (the
+    // step's solves change them in place); the traction, the support and the mixing change
+    // only at the step's end, after its last poll.
+    struct Top {
+      int outer, iterations, tangential;
+      double err, omega, stick_now;
+      bool tangential_ok, have_slip, have_z;
+      SlipDerivative deriv;
+      FrictionStepsState steps;
+      double gw, g;
+      PKResult pk;
+      std::size_t hist;
+    } top{};
+    RealField p_top, zx_top, zy_top;
+    const bool keep_top = static_cast<bool>(stop_) || static_cast<bool>(checkpoint_);
+    restart_maker_ = [&] {
+      auto rp = std::make_unique<RestartPoint>();
+      FrictionRestart& s = rp->state;
+      s.outer = top.outer;
+      s.iterations = top.iterations;
+      s.tangential_iterations = top.tangential;
+      s.error = top.err;
+      s.mixing = top.omega;
+      s.stick_points = top.stick_now;
+      s.tangential_ok = top.tangential_ok;
+      s.have_slip = top.have_slip;
+      s.have_z = top.have_z;
+      s.derivative = top.deriv;
+      s.steps = top.steps;
+      s.gw_mean_ref = top.gw;
+      s.g_mean_ref = top.g;
+      s.pk_iterations = top.pk.iterations;
+      s.pk_error = top.pk.error;
+      s.pk_delta = top.pk.delta;
+      s.pk_converged = top.pk.converged;
+      s.history_change.assign(hist_change.begin(),
+                              hist_change.begin() + static_cast<std::ptrdiff_t>(top.hist));
+      s.history_force.assign(hist_force.begin(), hist_force.begin() + static_cast<std::ptrdiff_t>(top.hist));
+      rp->fields.pressure = p_top;
+      rp->fields.tx = f.tx;
+      rp->fields.ty = f.ty;
+      if (top.have_z) {
+        s.zx = zx_top;
+        s.zy = zy_top;
+      }
+      s.support.assign(n, -1.0);
+      for (std::size_t b = 0; b < batches.size(); ++b) {
+        const std::size_t end = b + 1 < batches.size() ? batches[b + 1].second : supp.size();
+        for (std::size_t j = batches[b].second; j < end; ++j) s.support[supp[j]] = batches[b].first;
+      }
+      s.mixer = mixer.has_value();
+      if (mixer) {
+        s.mixer_have_prev = mixer->has_previous();
+        for (const std::size_t sl : mixer->slots()) s.mixer_slots.push_back(static_cast<std::int32_t>(sl));
+        s.mixer_gram = mixer->gram();
+        for (RealField* fld : {&s.xprev_x, &s.xprev_y, &s.fprev_x, &s.fprev_y}) fld->assign(n, 0.0);
+        const auto& xp = mixer->previous_iterate();
+        const auto& fp = mixer->previous_residual();
+        for (std::size_t j = 0; j < supp.size(); ++j) {
+          const std::uint32_t i = supp[j];
+          s.xprev_x[i] = xp[2 * j];
+          s.xprev_y[i] = xp[2 * j + 1];
+          s.fprev_x[i] = fp[2 * j];
+          s.fprev_y[i] = fp[2 * j + 1];
+        }
+        for (const std::size_t sl : mixer->slots()) {
+          const auto& df = mixer->residual_differences(sl);
+          const auto& dx = mixer->iterate_differences(sl);
+          RealField& pdf = s.df.emplace_back(n, 0.0);
+          RealField& pdx = s.dx.emplace_back(n, 0.0);
+          for (std::size_t j = 0; j < supp.size(); ++j) {
+            pdf[supp[j]] = pack_floats(df[2 * j], df[2 * j + 1]);
+            pdx[supp[j]] = pack_floats(dx[2 * j], dx[2 * j + 1]);
+          }
+        }
+      }
+      restart_ = std::move(rp);
+    };
+    // The maker reads this loop's state: it goes with the loop, however the loop ends.
+    struct ClearMaker {
+      std::function<void()>& maker;
+      ~ClearMaker() { maker = nullptr; }
+    } clear_maker{restart_maker_};
     info.status = "not converged: friction fixed point did not settle";
-    for (int outer = 0; outer < sp_.max_outer; ++outer) {
+    for (int outer = first_outer; outer < sp_.max_outer; ++outer) {
       info.outer_iterations = outer + 1;
+      top = Top{outer,
+                total_it_,
+                info.tangential_iterations,
+                err,
+                omega,
+                stick_now,
+                tangential_ok,
+                have_slip,
+                have_z_,
+                deriv_,
+                steps.state(),
+                gw_mean_ref_,
+                g_mean_ref_,
+                pk,
+                hist_change.size()};
+      if (keep_top) {
+        p_top = f.pressure;
+        if (have_z_) {
+          zx_top = zx_;
+          zy_top = zy_;
+        }
+      }
+      // Stop requests and checkpoints between the steps see the restart point as it is.
+      poll(&f);
       friction_normal_displacement(f.tx, f.ty, w);
       // The normal solve's tolerance follows the friction change (looser in the accelerated
       // stick-slip phase).
@@ -329,7 +567,6 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       hist_change.push_back(err);
       hist_force.push_back(grid_sum(grid_, [&](std::size_t i) { return dir_x * tx[i] + dir_y * ty[i]; }));
       if (progress_) progress_(Progress{total_it_, outer + 1, err});
-      poll(&f);
       const bool done = err < tol && pk.converged && inner_tol <= tol && tangential_ok;
       if (steps.turns_back(done, stick_now)) {
         // Converged with the automatic derivative turned to upwind2, and every contact point
@@ -371,11 +608,13 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f) {
       if (dn[2] > 0) {
         // New support points (in grid order, so the layout does not depend on threads):
         // their previous iterate, residual and all stored differences are zero.
+        const std::size_t before = supp.size();
         for (std::size_t i = 0; i < n; ++i)
           if (joins_support(in_supp[i], tx[i], ty[i], f.tx[i], f.ty[i])) {
             in_supp[i] = 1;
             supp.push_back(static_cast<std::uint32_t>(i));
           }
+        if (supp.size() > before) batches.emplace_back(outer + 1, before);
         if (mixer) {
           mixer->resize(2 * supp.size());
           group_support();

@@ -7,7 +7,9 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
+#include "gfmd/contact/solver.hpp"
 #include "gfmd/core/error.hpp"
 
 namespace gfmd::contact_detail {
@@ -72,6 +74,20 @@ class FrictionSteps {
   FrictionSteps(bool stick_mode, bool automatic)
       : stick_mode_(stick_mode), turn_(automatic ? Turn::Spectral : Turn::None) {}
   [[nodiscard]] bool stick_mode() const { return stick_mode_; }
+  // The state as plain numbers (FrictionRestart) and back; restore refuses a turn it does
+  // not know.
+  [[nodiscard]] FrictionStepsState state() const {
+    return {stick_mode_, static_cast<int>(turn_), near_stick_, best_, since_best_};
+  }
+  void restore(const FrictionStepsState& s) {
+    if (s.turn < 0 || s.turn > static_cast<int>(Turn::UpwindFinal))
+      throw std::invalid_argument("FrictionSteps: unknown state");
+    stick_mode_ = s.stick_mode;
+    turn_ = static_cast<Turn>(s.turn);
+    near_stick_ = s.near_stick;
+    best_ = s.best;
+    since_best_ = s.since_best;
+  }
   // Whether the automatic derivative is upwind2 now (after a hand-over or a settle_upwind()).
   [[nodiscard]] bool upwind() const { return turn_ == Turn::Upwind || turn_ == Turn::UpwindFinal; }
   // After a full-slip step in which `slow` contact points slipped slower than kNearStickSpeed v0.

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,10 +16,27 @@
 
 namespace gfmd {
 
+// Where a run's solves stood at a checkpoint, besides the pressure and traction (a warm start
+// alone): the converged frictionless reference (friction.reference), so that a resumed run
+// need not solve it again, and the friction solve's restart point (ContactSolver::
+// restart_point; the host solve only), so that it goes on where it stopped. Fields on the
+// whole grid as read from a checkpoint (run_case hands every process its rows).
+struct SolveResume {
+  struct Reference {
+    RealField pressure;  // tx = ty = 0
+    SolveInfo info;      // its counts, approach and times (the residual is checked again)
+  };
+  std::optional<Reference> reference;
+  std::optional<FrictionRestart> friction;
+};
+
 // Work done before a checkpoint: a resumed run reports cumulative counts.
 struct CheckpointProgress {
   std::int64_t iterations = 0;
   double wall_time_s = 0.0;
+  // Where the solves stood (null: nothing beyond the fields, e.g. an interruption on the
+  // device); shared, so that copies of the progress stay cheap.
+  std::shared_ptr<const SolveResume> state;
 };
 
 // Line profiles through the pressure maximum along and across the sliding direction

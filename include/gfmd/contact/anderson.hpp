@@ -41,6 +41,25 @@ class AndersonMixer {
     have_prev_ = false;
   }
 
+  // The state (a checkpoint's restart point): whether an iterate is recorded, the ring slots in
+  // use (oldest first), the Gram matrix by slot (depth x depth), the last iterate and residual
+  // and each slot's differences, by entry.
+  [[nodiscard]] bool has_previous() const { return have_prev_; }
+  [[nodiscard]] const std::vector<std::size_t>& slots() const { return slots_; }
+  [[nodiscard]] const std::vector<double>& gram() const { return gram_; }
+  [[nodiscard]] const std::vector<double>& previous_iterate() const { return xprev_; }
+  [[nodiscard]] const std::vector<double>& previous_residual() const { return fprev_; }
+  [[nodiscard]] const std::vector<float>& residual_differences(std::size_t slot) const { return df_[slot]; }
+  [[nodiscard]] const std::vector<float>& iterate_differences(std::size_t slot) const { return dx_[slot]; }
+  // Puts a saved state back on a mixer of the same depth and size: the slots in use, the Gram
+  // matrix and whether an iterate is recorded; the per-entry vectors are then written through
+  // the references below (size() entries each, the slots' in use too).
+  void restore(bool have_prev, const std::vector<std::size_t>& slots, const std::vector<double>& gram);
+  [[nodiscard]] std::vector<double>& previous_iterate() { return xprev_; }
+  [[nodiscard]] std::vector<double>& previous_residual() { return fprev_; }
+  [[nodiscard]] std::vector<float>& residual_differences(std::size_t slot) { return df_[slot]; }
+  [[nodiscard]] std::vector<float>& iterate_differences(std::size_t slot) { return dx_[slot]; }
+
   // The plain relaxed step from the last recorded iterate, out(e, x + omega f) (what step()
   // writes with no history): the fallback when an extrapolated iterate is rejected.
   template <class Out>

@@ -29,6 +29,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "gfmd/contact/anderson.hpp"
 #include "gfmd/core/fft.hpp"
@@ -125,6 +126,62 @@ std::string friction_history_evidence(const std::vector<double>& change, const s
 
 class DeviceSolve;  // the CUDA backend's solve (contact/device_solve.hpp)
 
+// The friction loop's step control (stall test, hand-over, the automatic derivative's turns)
+// as plain numbers.
+struct FrictionStepsState {
+  bool stick_mode = false;
+  int turn = 0;
+  int near_stick = 0;
+  double best = std::numeric_limits<double>::infinity();
+  int since_best = 0;
+};
+
+// The restart point of a friction solve: the friction loop at the start of a friction step,
+// everything the later steps read, so that a solve resumed from it (ContactSolver::solve's
+// `resume`) takes the uninterrupted solve's steps and gives its bits. The pressure at the
+// start of the step and the traction iterate are the ContactFields that go with it (a
+// checkpoint's three fields). Per-point data are fields over the points held here (grid
+// layout: a slab under mpirun), so that a checkpoint gathers them and a resume on another
+// number of processes scatters them.
+struct FrictionRestart {
+  // The same on every process.
+  std::int32_t outer = 0;       // friction steps done
+  std::int32_t iterations = 0;  // inner iterations done by then (SolveInfo::iterations)
+  std::int32_t tangential_iterations = 0;
+  double error = 1.0;         // the last friction change
+  double mixing = 0.5;        // the relaxation now (halved at each stall)
+  double stick_points = 0.0;  // contact points that stuck in the last stick-slip solve
+  bool tangential_ok = false;
+  bool have_slip = false;
+  bool have_z = false;  // the splitting variable (zx, zy) is set
+  SlipDerivative derivative = SlipDerivative::Spectral;
+  FrictionStepsState steps;
+  double gw_mean_ref = 0.0, g_mean_ref = 0.0;  // the normal solve's references
+  // The last normal solve.
+  std::int32_t pk_iterations = 0;
+  double pk_error = 1.0, pk_delta = 0.0;
+  bool pk_converged = false;
+  std::vector<double> history_change, history_force;  // per friction step (failure messages)
+  // Anderson mixing of the traction (mixer: present; depth: solver.anderson).
+  bool mixer = false;
+  bool mixer_have_prev = false;
+  std::vector<std::int32_t> mixer_slots;  // ring slots in use, oldest first
+  std::vector<double> mixer_gram;         // depth x depth
+  // Per point held here.
+  RealField zx, zy;  // the splitting variable (have_z)
+  // -1 outside the mixing's support, else the friction step at whose end the point joined
+  // it (0: the warm start's traction): the support's order is (step, grid index).
+  RealField support;
+  // The mixer's last iterate and residual (x and y components), on the support (0 elsewhere).
+  RealField xprev_x, xprev_y, fprev_x, fprev_y;
+  // Per slot of mixer_slots: the residual and iterate differences, the x and y components
+  // as two floats packed into each double (pack_floats).
+  std::vector<RealField> df, dx;
+};
+// Two floats in the bits of one double, and back (FrictionRestart::df, dx).
+double pack_floats(float x, float y);
+void unpack_floats(double packed, float& x, float& y);
+
 struct Progress {
   int iteration;
   int outer;
@@ -145,7 +202,7 @@ class ContactSolver {
   // (warm start: pressure and tractions are used); it is overwritten with the new one.
   // While the solve runs (progress, checkpoints, an exception) only pressure, tx and ty
   // are valid; ux, uy, uz and gap are empty until the end.
-  SolveInfo solve(const LoadParams& load, ContactFields& fields);
+  SolveInfo solve(const LoadParams& load, ContactFields& fields) { return solve(load, fields, nullptr); }
 
   void set_progress(std::function<void(const Progress&)> cb) { progress_ = std::move(cb); }
   // Polled every iteration: returning true stops the solve with gfmd::Interrupted, the
@@ -153,6 +210,23 @@ class ContactSolver {
   void set_stop_request(std::function<bool()> cb) { stop_ = std::move(cb); }
   // Iterations done so far by the running (or last) solve.
   [[nodiscard]] int iterations_done() const { return total_it_; }
+  // A friction solve resumed from a restart point (restart_point() of an interrupted solve of
+  // the same problem, on this grid): `fields` hold its pressure and traction. The solve then
+  // goes on from there, with the interrupted solve's steps and bits. nullptr: solve().
+  SolveInfo solve(const LoadParams& load, ContactFields& fields, const FrictionRestart* resume);
+  // The restart point, while a checkpoint is written (the checkpoint callback) and after an
+  // interruption (until the next solve): the friction loop at the start of the step it was in,
+  // its pressure and traction in `fields` (pressure, tx, ty) and the rest in `state`. nullptr
+  // for a frictionless solve, a solve on the device, or between the friction steps' polls.
+  struct RestartPoint {
+    ContactFields fields;
+    FrictionRestart state;
+  };
+  [[nodiscard]] const RestartPoint* restart_point() const { return restart_.get(); }
+  // The final state of a converged solve given by its pressure and tractions (p, tx, ty in
+  // fields) and its info (a checkpoint's frictionless reference): the displacements, the gap
+  // and the residual check as solve() makes them. false on the device (not available there).
+  bool finish(ContactFields& fields, SolveInfo& info);
   // Called with the current state every `interval_s` seconds (checkpoints).
   void set_checkpoint(std::function<void(const ContactFields&)> cb, double interval_s) {
     checkpoint_ = std::move(cb);
@@ -243,6 +317,10 @@ class ContactSolver {
   std::function<void(const Progress&)> progress_;
   std::function<bool()> stop_;
   std::function<void(const ContactFields&)> checkpoint_;
+  // The friction loop's restart point: made by restart_maker_ (set while the loop runs) when
+  // a checkpoint or a stop is due.
+  std::unique_ptr<RestartPoint> restart_;
+  std::function<void()> restart_maker_;
   double checkpoint_interval_s_ = 0.0;
   double last_checkpoint_ = 0.0;
   ContactFields* current_ = nullptr;

@@ -1,0 +1,130 @@
+// Resume: a solve stopped part-way and resumed from its checkpoint goes on where it stopped
+// (the friction loop's restart point: the mixing history, the step control, the splitting
+// variable, the frictionless reference's result), so that it takes the uninterrupted solve's
+// steps and ends with its bits.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
+#include "gfmd/core/error.hpp"
+
+using namespace gfmd;
+namespace fs = std::filesystem;
+
+namespace {
+// The thin-layer case of issue 41 (examples/fig2e_rough_layer_sweep.toml at p = 0.1 E*) on a
+// 64^2 grid: about 90 inner iterations in 37 friction steps of the full-slip map.
+const char* kThinLayer = R"(
+[grid]
+nx = 64
+lx = 2.0
+[elastic]
+poisson = 0.49
+thickness = 0.1
+[indenter]
+type = "selfaffine"
+hurst = 0.8
+lambda_long = 1.0
+lambda_short = 0.125
+rms_height = 0.01
+seed = 0
+[load]
+pressure = 0.1
+[friction]
+coefficient = 1.0
+)";
+
+struct Resumed {
+  CaseResult fresh, resumed;
+  CheckpointProgress before;
+};
+
+// The case solved uninterrupted, then again stopped at friction step `stop_at` (of the
+// sliding solve) and resumed from the checkpoint it left.
+Resumed stop_and_resume(const Config& cfg, int stop_at, const std::string& tag) {
+  Resumed out;
+  out.fresh = run_case(cfg);
+  EXPECT_TRUE(out.fresh.info.converged) << out.fresh.info.status;
+  const fs::path dir = fs::temp_directory_path() / ("gfmd_resume41_" + tag + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string ck = (dir / "checkpoint.bin").string();
+  RunOptions o;
+  int outer = 0;
+  o.progress = [&outer](const Progress& p) { outer = std::max(outer, p.outer); };
+  o.stop_request = [&outer, stop_at] { return outer >= stop_at; };
+  o.checkpoint_path = ck;
+  EXPECT_THROW(run_case(cfg, o), Interrupted);
+  ContactFields warm;
+  EXPECT_TRUE(read_checkpoint(ck, cfg, warm, &out.before));
+  EXPECT_TRUE(out.before.state && out.before.state->friction && out.before.state->reference);
+  // A checkpoint of the older format, or a damaged one, is not used.
+  {
+    std::ifstream in(ck, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ContactFields f;
+    std::string old = bytes;
+    old[7] = '2';
+    std::ofstream(dir / "old.bin", std::ios::binary) << old;
+    EXPECT_FALSE(read_checkpoint((dir / "old.bin").string(), cfg, f));
+    std::ofstream(dir / "short.bin", std::ios::binary) << bytes.substr(0, bytes.size() - 8);
+    EXPECT_FALSE(read_checkpoint((dir / "short.bin").string(), cfg, f));
+  }
+  RunOptions r;
+  r.warm_start = &warm;
+  r.resumed = out.before;
+  out.resumed = run_case(cfg, r);
+  fs::remove_all(dir);
+  return out;
+}
+
+void expect_same_solve(const Resumed& x) {
+  const CaseResult& a = x.fresh;
+  const CaseResult& b = x.resumed;
+  ASSERT_TRUE(b.info.converged) << b.info.status;
+  std::printf(
+      "resume: fresh %d iterations (%d friction steps), stopped after %lld, total %d (%.3f of fresh)\n",
+      a.info.iterations, a.info.outer_iterations, static_cast<long long>(x.before.iterations),
+      b.info.iterations, static_cast<double>(b.info.iterations) / a.info.iterations);
+  // The work: every session's iterations of the sliding solve against the uninterrupted one's.
+  EXPECT_GT(x.before.iterations, a.reference->info.iterations);
+  EXPECT_LE(b.info.iterations, 1.2 * a.info.iterations);
+  // The uninterrupted solve's steps and bits.
+  EXPECT_EQ(b.info.outer_iterations, a.info.outer_iterations);
+  EXPECT_EQ(b.info.tangential_iterations, a.info.tangential_iterations);
+  EXPECT_EQ(b.info.slip_derivative, a.info.slip_derivative);
+  EXPECT_NEAR(b.observables.friction_coefficient, a.observables.friction_coefficient, 1e-8);
+  EXPECT_EQ(b.observables.friction_coefficient, a.observables.friction_coefficient);
+  EXPECT_TRUE(b.fields.pressure == a.fields.pressure);
+  EXPECT_TRUE(b.fields.tx == a.fields.tx);
+  EXPECT_TRUE(b.fields.ty == a.fields.ty);
+  // The frictionless reference is the checkpoint's, not solved again.
+  ASSERT_TRUE(b.reference.has_value());
+  EXPECT_EQ(b.reference->info.iterations, a.reference->info.iterations);
+  EXPECT_EQ(b.reference->observables.relative_contact_area, a.reference->observables.relative_contact_area);
+}
+}  // namespace
+
+// Sliding: the full-slip map with Anderson mixing, stopped at about 70 % of its steps.
+TEST(Resume, ThinLayerSlidingGoesOnWhereItStopped) {
+  const Config cfg = parse_config(kThinLayer, "thin.toml");
+  const Resumed x = stop_and_resume(cfg, 26, "slide");
+  EXPECT_GE(x.fresh.info.iterations, 50);
+  expect_same_solve(x);
+}
+
+// Tractive rolling (creepage 0.3): the stick-slip splitting from the start (its splitting
+// variable, upwind2), with stick.
+TEST(Resume, ThinLayerWithStickGoesOnWhereItStopped) {
+  const Config cfg = parse_config(kThinLayer, "thin.toml", {"friction.creepage=0.3"});
+  const Resumed x = stop_and_resume(cfg, 19, "stick");
+  EXPECT_GT(x.fresh.info.tangential_iterations, 0);
+  EXPECT_GT(x.fresh.info.stick_points, 0u);
+  expect_same_solve(x);
+}
