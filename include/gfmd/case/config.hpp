@@ -139,5 +139,16 @@ struct MemoryLimit {
   std::string source;
 };
 MemoryLimit memory_limit();
+// Why `bytes` do not fit memory_limit(): "<what> needs about X GB, more than the Y GB allowed
+// here (<its source>)"; "" when they fit or no limit is known.
+std::string memory_shortfall(double bytes, const std::string& what);
+
+// An rms gradient above this is legal but most likely heights and lateral lengths in different
+// units (issue 41): the run warns.
+inline constexpr double kMaxPlausibleRmsGradient = 5.0;
+// Warnings on a case's surface, each naming the keys to check (empty: none): an rms gradient
+// above kMaxPlausibleRmsGradient. map: how a file indenter's map was prepared (its units).
+std::vector<std::string> plausibility_warnings(const Config& cfg, const TopographyStats& stats,
+                                               const MapReport* map = nullptr);
 
 }  // namespace gfmd

@@ -35,6 +35,10 @@ struct HeightMap {
 //         header lines "# lx = <number> [unit]", "# ly = ...", "# unit = <unit>" (the unit of
 //         the heights, and of lx/ly when they name none); ':' may replace '='. A value
 //         "nan" (any case) is a missing point; an empty value between separators is an error.
+//         Three columns with a first row naming them x, y, z, or whose first two columns
+//         repeat values, are x, y, z points on a regular grid (columns by ascending x, rows by
+//         ascending y; lx, ly = spacing x count; pairs no row gives are missing points);
+//         points off a regular grid, or a pair given twice, are an error naming the line.
 //  netcdf a 2-D numeric variable "topography" (else "height", else "heights"), dims (y, x);
 //         scale_factor/add_offset applied; the fill value marks missing points; size from
 //         attributes lx/ly (of the variable, else global) or uniform 1-D coordinates; unit
