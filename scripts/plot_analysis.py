@@ -2,6 +2,10 @@
 """Draws analysis.png of a run directory from its analysis tables (written by gfmd run):
 the indenter's power spectrum with the Hurst fit (spectrum.csv, summary.json), the contact
 patches' area distribution (patches.csv), and the gap and pressure PDFs (distributions.csv).
+The gap PDF is over the points out of contact, and its dashed line is their mean gap (the
+"mean gap out of contact", summary.json analysis.gap.mean), which is not summary.json's
+mean_gap (the mean over the whole cell, contact points counting 0). Exit status 4 when
+interrupted (nothing written).
 
     plot_analysis.py DIR
 """
@@ -10,13 +14,16 @@ import json
 import os
 import sys
 
-import matplotlib
+import figure_io  # noqa: E402 (beside this script)
+
+if __name__ == "__main__":
+    figure_io.exit_on_interrupt_while_starting()
+
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-import figure_io  # noqa: E402 (beside this script)
 
 
 def read_csv(path):
@@ -25,10 +32,13 @@ def read_csv(path):
     return rows
 
 
-def main(d):
+def figure(d):
+    """The figure of run directory d's analysis tables (not saved)."""
     with open(os.path.join(d, "summary.json")) as fh:
         summary = json.load(fh)
-    unit = summary.get("input", {}).get("grid", {}).get("unit", "") or "length"
+    unit = figure_io.grid_unit(summary)
+    u = figure_io.unit_text(unit)
+    lab = figure_io.label
     a = summary.get("analysis", {})
     fig, axes = plt.subplots(2, 2, figsize=(9.5, 7.5), dpi=120)
     # Power spectrum and the Hurst fit.
@@ -43,24 +53,25 @@ def main(d):
         qq = np.geomspace(fit["q_min"], fit["q_max"], 50)
         ax.loglog(qq, fit["prefactor"] * qq ** (-2 - 2 * fit["hurst"]), "-", lw=1.5,
                   label=f"fit: H = {fit['hurst']:.3f} ($r^2$ = {fit['r2']:.4f})")
-    ax.set_xlabel(f"wave number q (1/{unit})")
-    ax.set_ylabel(f"C(q) ({unit}$^4$)")
+    ax.set_xlabel(f"wave number q (1/{u})")
+    ax.set_ylabel(lab("power spectrum C(q)", f"{unit}^4"))
     ax.set_title("indenter power spectrum")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="best")
     # Contact patch areas: complementary cumulative distribution.
     ax = axes[0, 1]
     patches = read_csv(os.path.join(d, "patches.csv"))
     areas = np.sort(np.array([float(r["area"]) for r in patches]))[::-1]
     if len(areas):
-        ax.loglog(areas, np.arange(1, len(areas) + 1), drawstyle="steps-post")
+        ax.loglog(areas, np.arange(1, len(areas) + 1), drawstyle="steps-post", marker="o" if len(areas) < 3 else "")
     p = a.get("patches", {})
-    ax.set_xlabel(f"patch area A ({unit}$^2$)")
-    ax.set_ylabel("number of patches with area ≥ A")
+    ax.set_xlabel(lab("patch area A", f"{unit}^2"))
+    ax.set_ylabel(lab("number of patches with area ≥ A", "1"))
     perc = " (percolating)" if p.get("percolating") else ""
-    ax.set_title(f"{p.get('count', len(areas))} contact patches{perc}")
+    count = p.get("count", len(areas))
+    ax.set_title(f"{count} contact patch{'' if count == 1 else 'es'}{perc}")
     # Gap and pressure PDFs.
     dist = read_csv(os.path.join(d, "distributions.csv"))
-    for ax, name, xlabel in ((axes[1, 0], "gap", f"gap g ({unit})"), (axes[1, 1], "pressure", "pressure p (E*)")):
+    for ax, name, xlabel in ((axes[1, 0], "gap", lab("gap g", unit)), (axes[1, 1], "pressure", lab("pressure p", "E*"))):
         rows = [r for r in dist if r["quantity"] == name]
         lo = np.array([float(r["bin_low"]) for r in rows])
         hi = np.array([float(r["bin_high"]) for r in rows])
@@ -68,20 +79,38 @@ def main(d):
         if len(rows):
             ax.stairs(pdf, np.append(lo, hi[-1:]), fill=True, alpha=0.6)
         stats = a.get(name, {})
-        if stats.get("samples"):
-            ax.axvline(stats["mean"], color="k", lw=1, ls="--", label=f"mean {stats['mean']:.4g}")
-            ax.legend(fontsize=8)
-        ax.set_xlabel(xlabel)
-        ax.set_ylabel(f"PDF (1/{'E*' if name == 'pressure' else unit})")
         where = "out of contact" if name == "gap" else "in contact"
-        ax.set_title(f"{name} distribution ({where}, {stats.get('samples', 0)} points)")
+        title = f"{name} distribution ({where}, {stats.get('samples', 0)} points)"
+        if stats.get("samples"):
+            # The mean of the drawn points, named for what it is (in the title: no legend on the PDF).
+            ax.axvline(stats["mean"], color="k", lw=1, ls="--")
+            mean = (f"mean gap out of contact = {stats['mean']:.4g} {u}" if name == "gap"
+                    else f"mean pressure in contact = {stats['mean']:.4g} E*")
+            title += f"\ndashed: {mean}"
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(f"PDF (1/{'E*' if name == 'pressure' else u})")
+        ax.set_title(title, fontsize=10)
     fig.tight_layout()
+    return fig
+
+
+def main(d, batch=None):
+    """Draws analysis.png in d; into batch (a figure_io.Batch, published by the caller) or,
+    without one, written at once. Returns its path."""
     out = os.path.join(d, "analysis.png")
-    figure_io.save_png(fig, out)
+    fig = figure(d)
+    if batch is None:
+        figure_io.save_png(fig, out)
+    else:
+        batch.save(fig, out, format="png")
     return out
+
+
+def _script():
+    print(main(sys.argv[1]))
 
 
 if __name__ == "__main__":
     if len(sys.argv) != 2:
         sys.exit(__doc__)
-    print(main(sys.argv[1]))
+    figure_io.run_main(_script, "plot_analysis.py")

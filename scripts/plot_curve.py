@@ -1,7 +1,10 @@
 #!/usr/bin/python3
 """Draws the load curves of gfmd curve (curve.csv + curve.json): contact area fraction, mean
 gap, friction coefficient and leakage against the mean pressure, four panels on a log pressure
-axis, with the percolation threshold (where the leakage stops) marked on every panel."""
+axis, with the percolation threshold (where the leakage stops) marked on every panel. The mean
+gap is summary.json's mean_gap: the mean over the whole cell, contact points counting 0 (not
+analysis.png's mean gap out of contact). Lengths in the case's grid.unit, else L. Exit status 4
+when interrupted (nothing written)."""
 import argparse
 import csv
 import json
@@ -9,12 +12,15 @@ import math
 import os
 import sys
 
-import matplotlib
+import figure_io  # noqa: E402 (beside this script)
+
+if __name__ == "__main__":
+    figure_io.exit_on_interrupt_while_starting()
+
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-
-import figure_io  # noqa: E402 (beside this script)
 
 
 def number(text):
@@ -49,25 +55,22 @@ def mark_threshold(ax, perc, label):
                      color="C3")
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("table", help="curve.csv written by gfmd curve")
-    ap.add_argument("--json", help="curve.json (default: next to the table)")
-    ap.add_argument("-o", "--output", help="PNG path (default: curve.png next to the table)")
-    ap.add_argument("--pdf", action="store_true", help="also write a PDF beside the PNG (figure_io.save)")
-    args = ap.parse_args()
-    here = os.path.dirname(args.table) or "."
-    with open(args.table, newline="") as f:
+def figure(table, meta_path=None):
+    """The figure of curve.csv (and curve.json, default beside it); not saved. ValueError
+    naming the table when it has no point."""
+    here = os.path.dirname(table) or "."
+    with open(table, newline="") as f:
         rows = list(csv.DictReader(f))
     if not rows:
-        sys.exit(f"{args.table}: no finished points to draw")
-    meta_path = args.json or os.path.join(here, "curve.json")
+        raise ValueError(f"{table}: no finished points to draw")
+    meta_path = meta_path or os.path.join(here, "curve.json")
     meta = {}
     if os.path.exists(meta_path):
         with open(meta_path) as f:
             meta = json.load(f)
     perc = meta.get("percolation", {})
-    unit = meta.get("input_first_point", {}).get("grid", {}).get("unit") or "length"
+    unit = figure_io.grid_unit(meta)
+    lab = figure_io.label
     head = list(rows[0].keys())
     tags = [c[len("conductivity_"):] for c in head if c.startswith("conductivity_")]
 
@@ -77,7 +80,7 @@ def main():
 
     xy = pairs(p, column(rows, "relative_contact_area"))
     a_ax.plot([a for a, _ in xy], [b for _, b in xy], "o-", color="C0")
-    a_ax.set_ylabel("contact area fraction A/A$_0$")
+    a_ax.set_ylabel(lab("contact area fraction A/A$_0$", "1"))
     a_ax.set_title("contact area", fontsize=9)
 
     xy = pairs(p, column(rows, "mean_gap"))
@@ -85,8 +88,8 @@ def main():
     gaps = [b for _, b in xy]
     if len(gaps) > 1 and min(gaps) > 0 and max(gaps) / min(gaps) > 50:
         g_ax.set_yscale("log")
-    g_ax.set_ylabel(r"mean gap $\langle g\rangle$ (" + unit + ")")
-    g_ax.set_title("mean gap", fontsize=9)
+    g_ax.set_ylabel(lab(r"$\langle g\rangle$ over the cell", unit))
+    g_ax.set_title("mean gap over the whole cell (contact points count 0)", fontsize=9)
 
     mu = pairs(p, column(rows, "friction_coefficient"))
     mud = pairs(p, column(rows, "friction_coefficient_downhill"))
@@ -99,7 +102,7 @@ def main():
         m_ax.text(0.5, 0.85, "frictionless case (friction.coefficient = 0)", transform=m_ax.transAxes,
                   ha="center", va="center", fontsize=8, color="0.4",
                   bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8})
-    m_ax.set_ylabel(r"friction coefficient $\mu$")
+    m_ax.set_ylabel(lab(r"friction coefficient $\mu$", "1"))
     m_ax.set_title("friction", fontsize=9)
 
     positive = []
@@ -123,7 +126,7 @@ def main():
                          label=f"flow along {t} stops, p = {d['pressure']:.3g}")
     if positive:
         k_ax.set_yscale("log")
-    k_ax.set_ylabel(r"leakage: conductivity $K_\mathrm{eff}$ (" + unit + "$^3$)")
+    k_ax.set_ylabel(lab(r"conductivity $K_\mathrm{eff}$", f"{unit}^3"))
     k_ax.set_title("leakage (Reynolds flow through the gap)", fontsize=9)
 
     for ax in axes.flat:
@@ -131,8 +134,9 @@ def main():
             ax.set_xscale("log")
         mark_threshold(ax, perc, ax is a_ax)
         ax.grid(alpha=0.3)
-    for ax in (m_ax, k_ax):
-        ax.set_xlabel("mean pressure p / E*")
+    for ax in axes.flat:  # every panel with its own axis (sharex would leave the upper ones bare)
+        ax.set_xlabel(lab("mean pressure p̄", "E*"))
+        ax.tick_params(labelbottom=True)
     for ax in axes.flat:
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=7, loc="best")
@@ -140,8 +144,23 @@ def main():
     title = os.path.basename(meta.get("case", "")) or "gfmd curve"
     if perc:
         title += ": " + perc.get("message", "")
-    fig.suptitle(title, fontsize=9)
+    fig.suptitle(title, fontsize=9, wrap=True)
     fig.tight_layout()
+    return fig
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("table", help="curve.csv written by gfmd curve")
+    ap.add_argument("--json", help="curve.json (default: next to the table)")
+    ap.add_argument("-o", "--output", help="PNG path (default: curve.png next to the table)")
+    ap.add_argument("--pdf", action="store_true", help="also write a PDF beside the PNG (figure_io.save)")
+    args = ap.parse_args()
+    here = os.path.dirname(args.table) or "."
+    try:
+        fig = figure(args.table, args.json)
+    except ValueError as e:
+        sys.exit(str(e))
     out = args.output or os.path.join(here, "curve.png")
     if args.pdf:
         base = out[:-4] if out.endswith(".png") else out
@@ -153,4 +172,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    figure_io.run_main(main, "plot_curve.py")

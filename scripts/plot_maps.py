@@ -16,29 +16,39 @@ DIR/flow.nc when there is one. One PNG per field present, written atomically int
     von_mises.png             von Mises stress
     current_<dir>.png         |current density| for a pressure gradient along <dir>
 
-Axes are in the length unit of the case, with the true aspect ratio; Hertz cases are zoomed
-onto the contact. --only draws a subset (names as above without .png; "current" for all
+Axes are in the length unit of the case ("x (µm)" with grid.unit = "um", "x (L)" without),
+with the true aspect ratio; Hertz cases are zoomed onto the contact. Every colour bar is
+labelled "symbol (unit)". The contact is outlined where that does not hide the field (a
+contact of a few patches: Hertz, not a measured or rough surface); the legend sits below the
+map, outside the data. --only draws a subset (names as above without .png; "current" for all
 current maps); --profiles also draws profiles.png from DIR/profiles.csv (plot_profiles.py);
 analysis.png (spectrum, patches, gap and pressure PDFs; plot_analysis.py) is drawn when DIR has
 the analysis tables (name "analysis" for --only).
+Every figure is drawn to a temporary (NAME.png.tmp.<pid>) and all of them are renamed
+together at the end: an interrupted command (Ctrl-C, SIGTERM) changes no figure, leaves no
+temporary and exits with status 4, without a traceback.
 Exit status: 0 when every map was drawn, 2 when a fields file is missing or unreadable,
-1 on other errors.
+4 when interrupted, 1 on other errors.
 """
 import argparse
+import glob
 import json
 import os
 import re
 import sys
 import warnings
 
-import matplotlib
+import figure_io  # noqa: E402 (beside this script)
+
+if __name__ == "__main__":
+    figure_io.exit_on_interrupt_while_starting()
+
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
-
-import figure_io  # noqa: E402 (beside this script)
 
 try:
     import tomllib
@@ -47,6 +57,12 @@ except ImportError:  # Python < 3.11: the indenter type comes from summary.json 
 
 STAGING = ".maps.tmp.nc"  # include/gfmd/case/outputs.hpp: kMapsStagingFile
 MAX_PIXELS = 1024  # long side of the drawn data after block averaging
+# The contact outline is left out where it would hide the map: its edge cells more than
+# OUTLINE_MAX_EDGE_FRACTION of the drawn cells and more than OUTLINE_MAX_RATIO times the edge of
+# one disc of the same area (many small patches: a rough or measured surface). A Hertz disc
+# has a ratio near 1, an egg-crate's four patches per period 2.
+OUTLINE_MAX_EDGE_FRACTION = 0.02
+OUTLINE_MAX_RATIO = 3.0
 ZOOM_MARGIN = 0.3  # Hertz zoom: margin around the contact, relative to its size
 ZOOM_MIN_CELLS = 4  # ... and at least this many cells
 
@@ -208,21 +224,51 @@ def map_limits(data, pressure, hertz):
 
 
 def colour_label(symbol, units):
-    if not units or units == "1":
-        return symbol
-    return f"{symbol} / {units.replace('^3', '³').replace('^2', '²')}"
+    """The colour bar's label: "symbol (unit)", "(–)" for a dimensionless field."""
+    return figure_io.label(symbol, units)
 
 
-def subtitle(summary):
+def rolling(summary):
+    """Tractive rolling (friction.creepage != 1 or lateral_creepage != 0; sliding is creepage 1):
+    friction_coefficient is not the number to read there (README), traction_coefficient is."""
+    try:
+        f = summary["input"]["friction"]
+        return f.get("coefficient", 0) > 0 and (f.get("creepage", 1.0) != 1.0 or f.get("lateral_creepage", 0.0) != 0.0)
+    except (KeyError, TypeError, AttributeError):
+        return False
+
+
+def subtitle(summary, unit="length"):
+    """The run's key numbers under a map's title: load, mean pressure, contact area and the
+    friction coefficient (the traction coefficient for rolling)."""
     if not summary:
         return ""
+    u = figure_io.unit_text(unit)
+    keys = [("normal_force", "F = {:.4g} E* " + u + "²"), ("mean_pressure", "p̄ = {:.4g} E*"),
+            ("relative_contact_area", "A/A₀ = {:.4g}")]
+    if rolling(summary):
+        keys.append(("traction_coefficient", "traction coefficient F_t/F = {:.4g}"))
+    else:
+        keys.append(("friction_coefficient", "μ = {:.4g}"))
     parts = []
-    for key, fmt in (("normal_force", "F = {:.4g}"), ("mean_pressure", "p̄ = {:.4g} E*"),
-                     ("relative_contact_area", "A/A₀ = {:.4g}"), ("friction_coefficient", "μ = {:.4g}")):
+    for key, fmt in keys:
         v = summary.get(key)
-        if isinstance(v, (int, float)):
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
             parts.append(fmt.format(v))
     return ",  ".join(parts)
+
+
+def outline_hides_data(contact_view):
+    """True for a contact of many small patches (a rough or measured surface), whose outlines
+    would cover the map: see OUTLINE_MAX_EDGE_FRACTION and OUTLINE_MAX_RATIO."""
+    c = np.nan_to_num(contact_view) > 0.5
+    if c.size == 0 or not c.any():
+        return False
+    edge = np.zeros_like(c)
+    edge[:, 1:] |= c[:, 1:] != c[:, :-1]
+    edge[1:, :] |= c[1:, :] != c[:-1, :]
+    disc = 2.0 * np.sqrt(np.pi * c.sum())  # edge cells of one disc of the contact's area
+    return edge.sum() > OUTLINE_MAX_EDGE_FRACTION * c.size and edge.sum() > OUTLINE_MAX_RATIO * disc
 
 
 def figure(aspect):
@@ -242,8 +288,9 @@ def figure(aspect):
     return fig, ax, cax
 
 
-def draw(path, view, values, title, label, cmap, kind, unit, contact, stick=None, note=""):
-    """One map: the field over the view, a colour bar, the contact (and stick zone) outlines."""
+def draw(path, view, values, title, label, cmap, kind, unit, contact, stick=None, note="", batch=None):
+    """One map: the field over the view, a colour bar, the contact (and stick zone) outlines.
+    Drawn to batch's temporary (published with the others), else written at once."""
     v = view.data(values)
     finite = v[np.isfinite(v)]
     lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
@@ -264,7 +311,7 @@ def draw(path, view, values, title, label, cmap, kind, unit, contact, stick=None
     outline = "black" if kind in ("diverging", "slip") else ("white" if cmap == "viridis" else "cyan")
     handles = []
     c = view.data(contact)
-    if np.nanmin(c) < 0.5 < np.nanmax(c):
+    if np.nanmin(c) < 0.5 < np.nanmax(c) and not outline_hides_data(c):
         ax.contour(view.xc, view.yc, c, levels=[0.5], colors=outline, linewidths=0.8)
         handles.append(Line2D([], [], color=outline, lw=0.8, label="contact"))
     if stick is not None:
@@ -273,17 +320,24 @@ def draw(path, view, values, title, label, cmap, kind, unit, contact, stick=None
             ax.contour(view.xc, view.yc, s, levels=[0.5], colors="limegreen", linewidths=1.0,
                        linestyles="--")
             handles.append(Line2D([], [], color="limegreen", lw=1.0, ls="--", label="stick zone"))
-    if handles:
-        leg = ax.legend(handles=handles, loc="upper right", fontsize=7, framealpha=0.6)
-        leg.get_frame().set_facecolor("0.5" if outline in ("white", "cyan") else "white")
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
     ax.set_aspect("equal")
-    u = f" / {unit}" if unit else ""
-    ax.set_xlabel(f"x{u}")
-    ax.set_ylabel(f"y{u}")
+    ax.set_xlabel(figure_io.label("x", unit or "length"))
+    ax.set_ylabel(figure_io.label("y", unit or "length"))
     ax.set_title(title + (f"\n{note}" if note else ""), fontsize=9)
-    figure_io.save_png(fig, path)
+    if handles:  # below the map (outside the data), under the x label
+        leg = ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=len(handles),
+                        fontsize=7, frameon=False)
+        if outline in ("white", "cyan"):  # light lines: a grey key so that they show
+            leg.set_frame_on(True)
+            leg.get_frame().set_facecolor("0.45")
+            leg.get_frame().set_edgecolor("none")
+    figure_io.fit(fig)
+    if batch is None:
+        figure_io.save_png(fig, path)
+    else:
+        batch.save(fig, path, format="png")
 
 
 def fields_file(d, given=None):
@@ -300,8 +354,17 @@ def wanted(name, only):
     return only is None or name in only or (name.startswith("current_") and "current" in only)
 
 
-def plot_dir(d, fields=None, only=None, profiles=False):
-    """Draws the maps of run directory d; returns the paths written."""
+def plot_dir(d, fields=None, only=None, profiles=False, batch=None):
+    """Draws the maps of run directory d into batch (a figure_io.Batch: the caller publishes
+    them); without one they are published before returning. Returns the paths."""
+    if batch is None:
+        batch = figure_io.Batch()
+        try:
+            written = plot_dir(d, fields, only, profiles, batch)
+            batch.publish()
+        finally:
+            batch.discard()
+        return written
     path = fields_file(d, fields)
     need = {"pressure", "contact", "stick"}
     for name, var, *_ in MAPS:
@@ -327,8 +390,8 @@ def plot_dir(d, fields=None, only=None, profiles=False):
         stick = None
     hertz = indenter_type(data["input_toml"], summary) == "hertz"
     view = View(nx, ny, data["lx"], data["ly"], map_limits(data, pressure, hertz))
-    note = subtitle(summary)
-    unit = data["length_unit"]
+    unit = data["length_unit"] or "length"
+    note = subtitle(summary, unit)
     written = []
     for name, var, title, symbol, cmap, kind in MAPS:
         if var not in f or not wanted(name, only):
@@ -338,7 +401,7 @@ def plot_dir(d, fields=None, only=None, profiles=False):
             values = np.where(contact > 0.5, values, np.nan)  # shown inside the contact only
         out = os.path.join(d, name + ".png")
         draw(out, view, values, title, colour_label(symbol, units), cmap, kind, unit, contact,
-             stick if kind == "slip" else None, note)
+             stick if kind == "slip" else None, note, batch)
         written.append(out)
     # Flow current magnitudes: flow.nc (written with every flow), else the fields file.
     currents = {k: v for k, v in f.items() if CURRENT.fullmatch(k)}
@@ -353,19 +416,18 @@ def plot_dir(d, fields=None, only=None, profiles=False):
         tag = CURRENT.fullmatch(name).group(1)
         out = os.path.join(d, name + ".png")
         draw(out, view, values, f"flow current density, pressure gradient along {tag}",
-             colour_label("$|q|$", units), "plasma", "positive", unit, contact, None, note)
+             colour_label("$|q|$", units), "plasma", "positive", unit, contact, None, note, batch)
         written.append(out)
     if wanted("analysis", only) and os.path.isfile(os.path.join(d, "spectrum.csv")):
         sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
         import plot_analysis
 
-        written.append(plot_analysis.main(d))
+        written.append(plot_analysis.main(d, batch))
     if profiles and os.path.isfile(os.path.join(d, "profiles.csv")):
         sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
         import plot_profiles
 
-        plot_profiles.main(os.path.join(d, "profiles.csv"))
-        written.append(os.path.join(d, "profiles.png"))
+        written.append(plot_profiles.main(os.path.join(d, "profiles.csv"), batch))
     return written
 
 
@@ -379,34 +441,62 @@ def main(argv=None):
     if args.fields and len(args.dirs) > 1:
         ap.error("--fields takes one DIR")
     only = set(args.only.split(",")) if args.only else None
-    jobs = [(d, args.fields, only, args.profiles) for d in args.dirs]
+    token = os.getpid()  # the temporaries of every directory: NAME.tmp.<token>
+    jobs = [(d, args.fields, only, args.profiles, token) for d in args.dirs]
     workers = min(len(jobs), os.cpu_count() or 1, 4)
-    if workers > 1:  # sweeps and studies: directories in parallel (forked after the imports)
-        import multiprocessing
+    try:
+        if workers > 1:  # sweeps and studies: directories in parallel (forked after the imports)
+            import multiprocessing
 
-        with multiprocessing.get_context("fork").Pool(workers) as pool:
-            results = pool.map(plot_job, jobs, chunksize=1)
-    else:
-        results = [plot_job(j) for j in jobs]
-    for written, _, _ in results:
+            with multiprocessing.get_context("fork").Pool(workers, initializer=figure_io.worker_signals) as pool:
+                results = pool.map(plot_job, jobs, chunksize=1)
+        else:
+            results = [plot_job(j) for j in jobs]
+        # Every directory's figures are published together, once all are drawn.
+        batch = figure_io.Batch(token)
+        for pending, _, _, _ in results:
+            batch.add(pending)
+        batch.publish()
+    except KeyboardInterrupt:
+        # The pool has ended its workers (SIGTERM); their temporaries and ours go.
+        remove_temporaries(args.dirs, token)
+        raise
+    for _, written, _, _ in results:
         for p in written:
             print(p)
-    for _, status, message in results:
+    for _, _, status, message in results:
         if message:
             print(f"plot_maps.py: error: {message}", file=sys.stderr)
-    return max(status for _, status, _ in results)
+    return max(status for _, _, status, _ in results)
+
+
+def remove_temporaries(dirs, token):
+    """Removes the figures' temporaries (*.tmp.<token>) in dirs."""
+    with figure_io.signals_held():
+        for d in dirs:
+            for p in glob.glob(os.path.join(glob.escape(d), f"*.tmp.{token}")):
+                try:
+                    os.remove(p)
+                except FileNotFoundError:
+                    pass
 
 
 def plot_job(job):
-    """plot_dir for one directory: (paths written, exit status, error message)."""
-    d, fields, only, profiles = job
+    """plot_dir for one directory, drawn to temporaries: ((temporary, path) pairs to publish,
+    paths, exit status, error message). A failed directory's temporaries are removed."""
+    d, fields, only, profiles, token = job
+    batch = figure_io.Batch(token)
     try:
-        return plot_dir(d, fields, only, profiles), 0, ""
+        written = plot_dir(d, fields, only, profiles, batch)
+        pending, batch.pending = batch.pending, []
+        return pending, written, 0, ""
     except InputProblem as e:
-        return [], 2, str(e)
+        return [], [], 2, str(e)
     except Exception as e:  # one directory's failure does not stop the others
-        return [], 1, f"{d}: {type(e).__name__}: {e}"
+        return [], [], 1, f"{d}: {type(e).__name__}: {e}"
+    finally:
+        batch.discard()
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    figure_io.run_main(main, "plot_maps.py")

@@ -1,15 +1,80 @@
 #!/usr/bin/python3
-"""Draws one column of a gfmd sweep table against the swept parameter (PNG)."""
+"""Draws one column of a gfmd sweep table against the swept parameter (PNG). The axes are
+named as in the README with their units ("mean pressure p̄ (E*)", lengths in the case's
+grid.unit from sweep.json beside the table, else L); a swept parameter whose values are
+log-spaced gets a log axis. Exit status 4 when interrupted (nothing written)."""
 import argparse
 import csv
+import json
 import math
 import os
 import sys
 
-import matplotlib
+import figure_io  # noqa: E402 (beside this script)
+
+if __name__ == "__main__":
+    figure_io.exit_on_interrupt_while_starting()
+
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+
+def log_spaced(values):
+    """True for positive values that are closer to a geometric than to an arithmetic
+    progression (two values: a ratio of 10 or more)."""
+    x = sorted(set(v for v in values if math.isfinite(v)))
+    if len(x) < 2 or x[0] <= 0:
+        return False
+    if len(x) == 2:
+        return x[1] / x[0] >= 10
+    lin = [b - a for a, b in zip(x, x[1:])]
+    log = [math.log(b / a) for a, b in zip(x, x[1:])]
+
+    def spread(d):
+        m = sum(d) / len(d)
+        return math.sqrt(sum((v - m) ** 2 for v in d) / len(d)) / m
+
+    return spread(log) < spread(lin)
+
+
+def length_unit_beside(table):
+    try:
+        with open(os.path.join(os.path.dirname(table) or ".", "sweep.json")) as fh:
+            return figure_io.grid_unit(json.load(fh))
+    except (OSError, ValueError):
+        return "length"
+
+
+def figure(table, column):
+    """The figure of one column of sweep.csv against the swept parameter (not saved); raises
+    ValueError naming the table when there is nothing to draw."""
+    with open(table, newline="") as f:
+        rows = list(csv.reader(f))
+    if len(rows) < 2:
+        raise ValueError(f"{table}: no finished points to draw")
+    head, data = rows[0], rows[1:]
+    if column not in head:
+        raise ValueError(f"{table}: no column '{column}'; columns: {', '.join(head)}")
+    xi, yi = 0, head.index(column)
+    x = [float(r[xi]) for r in data if r[yi] not in ("", "null")]
+    y = [float(r[yi]) for r in data if r[yi] not in ("", "null")]
+    unit = length_unit_beside(table)
+    fig, ax = plt.subplots(figsize=(5, 3.6), dpi=150)
+    ax.plot(x, y, "o-", color="C0")
+    if log_spaced(x):
+        ax.set_xscale("log")
+        if len(set(x)) <= 8 and max(x) / min(x) < 100:  # within two decades: ticks at the swept values
+            ax.set_xticks(sorted(set(x)), [f"{v:g}" for v in sorted(set(x))])
+            ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+    if len(y) > 1 and min(y) > 0 and max(y) / min(y) > 50 and all(math.isfinite(v) for v in y):
+        ax.set_yscale("log")
+    ax.set_xlabel(figure_io.quantity_label(head[xi], unit))
+    ax.set_ylabel(figure_io.quantity_label(column, unit))
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
 
 
 def main():
@@ -18,32 +83,14 @@ def main():
     ap.add_argument("--y", default="friction_coefficient", help="column to draw")
     ap.add_argument("-o", "--output", help="PNG path (default: next to the table)")
     args = ap.parse_args()
-    with open(args.table, newline="") as f:
-        rows = list(csv.reader(f))
-    if len(rows) < 2:
-        sys.exit(f"{args.table}: no finished points to draw")
-    head, data = rows[0], rows[1:]
-    if args.y not in head:
-        sys.exit(f"{args.table}: no column '{args.y}'; columns: {', '.join(head)}")
-    xi, yi = 0, head.index(args.y)
-    x = [float(r[xi]) for r in data if r[yi] not in ("", "null")]
-    y = [float(r[yi]) for r in data if r[yi] not in ("", "null")]
-    fig, ax = plt.subplots(figsize=(5, 3.6), dpi=150)
-    ax.plot(x, y, "o-", color="C0")
-    if len(x) > 1 and min(x) > 0 and max(x) / min(x) > 20:
-        ax.set_xscale("log")
-    if len(y) > 1 and min(y) > 0 and max(y) / min(y) > 50 and all(math.isfinite(v) for v in y):
-        ax.set_yscale("log")
-    ax.set_xlabel(head[xi])
-    ax.set_ylabel(args.y)
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
+    try:
+        fig = figure(args.table, args.y)
+    except ValueError as e:
+        sys.exit(str(e))
     out = args.output or os.path.join(os.path.dirname(args.table) or ".", f"sweep_{args.y}.png")
-    tmp = out + ".tmp.png"
-    fig.savefig(tmp)
-    os.replace(tmp, out)
+    figure_io.save_png(fig, out)
     print(out)
 
 
 if __name__ == "__main__":
-    main()
+    figure_io.run_main(main, "plot_sweep.py")

@@ -1,6 +1,8 @@
 """Figures drawn from the fields of single runs (studies with kind = "runs"): a grid of
 maps (rows = fields, columns = series) or of line profiles along and across the sliding
-direction through the pressure maximum."""
+direction through the pressure maximum. Axes labelled "quantity (unit)" (lengths in the
+case's grid.unit, else L), every colour bar labelled with its [[maps]] label, the series'
+titles wrapped to their map's width (clear of the colour bars)."""
 import json
 import os
 import textwrap
@@ -8,7 +10,7 @@ import textwrap
 import matplotlib.pyplot as plt
 import netCDF4
 import numpy as np
-from figure_io import save, write_csv
+from figure_io import label, save, wrap_to_width, write_csv
 
 
 def load_fields(d):
@@ -16,6 +18,7 @@ def load_fields(d):
         f = {k: np.array(v[:], dtype=float) for k, v in nc.variables.items() if v.ndim == 2}
         f["_lx"] = float(nc.getncattr("lx"))
         f["_ly"] = float(nc.getncattr("ly"))
+        f["_unit"] = getattr(nc.variables["x"], "units", "") if "x" in nc.variables else ""
     return f
 
 
@@ -58,11 +61,13 @@ def draw_maps(study, series, fig_base):
     post-analysis panels), drawn with the colour limits of <field> and labelled with the
     factor. Post-analysis summaries go to <fig_base>_ratios.csv."""
     rows = study["maps"]
-    fig, axes = plt.subplots(len(rows), len(series), figsize=(2.3 * len(series), 2.1 * len(rows)), dpi=150,
+    fig, axes = plt.subplots(len(rows), len(series), figsize=(2.5 * len(series), 2.2 * len(rows) + 0.4), dpi=150,
                              squeeze=False)
     table = []
+    unit = "length"
     for c, (s, d) in enumerate(series):
         f = load_fields(d)
+        unit = f["_unit"] or "length"
         idx, ext = window(f, study.get("crop"))
         for r, spec in enumerate(rows):
             v = field(f, spec)
@@ -82,18 +87,29 @@ def draw_maps(study, series, fig_base):
             if factor is not None:
                 ax.text(0.03, 0.95, f"× {factor:.3g}", transform=ax.transAxes, fontsize=7, va="top",
                         bbox={"facecolor": "white", "alpha": 0.7, "lw": 0})
-            fig.colorbar(im, ax=ax, shrink=0.8)
-            ax.set_xticks([])
-            ax.set_yticks([])
-            if r == 0:
-                ax.set_title(textwrap.fill(s["label"], 30), fontsize=7)
+            cb = fig.colorbar(im, ax=ax, shrink=0.8)
+            cb.set_label(spec.get("label", spec["var"]), fontsize=7)
+            cb.ax.tick_params(labelsize=6)
+            # Coordinates from the indenter's highest point, on the outer panels only.
+            ax.tick_params(labelsize=6, labelbottom=r == len(rows) - 1, labelleft=c == 0)
+            if r == len(rows) - 1:
+                ax.set_xlabel(label("x − x₀", unit), fontsize=7)
             if c == 0:
-                ax.set_ylabel(spec.get("label", spec["var"]), fontsize=7)
+                ax.set_ylabel(label("y − y₀", unit), fontsize=7)
+            if r == 0:
+                ax.set_title(s["label"], fontsize=7)
             table.append([s["label"], spec["var"], float(np.nanmin(v)), float(np.nanmax(v))])
     fig.suptitle(textwrap.fill(study.get("title", ""), 30 * len(series)), fontsize=8)
     if study.get("caption"):
         fig.text(0.5, 0.005, study["caption"], ha="center", va="bottom", fontsize=6, wrap=True)
-    fig.tight_layout(rect=(0, 0.04 if study.get("caption") else 0, 1, 1))
+    rect = (0, 0.04 if study.get("caption") else 0, 1, 1)
+    fig.tight_layout(rect=rect)
+    # The series' titles no wider than their maps (centred over them: wider ones ran into the
+    # colour bars beside them), then the layout again for their height.
+    renderer = fig.canvas.get_renderer()
+    for ax in axes[0]:
+        wrap_to_width(ax.title, ax.get_window_extent(renderer).width, renderer)
+    fig.tight_layout(rect=rect)
     save(fig, fig_base)
     write_csv(fig_base + ".csv", ["series", "field", "min", "max"], table)
     ratios = []
@@ -130,8 +146,9 @@ def draw_cross_section(study, series, fig_base):
         ax.plot(x, body, color="C0", lw=0.8)
         ax.plot(x, indenter, color="0.2", lw=0.8)
         ax.set_title(s["label"], fontsize=7)
-        ax.set_xlabel("x / λ_l", fontsize=7)
-        ax.set_ylabel("z / λ_l", fontsize=7)
+        unit = f["_unit"] or "length"
+        ax.set_xlabel(label("x", unit), fontsize=7)
+        ax.set_ylabel(label("z", unit), fontsize=7)
         ax.tick_params(labelsize=6)
         table += [[s["label"], float(a), float(b), float(c)] for a, b, c in zip(x, indenter, body)]
     fig.suptitle(study.get("title", ""), fontsize=8)
@@ -145,8 +162,10 @@ def draw_profiles(study, series, fig_base):
     fig, axes = plt.subplots(len(rows), len(series), figsize=(2.3 * len(series), 1.8 * len(rows)), dpi=150,
                              squeeze=False, sharex=True)
     table = []
+    unit = "length"
     for c, (s, d) in enumerate(series):
         f = load_fields(d)
+        unit = f["_unit"] or "length"
         p = f["pressure"]
         ny, nx = p.shape
         iy, ix = np.unravel_index(np.argmax(p), p.shape)
@@ -170,11 +189,20 @@ def draw_profiles(study, series, fig_base):
             ax.tick_params(labelsize=6)
             for k, x in enumerate(xs):
                 table.append([s["label"], spec["var"], float(x), float(lon[k]), float(tra[k])])
-    axes[0][0].legend(fontsize=6)
     for ax in axes[-1]:
-        ax.set_xlabel(study.get("xlabel", "distance from the pressure maximum"), fontsize=7)
-    fig.suptitle(study.get("title", ""), fontsize=8)
-    fig.tight_layout()
+        ax.set_xlabel(study.get("xlabel", label("distance from the pressure maximum", unit)), fontsize=7)
+    h = fig.get_size_inches()[1]
+    fig.suptitle(study.get("title", ""), fontsize=8, y=1 - 0.06 / h, va="top")
+    rect = (0, 0, 1, 1 - 0.3 / h)
+    fig.tight_layout(rect=rect)
+    renderer = fig.canvas.get_renderer()
+    for ax in axes[0]:
+        wrap_to_width(ax.title, ax.get_window_extent(renderer).width, renderer)
+    fig.tight_layout(rect=rect)
+    # One key for all panels, under the title (outside the data).
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, 1 - 0.24 / h), ncol=2, fontsize=6,
+               frameon=False)
     save(fig, fig_base)
     write_csv(fig_base + ".csv", ["series", "field", "s", "longitudinal", "transverse"], table)
 
