@@ -86,7 +86,7 @@ def test_sweep_series_that_stops_early_is_drawn_and_reported(tmp_path):
                      f'[quick]\nset = ["grid.nx=64"]\n')
     p = subprocess.run(STUDY + [str(study), "--quick", "-o", str(tmp_path / "out")],
                        capture_output=True, text=True)
-    assert p.returncode != 0
+    assert p.returncode == 3  # not converged
     assert "stopped early" in p.stderr
     d = tmp_path / "out" / "partial" / "quick"
     table = rows(d / "partial.csv")[1:]
@@ -115,3 +115,169 @@ def test_fig3ad_quick_paper_post_analysis_ratios(out):
     assert 0.7 < ratio[("compressible", "consistent")] < 1.4
     assert 0.7 < ratio[("confined", "consistent")] < 1.4
     assert (d / "fig3ad.png").stat().st_size > 10000
+
+
+# ---------------------------------------------------------------------------------------
+# Bad input (exit 2, one line naming the file and the key) and interruption (exit 4, one
+# line, no traceback, no temporary file; the same command then finishes, reusing the runs).
+
+BUILD = os.environ.get("GFMD_BUILD_DIR", os.path.join(ROOT, "build"))
+ENV = dict(os.environ, GFMD=os.path.join(BUILD, "gfmd"))
+INTERRUPTED = "gfmd: study interrupted; run the same command again to continue"
+
+
+def small_sweep_study(tmp_path, points=2):
+    """Two series of `points` Hertz loads at 64^2 (about a second per point), no maps."""
+    case = tmp_path / "case.toml"
+    loads = ", ".join(repr(0.004 + 0.002 * k) for k in range(points))
+    case.write_text(open(os.path.join(ROOT, "examples", "hertz_nu025.toml")).read()
+                    + f"\n[sweep]\nparameter = \"load.force\"\nvalues = [{loads}]\n"
+                    + "plot = \"relative_contact_area\"\n")
+    study = tmp_path / "small.toml"
+    study.write_text(f'title = "small"\nkind = "sweep"\nx = "load.force"\ny = "relative_contact_area"\n\n'
+                     f'[[series]]\nlabel = "a"\ncase = "{case}"\n\n'
+                     f'[[series]]\nlabel = "b"\ncase = "{case}"\nset = ["elastic.poisson=0.4"]\n\n'
+                     f'[quick]\nset = ["grid.nx=64", "output.png=false"]\n')
+    return study
+
+
+def temporary_files(top):
+    return [os.path.join(d, f) for d, _, files in os.walk(top) for f in files if ".tmp" in f]
+
+
+@pytest.mark.parametrize("text, reason", [
+    (None, "no such file"),
+    ("case", "this is a case file ([grid]), use gfmd run"),
+    ('title = "t"\nkind = "sweep"\nx = "load.force"\ny = "mu"\n', "no [[series]] table"),
+    ('kind = "sweep"\nx = "load.force"\ny = "mu"\n[[series]]\nlabel = "a"\ncase = "CASE"\nset = "grid.nx=64"\n',
+     "series[1].set: must be a list of strings"),
+    ('kind = "sweep"\nx = "load.force"\ny = "mu"\n[[series]]\nlabel = "a"\ncase = "CASE"\n'
+     '[[series]]\ncase = "CASE"\n', "series[2].label: missing"),
+    ('kind = "sweep"\nx = "load.force"\ny = "mu"\n[[series]]\nlabel = "a"\ncase = "nothere.toml"\n',
+     "series[1].case: nothere.toml: no such file"),
+    ('kind = "sweeps"\n[[series]]\nlabel = "a"\ncase = "CASE"\n', "kind: must be one of"),
+    ('kind = "sweep"\nx = "load.force"\n[[series]]\nlabel = "a"\ncase = "CASE"\n', "y: missing"),
+    ('kind = "runs"\n[[series]]\nlabel = "a"\ncase = "CASE"\n', "no [[maps]] table"),
+    ('kind = "sweep"\nx = "load.force"\ny = "mu"\nseries = 3\n', "series: must be an array of tables"),
+    ('kind = "sweep"\nx = "load.force"\ny = "mu"\n[[series]]\nlabel = "a"\ncase = "CASE"\n[quick]\nset = ["grid.nx"]\n',
+     'quick.set: "grid.nx" is not key=value'),
+    ("kind = \n", "not valid TOML"),
+])
+def test_bad_study_file_exits_2_naming_file_and_key(tmp_path, text, reason):
+    case = os.path.join(ROOT, "examples", "hertz_nu025.toml")
+    if text is None:
+        path = str(tmp_path / "nothere.toml")
+    elif text == "case":
+        path = case
+    else:
+        path = str(tmp_path / "bad.toml")
+        with open(path, "w") as f:
+            f.write(text.replace("CASE", case))
+    out = tmp_path / "out"
+    p = subprocess.run(STUDY + [path, "--quick", "-o", str(out)], capture_output=True, text=True, env=ENV)
+    assert p.returncode == 2, p.stderr
+    assert p.stderr.splitlines() == [p.stderr.strip()], p.stderr  # one line
+    assert p.stderr.startswith(f"gfmd study: {path}: {reason}"), p.stderr
+    assert not out.exists()  # nothing written
+
+
+def test_setting_a_run_refuses_exits_2_naming_the_series(tmp_path):
+    study = small_sweep_study(tmp_path, points=2)
+    p = subprocess.run(STUDY + [str(study), "--quick", "-o", str(tmp_path / "out"), "--set", "grid.nx=\"many\""],
+                       capture_output=True, text=True, env=ENV)
+    assert p.returncode == 2, p.stderr
+    assert p.stderr.startswith(f"gfmd study: {study}: series[1] (a): "), p.stderr
+    assert "grid.nx" in p.stderr and "Traceback" not in p.stderr
+
+
+def wait_for(path, proc, what):
+    """Polls until path exists (the study is still running then, or the test fails)."""
+    for _ in range(1200):
+        if os.path.exists(path):
+            return
+        assert proc.poll() is None, f"the study ended before {what}: {proc.communicate()}"
+        time.sleep(0.05)
+    proc.kill()
+    raise AssertionError(f"no {what} after 60 s")
+
+
+@pytest.mark.parametrize("how", ["ctrl-c", "sigterm"])
+def test_interrupted_study_exits_4_cleanly_and_continues(tmp_path, how):
+    # Ctrl-C reaches the whole foreground process group (study.py and the gfmd sweep it
+    # runs); a SIGTERM sent to study.py alone is passed on to the sweep by study.py (and the
+    # same command is not run again: that is the same for both).
+    import signal
+
+    study = small_sweep_study(tmp_path)
+    out = tmp_path / "out"
+    cmd = STUDY + [str(study), "--quick", "-o", str(out)]
+    series = out / "small" / "quick" / "series_00"
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV,
+                         start_new_session=True)
+    # After the first point of the first series has finished: its run is reused below.
+    first = series / "point_000" / "summary.json"
+    wait_for(first, p, "a finished point")
+    if how == "ctrl-c":
+        os.killpg(p.pid, signal.SIGINT)
+    else:
+        p.send_signal(signal.SIGTERM)
+    _, err = p.communicate(timeout=120)
+    assert p.returncode == 4, err
+    assert "Traceback" not in err, err
+    assert [ln for ln in err.splitlines() if "interrupted" in ln] == [INTERRUPTED], err
+    assert not temporary_files(out), temporary_files(out)
+    assert not (out / "small" / "quick" / "small.png").exists()  # stopped, not finished
+    if how != "ctrl-c":
+        return
+    stamp = os.stat(first).st_mtime_ns
+    # The same command finishes and recomputes nothing that was finished.
+    q = subprocess.run(cmd, capture_output=True, text=True, env=ENV)
+    assert q.returncode == 0, q.stderr
+    assert os.stat(first).st_mtime_ns == stamp
+    table = rows(out / "small" / "quick" / "small.csv")[1:]
+    assert len(table) == 4
+    assert not temporary_files(out)
+    # It names where the figure and the table went.
+    assert f"figure: {out / 'small' / 'quick' / 'small.png'}" in q.stderr, q.stderr
+    assert str(out / "small" / "quick" / "small.csv") in q.stderr, q.stderr
+
+
+def test_python_study_bad_file_is_an_input_error(tmp_path):
+    # `gfmd study` passes study.py's exit status 2 on: InputError (a ValueError) naming the
+    # file and the key, nothing written.
+    import gfmd
+
+    bad = tmp_path / "bad.toml"
+    bad.write_text('title = "t"\n')
+    with pytest.raises(ValueError, match=r"bad.toml: no \[\[series\]\] table"):
+        gfmd.study(str(bad), output=str(tmp_path / "out"))
+    with pytest.raises(gfmd.InputError, match="this is a case file"):
+        gfmd.study(os.path.join(ROOT, "examples", "hertz_nu025.toml"), output=str(tmp_path / "out"))
+    assert not (tmp_path / "out").exists()
+
+
+def test_python_study_interrupted_raises_keyboard_interrupt(tmp_path):
+    # gfmd.study in a Python process that is interrupted alone (as a notebook's kernel is):
+    # KeyboardInterrupt once the study's runs have stopped, no traceback, no temporary file.
+    import signal
+
+    study = small_sweep_study(tmp_path)
+    out = tmp_path / "out"
+    script = (
+        "import sys, gfmd\n"
+        "try:\n"
+        f"    gfmd.study({str(study)!r}, quick=True, output={str(out)!r})\n"
+        "except KeyboardInterrupt:\n"
+        "    print('KeyboardInterrupt', flush=True)\n"
+        "    sys.exit(0)\n"
+        "sys.exit(1)\n")
+    env = dict(os.environ, PYTHONPATH=os.path.join(BUILD, "python"))
+    p = subprocess.Popen(["/usr/bin/python3", "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         text=True, env=env)
+    wait_for(out / "small" / "quick" / "series_00" / "point_000" / "summary.json", p, "a finished point")
+    p.send_signal(signal.SIGINT)
+    stdout, err = p.communicate(timeout=120)
+    assert (p.returncode, stdout) == (0, "KeyboardInterrupt\n"), (stdout, err)
+    assert "Traceback" not in err, err
+    assert not temporary_files(out), temporary_files(out)
+    assert not (out / "small" / "quick" / "small.png").exists()  # stopped, not finished
