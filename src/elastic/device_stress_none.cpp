@@ -3,6 +3,8 @@
 #include "gfmd/elastic/device_stress.hpp"
 
 #if !GFMD_HAVE_CUDA
+#include "stress_detail.hpp"
+
 namespace gfmd {
 
 std::optional<DeviceStressResult> device_surface_stress(const Grid&, const ElasticParams&,
@@ -19,9 +21,12 @@ std::optional<DeviceStressResult> device_post_analysis_stress(const ElasticBody&
   return std::nullopt;
 }
 
-std::optional<DeviceStressResult> device_subsurface_stress(const Grid&, const ElasticParams&,
-                                                           const ContactFields&, double,
+std::optional<DeviceStressResult> device_subsurface_stress(const Grid&, const ElasticParams& el,
+                                                           const ContactFields&, double depth,
                                                            const DeviceStressRequest&) {
+  // The same argument checks as the device's, so that a bad depth is refused alike.
+  el.validate();
+  stress_detail::check_depth(el, depth);
   return std::nullopt;
 }
 
