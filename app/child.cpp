@@ -58,9 +58,11 @@ std::string find_script(const std::string& name) {
 }
 
 // Runs a program with an argument vector (never through a shell) and waits for it. Its
-// standard output (and error, if quiet) go to /dev/null. Returns its exit status, or -1 if
-// it could not be started or was killed. GFMD in its environment names this program.
-int run_child(const std::vector<std::string>& args, bool quiet) {
+// standard output (unless keep_stdout; and error, if quiet) go to /dev/null. A stop request
+// that reached this process alone (kill PID, timeout) is passed on to it as SIGTERM. Returns
+// its exit status, or -1 if it could not be started or was killed. GFMD in its environment
+// names this program.
+int run_child(const std::vector<std::string>& args, bool quiet, bool keep_stdout) {
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
@@ -73,15 +75,26 @@ int run_child(const std::vector<std::string>& args, bool quiet) {
   envp.push_back(nullptr);
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  if (!keep_stdout) posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
   if (quiet) posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
   pid_t pid = 0;
   const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&fa);
   if (rc != 0) return -1;
   int status = 0;
-  while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return -1;
+  // A Ctrl-C at a terminal reaches the child itself; a signal sent to this process alone is
+  // passed on if the child has not ended a second after it.
+  int polls_since_stop = 0;
+  for (;;) {
+    const pid_t w = waitpid(pid, &status, WNOHANG);
+    if (w == pid) break;
+    if (w < 0 && errno != EINTR) return -1;
+    if (stop_requested() && ++polls_since_stop == 50) ::kill(pid, SIGTERM);
+    ::usleep(20000);
+  }
+  // Our children (the drawing scripts, study.py) exit 4 when they were interrupted: so is this
+  // program then, whoever got the signal.
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 4) g_stop = 1;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 

@@ -23,7 +23,7 @@ std::string find_script(const std::string& name);
 // Runs a program with an argument vector (never through a shell) and waits for it. Its
 // standard output (and error, if quiet) go to /dev/null. Returns its exit status, or -1 if
 // it could not be started or was killed. GFMD in its environment names this program.
-int run_child(const std::vector<std::string>& args, bool quiet);
+int run_child(const std::vector<std::string>& args, bool quiet, bool keep_stdout = false);
 // Runs a plotting helper; false (with nothing else done) if it is missing or fails.
 bool run_script(const std::string& script, const std::vector<std::string>& args, bool quiet);
 

@@ -22,6 +22,7 @@
 #include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
+#include "gfmd/case/run_directory.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/core/mpi.hpp"
@@ -80,9 +81,12 @@ std::string sets_note(const std::vector<std::string>& sets) {
 namespace {
 // The lock of an output directory: held by rank 0 alone under mpirun, its outcome (taken, or
 // refused) agreed with the other processes; the lock itself in one process.
-std::unique_ptr<gfmd::DirectoryLock> lock_on_root(const std::string& dir, bool wait) {
+std::unique_ptr<gfmd::DirectoryLock> lock_on_root(const std::string& dir, DirFlags flags) {
   std::unique_ptr<gfmd::DirectoryLock> lock;
-  gfmd::on_root([&] { lock = std::make_unique<gfmd::DirectoryLock>(dir, wait, stop_requested); });
+  gfmd::on_root([&] {
+    gfmd::check_output_directory(dir, flags.force);
+    lock = std::make_unique<gfmd::DirectoryLock>(dir, flags.wait, stop_requested);
+  });
   return lock;
 }
 
@@ -120,7 +124,7 @@ int run_follower(const gfmd::Config& cfg) {
 }  // namespace
 
 int cmd_run(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
-            bool quiet, bool verbose, bool resume, double checkpoint_s, bool wait) {
+            bool quiet, bool verbose, bool resume, double checkpoint_s, DirFlags dir_flags) {
   const gfmd::Config cfg = gfmd::load_config(case_path, sets);
   if (out_dir.empty())
     out_dir = (std::filesystem::path("out") / std::filesystem::path(case_path).stem()).string();
@@ -141,15 +145,16 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
       if (!told) (void)gfmd::mpi::from_root(kDirectoryFailed);
     }
   } ready;
-  const gfmd::DirectoryLock lock(out_dir, wait, stop_requested);
+  gfmd::RunDirectory rd(out_dir, {dir_flags.force, dir_flags.wait, stop_requested});
   const std::string ckpt = (fs::path(out_dir) / "checkpoint.bin").string();
   gfmd::ContactFields warm;
   gfmd::CheckpointProgress done;
   bool have_warm = false;
   if (resume) {
     if (gfmd::finished_summary(out_dir, cfg)) {
-      std::printf("%s: already solved in %s/ (summary.json); nothing to do\n", case_path.c_str(),
-                  out_dir.c_str());
+      if (!quiet)
+        std::printf("%s: already solved in %s/ (summary.json); nothing to do\n", case_path.c_str(),
+                    out_dir.c_str());
       ready.tell(kNothingToDo);
       return 0;
     }
@@ -164,9 +169,13 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
                    have_warm ? "resuming from the checkpoint" : "no usable checkpoint: starting afresh");
     }
   }
-  // The run owns its directory: what an earlier run wrote there goes first.
-  gfmd::clear_run_outputs(out_dir, have_warm);
-  gfmd::write_status(out_dir, "running");
+  // The results go to a staging area first; the directory's previous result stays until the
+  // new one is complete.
+  if (!have_warm) {
+    std::error_code ec;
+    fs::remove(ckpt, ec);
+  }
+  rd.begin();
   ready.tell(kDirectoryReady);
   ProgressPrinter pp;
   pp.quiet = quiet;
@@ -182,56 +191,74 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
     opts.warm_start = &warm;
     opts.resumed = done;
   }
+  // "; the previous complete result in DIR/ is kept unchanged", where there is one.
+  const auto kept = [](const std::string& note) { return note.empty() ? std::string() : "; " + note; };
   // Every error from here on leaves status.json "failed" with the reason.
   const auto failed = [&](const std::string& why) {
     pp.done();
-    try {
-      gfmd::write_status(out_dir, "failed", why);
-    } catch (const std::exception&) {
-      // The status cannot be written either (disk full): the message on stderr remains.
-    }
+    return kept(rd.fail(why));
+  };
+  const auto interrupted = [&](const std::string& why) {
+    pp.done();
+    const std::string note = kept(rd.interrupt(why));
+    std::fprintf(stderr, "gfmd: %s: %s; state saved in %s, continue with --resume%s\n", case_path.c_str(),
+                 why.c_str(), ckpt.c_str(), note.c_str());
+    return 4;
   };
   gfmd::CaseResult r;
   try {
     r = gfmd::run_case(cfg, opts);
   } catch (const gfmd::Interrupted& e) {
-    pp.done();
-    gfmd::write_status(out_dir, "interrupted", e.what());
-    std::fprintf(stderr, "gfmd: %s: %s; state saved in %s, continue with --resume\n", case_path.c_str(),
-                 e.what(), ckpt.c_str());
-    return 4;
+    return interrupted(e.what());
   } catch (const std::bad_alloc&) {
-    failed("out of memory during the solve");
+    const std::string note = failed("out of memory during the solve");
+    if (!note.empty()) std::fprintf(stderr, "gfmd: %s\n", note.substr(2).c_str());
     throw;
   } catch (const std::exception& e) {
-    failed(e.what());
+    const std::string note = failed(e.what());
     std::error_code ec;
     fs::remove(ckpt, ec);
+    if (!note.empty()) std::fprintf(stderr, "gfmd: %s\n", note.substr(2).c_str());
     throw;
   }
   pp.done();
   if (r.map_report)
     for (const std::string& w : r.map_report->warnings)
       std::fprintf(stderr, "gfmd: warning: %s: %s\n", r.map_report->path.c_str(), w.c_str());
+  for (const std::string& w :
+       gfmd::plausibility_warnings(r.config, r.topography_stats, r.map_report ? &*r.map_report : nullptr))
+    std::fprintf(stderr, "gfmd: warning: %s: %s\n", case_path.c_str(), w.c_str());
   if (!r.info.converged) {
     char why[512];
     std::snprintf(why, sizeof why,
                   "%s after %d iterations (pressure change %.3e, friction change %.3e, tolerance %.1e)",
                   r.info.status.c_str(), r.info.iterations, r.info.pk_error, r.info.friction_error,
                   cfg.solver.tolerance);
-    failed(why);
+    const std::string note = failed(why);
     std::error_code ec;
     fs::remove(ckpt, ec);
-    std::fprintf(stderr, "gfmd: error: %s: %s%s; no results written\n", case_path.c_str(), why,
-                 sets_note(sets).c_str());
+    std::fprintf(stderr, "gfmd: error: %s: %s%s; no results written%s\n", case_path.c_str(), why,
+                 sets_note(sets).c_str(), note.c_str());
     return 3;
   }
-  // The maps and profiles.png (output.png) are drawn from the data files just written.
-  gfmd::publish_outputs(r, out_dir, [&] {
-    if (cfg.output.png) (void)draw_maps({out_dir}, {"--profiles"});
-  });
+  // The data files, then the maps and profiles.png drawn from them (output.png), all in the
+  // staging area; published together once complete.
+  try {
+    gfmd::publish_outputs(r, rd.staging(), [&] {
+      if (cfg.output.png) (void)draw_maps({rd.staging()}, {"--profiles"});
+    });
+    if (stop_requested()) throw gfmd::Interrupted("interrupted while drawing the figures");
+    rd.publish();
+  } catch (const gfmd::Interrupted& e) {
+    return interrupted(e.what());
+  } catch (const std::exception& e) {
+    const std::string note = failed(std::string("writing the outputs: ") + e.what());
+    if (!note.empty()) std::fprintf(stderr, "gfmd: %s\n", note.substr(2).c_str());
+    throw;
+  }
   std::error_code ec;
   fs::remove(ckpt, ec);
+  if (quiet) return 0;  // -q: only errors
   const auto& o = r.observables;
   std::printf("%s: %s in %d iterations (%.2f s, residual %.2e)\n", case_path.c_str(), r.info.status.c_str(),
               r.info.iterations, r.info.wall_time_s, r.info.residual);
@@ -252,7 +279,7 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
 }
 
 int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets_in,
-              std::string plot, bool quiet, bool wait) {
+              std::string plot, bool quiet, DirFlags dir_flags) {
   std::vector<std::string> sets;
   std::string param;
   std::vector<double> values;
@@ -265,6 +292,9 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
       std::stringstream ss(s.substr(eq + 1));
       std::string tok;
       while (std::getline(ss, tok, ',')) {
+        if (values.size() >= static_cast<std::size_t>(gfmd::kMaxSweepPoints))
+          throw gfmd::InputError("--set " + param,
+                                 "at most " + std::to_string(gfmd::kMaxSweepPoints) + " values in a sweep");
         try {
           std::size_t used = 0;
           values.push_back(std::stod(tok, &used));
@@ -277,8 +307,14 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
       sets.push_back(s);
     }
   }
-  const gfmd::Config cfg =
-      param.empty() ? gfmd::load_config(case_path, sets) : gfmd::sweep_config(case_path, sets, param, values);
+  const gfmd::Config cfg = param.empty() ? gfmd::load_config(case_path, sets) : [&] {
+    try {
+      return gfmd::sweep_config(case_path, sets, param, values);
+    } catch (const gfmd::InputError& e) {
+      if (e.where() == "values") throw gfmd::InputError("--set " + param, e.why());
+      throw;
+    }
+  }();
   if (!cfg.sweep.active())
     throw gfmd::InputError(case_path, "nothing to sweep: add --set section.key=v1,v2,... or a [sweep] table");
   // An explicit column (--plot or the case's sweep.plot) is checked; the default is drawn
@@ -291,13 +327,13 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
                   .string();
   // Under mpirun rank 0 alone holds the directory, prints and draws; every process solves.
   const bool root = gfmd::mpi::root();
-  const auto lock = lock_on_root(out_dir, wait);
   ProgressPrinter pp;
   pp.quiet = quiet || !root;
   gfmd::SweepOptions so;
   so.overrides = sets;
   so.progress = [&pp](const gfmd::Progress& p) { pp(p); };
   so.stop_request = stop_requested;
+  so.directory = {dir_flags.force, dir_flags.wait, stop_requested};
   const auto t0 = std::chrono::steady_clock::now();
   // An explicit column is checked by the sweep on its first point.
   if (plot_given) {
@@ -311,11 +347,15 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
     std::fprintf(stderr, "[%d/%d] %s (elapsed %.1f s, about %.0f s left)\n", done, total, msg.c_str(), el,
                  el / done * (total - done));
   };
-  // The sweep re-reads the case for every point; [sweep] given on the command line is
-  // passed on through the overrides-free config copy.
-  const auto draw = [&] {
-    return run_script("plot_sweep.py", {(std::filesystem::path(out_dir) / "sweep.csv").string(), "--y", plot},
+  // The sweep plot, drawn from the tables in `dir` (the staging area before they are published).
+  const auto draw = [&](const std::string& dir) {
+    return run_script("plot_sweep.py", {(std::filesystem::path(dir) / "sweep.csv").string(), "--y", plot},
                       false);
+  };
+  bool drawn = false;
+  so.before_publish = [&](const std::string& staging) {
+    (void)draw_maps(runs_needing_maps(staging), {});
+    drawn = draw(staging);
   };
   try {
     gfmd::run_sweep(case_path, cfg, out_dir, so);
@@ -323,25 +363,32 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
     pp.done();
     if (!root) return 4;
     std::fprintf(stderr,
-                 "gfmd: sweep interrupted (%s); finished points and a checkpoint are kept in %s/, run the "
-                 "same command again to continue\n",
-                 e.what(), out_dir.c_str());
+                 "gfmd: sweep interrupted (%s); finished points and a checkpoint are kept, run the same "
+                 "command again to continue%s\n",
+                 e.what(),
+                 gfmd::read_status(out_dir) == "interrupted" &&
+                         std::filesystem::exists(std::filesystem::path(out_dir) / gfmd::kStagingName)
+                     ? ("; the previous result in " + out_dir + "/ is kept unchanged").c_str()
+                     : "");
     return 4;
-  } catch (const gfmd::SolveError&) {
-    // The finished points are kept: draw them before reporting the failure.
+  } catch (const gfmd::SolveError& e) {
     pp.done();
     if (!root) throw;
-    (void)draw_maps(runs_needing_maps(out_dir), {});
-    if (std::filesystem::exists(std::filesystem::path(out_dir) / "sweep.csv") && draw())
-      std::fprintf(stderr, "gfmd: the finished points are drawn in %s/sweep_%s.png\n", out_dir.c_str(),
-                   plot.c_str());
+    // A first attempt publishes its finished points (the message says so): draw them before
+    // reporting the failure.
+    if (std::string(e.what()).find("finished points are kept in") != std::string::npos &&
+        std::filesystem::exists(std::filesystem::path(out_dir) / "sweep.csv")) {
+      (void)draw_maps(runs_needing_maps(out_dir), {});
+      if (draw(out_dir))
+        std::fprintf(stderr, "gfmd: the finished points are drawn in %s/sweep_%s.png\n", out_dir.c_str(),
+                     plot.c_str());
+    }
     throw;
   }
-  if (!root) return 0;
-  (void)draw_maps(runs_needing_maps(out_dir), {});
+  if (!root || quiet) return 0;
   std::printf("sweep of %s over %zu values: tables in %s/sweep.csv and sweep.json\n",
               cfg.sweep.parameter.c_str(), cfg.sweep.values.size(), out_dir.c_str());
-  if (!draw())
+  if (!drawn)
     std::fprintf(stderr, "gfmd: warning: could not draw %s with matplotlib (%s)\n", plot.c_str(),
                  python_interpreter().c_str());
   else
@@ -350,7 +397,7 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
 }
 
 int cmd_curve(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
-              const std::string& pressures, bool no_png, bool quiet, bool wait) {
+              const std::string& pressures, bool no_png, bool quiet, DirFlags dir_flags) {
   // Library errors name the parameter "pressures"; here it is the option --pressures.
   const auto as_option = [](const gfmd::InputError& e) {
     return e.where() == "pressures" ? gfmd::InputError("--pressures", e.why()) : e;
@@ -380,15 +427,15 @@ int cmd_curve(const std::string& case_path, std::string out_dir, const std::vect
     out_dir = (fs::path("out") / (fs::path(case_path).stem().string() + "_curve")).string();
   // Under mpirun rank 0 alone holds the directories, prints and draws; every process solves.
   const bool root = gfmd::mpi::root();
-  const auto lock = lock_on_root(out_dir, wait);
-  // The points are a sweep of their own in DIR/points: no gfmd sweep may write there meanwhile.
-  const auto points_lock = lock_on_root((fs::path(out_dir) / "points").string(), wait);
+  const auto lock = lock_on_root(out_dir, dir_flags);
   ProgressPrinter pp;
   pp.quiet = quiet || !root;
   gfmd::CurveOptions co;
   co.sweep.overrides = sets;
   co.sweep.progress = [&pp](const gfmd::Progress& p) { pp(p); };
   co.sweep.stop_request = stop_requested;
+  // The points are a sweep of their own in DIR/points, which holds its lock.
+  co.sweep.directory = {false, dir_flags.wait, stop_requested};
   const auto t0 = std::chrono::steady_clock::now();
   co.sweep.on_point = [&](int done, int total, const std::string& msg) {
     pp.done();
@@ -419,25 +466,30 @@ int cmd_curve(const std::string& case_path, std::string out_dir, const std::vect
   }
   pp.done();
   if (!root) return 0;
-  std::printf("curve of %s over %zu pressures: %s/curve.csv and curve.json (runs in points/)\n",
-              case_path.c_str(), cfg.sweep.values.size(), out_dir.c_str());
-  const nlohmann::json& perc = j["percolation"];
-  std::printf("  percolation threshold: %s\n", perc["message"].get<std::string>().c_str());
-  for (const auto& [tag, d] : perc["directions"].items())
-    if (d["pressure"] != perc["pressure"] || d["status"] != perc["status"])
-      std::printf("    along %s alone: %s\n", tag.c_str(), d["message"].get<std::string>().c_str());
+  if (!quiet) {
+    std::printf("curve of %s over %zu pressures: %s/curve.csv and curve.json (runs in points/)\n",
+                case_path.c_str(), cfg.sweep.values.size(), out_dir.c_str());
+    const nlohmann::json& perc = j["percolation"];
+    std::printf("  percolation threshold: %s\n", perc["message"].get<std::string>().c_str());
+    for (const auto& [tag, d] : perc["directions"].items())
+      if (d["pressure"] != perc["pressure"] || d["status"] != perc["status"])
+        std::printf("    along %s alone: %s\n", tag.c_str(), d["message"].get<std::string>().c_str());
+  }
   if (png) {
-    if (draw())
-      std::printf("  plot: %s/curve.png\n", out_dir.c_str());
-    else
+    if (draw()) {
+      if (!quiet) std::printf("  plot: %s/curve.png\n", out_dir.c_str());
+    } else if (stop_requested()) {
+      throw gfmd::Interrupted("interrupted while drawing curve.png");
+    } else {
       std::fprintf(stderr, "gfmd: warning: could not draw curve.png with matplotlib (%s)\n",
                    python_interpreter().c_str());
+    }
   }
   return 0;
 }
 
 int cmd_flow(const std::string& dir, const std::string& direction, double tol, const std::string& solver,
-             bool wait) {
+             DirFlags dir_flags) {
   gfmd::FlowSolver which;
   if (!gfmd::parse_flow_solver(solver, which))
     throw gfmd::InputError("--solver", "must be auto, amg or boomeramg, got '" + solver + "'");
@@ -473,19 +525,42 @@ int cmd_flow(const std::string& dir, const std::string& direction, double tol, c
   if (angles.empty())
     throw gfmd::InputError("--direction",
                            "must be x, y, both or an angle in degrees, got '" + direction + "'");
-  const gfmd::DirectoryLock lock(dir, wait, stop_requested);
+  gfmd::RunDirectory rd(dir, {dir_flags.force, dir_flags.wait, stop_requested, /*owns_status=*/false});
   const auto r = gfmd::compute_leakage(g, gap.data(), angles, tol, which, stop_requested);
   std::string unit;  // the case's grid.unit, if it named one
   if (const auto gi = s["input"]["grid"]; gi.contains("unit") && gi["unit"].is_string())
     unit = gi["unit"].get<std::string>();
-  gfmd::write_leakage(g, r, dir, {{"relative_contact_area", s.value("relative_contact_area", 0.0)}}, unit);
-  (void)draw_maps({dir}, {"--only", "current"});
+  // flow.json, flow.nc and the current maps are staged and published together; the maps are
+  // drawn there beside links to the run's summary and fields (the same files, published back
+  // onto themselves).
+  rd.begin();
+  try {
+    gfmd::write_leakage(g, r, rd.staging(),
+                        {{"relative_contact_area", s.value("relative_contact_area", 0.0)}}, unit);
+    for (const char* name : {"summary.json", "fields.nc"}) {
+      std::error_code ec;
+      fs::create_hard_link(fs::path(dir) / name, fs::path(rd.staging()) / name, ec);
+      if (ec) fs::copy_file(fs::path(dir) / name, fs::path(rd.staging()) / name, ec);
+    }
+    (void)draw_maps({rd.staging()}, {"--only", "current"});
+    if (stop_requested()) throw gfmd::Interrupted("interrupted while drawing the current maps");
+    rd.publish([](const std::string& n) {
+      return n == "flow.json" || n == "flow.nc" ||
+             (n.rfind("current_", 0) == 0 && n.size() > 12 && n.compare(n.size() - 4, 4, ".png") == 0);
+    });
+  } catch (const gfmd::Interrupted& e) {
+    (void)rd.interrupt(e.what());
+    throw;
+  } catch (const std::exception& e) {
+    (void)rd.fail(std::string("gfmd flow: ") + e.what());
+    throw;
+  }
   std::printf("%s/flow.json:\n%s\n", dir.c_str(), r.json.dump(2).c_str());
   return 0;
 }
 
 int cmd_percolation(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
-                    const std::string& direction, double area_tol, bool quiet, bool wait) {
+                    const std::string& direction, double area_tol, bool quiet, DirFlags dir_flags) {
   const gfmd::Config cfg = gfmd::load_config(case_path, sets);
   if (direction != "x" && direction != "y") throw gfmd::InputError("--direction", "must be x or y");
   if (out_dir.empty())
@@ -499,9 +574,9 @@ int cmd_percolation(const std::string& case_path, std::string out_dir, const std
   const bool root = gfmd::mpi::root();
   if (!quiet && root) po.log = [](const std::string& m) { std::fprintf(stderr, "  %s\n", m.c_str()); };
   po.stop_request = stop_requested;
-  const auto lock = lock_on_root(out_dir, wait);
+  const auto lock = lock_on_root(out_dir, dir_flags);
   const nlohmann::json j = gfmd::run_percolation(cfg, po, out_dir);
-  if (!root) return 0;
+  if (!root || quiet) return 0;
   std::printf(
       "critical relative contact area along %s: %.4f (pressure %.6g) after %d solves -> "
       "%s/percolation.json\n",
@@ -511,7 +586,7 @@ int cmd_percolation(const std::string& case_path, std::string out_dir, const std
 }
 
 int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
-                 const std::string& seeds, bool quiet, bool wait) {
+                 const std::string& seeds, bool quiet, DirFlags dir_flags) {
   int s0 = 0, s1 = 7, used = 0;
   if (std::sscanf(seeds.c_str(), "%d..%d%n", &s0, &s1, &used) != 2 ||
       used != static_cast<int>(seeds.size()) || s0 < 0 || s1 < s0)
@@ -527,13 +602,13 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
             .string();
   // Under mpirun rank 0 alone holds the directory, prints and draws; every process solves.
   const bool root = gfmd::mpi::root();
-  const auto lock = lock_on_root(out_dir, wait);
+  eo.directory = {dir_flags.force, dir_flags.wait, stop_requested};
+  eo.before_publish = [](const std::string& staging) { (void)draw_maps(runs_needing_maps(staging), {}); };
   eo.stop_request = stop_requested;
   if (!quiet && root)
     eo.on_seed = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };
   const nlohmann::json j = gfmd::run_ensemble(case_path, out_dir, eo);
-  if (!root) return 0;
-  (void)draw_maps(runs_needing_maps(out_dir), {});
+  if (!root || quiet) return 0;
   const bool pairs = j.contains("frictionless");
   std::printf("%s/ensemble.json: K_x = %.4e, K_y = %.4e (Bruggeman over %d seeds)", out_dir.c_str(),
               j["conductivity_x"]["bruggeman"].get<double>(), j["conductivity_y"]["bruggeman"].get<double>(),
@@ -573,11 +648,13 @@ int cmd_green(const std::vector<double>& nus, double from, double to, int points
 }
 
 int cmd_study(const std::string& study_path, bool quick, const std::string& out_dir,
-              const std::vector<std::string>& sets) {
+              const std::vector<std::string>& sets, bool quiet, bool force) {
   const std::string script = find_script("study.py");
   if (script.empty()) throw gfmd::InputError("gfmd study", "study.py is not installed next to this program");
   std::vector<std::string> args = {python_interpreter(), script, study_path};
   if (quick) args.emplace_back("--quick");
+  if (quiet) args.emplace_back("--quiet");
+  if (force) args.emplace_back("--force");
   if (!out_dir.empty()) {
     args.emplace_back("-o");
     args.push_back(out_dir);
@@ -586,13 +663,15 @@ int cmd_study(const std::string& study_path, bool quick, const std::string& out_
     args.emplace_back("--set");
     args.push_back(kv);
   }
-  const int rc = run_child(args, false);
-  if (stop_requested()) {
-    // Ctrl-C reaches the driver and its runs too; finished runs are reused next time.
-    std::fprintf(stderr, "gfmd: study interrupted; run the same command again to continue\n");
+  const int rc = run_child(args, false, /*keep_stdout=*/true);
+  if (stop_requested() || rc == 4) {
+    // Ctrl-C reaches the driver and its runs too; finished runs are reused next time. The
+    // driver says so itself when it saw the request.
+    if (rc != 4) std::fprintf(stderr, "gfmd: study interrupted; run the same command again to continue\n");
     return 4;
   }
-  return rc == 0 ? 0 : 1;
+  // The driver reports its own errors: bad input (2), a failed run (3), others (1).
+  return rc == 0 || rc == 2 || rc == 3 ? rc : 1;
 }
 
 }  // namespace gfmd::cli

@@ -67,7 +67,13 @@ int run_main(int argc, char** argv) {
             return "";
           },
           "SECONDS"));
-  bool wait = false;
+  bool wait = false, force = false;
+  const auto add_force = [&force](CLI::App* sub) {
+    sub->add_flag("--force", force,
+                  "write into a non-empty directory that gfmd did not create (gfmd output names there are "
+                  "replaced)");
+  };
+  add_force(run);
   run->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
 
   std::string plot;
@@ -80,6 +86,7 @@ int run_main(int argc, char** argv) {
   sweep->add_option("--plot", plot,
                     "summary key to plot against the swept value (default friction_coefficient)");
   sweep->add_flag("-q,--quiet", quiet, "no progress display");
+  add_force(sweep);
   sweep->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
 
   std::string pressures;
@@ -98,6 +105,7 @@ int run_main(int argc, char** argv) {
   curve->add_option("--set", sets, "override a key: section.key=value (repeatable; not load.*)");
   curve->add_flag("--no-png", no_png, "no curve.png (as output.png = false)");
   curve->add_flag("-q,--quiet", quiet, "no progress display");
+  add_force(curve);
   curve->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
   curve->footer(
       "Solves the case at each pressure (load.pressure, replacing the case's load), warm-starting each "
@@ -138,6 +146,7 @@ int run_main(int argc, char** argv) {
   perc->add_option("--area-tolerance", area_tol,
                    "stop when the bracket's contact areas differ by less (default 0.002)");
   perc->add_flag("-q,--quiet", quiet, "no log lines");
+  add_force(perc);
   perc->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
   auto* ens =
       app.add_subcommand("ensemble", "flow over roughness seeds, Bruggeman average, friction on/off pairs");
@@ -146,6 +155,7 @@ int run_main(int argc, char** argv) {
   ens->add_option("-o,--output", out_dir, "output directory")->check(non_empty);
   ens->add_option("--set", sets, "override a key (repeatable)");
   ens->add_flag("-q,--quiet", quiet, "no log lines");
+  add_force(ens);
   ens->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
 
   std::string plot_dir;
@@ -160,10 +170,28 @@ int run_main(int argc, char** argv) {
   study->add_option("study", study_path, "study file (TOML)")->required();
   study->add_flag("--quick", study_quick, "reduced resolution that runs in minutes");
   study->add_option("-o,--output", out_dir, "output root (default out/studies)")->check(non_empty);
+  study->add_flag("-q,--quiet", quiet, "print only errors");
+  add_force(study);
   study->add_option(
       "--set", sets,
       "a setting for every run of the study, after its own, e.g. solver.backend=\"cuda\" (repeatable)");
 
+  // An unknown command is named (CLI11 would only say that an argument was not expected).
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::string word = argv[1];
+    std::string known;
+    bool found = false;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      found = found || sub->get_name() == word;
+      known += (known.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!found) {
+      if (gfmd::mpi::root())
+        std::fprintf(stderr, "gfmd: error: unknown command '%s' (commands: %s; gfmd --help)\n", word.c_str(),
+                     known.c_str());
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -189,15 +217,18 @@ int run_main(int argc, char** argv) {
   // An error every process meets alike (the same input) is reported once, by rank 0.
   const bool report_common = gfmd::mpi::root();
   try {
-    if (run->parsed()) return cmd_run(case_path, out_dir, sets, quiet, verbose, resume, checkpoint_s, wait);
-    if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet, wait);
-    if (curve->parsed()) return cmd_curve(case_path, out_dir, sets, pressures, no_png, quiet, wait);
-    if (flow->parsed()) return cmd_flow(flow_dir, direction, flow_tol, flow_solver, wait);
-    if (perc->parsed()) return cmd_percolation(case_path, out_dir, sets, direction, area_tol, quiet, wait);
-    if (ens->parsed()) return cmd_ensemble(case_path, out_dir, sets, seeds, quiet, wait);
+    const DirFlags dir_flags{wait, force};
+    if (run->parsed())
+      return cmd_run(case_path, out_dir, sets, quiet, verbose, resume, checkpoint_s, dir_flags);
+    if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet, dir_flags);
+    if (curve->parsed()) return cmd_curve(case_path, out_dir, sets, pressures, no_png, quiet, dir_flags);
+    if (flow->parsed()) return cmd_flow(flow_dir, direction, flow_tol, flow_solver, dir_flags);
+    if (perc->parsed())
+      return cmd_percolation(case_path, out_dir, sets, direction, area_tol, quiet, dir_flags);
+    if (ens->parsed()) return cmd_ensemble(case_path, out_dir, sets, seeds, quiet, dir_flags);
     if (plot_cmd->parsed()) return cmd_plot(plot_dir);
     if (green->parsed()) return cmd_green(green_nu, green_from, green_to, green_points, out_dir);
-    if (study->parsed()) return cmd_study(study_path, study_quick, out_dir, sets);
+    if (study->parsed()) return cmd_study(study_path, study_quick, out_dir, sets, quiet, force);
   } catch (const gfmd::InputError& e) {
     // A bare list ("--set load.force=1e-3,2e-3") is a sweep's: say so where another command got one.
     const bool list_given =

@@ -19,6 +19,7 @@
 #include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
+#include "gfmd/case/run_directory.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/io/netcdf.hpp"
@@ -56,8 +57,10 @@ bool draw_maps(const std::vector<std::string>& dirs, const std::vector<std::stri
     std::error_code ec;
     fs::remove(fs::path(d) / gfmd::kMapsStagingFile, ec);
   }
-  if (!ok) {
-    const std::string where = dirs.size() == 1 ? dirs.front() : std::to_string(dirs.size()) + " directories";
+  if (!ok && !stop_requested()) {  // stopped: the caller reports the interruption
+    // A staging area is named by the directory it is published into.
+    std::string where = dirs.size() == 1 ? dirs.front() : std::to_string(dirs.size()) + " directories";
+    if (const fs::path p(where); p.filename() == gfmd::kStagingName) where = p.parent_path().string();
     std::fprintf(stderr,
                  "gfmd: warning: the PNG maps of %s were not (all) drawn (plot_maps.py with %s and "
                  "matplotlib)%s\n",
@@ -172,6 +175,11 @@ int cmd_plot(const std::string& dir_in) {
   }
   bool ok = true;
   int drawn = 0, profiles_only = 0;
+  // Ctrl-C reaches the drawing scripts too (they leave no temporary and publish a directory's
+  // figures together or not at all): stop at once, exit 4.
+  const auto check_stop = [&dir_in] {
+    if (stop_requested()) throw gfmd::Interrupted("interrupted while drawing the figures of " + dir_in);
+  };
   std::vector<std::string> with_fields;
   for (const auto& d : runs) {
     if (has_file(d, "fields.nc") || has_file(d, gfmd::kMapsStagingFile)) {
@@ -181,6 +189,7 @@ int cmd_plot(const std::string& dir_in) {
         ++profiles_only;
       else
         ok = false;
+      check_stop();
       std::fprintf(stderr,
                    "gfmd: note: %s has no fields.nc (output.fields = false): profiles.png only, no maps\n",
                    d.c_str());
@@ -194,6 +203,7 @@ int cmd_plot(const std::string& dir_in) {
       drawn += static_cast<int>(with_fields.size());
     else
       ok = false;
+    check_stop();
   }
   for (const auto& d : sweeps) {
     // The plots the sweep drew (sweep_<y>.png), else plot_sweep.py's default column.
@@ -205,7 +215,9 @@ int cmd_plot(const std::string& dir_in) {
       std::fprintf(stderr, "gfmd: note: %s: no sweep plot to redraw (draw one with gfmd sweep --plot KEY)\n",
                    d.c_str());
     for (const auto& y : ys) {
-      if (run_script("plot_sweep.py", {(d / "sweep.csv").string(), "--y", y}, false)) {
+      const bool done = run_script("plot_sweep.py", {(d / "sweep.csv").string(), "--y", y}, false);
+      check_stop();
+      if (done) {
         ++drawn;
       } else {
         ok = false;
@@ -214,7 +226,9 @@ int cmd_plot(const std::string& dir_in) {
     }
   }
   if (curve) {
-    if (run_script("plot_curve.py", {(dir / "curve.csv").string()}, false)) {
+    const bool done = run_script("plot_curve.py", {(dir / "curve.csv").string()}, false);
+    check_stop();
+    if (done) {
       ++drawn;
     } else {
       ok = false;

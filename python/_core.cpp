@@ -15,12 +15,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "gfmd/case/config.hpp"
 #include "gfmd/case/leakage.hpp"
 #include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
+#include "gfmd/case/run_directory.hpp"
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/elastic/elastic.hpp"
@@ -93,6 +95,17 @@ class SigintToFlag {
   bool active_ = false;
 };
 
+// The generators' memory check, before they allocate: the CLI's limit (memory_limit, through
+// memory_shortfall), MemoryError naming the grid and the bytes needed and allowed.
+void require_memory(int nx, int ny, double bytes_per_point, const std::string& what) {
+  const std::string why =
+      gfmd::memory_shortfall(bytes_per_point * static_cast<double>(nx) * static_cast<double>(ny),
+                             "nx, ny: a " + std::to_string(nx) + " x " + std::to_string(ny) + " " + what);
+  if (why.empty()) return;
+  PyErr_SetString(PyExc_MemoryError, why.c_str());
+  throw py::error_already_set();
+}
+
 [[noreturn]] void raise_keyboard_interrupt() {
   PyErr_SetNone(PyExc_KeyboardInterrupt);
   throw py::error_already_set();
@@ -159,6 +172,7 @@ std::string run_plot_script(const std::string& name, const std::vector<std::stri
              "): " + p.attr("stderr").cast<std::string>();
     return "";
   } catch (py::error_already_set& e) {
+    if (e.matches(PyExc_KeyboardInterrupt)) throw;  // Ctrl-C while drawing: the caller stops
     return e.what();
   } catch (const std::exception& e) {
     return e.what();
@@ -184,21 +198,28 @@ void draw_maps(const std::string& dir) {
   std::filesystem::remove(staging, ec);
 }
 
-// Writes a run directory as `gfmd run -o` does: one writer (the lock), no stale files of an
-// earlier run, status.json, the maps (output.png); a write error (disk full, permissions)
-// raises OSError naming the file and leaves no half-written set.
+// Writes a run directory as `gfmd run -o` does (RunDirectory: a directory gfmd made, or any
+// with force; one writer; the files and maps staged and published together, the previous
+// result untouched if anything fails); a write error (disk full, permissions) raises OSError
+// naming the file, Ctrl-C while drawing KeyboardInterrupt.
 // png: draw the maps (as output.png does; fields.nc must be written, output.fields).
-void write_run(const gfmd::CaseResult& r, const std::string& dir, bool png) {
+void write_run(const gfmd::CaseResult& r, const std::string& dir, bool png, bool force) {
+  std::optional<gfmd::RunDirectory> rd;
   try {
     py::gil_scoped_release release;
-    const gfmd::DirectoryLock lock(dir);
-    gfmd::clear_run_outputs(dir);
-    gfmd::publish_outputs(r, dir, [&] {
-      if (png) draw_maps(dir);
+    rd.emplace(dir, gfmd::OutputDirOptions{force, false, {}});
+    rd->begin();
+    gfmd::publish_outputs(r, rd->staging(), [&] {
+      if (png) draw_maps(rd->staging());
     });
+    rd->publish();
+  } catch (py::error_already_set&) {
+    if (rd) (void)rd->interrupt("interrupted while drawing the maps");
+    throw;
   } catch (const gfmd::InputError&) {
     throw;
   } catch (const std::exception& e) {
+    if (rd) (void)rd->fail(std::string("writing the outputs: ") + e.what());
     PyErr_SetString(PyExc_OSError, e.what());
     throw py::error_already_set();
   }
@@ -318,13 +339,23 @@ py::dict flow_of(const Solution& s, const std::vector<double>& angles, double to
 // The studies below run interruptible: on Ctrl-C what a study keeps on disk stays, as with the CLI.
 py::object sweep_case(const std::string& case_path, const std::string& parameter,
                       const std::vector<double>& values, const std::vector<std::string>& set,
-                      const std::string& dir, const std::string& plot) {
+                      const std::string& dir, const std::string& plot, bool force) {
   const gfmd::Config cfg = gfmd::sweep_config(case_path, set, parameter, values);
   return json_to_py(interruptible([&](const std::function<bool()>& stop) {
-    const gfmd::DirectoryLock lock(dir);
     gfmd::SweepOptions so;
     so.overrides = set;
     so.stop_request = stop;
+    so.directory = {force, false, stop};
+    // The plot is drawn from the staged table and published with it.
+    if (!plot.empty())
+      so.before_publish = [&plot](const std::string& staging) {
+        py::gil_scoped_acquire acquire;
+        const std::string problem = run_plot_script(
+            "plot_sweep.py", {(std::filesystem::path(staging) / "sweep.csv").string(), "--y", plot});
+        if (!problem.empty())
+          PySys_WriteStderr("gfmd: warning: could not draw sweep_%.200s.png: %.1500s\n", plot.c_str(),
+                            problem.c_str());
+      };
     so.plot_column = plot;  // checked on the first point ("" = none)
     return gfmd::run_sweep(case_path, cfg, dir, so);
   }));
@@ -332,7 +363,7 @@ py::object sweep_case(const std::string& case_path, const std::string& parameter
 
 py::object percolation_case(const std::string& case_path, const std::string& direction,
                             const std::vector<std::string>& set, double area_tolerance,
-                            const std::string& dir) {
+                            const std::string& dir, bool force) {
   if (direction != "x" && direction != "y") throw gfmd::InputError("direction", "must be \"x\" or \"y\"");
   const gfmd::Config cfg = gfmd::load_config(case_path, set);
   return json_to_py(interruptible([&](const std::function<bool()>& stop) {
@@ -341,27 +372,29 @@ py::object percolation_case(const std::string& case_path, const std::string& dir
     po.area_tolerance = area_tolerance;
     po.stop_request = stop;
     if (dir.empty()) return gfmd::find_percolation(cfg, po);
+    gfmd::check_output_directory(dir, force);
     const gfmd::DirectoryLock lock(dir);
     return gfmd::run_percolation(cfg, po, dir);
   }));
 }
 
 py::object curve_case(const std::string& case_path, const std::vector<double>& pressures,
-                      const std::vector<std::string>& set, const std::string& dir) {
+                      const std::vector<std::string>& set, const std::string& dir, bool force) {
   const std::vector<double> ps = gfmd::curve_pressures(pressures);
   const gfmd::Config cfg = gfmd::curve_config(case_path, set, ps);
   return json_to_py(interruptible([&](const std::function<bool()>& stop) {
+    gfmd::check_output_directory(dir, force);
     const gfmd::DirectoryLock lock(dir);
-    const gfmd::DirectoryLock points_lock((std::filesystem::path(dir) / "points").string());
     gfmd::CurveOptions co;
     co.sweep.overrides = set;
     co.sweep.stop_request = stop;
+    co.sweep.directory = {false, false, stop};  // DIR/points: the curve's own sweep
     return gfmd::run_curve(case_path, cfg, dir, co);
   }));
 }
 
 py::object ensemble_case(const std::string& case_path, int first, int last,
-                         const std::vector<std::string>& set, const std::string& dir) {
+                         const std::vector<std::string>& set, const std::string& dir, bool force) {
   gfmd::EnsembleOptions eo;
   eo.first_seed = first;
   eo.last_seed = last;
@@ -369,7 +402,7 @@ py::object ensemble_case(const std::string& case_path, int first, int last,
   (void)gfmd::check_ensemble(case_path, eo);
   return json_to_py(interruptible([&](const std::function<bool()>& stop) {
     eo.stop_request = stop;
-    const gfmd::DirectoryLock lock(dir);
+    eo.directory = {force, false, stop};
     return gfmd::run_ensemble(case_path, dir, eo);
   }));
 }
@@ -380,6 +413,7 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "gfmd's compiled core (use the package gfmd)";
   m.attr("__version__") = gfmd::kVersion;
   m.attr("spin_count") = gfmd::kSpinCount;  // what the package sets GOMP_SPINCOUNT to (__init__.py)
+  m.attr("max_plausible_rms_gradient") = gfmd::kMaxPlausibleRmsGradient;  // warned above (_api.py)
   py::register_exception<gfmd::InputError>(m, "InputError", PyExc_ValueError);
   py::register_exception<gfmd::SolveError>(m, "SolveError", PyExc_RuntimeError);
   m.def("run_plot_script", &run_plot_script, py::arg("name"), py::arg("args"),
@@ -398,13 +432,16 @@ PYBIND11_MODULE(_core, m) {
       "Check an elastic body's parameters as the case files' [elastic] are checked.");
   m.def(
       "run",
-      [](const std::string& path, const std::vector<std::string>& set, const std::string& output) {
+      [](const std::string& path, const std::vector<std::string>& set, const std::string& output,
+         bool force) {
         const gfmd::Config cfg = gfmd::load_config(path, set);
+        if (!output.empty()) gfmd::check_output_directory(output, force);  // before the solve
         const gfmd::CaseResult r = solve(cfg);
-        if (!output.empty()) write_run(r, output, r.config.output.png);
+        if (!output.empty()) write_run(r, output, r.config.output.png, force);
         return result(r);
       },
       py::arg("case"), py::arg("set") = std::vector<std::string>{}, py::arg("output") = "",
+      py::arg("force") = false,
       "Solve a case file; returns {'summary': dict, 'fields': {name: ndarray(ny, nx)}}. "
       "`set` takes 'section.key=value' overrides; `output` also writes the usual files there "
       "(with output.png the PNG maps and profiles.png, drawn by plot_maps.py in a separate Python).");
@@ -446,12 +483,12 @@ PYBIND11_MODULE(_core, m) {
           py::arg("name"))
       .def(
           "save",
-          [](const Solution& s, const std::string& dir, bool png) {
+          [](const Solution& s, const std::string& dir, bool png, bool force) {
             if (png && !s.r.config.output.fields)
               throw gfmd::InputError("png", "the maps are drawn from fields.nc: solve with output.fields on");
-            write_run(s.r, dir, png || s.r.config.output.png);
+            write_run(s.r, dir, png || s.r.config.output.png, force);
           },
-          py::arg("dir"), py::arg("png") = false)
+          py::arg("dir"), py::arg("png") = false, py::arg("force") = false)
       .def("flow", &flow_of, py::arg("angles"), py::arg("tolerance") = 1e-10, py::arg("solver") = "auto")
       .def_property_readonly("toml", [](const Solution& s) { return s.r.config.to_toml(); });
   m.def("solve_case", &solve_case, py::arg("toml"), py::arg("heights"), py::arg("lx"), py::arg("ly"),
@@ -459,6 +496,7 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "make_hertz",
       [](int nx, int ny, double lx, double ly, double rx, double ry) {
+        require_memory(nx, ny, 16.0, "Hertz topography (its heights and their copy)");
         const gfmd::Topography t = gfmd::make_hertz(gfmd::Grid{nx, ny, lx, ly}, rx, ry);
         return to_array(t.grid, t.h);
       },
@@ -466,6 +504,7 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "make_eggcrate",
       [](int nx, int ny, double lx, double ly, double wavelength, double amplitude) {
+        require_memory(nx, ny, 16.0, "egg-crate topography (its heights and their copy)");
         const gfmd::Topography t = gfmd::make_eggcrate(gfmd::Grid{nx, ny, lx, ly}, wavelength, amplitude);
         return to_array(t.grid, t.h);
       },
@@ -483,6 +522,7 @@ PYBIND11_MODULE(_core, m) {
         p.rms_gradient = rms_gradient;
         p.lambda_rolloff = lambda_rolloff;
         p.seed = seed;
+        require_memory(nx, ny, 40.0, "self-affine topography (its heights, spectrum, phases and their copy)");
         gfmd::Topography t;
         {
           py::gil_scoped_release release;
@@ -559,10 +599,11 @@ PYBIND11_MODULE(_core, m) {
       py::arg("heights"), py::arg("lx"), py::arg("ly"), py::arg("bins"),
       "The radially averaged PSD (q, C(q)) over logarithmic bins with modes, as spectrum.csv.");
   m.def("sweep_case", &sweep_case, py::arg("case"), py::arg("parameter"), py::arg("values"), py::arg("set"),
-        py::arg("output"), py::arg("plot") = "");
+        py::arg("output"), py::arg("plot") = "", py::arg("force") = false);
   m.def("percolation_case", &percolation_case, py::arg("case"), py::arg("direction"), py::arg("set"),
-        py::arg("area_tolerance"), py::arg("output"));
-  m.def("curve_case", &curve_case, py::arg("case"), py::arg("pressures"), py::arg("set"), py::arg("output"));
+        py::arg("area_tolerance"), py::arg("output"), py::arg("force") = false);
+  m.def("curve_case", &curve_case, py::arg("case"), py::arg("pressures"), py::arg("set"), py::arg("output"),
+        py::arg("force") = false);
   m.def("ensemble_case", &ensemble_case, py::arg("case"), py::arg("first_seed"), py::arg("last_seed"),
-        py::arg("set"), py::arg("output"));
+        py::arg("set"), py::arg("output"), py::arg("force") = false);
 }

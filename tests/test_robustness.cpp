@@ -187,8 +187,10 @@ TEST(Robustness, InterruptedSweepKeepsFinishedPointsAndResumes) {
   SweepOptions o;
   int points_done = 0;
   o.on_point = [&](int done, int, const std::string&) { points_done = done; };
-  // Stop during the third point.
-  o.stop_request = [&] { return points_done >= 2; };
+  // Stop during the third point's solve (the sweep polls once between points, the solve then
+  // every few iterations).
+  int polls = 0;
+  o.stop_request = [&] { return points_done >= 2 && ++polls > 3; };
   EXPECT_THROW(run_sweep(path, cfg, (dir / "out").string(), o), Interrupted);
   std::ifstream t1(dir / "out" / "sweep.json");
   const auto partial = nlohmann::json::parse(t1);

@@ -6,6 +6,7 @@ import math
 import numbers
 import os
 import re
+import warnings
 from dataclasses import dataclass
 from typing import Callable, Iterable, Optional
 
@@ -25,6 +26,12 @@ def _positive(name: str, value) -> float:
     return v
 
 
+def _flag(name: str, value) -> bool:
+    if not isinstance(value, bool):
+        raise InputError(f"{name}: must be True or False, got {value!r}")
+    return value
+
+
 def _count(name: str, value) -> int:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not 2 <= int(value) <= 65536:
         raise InputError(f"{name}: must be an integer in [2, 65536] (got {value!r})")
@@ -32,7 +39,14 @@ def _count(name: str, value) -> int:
 
 
 def _heights(name: str, heights) -> np.ndarray:
-    """float64, C-contiguous, 2-D, finite: converted (one copy at most) or refused."""
+    """float64, C-contiguous, 2-D, finite: converted (one copy at most) or refused.
+
+    A numpy masked array's masked entries are missing points, as NaN is: refused, naming them.
+    """
+    mask = None
+    if isinstance(heights, np.ma.MaskedArray):
+        mask = np.ma.getmaskarray(heights)
+        heights = np.ma.getdata(heights)
     a = np.asarray(heights)
     if a.dtype.kind not in "fiu" or a.dtype == np.bool_:
         raise InputError(f"{name}: must be a real array (got dtype {a.dtype})")
@@ -41,10 +55,31 @@ def _heights(name: str, heights) -> np.ndarray:
     if a.shape[0] < 2 or a.shape[1] < 2:
         raise InputError(f"{name}: needs at least 2 x 2 points (got shape {a.shape})")
     a = np.ascontiguousarray(a, dtype=np.float64)
+    missing = np.isnan(a) if mask is None else (mask | np.isnan(a))
+    if missing.any():
+        iy, ix = np.unravel_index(int(np.argmax(missing)), a.shape)
+        n = int(missing.sum())
+        raise InputError(f"{name}: holds {n} missing point{'s' if n > 1 else ''} ("
+                         f"{'masked or NaN' if mask is not None else 'NaN'}: non-finite), the first at (iy, ix) = "
+                         f"({iy}, {ix}); a topography needs a height everywhere: fill them first (np.ma.filled, "
+                         f"or Topography.read(path, missing=\"interpolate\") on a saved .npy)")
     if not np.all(np.isfinite(a)):
         bad = int(np.argmax(~np.isfinite(a)))
         raise InputError(f"{name}: holds a non-finite value at (iy, ix) = {np.unravel_index(bad, a.shape)}")
     return a
+
+
+def _warn_implausible(topography: "Topography", check: str) -> "Topography":
+    """Warns (UserWarning) where the rms gradient is above the CLI's plausibility limit (5): most
+    likely heights and lateral lengths in different units; `check` names the arguments to check."""
+    g = topography.rms_gradient()
+    limit = _core.max_plausible_rms_gradient
+    if g > limit:
+        warnings.warn(f"{topography.kind} topography: rms gradient {g:.3g}, above {limit:g} (slopes steeper than "
+                      f"79 degrees): heights and lateral lengths are likely in different units; check {check}",
+                      UserWarning, stacklevel=3)
+        topography._warned = True
+    return topography
 
 
 class Topography:
@@ -74,7 +109,8 @@ class Topography:
             raise InputError("radius: give radius (or radius_x and radius_y)")
         h = _core.make_hertz(nx, ny, lx, ly, _positive("radius_x" if radius_x is not None else "radius", rx),
                              _positive("radius_y" if radius_y is not None else "radius", ry))
-        return cls(h, lx, ly, "hertz")
+        return _warn_implausible(cls(h, lx, ly, "hertz"), "radius against lx, ly (a paraboloid is a sphere only "
+                                 "where its slope is small)")
 
     @classmethod
     def eggcrate(cls, nx: int, lx: float, wavelength: Optional[float] = None, amplitude: Optional[float] = None, *,
@@ -86,7 +122,8 @@ class Topography:
         nx, ny, lx, ly = cls._grid(nx, lx, ny, ly)
         wl = lx if wavelength is None else _positive("wavelength", wavelength)
         amp = wl / (4 * math.pi ** 2) if amplitude is None else _positive("amplitude", amplitude)
-        return cls(_core.make_eggcrate(nx, ny, lx, ly, wl, amp), lx, ly, "eggcrate")
+        return _warn_implausible(cls(_core.make_eggcrate(nx, ny, lx, ly, wl, amp), lx, ly, "eggcrate"),
+                                 "amplitude against wavelength")
 
     @classmethod
     def self_affine(cls, nx: int, lx: float, *, hurst: float = 0.8, lambda_long: Optional[float] = None,
@@ -109,17 +146,19 @@ class Topography:
             nx, ny, lx, ly, float(hurst), ll, ls, 0.0 if rms_height is None else _positive("rms_height", rms_height),
             0.0 if rms_gradient is None else _positive("rms_gradient", rms_gradient),
             0.0 if lambda_rolloff is None else _positive("lambda_rolloff", lambda_rolloff), int(seed))
-        return cls(h, lx, ly, "selfaffine")
+        return _warn_implausible(cls(h, lx, ly, "selfaffine"),
+                                 "rms_height against lx" if rms_gradient is None else "rms_gradient (asked for)")
 
     @classmethod
     def from_array(cls, heights, lx: float, ly: Optional[float] = None) -> "Topography":
         """Heights (ny, nx) on an lx x ly cell (ly defaults to keeping square cells: lx ny/nx).
 
         A C-ordered float64 array is kept, not copied (change it afterwards and the topography
-        changes too); integer arrays and non-contiguous views are converted (one copy);
-        non-finite values, non-2-D or non-real arrays raise InputError.
+        changes too); integer arrays, non-contiguous views and masked arrays are converted (one
+        copy); NaN or masked points (missing), infinite values, non-2-D or non-real arrays raise
+        InputError. An rms gradient above 5 warns (heights and lx likely in different units).
         """
-        return cls(heights, lx, ly, "array")
+        return _warn_implausible(cls(heights, lx, ly, "array"), "the heights against lx, ly (the same unit?)")
 
     @classmethod
     def read(cls, path: str, lx: Optional[float] = None, ly: Optional[float] = None, *,
@@ -143,7 +182,8 @@ class Topography:
             0 if nx is None else _count("nx", nx), 0 if ny is None else _count("ny", ny))
         t = cls(h, lx2, ly2, "file")
         t._preprocessing = report
-        return t
+        return _warn_implausible(t, "unit (the unit of the file's heights where it states none) against the "
+                                 "map's size (lx, ly, or the file's stated size)")
 
     @property
     def preprocessing(self) -> Optional[dict]:
@@ -306,12 +346,12 @@ class Result:
         """The case as TOML (what `gfmd run` would read)."""
         return self._s.toml
 
-    def save(self, directory: str, png: bool = False) -> None:
+    def save(self, directory: str, png: bool = False, force: bool = False) -> None:
         """Writes the run directory `gfmd run -o DIR` writes (summary.json, fields.nc, profiles.csv, ...);
-        png=True also draws its PNG maps and profiles.png as `gfmd run` does (in a separate Python)."""
-        if not isinstance(png, bool):
-            raise InputError(f"png: must be True or False, got {png!r}")
-        self._s.save(str(directory), png)
+        png=True also draws its PNG maps and profiles.png as `gfmd run` does (in a separate Python).
+        The directory must be new, empty or made by gfmd (force=True: any other, as --force); the
+        files are staged and replace an earlier result only once complete."""
+        self._s.save(str(directory), _flag("png", png), _flag("force", force))
 
     def flow(self, directions: Iterable = ("x", "y"), tolerance: float = 1e-10, solver: str = "auto") -> dict:
         """Reynolds flow through the deformed gap (as `gfmd flow`): {'summary': flow.json keys, 'fields': currents}.
@@ -333,21 +373,40 @@ class Result:
         return self._s.flow(angles, _positive("tolerance", tolerance), str(solver))
 
     def plot(self, field: str = "pressure", ax=None, **imshow):
-        """Draws a field over the cell in physical coordinates with a labelled colour bar; returns the axes."""
+        """Draws a field over the cell in physical coordinates with a labelled colour bar; returns the axes.
+
+        Labels as in gfmd run's maps: "quantity (unit)", lengths in grid.unit ("x (µm)") or L
+        where the case names none ("x (L)"), pressures and stresses in E*, "(–)" for a
+        dimensionless field; cell ix is centred at x = ix lx/nx."""
+        import textwrap
+
         import matplotlib.pyplot as plt
+
+        def unit_text(u):  # scripts/figure_io.py unit_text: the same notation as the CLI's figures
+            if u in ("", "1"):
+                return "–"
+            out = []
+            for t in u.split():
+                base, _, power = t.partition("^")
+                base = {"length": "L", "um": "µm"}.get(base, base)
+                out.append(base + power.translate(str.maketrans("-1234", "⁻¹²³⁴")))
+            return " ".join(out)
 
         data = self._s.field(field)
         nx, ny, lx, ly = self.grid
+        dx, dy = lx / nx, ly / ny
         if ax is None:
             _, ax = plt.subplots()
-        im = ax.imshow(data, origin="lower", extent=(0, lx, 0, ly), **imshow)
+        im = ax.imshow(data, origin="lower", extent=(-dx / 2, lx - dx / 2, -dy / 2, ly - dy / 2), **imshow)
         desc, units = self.field_info(field)
-        unit = {"E*": "E*", "length": "L", "1": ""}.get(units, units)
-        ax.figure.colorbar(im, ax=ax, label=f"{field}" + (f" ({unit})" if unit else ""))
-        ax.set_xlabel("x (L)")
-        ax.set_ylabel("y (L)")
+        length = unit_text(self.field_info("gap")[1] if "gap" in self.field_names else "length")
+        ax.figure.colorbar(im, ax=ax, label=f"{field} ({unit_text(units)})")
+        ax.set_xlabel(f"x ({length})")
+        ax.set_ylabel(f"y ({length})")
         ax.set_aspect("equal")
-        ax.set_title(desc)
+        # The description up to its formula ("dissipated power density / v0 = tau . v_slip / v0 ..."),
+        # wrapped to the axes' width: the title stays inside the figure.
+        ax.set_title(textwrap.fill(desc.split(" = ")[0], 42), fontsize=10)
         return ax
 
     def __repr__(self) -> str:
@@ -414,7 +473,11 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
     finally:
         if bar is not None:
             bar.close()
-    return Result(solution, topography)
+    result = Result(solution, topography)
+    if not getattr(topography, "_warned", False):  # a Topography warns once, when made
+        for w in result.summary.get("warnings", []):
+            warnings.warn(w, UserWarning, stacklevel=2)
+    return result
 
 
 def _progress_bar():
@@ -444,10 +507,11 @@ def _progress_bar():
     return update, bar
 
 
-def run(case: str, set: Iterable[str] = (), output: str = "") -> dict:
+def run(case: str, set: Iterable[str] = (), output: str = "", force: bool = False) -> dict:
     """Solves a case file as `gfmd run` does: {'summary': dict, 'fields': {name: ndarray}}; with
-    output, also writes the run directory there."""
-    return _core.run(str(case), list(set), str(output))
+    output, also writes the run directory there (a new or empty directory, or one gfmd made;
+    force=True writes into any other, as --force; checked before the solve)."""
+    return _core.run(str(case), list(set), str(output), _flag("force", force))
 
 
 def run_toml(toml: str, set: Iterable[str] = ()) -> dict:
@@ -458,7 +522,7 @@ def run_toml(toml: str, set: Iterable[str] = ()) -> dict:
 # --- studies over case files (the same C++ studies as the command line) -------------------
 
 def sweep(case: str, parameter: str, values: Iterable[float], output: str, set: Iterable[str] = (),
-          plot: Optional[str] = None) -> dict:
+          plot: Optional[str] = None, force: bool = False) -> dict:
     """A load sweep as `gfmd sweep CASE --set parameter=v1,v2,...`: points solved in order, each
     warm-started from the previous one, into output/point_NNN/; returns sweep.json (one row of
     scalar summary keys per point). Points already solved with the same input are reused.
@@ -469,31 +533,20 @@ def sweep(case: str, parameter: str, values: Iterable[float], output: str, set: 
         raise InputError(f"parameter: a config key section.key (got {parameter!r})")
     if plot is not None and (not isinstance(plot, str) or not plot):
         raise InputError(f"plot: a summary key such as 'friction_coefficient' (got {plot!r})")
-    _core.sweep_case(str(case), parameter, vals, list(set), str(output), plot or "")
-    if plot is not None:
-        _draw_sweep(str(output), plot)
+    _core.sweep_case(str(case), parameter, vals, list(set), str(output), plot or "", _flag("force", force))
     with open(os.path.join(str(output), "sweep.json")) as f:
         return json.load(f)
 
 
-def _draw_sweep(output: str, column: str) -> None:
-    """sweep_<column>.png by plot_sweep.py in a separate interpreter, as the CLI draws it (the
-    sweep has checked the column)."""
-    problem = _core.run_plot_script("plot_sweep.py", [os.path.join(output, "sweep.csv"), "--y", column])
-    if problem:
-        import warnings
-        warnings.warn(f"could not draw sweep_{column}.png: {problem.strip()}")
-
-
 def percolation(case: str, direction: str = "x", set: Iterable[str] = (), area_tolerance: float = 0.002,
-                output: str = "") -> dict:
+                output: str = "", force: bool = False) -> dict:
     """The critical relative contact area at which flow along direction ("x" or "y") stops, as
     `gfmd percolation`; returns percolation.json's contents (and writes it into output if given)."""
     return _core.percolation_case(str(case), str(direction), list(set), _positive("area_tolerance", area_tolerance),
-                                  str(output))
+                                  str(output), _flag("force", force))
 
 
-def curve(case: str, pressures, output: str, set: Iterable[str] = ()) -> dict:
+def curve(case: str, pressures, output: str, set: Iterable[str] = (), force: bool = False) -> dict:
     """Load curves as `gfmd curve`: the case solved at each mean pressure (/E*, sorted, warm
     started, leakage on) into output/points/; writes output/curve.csv and curve.json (the
     figure curve.png is drawn by `gfmd curve`) and returns curve.json (rows under "points",
@@ -502,17 +555,17 @@ def curve(case: str, pressures, output: str, set: Iterable[str] = ()) -> dict:
         ps = [float(p) for p in pressures]
     except (TypeError, ValueError):
         raise InputError(f"pressures: a list of numbers (got {pressures!r})") from None
-    return _core.curve_case(str(case), ps, list(set), str(output))
+    return _core.curve_case(str(case), ps, list(set), str(output), _flag("force", force))
 
 
-def ensemble(case: str, output: str, seeds=(0, 7), set: Iterable[str] = ()) -> dict:
+def ensemble(case: str, output: str, seeds=(0, 7), set: Iterable[str] = (), force: bool = False) -> dict:
     """Flow over roughness seeds seeds[0]..seeds[1] (inclusive) as `gfmd ensemble --seeds A..B`,
     into output/seed_N/; returns ensemble.json (per seed, mean, spread, Bruggeman value)."""
     try:
         first, last = (int(seeds[0]), int(seeds[1]))
     except (TypeError, ValueError, IndexError):
         raise InputError(f"seeds: (first, last) integers (got {seeds!r})") from None
-    return _core.ensemble_case(str(case), first, last, list(set), str(output))
+    return _core.ensemble_case(str(case), first, last, list(set), str(output), _flag("force", force))
 
 
 def _package_file(*parts: str) -> str:
@@ -533,9 +586,14 @@ def study(study_file: str, quick: bool = False, output: str = os.path.join("out"
     output/<name>/<quick|full>/. Returns study.json (figure path, series, wall time, series
     that stopped early). The study's case paths are relative to the folder above the study
     file's (the repository root for studies/*.toml). Raises SolveError if a series stopped
-    early (its finished points are drawn), InputError for a missing study file. `set`: settings
-    for every run of the study, after its own (e.g. 'solver.backend="cuda"')."""
+    early (its finished points are drawn), InputError (a ValueError) for a missing or malformed
+    study file or a case file given as a study, naming the file and the key. `set`: settings
+    for every run of the study, after its own (e.g. 'solver.backend="cuda"').
+    KeyboardInterrupt (Ctrl-C, or a notebook's interrupt) stops the study's runs, waits for
+    them and is raised again; the finished runs are reused by the next call."""
+    import signal
     import subprocess
+    import tempfile
 
     path = os.path.abspath(str(study_file))
     if not os.path.isfile(path):
@@ -547,11 +605,32 @@ def study(study_file: str, quick: bool = False, output: str = os.path.join("out"
     args = [program, "study", path, "-o", str(output)] + (["--quick"] if quick else [])
     for kv in set:
         args += ["--set", str(kv)]
-    p = subprocess.run(args, stderr=subprocess.PIPE, text=True)
+    # In a process group of its own, so that an interrupt of this process (which may come
+    # alone, as a notebook's does) reaches gfmd study, study.py and the run in progress at
+    # once; they stop cleanly (exit status 4) and are waited for.
+    with tempfile.TemporaryFile(mode="w+", encoding="utf-8", errors="replace") as err:
+        p = subprocess.Popen(args, stderr=err, process_group=0)
+        interrupted = False
+        while True:
+            try:
+                p.wait()
+                break
+            except KeyboardInterrupt:
+                interrupted = True
+                try:
+                    os.killpg(p.pid, signal.SIGINT)
+                except OSError:
+                    pass
+        err.seek(0)
+        stderr = err.read()
     name = os.path.splitext(os.path.basename(path))[0]
     report = os.path.join(str(output), name, "quick" if quick else "full", "study.json")
+    if interrupted or p.returncode == 4:  # 4: interrupted (a signal that reached the study directly)
+        raise KeyboardInterrupt(f"study {name} interrupted; the same call continues it")
     if p.returncode != 0:
-        tail = p.stderr.strip().splitlines()[-1] if p.stderr.strip() else f"exit status {p.returncode}"
+        tail = stderr.strip().splitlines()[-1] if stderr.strip() else f"exit status {p.returncode}"
+        if p.returncode == 2:  # bad input: the study file, a setting
+            raise InputError(tail[len("gfmd study: "):] if tail.startswith("gfmd study: ") else tail)
         raise SolveError(f"study {name}: {tail}")
     with open(report) as f:
         return json.load(f)

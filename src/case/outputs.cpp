@@ -239,6 +239,14 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["topography"] = topography_stats_json(s);
   j["topography"]["kind"] = r.topography.kind;
   if (r.map_report) j["topography"]["preprocessing"] = map_report_json(*r.map_report);
+  // Every warning of the run, as gfmd run prints them: the map's preparation, then plausibility.
+  j["warnings"] = nlohmann::json::array();
+  if (r.map_report)
+    for (const std::string& w : r.map_report->warnings)
+      j["warnings"].push_back(r.map_report->path + ": " + w);
+  for (const std::string& w :
+       plausibility_warnings(r.config, r.topography_stats, r.map_report ? &*r.map_report : nullptr))
+    j["warnings"].push_back(w);
   if (r.analysis) j["analysis"] = analysis_json(*r.analysis);
   j["input"] = r.config.to_json();
   j["units"] = lengths_in(r.config) +

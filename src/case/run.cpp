@@ -375,6 +375,26 @@ void gather_for_root(const Config& cfg, const RunOptions& opts, const Grid& slab
   for (auto& ss : r.subsurface) gather_on_root(slab, {&ss.von_mises, &ss.s1});
 }
 
+// Approach control has no load to check before the solve (load_config checks force and
+// pressure): a solution whose mean pressure exceeds kMaxPressureOverModulus E* is no contact
+// problem and fails as a solve that did not converge (exit 3, nothing written), naming
+// load.approach. A collective on a slab (the sum over every process's rows).
+void refuse_excess_pressure(const Config& cfg, const Grid& grid, const RealField& pressure, SolveInfo& info) {
+  if (cfg.load.mode != LoadMode::Approach || !info.converged) return;
+  const double mean =
+      grid_sum(grid, [&](std::size_t i) { return pressure[i]; }) / static_cast<double>(grid.size());
+  const double ratio = mean / cfg.elastic.contact_modulus;
+  if (!(ratio > kMaxPressureOverModulus)) return;
+  char buf[256];
+  std::snprintf(
+      buf, sizeof buf,
+      "load.approach = %s reached a mean pressure of %.3g E*, above the limit of %g E* of every load "
+      "(not a contact problem; lower load.approach)",
+      format_number(cfg.load.value).c_str(), ratio, kMaxPressureOverModulus);
+  info.converged = false;
+  info.status = buf;
+}
+
 }  // namespace
 
 Topography make_topography_here(const Config& cfg, MapReport* report) {
@@ -476,17 +496,48 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
   } else if (warm) {
     r.fields = *opts.warm_start;
   }
+  // Where a checkpoint's solves stood (read by rank 0; its state goes with its fields): the
+  // frictionless reference's result and the friction solve's restart point, this process's
+  // rows of their fields in a distributed run.
+  const SolveResume* resume = warm && opts.resumed.state ? opts.resumed.state.get() : nullptr;
+  SolveResume resume_rows;
+  if (distributed) {
+    const SolveResume* whole = mpi::root() ? resume : nullptr;
+    const auto numbers_of = [](const SolveResume& st) {
+      return encode_resume_numbers(st.reference ? &st.reference->info : nullptr,
+                                   st.friction ? &*st.friction : nullptr);
+    };
+    const std::string numbers = mpi::from_root(whole ? numbers_of(*whole) : std::string());
+    resume = nullptr;
+    if (!numbers.empty()) {
+      if (!decode_resume_numbers(numbers, resume_rows))
+        throw std::runtime_error("run_case: a damaged resume state");
+      const auto mine = resume_fields(resume_rows.reference ? &resume_rows.reference->pressure : nullptr,
+                                      resume_rows.friction ? &*resume_rows.friction : nullptr);
+      std::vector<const RealField*> theirs;
+      if (whole)
+        theirs = resume_fields(whole->reference ? &whole->reference->pressure : nullptr,
+                               whole->friction ? &*whole->friction : nullptr);
+      for (std::size_t k = 0; k < mine.size(); ++k)
+        *mine[k] = mpi::scatter(slab, k < theirs.size() ? *theirs[k] : RealField{});
+      resume = &resume_rows;
+    }
+  }
+  const FrictionRestart* restart = resume && resume->friction ? &*resume->friction : nullptr;
   // Work counted into checkpoints: earlier sessions, the finished reference solve and the
-  // solver running now.
+  // solver running now (less what its restart point had done: counted before).
   const auto t_start = std::chrono::steady_clock::now();
   const ContactSolver* running = nullptr;
-  std::int64_t finished_iterations = 0;
+  std::int64_t finished_iterations = 0, running_from = 0;
   const auto progress_now = [&] {
     CheckpointProgress p = opts.resumed;
-    p.iterations += finished_iterations + (running ? running->iterations_done() : 0);
+    p.state = nullptr;
+    p.iterations += finished_iterations + (running ? running->iterations_done() - running_from : 0);
     p.wall_time_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     return p;
   };
+  // The converged reference's result, kept for checkpoints (its pressure, where it is).
+  std::optional<SolveResume::Reference> ref_kept;
   // Checkpoints hold the whole pressure and tractions, so that a run resumes on any number
   // of processes: a distributed run gathers them on rank 0 a field at a time (below). Every
   // process takes part when rank 0 has a checkpoint path.
@@ -494,10 +545,14 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
       distributed ? mpi::from_root(opts.checkpoint_path.empty() ? 0 : 1) == 1 : !opts.checkpoint_path.empty();
   const auto save = [&](const ContactFields& f) {
     if (!checkpoints) return;
-    if (!distributed) {
-      write_checkpoint(opts.checkpoint_path, cfg, f, progress_now());
-      return;
-    }
+    // The friction solve's restart point where it has one: its fields (the pressure at the
+    // start of the step in progress) and its state; and the finished reference's result.
+    const ContactSolver::RestartPoint* rp = running ? running->restart_point() : nullptr;
+    const ContactFields& now = rp ? rp->fields : f;
+    const FrictionRestart* fr = rp ? &rp->state : nullptr;
+    std::vector<const RealField*> fields = {&now.pressure, &now.tx, &now.ty};
+    for (const RealField* fld : resume_fields(ref_kept ? &ref_kept->pressure : nullptr, fr))
+      fields.push_back(fld);
     // Rank 0 writes the file a field at a time as it gathers them (8 bytes per point of the
     // cell at once). A checkpoint it could not write stops every process (none may wait for
     // it); the others go on gathering until then, so that the collectives stay paired.
@@ -508,19 +563,26 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
       } catch (...) {
         failure = std::current_exception();
       }
-    for (const RealField* fld : {&f.pressure, &f.tx, &f.ty}) {
-      const RealField whole = mpi::gather(slab, *fld);
+    for (std::size_t k = 0; k < fields.size(); ++k) {
+      if (k == 3 && file && !failure) try {
+          file->add_state(ref_kept ? &ref_kept->info : nullptr, fr);
+        } catch (...) {
+          failure = std::current_exception();
+        }
+      const RealField whole = distributed ? mpi::gather(slab, *fields[k]) : RealField();
       if (file && !failure) try {
-          file->add(whole);
+          file->add(distributed ? whole : *fields[k]);
         } catch (...) {
           failure = std::current_exception();
         }
     }
     if (file && !failure) try {
+        if (fields.size() == 3) file->add_state(nullptr, nullptr);
         file->commit();
       } catch (...) {
         failure = std::current_exception();
       }
+    if (!distributed && failure) std::rethrow_exception(failure);
     rethrow_from_root(failure);
   };
   const auto hook = [&](ContactSolver& s) {
@@ -535,24 +597,39 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     none.coefficient = 0.0;
     ContactSolver ref(*body, topo, cfg.interaction, none, cfg.solver);
     hook(ref);
-    ContactFields rf = r.fields;
+    ContactFields rf;
     SolveInfo ref_info;
-    try {
-      ref_info = ref.solve(cfg.load, rf);
-    } catch (const Interrupted&) {
-      save(rf);
-      throw interrupted_after(progress_now());
+    // A checkpoint's reference result is taken as it was (its displacements made again), not
+    // solved again; on the device, and without one, it is solved (warm from what there is).
+    bool ref_taken = false;
+    if (resume && resume->reference) {
+      rf.pressure = resume->reference->pressure;
+      ref_info = resume->reference->info;
+      ref_taken = ref.finish(rf, ref_info);
+      if (!ref_taken) rf.pressure = resume->reference->pressure;
+    } else {
+      rf = r.fields;
     }
+    if (!ref_taken) try {
+        ref_info = ref.solve(cfg.load, rf);
+      } catch (const Interrupted&) {
+        save(rf);
+        throw interrupted_after(progress_now());
+      }
     running = nullptr;
-    finished_iterations = ref_info.iterations;
+    if (!ref_taken) finished_iterations = ref_info.iterations;
+    refuse_excess_pressure(cfg, slab, rf.pressure, ref_info);
     if (!ref_info.converged) {
       r.info = ref_info;
       r.info.status += " (frictionless reference)";
       if (distributed) r.topography = surface_on_root(cfg, slab, slab_topo, true);
       return r;
     }
+    if (checkpoints) ref_kept = SolveResume::Reference{rf.pressure, ref_info};
     CaseResult::Reference& rr = r.reference.emplace();
     rr.info = ref_info;
+    // Its time was counted by the session that solved it.
+    if (ref_taken) rr.info.wall_time_s = 0.0;
     // The reference's observables on the fields as they are (a slab in a distributed run);
     // its pressure and in-plane displacements are kept, where they are, for the post-analysis
     // stresses only.
@@ -562,13 +639,23 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
       rr.ux = std::move(rf.ux);
       rr.uy = std::move(rf.uy);
     }
-    if (!warm) r.fields.pressure = std::move(rf.pressure);
+    // The sliding solve starts from the reference, unless warm: from a previous solution or a
+    // checkpoint of it (one of the reference solve itself holds no reference).
+    if (!warm || (resume && !resume->reference && !restart)) {
+      r.fields.pressure = std::move(rf.pressure);
+      r.fields.tx.clear();
+      r.fields.ty.clear();
+    }
   }
   {
     ContactSolver solver(*body, topo, cfg.interaction, cfg.friction, cfg.solver);
     hook(solver);
+    // A restart point goes on where the interrupted solve was (the device solve starts warm
+    // from the fields); its iterations up to there were counted before.
+    const FrictionRestart* from = solver.on_device() || cfg.friction.coefficient == 0 ? nullptr : restart;
+    running_from = from ? from->iterations : 0;
     try {
-      r.info = solver.solve(cfg.load, r.fields);
+      r.info = solver.solve(cfg.load, r.fields, from);
     } catch (const Interrupted&) {
       save(r.fields);
       throw interrupted_after(progress_now());
@@ -579,10 +666,17 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
       r.info.transforms += r.reference->info.transforms;
       r.info.fft_seconds += r.reference->info.fft_seconds;
     }
-    // A resumed run reports the totals of all its sessions.
-    r.info.iterations += static_cast<int>(opts.resumed.iterations);
+    // A resumed run reports the totals of all its sessions: `iterations` counts the solve's
+    // work (work an interruption lost included), as an uninterrupted run does; the earlier
+    // sessions' work (resumed.iterations_before) may hold a reference solve, whose iterations
+    // the summary reports apart (frictionless.iterations).
+    const std::int64_t reference_before =
+        resume && resume->reference ? resume->reference->info.iterations : 0;
+    r.info.iterations += static_cast<int>(opts.resumed.iterations - running_from - reference_before);
     r.info.wall_time_s += opts.resumed.wall_time_s;
     r.resumed = opts.resumed;
+    r.resumed.state = nullptr;
+    refuse_excess_pressure(cfg, slab, r.fields.pressure, r.info);
   }
   body.reset();
   if (mpi::launched())

@@ -19,6 +19,7 @@
 #include <set>
 #include <sstream>
 
+#include "gfmd/case/run_directory.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/io/netcdf.hpp"
@@ -28,9 +29,188 @@ namespace gfmd {
 namespace fs = std::filesystem;
 
 namespace {
-// Version 2 adds the iterations and wall time done so far (a resumed run reports totals).
-constexpr char kCheckpointMagic[8] = {'G', 'F', 'M', 'D', 'C', 'K', 'P', '2'};
+// Version 2 adds the iterations and wall time done so far (a resumed run reports totals);
+// version 3 the solves' state (SolveResume) after the three fields: the length of its
+// numbers, the numbers (encode_resume_numbers), its fields (resume_fields).
+constexpr char kCheckpointMagic[8] = {'G', 'F', 'M', 'D', 'C', 'K', 'P', '3'};
+
+// Bytes of plain numbers, appended and read back in order.
+struct Bytes {
+  std::string buf;
+  template <class T>
+  void put(const T& v) {
+    buf.append(reinterpret_cast<const char*>(&v), sizeof(T));
+  }
+  template <class T>
+  void put_vector(const std::vector<T>& v) {
+    put(static_cast<std::uint64_t>(v.size()));
+    for (const T& x : v) put(x);
+  }
+};
+struct Unbytes {
+  const std::string& data;
+  std::size_t pos = 0;
+  template <class T>
+  bool get(T& v) {
+    if (pos + sizeof(T) > data.size()) return false;
+    std::memcpy(&v, data.data() + pos, sizeof(T));
+    pos += sizeof(T);
+    return true;
+  }
+  bool get(bool& v) {
+    std::uint8_t b = 0;
+    if (!get(b) || b > 1) return false;
+    v = b != 0;
+    return true;
+  }
+  template <class T>
+  bool get_vector(std::vector<T>& v) {
+    std::uint64_t len = 0;
+    if (!get(len) || len > (data.size() - pos) / sizeof(T)) return false;
+    v.resize(len);
+    for (T& x : v)
+      if (!get(x)) return false;
+    return true;
+  }
+};
+void put_bool(Bytes& b, bool v) { b.put(static_cast<std::uint8_t>(v ? 1 : 0)); }
+
+bool derivative_from(std::int32_t v, SlipDerivative& d) {
+  if (v < 0 || v > static_cast<std::int32_t>(SlipDerivative::Upwind2)) return false;
+  d = static_cast<SlipDerivative>(v);
+  return true;
+}
+
+// The kinds of the state's fields in order (resume_fields): F whole, S the support (whole;
+// says which points the C fields are stored at), C on the support only.
+std::string field_kinds(bool reference, const FrictionRestart* fr) {
+  std::string k = reference ? "F" : "";
+  if (!fr) return k;
+  k += 'S';
+  if (fr->have_z) k += "FF";
+  if (fr->mixer) k += std::string(4 + 2 * fr->mixer_slots.size(), 'C');
+  return k;
+}
+
+template <class Field, class Restart>
+std::vector<Field*> fields_of(Field* reference_pressure, Restart* fr) {
+  std::vector<Field*> out;
+  if (reference_pressure) out.push_back(reference_pressure);
+  if (!fr) return out;
+  out.push_back(&fr->support);
+  if (fr->have_z) {
+    out.push_back(&fr->zx);
+    out.push_back(&fr->zy);
+  }
+  if (fr->mixer) {
+    for (Field* f : {&fr->xprev_x, &fr->xprev_y, &fr->fprev_x, &fr->fprev_y}) out.push_back(f);
+    for (std::size_t k = 0; k < fr->df.size() && k < fr->dx.size(); ++k) {
+      out.push_back(&fr->df[k]);
+      out.push_back(&fr->dx[k]);
+    }
+  }
+  return out;
+}
 }  // namespace
+
+std::vector<const RealField*> resume_fields(const RealField* reference_pressure,
+                                            const FrictionRestart* friction) {
+  return fields_of<const RealField>(reference_pressure, friction);
+}
+std::vector<RealField*> resume_fields(RealField* reference_pressure, FrictionRestart* friction) {
+  return fields_of<RealField>(reference_pressure, friction);
+}
+
+std::string encode_resume_numbers(const SolveInfo* ref, const FrictionRestart* fr) {
+  Bytes b;
+  b.put(static_cast<std::uint32_t>((ref ? 1u : 0u) | (fr ? 2u : 0u)));
+  if (ref) {
+    b.put(static_cast<std::int32_t>(ref->iterations));
+    b.put(static_cast<std::int32_t>(ref->outer_iterations));
+    b.put(static_cast<std::int32_t>(ref->tangential_iterations));
+    b.put(static_cast<std::int32_t>(ref->slip_derivative));
+    for (double v : {ref->approach, ref->pk_error, ref->friction_error, ref->wall_time_s, ref->fft_seconds,
+                     ref->stiffness})
+      b.put(v);
+    b.put(static_cast<std::uint64_t>(ref->transforms));
+  }
+  if (fr) {
+    for (std::int32_t v : {fr->outer, fr->iterations, fr->tangential_iterations}) b.put(v);
+    for (double v : {fr->error, fr->mixing, fr->stick_points}) b.put(v);
+    for (bool v : {fr->tangential_ok, fr->have_slip, fr->have_z}) put_bool(b, v);
+    b.put(static_cast<std::int32_t>(fr->derivative));
+    put_bool(b, fr->steps.stick_mode);
+    b.put(static_cast<std::int32_t>(fr->steps.turn));
+    b.put(static_cast<std::int32_t>(fr->steps.near_stick));
+    b.put(fr->steps.best);
+    b.put(static_cast<std::int32_t>(fr->steps.since_best));
+    b.put(fr->gw_mean_ref);
+    b.put(fr->g_mean_ref);
+    b.put(fr->pk_iterations);
+    b.put(fr->pk_error);
+    b.put(fr->pk_delta);
+    put_bool(b, fr->pk_converged);
+    b.put_vector(fr->history_change);
+    b.put_vector(fr->history_force);
+    put_bool(b, fr->mixer);
+    put_bool(b, fr->mixer_have_prev);
+    b.put_vector(fr->mixer_slots);
+    b.put_vector(fr->mixer_gram);
+  }
+  return b.buf;
+}
+
+bool decode_resume_numbers(const std::string& bytes, SolveResume& state) {
+  Unbytes u{bytes};
+  std::uint32_t flags = 0;
+  if (!u.get(flags) || flags > 3) return false;
+  state = SolveResume{};
+  if (flags & 1u) {
+    SolveInfo& i = state.reference.emplace().info;
+    std::int32_t it = 0, outer = 0, tang = 0, deriv = 0;
+    std::uint64_t transforms = 0;
+    if (!u.get(it) || !u.get(outer) || !u.get(tang) || !u.get(deriv) ||
+        !derivative_from(deriv, i.slip_derivative))
+      return false;
+    for (double* v :
+         {&i.approach, &i.pk_error, &i.friction_error, &i.wall_time_s, &i.fft_seconds, &i.stiffness})
+      if (!u.get(*v)) return false;
+    if (!u.get(transforms) || it < 0 || outer < 0 || tang < 0) return false;
+    i.iterations = it;
+    i.outer_iterations = outer;
+    i.tangential_iterations = tang;
+    i.transforms = transforms;
+    i.converged = true;
+    i.status = "converged";
+  }
+  if (flags & 2u) {
+    FrictionRestart& f = state.friction.emplace();
+    std::int32_t deriv = 0, turn = 0, near = 0, since = 0;
+    bool ok = u.get(f.outer) && u.get(f.iterations) && u.get(f.tangential_iterations) && u.get(f.error) &&
+              u.get(f.mixing) && u.get(f.stick_points) && u.get(f.tangential_ok) && u.get(f.have_slip) &&
+              u.get(f.have_z) && u.get(deriv) && derivative_from(deriv, f.derivative) &&
+              u.get(f.steps.stick_mode) && u.get(turn) && u.get(near) && u.get(f.steps.best) &&
+              u.get(since) && u.get(f.gw_mean_ref) && u.get(f.g_mean_ref) && u.get(f.pk_iterations) &&
+              u.get(f.pk_error) && u.get(f.pk_delta) && u.get(f.pk_converged) &&
+              u.get_vector(f.history_change) && u.get_vector(f.history_force) && u.get(f.mixer) &&
+              u.get(f.mixer_have_prev) && u.get_vector(f.mixer_slots) && u.get_vector(f.mixer_gram);
+    if (!ok || f.outer < 0 || f.iterations < 0 || f.tangential_iterations < 0 || !(f.mixing > 0) ||
+        !std::isfinite(f.error) || !std::isfinite(f.gw_mean_ref) || !std::isfinite(f.g_mean_ref) ||
+        f.history_change.size() != f.history_force.size())
+      return false;
+    f.steps.turn = turn;
+    f.steps.near_stick = near;
+    f.steps.since_best = since;
+    for (const std::int32_t sl : f.mixer_slots)
+      if (sl < 0 || static_cast<std::size_t>(sl) * static_cast<std::size_t>(sl) >= f.mixer_gram.size())
+        return false;
+    if (f.mixer) {
+      f.df.resize(f.mixer_slots.size());
+      f.dx.resize(f.mixer_slots.size());
+    }
+  }
+  return u.pos == bytes.size();
+}
 
 CheckpointStream::CheckpointStream(const std::string& path, const Config& cfg,
                                    const CheckpointProgress& progress)
@@ -50,18 +230,55 @@ CheckpointStream::CheckpointStream(const std::string& path, const Config& cfg,
 }
 
 void CheckpointStream::add(const RealField& field) {
-  if (added_ == 3) throw std::logic_error("CheckpointStream: three fields only");
-  ++added_;
-  if (field.size() == n_) {
+  if (added_ < 3) {
+    ++added_;
+    if (field.size() == n_) {
+      file_.append_bytes(field.data(), n_ * sizeof(double));
+      return;
+    }
+    const std::vector<double> zeros(n_, 0.0);
+    file_.append_bytes(zeros.data(), n_ * sizeof(double));
+    return;
+  }
+  if (!state_ || kinds_.empty()) throw std::logic_error("CheckpointStream: a field more than the state has");
+  if (field.size() != n_) throw std::logic_error("CheckpointStream: a state field of the wrong size");
+  const char kind = kinds_.front();
+  kinds_.erase(0, 1);
+  if (kind == 'S') {
+    on_support_.assign(n_, 0);
+    support_points_ = 0;
+    for (std::size_t i = 0; i < n_; ++i)
+      if (field[i] >= 0) {
+        on_support_[i] = 1;
+        ++support_points_;
+      }
+  }
+  if (kind != 'C') {
     file_.append_bytes(field.data(), n_ * sizeof(double));
     return;
   }
-  const std::vector<double> zeros(n_, 0.0);
-  file_.append_bytes(zeros.data(), n_ * sizeof(double));
+  std::vector<double> packed;
+  packed.reserve(support_points_);
+  for (std::size_t i = 0; i < n_; ++i)
+    if (on_support_[i]) packed.push_back(field[i]);
+  file_.append_bytes(packed.data(), packed.size() * sizeof(double));
+}
+
+void CheckpointStream::add_state(const SolveInfo* reference_info, const FrictionRestart* friction) {
+  if (added_ != 3 || state_)
+    throw std::logic_error("CheckpointStream: the state goes after the three fields");
+  state_ = true;
+  const std::string numbers = encode_resume_numbers(reference_info, friction);
+  const std::uint64_t len = numbers.size();
+  file_.append_bytes(&len, 8);
+  file_.append_bytes(numbers.data(), numbers.size());
+  kinds_ = field_kinds(reference_info != nullptr, friction);
 }
 
 void CheckpointStream::commit() {
   if (added_ != 3) throw std::logic_error("CheckpointStream: pressure, tx and ty are needed");
+  if (!state_) add_state(nullptr, nullptr);
+  if (!kinds_.empty()) throw std::logic_error("CheckpointStream: the state's fields are missing");
   file_.sync_tmp();
   file_.commit();
 }
@@ -70,6 +287,13 @@ void write_checkpoint(const std::string& path, const Config& cfg, const ContactF
                       const CheckpointProgress& progress) {
   CheckpointStream s(path, cfg, progress);
   for (const RealField* fld : {&f.pressure, &f.tx, &f.ty}) s.add(*fld);
+  if (progress.state) {
+    const SolveResume& st = *progress.state;
+    const FrictionRestart* fr = st.friction ? &*st.friction : nullptr;
+    s.add_state(st.reference ? &st.reference->info : nullptr, fr);
+    for (const RealField* fld : resume_fields(st.reference ? &st.reference->pressure : nullptr, fr))
+      s.add(*fld);
+  }
   s.commit();
 }
 
@@ -80,7 +304,7 @@ bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& 
   std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::size_t pos = 0;
   const auto get = [&](void* p, std::size_t n) {
-    if (pos + n > data.size()) return false;
+    if (n > data.size() - pos) return false;
     std::memcpy(p, data.data() + pos, n);
     pos += n;
     return true;
@@ -90,7 +314,7 @@ bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& 
   std::uint64_t len = 0;
   if (!get(magic, 8) || std::memcmp(magic, kCheckpointMagic, 8) != 0) return false;
   if (!get(&nx, 4) || !get(&ny, 4) || !get(&len, 8)) return false;
-  if (nx != cfg.grid.nx || ny != cfg.grid.ny || len > data.size()) return false;
+  if (nx != cfg.grid.nx || ny != cfg.grid.ny || len > data.size() - pos) return false;
   const std::string input = data.substr(pos, len);
   pos += len;
   if (input != cfg.to_json().dump()) return false;
@@ -98,14 +322,68 @@ bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& 
   if (!get(&done.iterations, 8) || !get(&done.wall_time_s, 8)) return false;
   if (done.iterations < 0 || !(done.wall_time_s >= 0) || !std::isfinite(done.wall_time_s)) return false;
   const std::size_t n = cfg.grid.size();
-  if (data.size() != pos + 3 * n * sizeof(double)) return false;
-  for (RealField* fld : {&f.pressure, &f.tx, &f.ty}) {
-    fld->resize(n);
-    get(fld->data(), n * sizeof(double));
-    for (double v : *fld)
-      if (!std::isfinite(v)) return false;
+  const auto read_field = [&](RealField& fld, std::size_t count) {
+    if (count > (data.size() - pos) / sizeof(double)) return false;
+    fld.resize(count);
+    return get(fld.data(), count * sizeof(double));
+  };
+  const auto finite = [](const RealField& fld) {
+    return std::all_of(fld.begin(), fld.end(), [](double v) { return std::isfinite(v); });
+  };
+  ContactFields read;
+  for (RealField* fld : {&read.pressure, &read.tx, &read.ty})
+    if (!read_field(*fld, n) || !finite(*fld)) return false;
+  // The state: its numbers, then its fields (those of kind C on the support only).
+  std::uint64_t nlen = 0;
+  if (!get(&nlen, 8) || nlen > data.size() - pos) return false;
+  auto state = std::make_shared<SolveResume>();
+  if (!decode_resume_numbers(data.substr(pos, nlen), *state)) return false;
+  pos += nlen;
+  if (state->friction && state->friction->mixer &&
+      state->friction->mixer_gram.size() !=
+          static_cast<std::size_t>(cfg.solver.anderson) * static_cast<std::size_t>(cfg.solver.anderson))
+    return false;
+  FrictionRestart* fr = state->friction ? &*state->friction : nullptr;
+  const std::vector<RealField*> fields =
+      resume_fields(state->reference ? &state->reference->pressure : nullptr, fr);
+  const std::string kinds = field_kinds(state->reference.has_value(), fr);
+  if (kinds.size() != fields.size()) return false;
+  std::vector<std::size_t> support;
+  for (std::size_t k = 0; k < fields.size(); ++k) {
+    RealField& fld = *fields[k];
+    if (kinds[k] != 'C') {
+      if (!read_field(fld, n)) return false;
+    } else {
+      RealField packed;
+      if (!read_field(packed, support.size())) return false;
+      fld.assign(n, 0.0);
+      for (std::size_t j = 0; j < support.size(); ++j) fld[support[j]] = packed[j];
+    }
+    if (kinds[k] == 'S') {
+      for (std::size_t i = 0; i < n; ++i) {
+        const double v = fld[i];
+        if (!(v == -1.0 || (v >= 0 && v <= 1e9 && v == std::floor(v)))) return false;
+        if (v >= 0) support.push_back(i);
+      }
+    } else if (fr && fr->mixer && k + 2 * fr->mixer_slots.size() >= fields.size()) {
+      // df and dx: two floats packed per point.
+      for (const double v : fld) {
+        float x, y;
+        unpack_floats(v, x, y);
+        if (!std::isfinite(x) || !std::isfinite(y)) return false;
+      }
+    } else if (!finite(fld)) {
+      return false;
+    }
   }
-  if (progress) *progress = done;
+  if (pos != data.size()) return false;
+  f.pressure = std::move(read.pressure);
+  f.tx = std::move(read.tx);
+  f.ty = std::move(read.ty);
+  if (progress) {
+    if (state->reference || state->friction) done.state = std::move(state);
+    *progress = std::move(done);
+  }
   return true;
 }
 
@@ -124,12 +402,14 @@ std::optional<nlohmann::json> finished_summary(const std::string& dir, const Con
   return std::nullopt;
 }
 
-void write_status(const std::string& dir, const std::string& status, const std::string& reason) {
+void write_status(const std::string& dir, const std::string& status, const std::string& reason,
+                  const std::string& result) {
   nlohmann::json j = {{"status", status},
                       {"version", kVersion},
                       {"git_commit", kGitCommit},
                       {"pid", static_cast<long>(::getpid())}};
   if (!reason.empty()) j["reason"] = reason;
+  if (!result.empty()) j["result"] = result;
   write_text_atomic((fs::path(dir) / "status.json").string(), j.dump(2) + "\n");
 }
 
@@ -190,23 +470,12 @@ DirectoryLock::~DirectoryLock() {
 }
 
 std::vector<std::string> clear_run_outputs(const std::string& dir, bool keep_checkpoint) {
-  static const std::set<std::string> kNames = {
-      "summary.json",        "status.json",       "fields.nc",
-      "flow.json",           "flow.nc",           "profiles.csv",
-      "patches.csv",         "distributions.csv", "spectrum.csv",
-      "bands.csv",           "analysis.png",      "profiles.png",
-      "pressure.png",        "gap.png",           "slip_longitudinal.png",
-      "slip_transverse.png", "dissipation.png",   "max_principal_stress.png",
-      "von_mises.png",       "checkpoint.bin"};
   std::vector<std::string> removed;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     if (!e.is_regular_file(ec)) continue;
     const std::string name = e.path().filename().string();
-    const bool ours = kNames.count(name) != 0 ||
-                      (name.rfind("current_", 0) == 0 && name.size() > 12 &&
-                       name.compare(name.size() - 4, 4, ".png") == 0) ||
-                      name.find(".tmp.") != std::string::npos;
+    const bool ours = is_run_output_name(name);
     if (!ours || (keep_checkpoint && name == "checkpoint.bin")) continue;
     if (fs::remove(e.path(), ec)) removed.push_back(name);
   }

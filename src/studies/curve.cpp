@@ -13,6 +13,7 @@
 #include "gfmd/case/leakage.hpp"
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
+#include "gfmd/case/run_directory.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/core/mpi.hpp"
@@ -354,23 +355,26 @@ nlohmann::json run_curve(const std::string& case_path, const Config& cfg, const 
     throw InputError(case_path, "not a curve: make the configuration with curve_config");
   // Under mpirun every process solves the points (run_sweep); rank 0 alone writes and reads
   // the directory, and the tables' JSON is its (empty on the others).
-  on_root([&] {
-    fs::create_directories(dir);
-    // The figure of an earlier curve in this directory goes (the front end draws it anew).
-    std::error_code ec;
-    fs::remove(fs::path(dir) / "curve.png", ec);
-    fs::remove(fs::path(dir) / "curve.pdf", ec);
-  });
+  on_root([&] { fs::create_directories(dir); });
   SweepOptions so = opts.sweep;
   for (const auto& s : curve_overrides()) so.overrides.push_back(s);
   const std::string pdir = (fs::path(dir) / kPointsDir).string();
   nlohmann::json j;
-  const auto tables = [&] { j = write_curve_tables(case_path, cfg, dir, opts.sweep.overrides); };
+  // The tables of the published points; the figure of earlier tables goes with them (the
+  // front end draws it anew), so that a figure never shows other points than its table.
+  const auto tables = [&] {
+    std::error_code ec;
+    fs::remove(fs::path(dir) / "curve.png", ec);
+    fs::remove(fs::path(dir) / "curve.pdf", ec);
+    j = write_curve_tables(case_path, cfg, dir, opts.sweep.overrides);
+  };
   try {
     run_sweep(case_path, cfg, pdir, so);
   } catch (const SolveError&) {
-    // Interrupted too: the points finished so far are tabulated, then the error goes up.
-    if (mpi::root()) try {
+    // Interrupted too: the points finished so far are tabulated where they were published (a
+    // first attempt); where an earlier curve's points were kept, so are its tables.
+    std::error_code ec;
+    if (mpi::root() && !fs::exists(fs::path(pdir) / kStagingName, ec)) try {
         tables();
       } catch (const std::exception&) {
         // The first error is the one to report.

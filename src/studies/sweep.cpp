@@ -23,6 +23,7 @@
 #include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
+#include "gfmd/case/run_directory.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/core/mpi.hpp"
@@ -114,6 +115,9 @@ std::string format_value(double v) {
 Config sweep_config(const std::string& case_path, const std::vector<std::string>& overrides,
                     const std::string& parameter, const std::vector<double>& values) {
   if (values.empty()) throw InputError("values", "give at least one value to sweep " + parameter + " over");
+  if (values.size() > static_cast<std::size_t>(kMaxSweepPoints))
+    throw InputError("values", "at most " + std::to_string(kMaxSweepPoints) + " values to sweep " +
+                                   parameter + " over, got " + std::to_string(values.size()));
   std::vector<std::string> with_first = overrides;
   with_first.push_back(parameter + "=" + format_number(values.front()));
   Config cfg = load_config(case_path, with_first);
@@ -128,49 +132,103 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   if (!sw.active())
     throw InputError(case_path, "no sweep: give [sweep] parameter and values, or --set key=v1,v2,...");
   // Under mpirun every process takes part in every solve; rank 0 alone reads and writes the
-  // directory and tells the others what it found there.
+  // directory and tells the others what it found there. The new points go to the staging
+  // area (finished ones of an interrupted attempt stay there for reuse) and are published
+  // together; published points of the same input are reused where they are.
   const bool root = mpi::root();
+  std::optional<RunDirectory> rd;
   on_root([&] {
-    fs::create_directories(dir);
-    // What an earlier, longer or differently plotted sweep left: points beyond this sweep's
-    // last and its plots (the tables are rewritten below).
-    std::error_code ec;
-    for (const auto& e : fs::directory_iterator(dir, ec)) {
-      const std::string name = e.path().filename().string();
-      int k = -1;
-      if (name.size() == 9 && name.rfind("point_", 0) == 0 && std::sscanf(name.c_str() + 6, "%3d", &k) == 1 &&
-          k >= static_cast<int>(sw.values.size()))
-        fs::remove_all(e.path(), ec);
-      else if (name.rfind("sweep_", 0) == 0 && e.path().extension() == ".png")
-        fs::remove(e.path(), ec);
-    }
-    write_status(dir, "running");
+    rd.emplace(dir, opts.directory, /*keep_staging=*/true);
+    rd->begin();
   });
+  const std::string stage = root ? rd->staging() : std::string();
+  std::set<std::string> reused;
   std::vector<nlohmann::json> summaries;
   ContactFields warm;
   bool have_warm = false;
   const int total = static_cast<int>(sw.values.size());
+  // Rows are appended to the staged sweep.csv as points finish (the columns of the first);
+  // the tables are written whole once, with every column, when the sweep ends.
+  std::vector<std::string> csv_columns;
+  const auto append_row = [&](double value, const nlohmann::json& summary) {
+    const auto row = summary_row(summary);
+    std::ostringstream os;
+    os.precision(17);
+    if (csv_columns.empty()) {
+      for (const auto& kv : row) csv_columns.push_back(kv.first);
+      os << sw.parameter;
+      for (const auto& c : csv_columns) os << "," << c;
+      os << "\n";
+    }
+    os << format_number(value);
+    for (const auto& c : csv_columns) {
+      os << ",";
+      for (const auto& [k, v] : row)
+        if (k == c) os << csv_cell(v);
+    }
+    os << "\n";
+    std::ofstream f(fs::path(stage) / "sweep.csv", std::ios::app);
+    f << os.str();
+  };
+  // A sweep that ends before its last point: where the directory had no result yet, what was
+  // finished is published (with the status saying why it stopped); otherwise the previous
+  // result stays and the finished points wait in the staging area for the same command.
+  const auto stop_early = [&](const std::string& status, const std::string& why) {
+    if (!root) return std::string();
+    if (rd->had_result()) {
+      // Points solved by this attempt wait for the same command; with none, nothing is kept.
+      bool staged = false;
+      std::error_code ec;
+      for (const auto& e : fs::directory_iterator(stage, ec))
+        staged = staged || e.path().filename().string().rfind("point_", 0) == 0;
+      if (status == "failed")
+        (void)rd->fail(why, staged);
+      else
+        (void)rd->interrupt(why, staged);
+      return std::string(staged ? "kept, staged" : "kept");
+    }
+    write_sweep_tables(stage, sw.parameter, sw.values, summaries);
+    rd->publish([&](const std::string& n) { return is_gfmd_output_name(n) && reused.count(n) == 0; }, status,
+                why);
+    return std::string("published");
+  };
   // The column to draw, checked on the first point (opts.plot_column).
   const auto check_column = [&](int point) {
     if (opts.plot_column.empty() || point != 0) return;
     const std::string columns = mpi::from_root(
         root && !summaries.empty() ? missing_column(summaries.front(), opts.plot_column, sw.parameter) : "");
-    if (!columns.empty())
+    if (!columns.empty()) {
+      (void)stop_early("failed", "the summaries have no column '" + opts.plot_column + "'");
       throw InputError(opts.plot_key, "the summaries have no column '" + opts.plot_column +
                                           "' (the first point is kept in " + dir +
                                           "/; numeric columns: " + columns + ")");
+    }
   };
   for (int i = 0; i < total; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "point_%03d", i);
+    // Stop requests are honoured between points too (points that need no iterations never
+    // poll inside the solve).
+    if (mpi::from_root(root && opts.stop_request && opts.stop_request() ? 1 : 0) == 1) {
+      const std::string why = std::string("interrupted before ") + name;
+      (void)stop_early("interrupted", why);
+      throw Interrupted(why);
+    }
     std::vector<std::string> sets = opts.overrides;
     sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
     Config cfg = load_config(case_path, sets);
-    char name[32];
-    std::snprintf(name, sizeof name, "point_%03d", i);
+    const std::string sdir = root ? (fs::path(stage) / name).string() : std::string();
     const std::string pdir = (fs::path(dir) / name).string();
     std::optional<nlohmann::json> old;
-    if (root) old = finished_summary(pdir, cfg);
+    if (root) {
+      old = finished_summary(sdir, cfg);
+      if (!old && (old = finished_summary(pdir, cfg))) reused.insert(name);
+    }
     if (mpi::from_root(old ? 1 : 0) == 1) {
-      if (root) summaries.push_back(std::move(*old));
+      if (root) {
+        append_row(sw.values[i], *old);
+        summaries.push_back(std::move(*old));
+      }
       check_column(i);
       have_warm = false;
       if (opts.on_point) opts.on_point(i + 1, total, std::string(name) + " reused (finished earlier)");
@@ -181,13 +239,19 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     ro.stop_request = opts.stop_request;
     ro.checkpoint_interval_s = opts.checkpoint_interval_s;
     ro.keep_stress_fields = outputs_need_stress_fields(cfg);
-    on_root([&] { fs::create_directories(pdir); });
-    ro.checkpoint_path = (fs::path(pdir) / "checkpoint.bin").string();
+    on_root([&] { make_gfmd_directory(sdir); });
+    ro.checkpoint_path = (fs::path(sdir) / "checkpoint.bin").string();
+    // An interrupted point's checkpoint: in the staging area, or published with the finished
+    // points of a first attempt.
     ContactFields resumed;
+    CheckpointProgress progress;  // with the solver's restart point (rank 0's, handed out by rows)
     const bool from_checkpoint =
-        mpi::from_root(root && read_checkpoint(ro.checkpoint_path, cfg, resumed)) == 1;
+        mpi::from_root(root && (read_checkpoint(ro.checkpoint_path, cfg, resumed, &progress) ||
+                                read_checkpoint((fs::path(pdir) / "checkpoint.bin").string(), cfg, resumed,
+                                                &progress))) == 1;
     if (from_checkpoint) {
       ro.warm_start = &resumed;
+      ro.resumed = progress;
     } else if (have_warm) {
       ro.warm_start = &warm;
     }
@@ -198,8 +262,8 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
         return run_case(cfg, ro);
       } catch (const Interrupted& e) {
         on_root([&] {
-          write_status(pdir, "interrupted", e.what());
-          write_status(dir, "interrupted", std::string(name) + ": " + e.what());
+          write_status(sdir, "interrupted", e.what());
+          (void)stop_early("interrupted", std::string(name) + ": " + e.what());
         });
         throw;
       }
@@ -218,21 +282,26 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     std::error_code ec;
     if (root) fs::remove(ro.checkpoint_path, ec);
     if (!r.info.converged) {
-      const std::string why = std::string(name) + " (" + sw.parameter + " = " + format_number(sw.values[i]) +
-                              "): " + r.info.status + "; the " + std::to_string(i) +
-                              " finished points are kept";
+      std::string why = std::string(name) + " (" + sw.parameter + " = " + format_number(sw.values[i]) +
+                        "): " + r.info.status;
       on_root([&] {
-        fs::remove(pdir, ec);  // only if empty: no bare point directory is left behind
-        write_sweep_tables(dir, sw.parameter, sw.values, summaries);
-        write_status(dir, "failed", why);
+        fs::remove_all(sdir, ec);  // no bare point directory is left behind
+        const std::string what = stop_early("failed", why);
+        if (what == "published")
+          why += "; the " + std::to_string(i) + " finished points are kept in " + dir + "/";
+        else
+          why += "; the previous sweep in " + dir + "/ is kept unchanged" +
+                 (what == "kept, staged"
+                      ? "; the points finished now wait in " + stage + "/ for the same command"
+                      : std::string());
       });
       throw SolveError(why);
     }
     on_root([&] {
-      clear_run_outputs(pdir);       // a point recomputed owns its directory, as a run does
-      publish_outputs(r, pdir, {});  // with status.json "converged", as gfmd run writes it
+      clear_run_outputs(sdir);       // a point recomputed owns its directory, as a run does
+      publish_outputs(r, sdir, {});  // with status.json "converged", as gfmd run writes it
       summaries.push_back(summary_json(r));
-      write_sweep_tables(dir, sw.parameter, sw.values, summaries);
+      append_row(sw.values[i], summaries.back());
     });
     check_column(i);
     warm = std::move(r.fields);
@@ -245,8 +314,14 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     }
   }
   on_root([&] {
-    write_sweep_tables(dir, sw.parameter, sw.values, summaries);
-    write_status(dir, "converged");
+    write_sweep_tables(stage, sw.parameter, sw.values, summaries);
+    // The figures drawn from the staged tables are published with them.
+    if (opts.before_publish) opts.before_publish(stage);
+    if (opts.stop_request && opts.stop_request()) {
+      (void)rd->interrupt("interrupted while drawing the figures", /*keep_staging=*/true);
+      throw Interrupted("interrupted while drawing the figures");
+    }
+    rd->publish([&](const std::string& n) { return is_gfmd_output_name(n) && reused.count(n) == 0; });
   });
   nlohmann::json j;
   j["points"] = summaries.size();

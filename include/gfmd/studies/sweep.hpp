@@ -7,14 +7,16 @@
 #include <vector>
 
 #include "gfmd/case/config.hpp"
+#include "gfmd/case/run_directory.hpp"
 #include "gfmd/contact/solver.hpp"
 
 namespace gfmd {
 
 // Load sweeps: solves cfg.sweep.values of cfg.sweep.parameter in order, each warm-started
-// from the previous point, into dir/point_NNN/, and after every point rewrites
-// dir/sweep.csv and dir/sweep.json (one row of every scalar summary key per point).
-// Points whose summary.json already holds the same input are read back, not recomputed.
+// from the previous point, into dir/point_NNN/ with dir/sweep.csv and dir/sweep.json (one row
+// of every scalar summary key per point), through the directory's staging area: published
+// together at the end (RunDirectory). Points whose summary.json already holds the same input
+// are read back, not recomputed.
 struct SweepOptions {
   std::function<void(const Progress&)> progress;
   std::function<void(int done, int total, const std::string& message)> on_point;
@@ -25,6 +27,10 @@ struct SweepOptions {
   // summaries lack is bad input, found on the first point (InputError named plot_key, e.g.
   // "--plot"; that point is kept), not after the last.
   std::string plot_column, plot_key = "plot";
+  // The output directory's treatment (force, wait; the sweep holds its lock) and what is drawn
+  // from the staged tables before they are published (the staging directory as argument).
+  OutputDirOptions directory;
+  std::function<void(const std::string& staging)> before_publish;
 };
 // The case of a sweep of `parameter` (section.key) over `values`, given by a front end
 // rather than the case's [sweep] table: the case file with the overrides and the first

@@ -1,0 +1,253 @@
+// Output directories: which may be written, staging and publication, failed and interrupted
+// attempts that leave the previous result untouched (RunDirectory), through the library and
+// the command line.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "gfmd/case/run_directory.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/studies/sweep.hpp"
+#include "test_util.hpp"
+
+namespace fs = std::filesystem;
+using gfmd::testing::read_file;
+using gfmd::testing::run_gfmd;
+using gfmd::testing::write_file;
+
+namespace {
+
+fs::path scratch(const std::string& name) { return gfmd::testing::scratch_dir("rundir_test", name); }
+
+std::string status_of(const fs::path& dir) {
+  return nlohmann::json::parse(read_file(dir / "status.json")).value("status", "");
+}
+
+// Runs f with the working directory set to dir.
+template <class F>
+void in_directory(const fs::path& dir, F&& f) {
+  const fs::path before = fs::current_path();
+  fs::current_path(dir);
+  try {
+    f();
+  } catch (...) {
+    fs::current_path(before);
+    throw;
+  }
+  fs::current_path(before);
+}
+
+}  // namespace
+
+TEST(RunDirectory, RefusesRootHomeWorkingAndForeignDirectories) {
+  const fs::path d = scratch("refuse");
+  EXPECT_THROW(gfmd::check_output_directory("/", true), gfmd::InputError);
+  EXPECT_THROW(gfmd::check_output_directory("", false), gfmd::InputError);
+  in_directory(d, [] {
+    EXPECT_THROW(gfmd::check_output_directory(".", true), gfmd::InputError);
+    EXPECT_THROW(gfmd::check_output_directory("./", true), gfmd::InputError);
+  });
+  if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') {
+    EXPECT_THROW(gfmd::check_output_directory(home, true), gfmd::InputError);
+  }
+  // A user's directory with files: refused without force, naming the option.
+  fs::create_directories(d / "mine");
+  write_file(d / "mine" / "spectrum.csv", "mine\n");
+  try {
+    gfmd::check_output_directory((d / "mine").string(), false);
+    ADD_FAILURE() << "a foreign non-empty directory was accepted";
+  } catch (const gfmd::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--force"), std::string::npos) << e.what();
+    EXPECT_EQ(e.where(), (d / "mine").string());
+  }
+  EXPECT_NO_THROW(gfmd::check_output_directory((d / "mine").string(), true));
+  // New, empty and gfmd's own directories are fine; a file is not a directory.
+  EXPECT_NO_THROW(gfmd::check_output_directory((d / "new" / "deeper").string(), false));
+  fs::create_directories(d / "empty");
+  EXPECT_NO_THROW(gfmd::check_output_directory((d / "empty").string(), false));
+  fs::create_directories(d / "ours");
+  write_file(d / "ours" / gfmd::kDirectoryMarker, "");
+  write_file(d / "ours" / "summary.json", "{}");
+  EXPECT_NO_THROW(gfmd::check_output_directory((d / "ours").string(), false));
+  EXPECT_THROW(gfmd::check_output_directory((d / "mine" / "spectrum.csv").string(), true), gfmd::InputError);
+}
+
+TEST(RunDirectory, PublishReplacesTheOutputsTogetherAndFailureKeepsThem) {
+  const fs::path d = scratch("publish");
+  {
+    gfmd::RunDirectory rd(d.string());
+    rd.begin();
+    write_file(fs::path(rd.staging()) / "summary.json", "old");
+    write_file(fs::path(rd.staging()) / "flow.json", "old flow");
+    rd.publish();
+  }
+  write_file(d / "notes.txt", "the user's");
+  EXPECT_EQ(status_of(d), "converged");
+  {
+    // A failed attempt: nothing it staged arrives, the previous set stays and status.json says so.
+    gfmd::RunDirectory rd(d.string());
+    EXPECT_TRUE(rd.had_result());
+    rd.begin();
+    EXPECT_EQ(status_of(d), "running");
+    write_file(fs::path(rd.staging()) / "summary.json", "new but failed");
+    const std::string note = rd.fail("solve did not converge");
+    EXPECT_NE(note.find("kept unchanged"), std::string::npos) << note;
+  }
+  EXPECT_EQ(read_file(d / "summary.json"), "old");
+  EXPECT_EQ(read_file(d / "flow.json"), "old flow");
+  EXPECT_FALSE(fs::exists(d / gfmd::kStagingName));
+  const auto st = nlohmann::json::parse(read_file(d / "status.json"));
+  EXPECT_EQ(st["status"], "failed");
+  EXPECT_NE(st.value("result", "").find("kept"), std::string::npos);
+  {
+    // An attempt that is destroyed without an ending (an exception): its staging goes too.
+    gfmd::RunDirectory rd(d.string());
+    rd.begin();
+    write_file(fs::path(rd.staging()) / "summary.json", "abandoned");
+  }
+  EXPECT_FALSE(fs::exists(d / gfmd::kStagingName));
+  EXPECT_EQ(read_file(d / "summary.json"), "old");
+  {
+    // A new complete set replaces the old one; outputs it lacks (flow.json) go, the user's stay.
+    gfmd::RunDirectory rd(d.string());
+    rd.begin();
+    write_file(fs::path(rd.staging()) / "summary.json", "new");
+    rd.publish();
+  }
+  EXPECT_EQ(read_file(d / "summary.json"), "new");
+  EXPECT_FALSE(fs::exists(d / "flow.json"));
+  EXPECT_EQ(read_file(d / "notes.txt"), "the user's");
+  EXPECT_EQ(status_of(d), "converged");
+}
+
+TEST(RunDirectory, APublicationCutShortIsFinishedOnTheNextOpening) {
+  const fs::path d = scratch("crash");
+  {
+    gfmd::RunDirectory rd(d.string());
+    rd.begin();
+    write_file(fs::path(rd.staging()) / "summary.json", "old");
+    rd.publish();
+  }
+  // What a crash between the marker and the last rename leaves: a complete staged set.
+  fs::create_directories(d / gfmd::kStagingName);
+  write_file(d / gfmd::kStagingName / "summary.json", "new");
+  write_file(d / gfmd::kStagingName / "fields.nc", "new fields");
+  write_file(d / gfmd::kStagingName / ".publishing", "publishing\n");
+  { const gfmd::RunDirectory rd(d.string()); }
+  EXPECT_EQ(read_file(d / "summary.json"), "new");
+  EXPECT_EQ(read_file(d / "fields.nc"), "new fields");
+  EXPECT_FALSE(fs::exists(d / gfmd::kStagingName));
+  // Without the marker the staged set was incomplete: it goes, the published one stays.
+  fs::create_directories(d / gfmd::kStagingName);
+  write_file(d / gfmd::kStagingName / "summary.json", "half");
+  { const gfmd::RunDirectory rd(d.string()); }
+  EXPECT_EQ(read_file(d / "summary.json"), "new");
+  EXPECT_FALSE(fs::exists(d / gfmd::kStagingName));
+}
+
+TEST(RunDirectory, SweepStoppedBetweenPointsKeepsThePreviousSweep) {
+  const fs::path d = scratch("sweep");
+  write_file(d / "case.toml",
+             gfmd::testing::kSmallHertz + "[output]\nfields = false\npng = false\nanalysis = false\n");
+  const std::string casep = (d / "case.toml").string(), out = (d / "s").string();
+  gfmd::SweepOptions so;
+  const gfmd::Config first = gfmd::sweep_config(casep, {}, "load.force", {0.006, 0.014});
+  gfmd::run_sweep(casep, first, out, so);
+  const std::string table = read_file(fs::path(out) / "sweep.csv");
+  ASSERT_NE(table.find("0.014"), std::string::npos);
+  // Points that need no iterations (the same case again) still honour a stop request: a new
+  // sweep over other values stops after its first point.
+  const gfmd::Config second = gfmd::sweep_config(casep, {}, "load.force", {0.007, 0.009, 0.012});
+  int points = 0;
+  so.on_point = [&points](int, int, const std::string&) { ++points; };
+  so.stop_request = [&points] { return points >= 1; };
+  EXPECT_THROW(gfmd::run_sweep(casep, second, out, so), gfmd::Interrupted);
+  EXPECT_EQ(points, 1);
+  EXPECT_EQ(read_file(fs::path(out) / "sweep.csv"), table);
+  EXPECT_EQ(status_of(out), "interrupted");
+  EXPECT_TRUE(fs::exists(fs::path(out) / gfmd::kStagingName / "point_000" / "summary.json"));
+  // The same command again reuses the staged point and publishes the whole new sweep; the
+  // earlier sweep's extra points do not survive it.
+  std::string first_message;
+  so.stop_request = {};
+  so.on_point = [&first_message](int done, int, const std::string& m) {
+    if (done == 1) first_message = m;
+  };
+  gfmd::run_sweep(casep, second, out, so);
+  EXPECT_NE(first_message.find("reused"), std::string::npos) << first_message;
+  const std::string table2 = read_file(fs::path(out) / "sweep.csv");
+  EXPECT_NE(table2.find("0.012"), std::string::npos);
+  EXPECT_EQ(table2.find("0.014"), std::string::npos);
+  EXPECT_TRUE(fs::exists(fs::path(out) / "point_002" / "summary.json"));
+  EXPECT_FALSE(fs::exists(fs::path(out) / "point_003"));
+  EXPECT_FALSE(fs::exists(fs::path(out) / gfmd::kStagingName));
+  EXPECT_EQ(status_of(out), "converged");
+}
+
+TEST(Cli, AForeignDirectoryIsRefusedAndNeverLosesData) {
+  const fs::path d = scratch("cli_foreign");
+  write_file(d / "case.toml", gfmd::testing::kSmallHertz);
+  const std::string run = "run " + (d / "case.toml").string() + " -q";
+  // The example: the user's spectrum.csv in a directory gfmd did not make.
+  fs::create_directories(d / "mine");
+  write_file(d / "mine" / "spectrum.csv", "mine\n");
+  const auto refused = run_gfmd(run + " -o " + (d / "mine").string() + " --set solver.max_iterations=2");
+  EXPECT_EQ(refused.code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("--force"), std::string::npos) << refused.output;
+  EXPECT_EQ(read_file(d / "mine" / "spectrum.csv"), "mine\n");
+  EXPECT_FALSE(fs::exists(d / "mine" / "status.json"));
+  // With --force a failing run still changes none of the user's files.
+  const auto failing =
+      run_gfmd(run + " -o " + (d / "mine").string() + " --force --set solver.max_iterations=2");
+  EXPECT_EQ(failing.code, 3) << failing.output;
+  EXPECT_EQ(read_file(d / "mine" / "spectrum.csv"), "mine\n");
+  EXPECT_FALSE(fs::exists(d / "mine" / "summary.json"));
+  // The root directory and the working directory are refused outright, --force or not.
+  for (const std::string& o : {std::string("/"), std::string(".")}) {
+    const auto r = run_gfmd("run " + (d / "case.toml").string() + " -q --force -o " + o);
+    EXPECT_EQ(r.code, 2) << o << ": " << r.output;
+    EXPECT_NE(r.output.find("refusing"), std::string::npos) << r.output;
+  }
+}
+
+TEST(Cli, AFailedRerunKeepsTheConvergedResult) {
+  const fs::path d = scratch("cli_rerun");
+  write_file(d / "case.toml", gfmd::testing::kSmallHertz);
+  const std::string run = "run " + (d / "case.toml").string() + " -q -o " + (d / "out").string();
+  const auto ok = run_gfmd(run + " --set output.png=false");
+  ASSERT_EQ(ok.code, 0) << ok.output;
+  EXPECT_TRUE(ok.output.empty()) << "-q prints nothing on success: " << ok.output;
+  const std::string summary = read_file(d / "out" / "summary.json");
+  const std::string fields = read_file(d / "out" / "fields.nc");
+  const auto bad = run_gfmd(run + " --set solver.max_iterations=2 --set load.force=0.02");
+  EXPECT_EQ(bad.code, 3) << bad.output;
+  EXPECT_NE(bad.output.find("kept unchanged"), std::string::npos) << bad.output;
+  EXPECT_EQ(read_file(d / "out" / "summary.json"), summary);
+  EXPECT_EQ(read_file(d / "out" / "fields.nc"), fields);
+  EXPECT_EQ(status_of(d / "out"), "failed");
+  EXPECT_FALSE(fs::exists(d / "out" / gfmd::kStagingName));
+  // The next good run replaces it, and its directory is gfmd's: no --force needed.
+  const auto again = run_gfmd(run + " --set load.force=0.02 --set output.png=false");
+  ASSERT_EQ(again.code, 0) << again.output;
+  EXPECT_NE(read_file(d / "out" / "summary.json"), summary);
+  EXPECT_EQ(status_of(d / "out"), "converged");
+}
+
+TEST(Cli, UnknownCommandsAndOverlongListsAreNamed) {
+  const auto r = run_gfmd("rnu x.toml");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("unknown command 'rnu'"), std::string::npos) << r.output;
+  const fs::path d = scratch("cli_list");
+  write_file(d / "case.toml", gfmd::testing::kSmallHertz);
+  std::string list = "1e-3";
+  for (int i = 1; i <= 10000; ++i) list += ",1e-3";  // 10 001 values
+  const auto l = run_gfmd("sweep " + (d / "case.toml").string() + " -q -o " + (d / "s").string() +
+                          " --set load.force=" + list);
+  EXPECT_EQ(l.code, 2) << l.output.substr(0, 400);
+  EXPECT_NE(l.output.find("--set load.force"), std::string::npos) << l.output.substr(0, 400);
+  EXPECT_NE(l.output.find("at most 10000"), std::string::npos) << l.output.substr(0, 400);
+  EXPECT_FALSE(fs::exists(d / "s"));
+}
