@@ -146,7 +146,7 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
     }
   } ready;
   gfmd::RunDirectory rd(out_dir, {dir_flags.force, dir_flags.wait, stop_requested});
-  const std::string ckpt = (fs::path(out_dir) / "checkpoint.bin").string();
+  const std::string ckpt = rd.checkpoint();
   gfmd::ContactFields warm;
   gfmd::CheckpointProgress done;
   bool have_warm = false;

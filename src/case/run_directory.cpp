@@ -152,6 +152,8 @@ RunDirectory::~RunDirectory() {
   fs::remove_all(staging_, ec);
 }
 
+std::string RunDirectory::checkpoint() const { return (fs::path(dir_) / "checkpoint.bin").string(); }
+
 void RunDirectory::begin() {
   std::error_code ec;
   fs::create_directories(staging_, ec);

@@ -58,6 +58,9 @@ class RunDirectory {
   [[nodiscard]] const std::string& dir() const { return dir_; }
   // The staging area (created on first use by begin()).
   [[nodiscard]] const std::string& staging() const { return staging_; }
+  // The solver's checkpoint of this directory (beside the published result, not staged: a
+  // resumed attempt reads it; publish() removes it with the other outputs the new set lacks).
+  [[nodiscard]] std::string checkpoint() const;
   // Whether the directory held a complete result (status.json "converged") when it was opened.
   [[nodiscard]] bool had_result() const { return had_result_; }
 
