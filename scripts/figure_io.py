@@ -13,6 +13,7 @@ script's main(): on Ctrl-C or SIGTERM it discards every unpublished batch, print
 exits with status 4 (gfmd's "interrupted", which the C++ front end passes on)."""
 import contextlib
 import csv
+import json
 import os
 import re
 import signal
@@ -66,6 +67,26 @@ def grid_unit(summary):
         return inp.get("grid", {}).get("unit") or "length"
     except AttributeError:
         return "length"
+
+
+def grid_unit_beside(path, json_name):
+    """grid.unit recorded in the JSON file json_name (summary.json, sweep.json) in the folder of
+    path, 'length' where there is none."""
+    try:
+        with open(os.path.join(os.path.dirname(path) or ".", json_name)) as fh:
+            return grid_unit(json.load(fh))
+    except (OSError, ValueError):
+        return "length"
+
+
+def save_png_or_stage(fig, out, batch=None):
+    """Writes fig to out at once or, with batch (a Batch its caller publishes), stages it there.
+    Returns out."""
+    if batch is None:
+        save_png(fig, out)
+    else:
+        batch.save(fig, out, format="png")
+    return out
 
 
 # ---------------------------------------------------------------------------------------

@@ -97,13 +97,7 @@ def figure(d):
 def main(d, batch=None):
     """Draws analysis.png in d; into batch (a figure_io.Batch, published by the caller) or,
     without one, written at once. Returns its path."""
-    out = os.path.join(d, "analysis.png")
-    fig = figure(d)
-    if batch is None:
-        figure_io.save_png(fig, out)
-    else:
-        batch.save(fig, out, format="png")
-    return out
+    return figure_io.save_png_or_stage(figure(d), os.path.join(d, "analysis.png"), batch)
 
 
 def _script():

@@ -5,7 +5,6 @@ its axes labelled "quantity (unit)" (lengths in the case's grid.unit from summar
 the table, else L; pressures and stresses in E*). Exit status 4 when interrupted (nothing
 written)."""
 import csv
-import json
 import os
 import sys
 
@@ -43,15 +42,6 @@ QUANTITIES = {
 SKIPPED = ("ux", "uy", "e1_y", "sigma_yz", "sigma_xy")
 
 
-def length_unit_beside(path):
-    """grid.unit of the run (summary.json beside the table), 'length' if none."""
-    try:
-        with open(os.path.join(os.path.dirname(path) or ".", "summary.json")) as fh:
-            return figure_io.grid_unit(json.load(fh))
-    except (OSError, ValueError):
-        return "length"
-
-
 def figure(path):
     """The figure of profiles.csv at path (not saved)."""
     with open(path, newline="") as f:
@@ -59,7 +49,7 @@ def figure(path):
     rows = list(csv.DictReader(lines))
     if not rows:
         raise ValueError(f"{path}: no rows")
-    unit = length_unit_beside(path)
+    unit = figure_io.grid_unit_beside(path, "summary.json")
     s = [float(r["s"]) for r in rows]
     names = [k[: -len("_longitudinal")] for k in rows[0] if k.endswith("_longitudinal")]
     names = [n for n in names if n not in SKIPPED]
@@ -98,13 +88,8 @@ def figure(path):
 def main(path, batch=None):
     """Draws profiles.png beside path; into batch (a figure_io.Batch, published by the caller)
     or, without one, written at once. Returns the PNG's path."""
-    out = os.path.join(os.path.dirname(path) or ".", "profiles.png")
-    fig = figure(path)
-    if batch is None:
-        figure_io.save_png(fig, out)
-    else:
-        batch.save(fig, out, format="png")
-    return out
+    return figure_io.save_png_or_stage(figure(path), os.path.join(os.path.dirname(path) or ".", "profiles.png"),
+                                       batch)
 
 
 def _script():

@@ -5,7 +5,6 @@ grid.unit from sweep.json beside the table, else L); a swept parameter whose val
 log-spaced gets a log axis. Exit status 4 when interrupted (nothing written)."""
 import argparse
 import csv
-import json
 import math
 import os
 import sys
@@ -39,14 +38,6 @@ def log_spaced(values):
     return spread(log) < spread(lin)
 
 
-def length_unit_beside(table):
-    try:
-        with open(os.path.join(os.path.dirname(table) or ".", "sweep.json")) as fh:
-            return figure_io.grid_unit(json.load(fh))
-    except (OSError, ValueError):
-        return "length"
-
-
 def figure(table, column):
     """The figure of one column of sweep.csv against the swept parameter (not saved); raises
     ValueError naming the table when there is nothing to draw."""
@@ -60,7 +51,7 @@ def figure(table, column):
     xi, yi = 0, head.index(column)
     x = [float(r[xi]) for r in data if r[yi] not in ("", "null")]
     y = [float(r[yi]) for r in data if r[yi] not in ("", "null")]
-    unit = length_unit_beside(table)
+    unit = figure_io.grid_unit_beside(table, "sweep.json")
     fig, ax = plt.subplots(figsize=(5, 3.6), dpi=150)
     ax.plot(x, y, "o-", color="C0")
     if log_spaced(x):
