@@ -282,24 +282,7 @@ class Faults:
     # -- children
     def run(self, args, cwd=None, timeout=None, env=None, preexec=None):
         """Runs gfmd (args without the program) or, if args[0] is a list, that command."""
-        cmd = args[0] if args and isinstance(args[0], list) else [self.gfmd] + list(args)
-        out_f = tempfile.TemporaryFile(dir=self.tmp)
-        err_f = tempfile.TemporaryFile(dir=self.tmp)
-        t0 = time.monotonic()
-        p = subprocess.Popen(cmd, cwd=cwd or self.tmp, env=env or self.env, stdin=subprocess.DEVNULL,
-                             stdout=out_f, stderr=err_f, start_new_session=True, preexec_fn=preexec)
-        self.active.add(p.pid)
-        timed_out = False
-        try:
-            p.wait(timeout=timeout or self.timeout)
-        except subprocess.TimeoutExpired:
-            timed_out = True
-            self._kill_group(p)
-        orphans = self.reap(p.pid)
-        self.active.discard(p.pid)
-        r = self._result(p, out_f, err_f, timed_out, t0)
-        r.orphans = orphans
-        return r
+        return self.finish(self.start(args, cwd=cwd, env=env, preexec=preexec), timeout=timeout)
 
     @staticmethod
     def reap(pgid, grace=5.0):
@@ -336,11 +319,14 @@ class Faults:
         err_f.close()
         return Result(p.returncode, out, err, timed_out, time.monotonic() - t0)
 
-    def start(self, args, cwd=None, env=None):
+    def start(self, args, cwd=None, env=None, preexec=None):
+        """Starts gfmd (args without the program) or, if args[0] is a list, that command, in a
+        session of its own; finish() waits for it."""
+        cmd = args[0] if args and isinstance(args[0], list) else [self.gfmd] + list(args)
         out_f = tempfile.TemporaryFile(dir=self.tmp)
         err_f = tempfile.TemporaryFile(dir=self.tmp)
-        p = subprocess.Popen([self.gfmd] + list(args), cwd=cwd or self.tmp, env=env or self.env,
-                             stdin=subprocess.DEVNULL, stdout=out_f, stderr=err_f, start_new_session=True)
+        p = subprocess.Popen(cmd, cwd=cwd or self.tmp, env=env or self.env, stdin=subprocess.DEVNULL,
+                             stdout=out_f, stderr=err_f, start_new_session=True, preexec_fn=preexec)
         p._fault_files = (out_f, err_f, time.monotonic())
         self.active.add(p.pid)
         return p
