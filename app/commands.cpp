@@ -250,7 +250,11 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
     if (stop_requested()) throw gfmd::Interrupted("interrupted while drawing the figures");
     rd.publish();
   } catch (const gfmd::Interrupted& e) {
-    return interrupted(e.what());
+    // The solve had finished: nothing is published, the same command solves it again.
+    pp.done();
+    const std::string note = kept(rd.interrupt(e.what()));
+    std::fprintf(stderr, "gfmd: %s: %s; no results written%s\n", case_path.c_str(), e.what(), note.c_str());
+    return 4;
   } catch (const std::exception& e) {
     const std::string note = failed(std::string("writing the outputs: ") + e.what());
     if (!note.empty()) std::fprintf(stderr, "gfmd: %s\n", note.substr(2).c_str());

@@ -251,3 +251,27 @@ TEST(Cli, UnknownCommandsAndOverlongListsAreNamed) {
   EXPECT_NE(l.output.find("at most 10000"), std::string::npos) << l.output.substr(0, 400);
   EXPECT_FALSE(fs::exists(d / "s"));
 }
+
+TEST(Cli, AnInterruptionWhileDrawingPublishesNothing) {
+  // A drawing script that was interrupted exits 4: gfmd stops too (exit 4), the staged result
+  // is not published and the previous one stays. The interpreter here stands in for a Python
+  // that was stopped while drawing (GFMD_PYTHON names the drawing scripts' interpreter).
+  const fs::path d = scratch("cli_draw_stop");
+  write_file(d / "case.toml", gfmd::testing::kSmallHertz);
+  write_file(d / "stopped.sh", "#!/bin/sh\nexit 4\n");
+  fs::permissions(d / "stopped.sh", fs::perms::owner_all);
+  const std::string run = "run " + (d / "case.toml").string() + " -q -o " + (d / "out").string();
+  ASSERT_EQ(run_gfmd(run + " --set output.png=false").code, 0);
+  const std::string summary = read_file(d / "out" / "summary.json");
+  const std::string stopped = "GFMD_PYTHON=" + (d / "stopped.sh").string() + " ";
+  const auto r = gfmd::testing::run_gfmd_env(stopped, run + " --set load.force=0.02");
+  EXPECT_EQ(r.code, 4) << r.output;
+  EXPECT_NE(r.output.find("kept unchanged"), std::string::npos) << r.output;
+  EXPECT_EQ(read_file(d / "out" / "summary.json"), summary);
+  EXPECT_FALSE(fs::exists(d / "out" / "pressure.png"));
+  EXPECT_FALSE(fs::exists(d / "out" / gfmd::kStagingName));
+  EXPECT_EQ(status_of(d / "out"), "interrupted");
+  // gfmd plot stops alike.
+  const auto p = gfmd::testing::run_gfmd_env(stopped, "plot " + (d / "out").string());
+  EXPECT_EQ(p.code, 4) << p.output;
+}

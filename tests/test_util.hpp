@@ -43,13 +43,14 @@ inline std::filesystem::path scratch_dir(const std::string& suite, const std::st
 
 inline void write_file(const std::filesystem::path& p, const std::string& text) { std::ofstream(p) << text; }
 
-// The gfmd program (GFMD_EXE) run with args; its exit code and its stdout + stderr.
+// The gfmd program (GFMD_EXE) run with args (run_gfmd_env: after environment assignments
+// "NAME=value "); its exit code and its stdout + stderr.
 struct Outcome {
   int code;
   std::string output;
 };
-inline Outcome run_gfmd(const std::string& args) {
-  const std::string cmd = std::string("OMP_WAIT_POLICY=PASSIVE ") + GFMD_EXE + " " + args + " 2>&1";
+inline Outcome run_gfmd_env(const std::string& env, const std::string& args) {
+  const std::string cmd = std::string("OMP_WAIT_POLICY=PASSIVE ") + env + GFMD_EXE + " " + args + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   std::string out;
   std::array<char, 4096> buf{};
@@ -57,6 +58,7 @@ inline Outcome run_gfmd(const std::string& args) {
   const int status = pipe ? pclose(pipe) : -1;
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
+inline Outcome run_gfmd(const std::string& args) { return run_gfmd_env("", args); }
 
 inline std::string read_file(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
