@@ -81,6 +81,7 @@ nlohmann::json observables_json(const Observables& o) {
     j["friction_force_slip"] = o.friction_force_slip;
     j["friction_force_downhill"] = o.friction_force_downhill;
     j["downhill_force"] = o.downhill_force;
+    j["downhill_friction"] = o.downhill_friction;
     j["friction_coefficient"] = o.friction_coefficient;
     j["friction_coefficient_downhill"] = o.friction_coefficient_downhill;
     j["energy_balance_error"] = o.energy_balance_error;

@@ -109,6 +109,7 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     o.stick_fraction = contact_cells > 0 ? s[4] / contact_cells : 0.0;
     o.friction_coefficient = o.friction_force / o.normal_force;
     o.friction_coefficient_downhill = o.friction_force_downhill / o.normal_force;
+    o.downhill_friction = o.downhill_force / o.normal_force;
     o.energy_balance_error = std::abs(o.friction_force - o.friction_force_downhill) / o.friction_force;
     o.energy_balance_error_exact = std::abs(o.friction_force - o.friction_force_drive) / o.friction_force;
     o.numerical_dissipation_fraction = o.numerical_dissipation / o.friction_force;

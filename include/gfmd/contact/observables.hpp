@@ -25,6 +25,9 @@ struct Observables {
   double friction_force_slip = 0;
   double friction_force_downhill = 0;
   double downhill_force = 0;
+  // dF / F_z: the downhill-slope force per normal force, the quantity the paper's Fig. 2(e)
+  // plots (divided by mu_c and the rms gradient; Eq. (8) of its supplement).
+  double downhill_friction = 0;
   double friction_coefficient = 0;
   double friction_coefficient_downhill = 0;
   double energy_balance_error = 0;  // |F_diss - F_downhill| / F_diss
