@@ -20,25 +20,22 @@ import signal
 import subprocess
 import sys
 import time
-import tomllib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from study_file import BadInput, load_study, series_dir  # noqa: E402
+
 
 # The plotting modules (matplotlib, numpy) are loaded when a figure is drawn: `--runs-only`
 # needs none of them (a machine that computes without drawing, e.g. a lent GPU machine).
-plt = np = save = write_csv = None
-
-
 def load_plotting():
-    global plt, np, save, write_csv
+    """The sweep, percolation and Green's-function figures (study_plots.py), drawn with Agg."""
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt_  # noqa: E402
-    import numpy as np_  # noqa: E402
-    from figure_io import save as save_, write_csv as write_csv_  # noqa: E402
+    import study_plots  # noqa: E402
 
-    plt, np, save, write_csv = plt_, np_, save_, write_csv_
+    return study_plots
+
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # `gfmd study` names itself in GFMD; run from the source tree, the build's binary.
@@ -73,10 +70,6 @@ def fail(msg, status):
     converge, 1: anything else)."""
     log(msg)
     sys.exit(status)
-
-
-class BadInput(Exception):
-    """A bad study file, setting or option: exit 2 with `gfmd study: <what>: <reason>`."""
 
 
 class Interrupted(Exception):
@@ -151,145 +144,6 @@ def run(cmd, tolerate_not_converged=False, what=""):
 
 
 # ---------------------------------------------------------------------------------------
-# The study file, checked before anything runs.
-
-# Top-level tables of a case file (src/case/config.cpp: kSections).
-CASE_SECTIONS = ("grid", "elastic", "indenter", "load", "friction", "interaction", "solver", "output",
-                 "sweep", "stress", "flow")
-KINDS = ("sweep", "runs", "percolation", "green")
-FIGURES = ("maps", "cross_section", "profiles")
-
-
-def _type_name(v):
-    return {bool: "a boolean", int: "an integer", float: "a number", str: "a string", list: "an array",
-            dict: "a table"}.get(type(v), type(v).__name__)
-
-
-def _is_number(v):
-    return isinstance(v, (int, float)) and not isinstance(v, bool)
-
-
-def _string(d, key, where, required=False):
-    if key not in d:
-        if required:
-            raise BadInput(f"{where}{key}: missing (a string is needed)")
-        return
-    if not isinstance(d[key], str):
-        raise BadInput(f"{where}{key}: must be a string (got {_type_name(d[key])})")
-
-
-def _number(d, key, where):
-    if key in d and not _is_number(d[key]):
-        raise BadInput(f"{where}{key}: must be a number (got {_type_name(d[key])})")
-
-
-def _settings(d, key, where):
-    if key not in d:
-        return
-    v = d[key]
-    if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
-        raise BadInput(f"{where}{key}: must be a list of strings (\"key=value\")")
-    for x in v:
-        if "=" not in x:
-            raise BadInput(f"{where}{key}: \"{x}\" is not key=value")
-
-
-def _tables(d, key, where, required=False):
-    if key not in d:
-        if required:
-            raise BadInput(f"{where}no [[{key}]] table")
-        return []
-    v = d[key]
-    if not isinstance(v, list) or not all(isinstance(x, dict) for x in v):
-        raise BadInput(f"{where}{key}: must be an array of tables ([[{key}]]), got {_type_name(v)}")
-    if required and not v:
-        raise BadInput(f"{where}no [[{key}]] table")
-    return v
-
-
-def load_study(path, case_root):
-    """The study file as a dict, or BadInput naming the file and the key that is wrong."""
-    if not os.path.exists(path):
-        raise BadInput("no such file")
-    if os.path.isdir(path):
-        raise BadInput("is a directory, not a study file (studies/*.toml)")
-    try:
-        with open(path, "rb") as f:
-            study = tomllib.load(f)
-    except OSError as e:
-        raise BadInput(f"cannot read: {e.strerror}") from None
-    except UnicodeDecodeError:
-        raise BadInput("not a TOML file (not UTF-8 text)") from None
-    except tomllib.TOMLDecodeError as e:
-        raise BadInput(f"not valid TOML: {e}") from None
-    if "series" not in study:
-        found = [k for k in CASE_SECTIONS if isinstance(study.get(k), dict)]
-        if found:
-            raise BadInput(f"this is a case file ([{found[0]}]), use gfmd run; a study has [[series]] tables "
-                           "naming case files (studies/*.toml)")
-    series = _tables(study, "series", "", required=True)
-    _string(study, "title", "")
-    _string(study, "kind", "")
-    kind = study.get("kind", "sweep")
-    if kind not in KINDS:
-        raise BadInput(f"kind: must be one of {', '.join(repr(k) for k in KINDS)} (got {kind!r})")
-    for mode in ("quick", "full"):
-        if mode in study:
-            if not isinstance(study[mode], dict):
-                raise BadInput(f"{mode}: must be a table ([{mode}]), got {_type_name(study[mode])}")
-            _settings(study[mode], "set", f"{mode}.")
-    if kind == "sweep":
-        _string(study, "x", "", required=True)
-        _string(study, "y", "", required=True)
-        for key in ("xlabel", "ylabel", "xscale", "yscale"):
-            _string(study, key, "")
-        for key in ("x_scale", "y_scale"):
-            _number(study, key, "")
-        cols = study.get("table_columns", [])
-        if not isinstance(cols, list) or not all(isinstance(c, str) for c in cols):
-            raise BadInput("table_columns: must be a list of strings")
-        if "published" in study:
-            pub = study["published"]
-            if not isinstance(pub, dict):
-                raise BadInput(f"published: must be a table ([published]), got {_type_name(pub)}")
-            _string(pub, "divide_by", "published.", required=True)
-            for key in ("xlabel", "ylabel", "title", "caption"):
-                _string(pub, key, "published.")
-    elif kind == "runs":
-        _string(study, "figure", "")
-        figure = study.get("figure", "maps")
-        if figure not in FIGURES:
-            raise BadInput(f"figure: must be one of {', '.join(repr(k) for k in FIGURES)} (got {figure!r})")
-        _number(study, "crop", "")
-        if figure in ("maps", "profiles"):
-            for i, spec in enumerate(_tables(study, figure, "", required=True), 1):
-                _string(spec, "var", f"{figure}[{i}].", required=True)
-                _string(spec, "label", f"{figure}[{i}].")
-                _string(spec, "cmap", f"{figure}[{i}].")
-                _string(spec, "scale_to", f"{figure}[{i}].")
-                for key in ("scale", "vmin", "vmax"):
-                    _number(spec, key, f"{figure}[{i}].")
-    for i, s in enumerate(series, 1):
-        where = f"series[{i}]."
-        _string(s, "label", where, required=True)
-        for key in ("color", "style"):
-            _string(s, key, where)
-        _number(s, "x_scale", where)
-        for key in ("set", "quick_set", "full_set"):
-            _settings(s, key, where)
-        if kind == "green":
-            p = s.get("poisson")
-            if not isinstance(p, list) or not p or not all(_is_number(v) for v in p):
-                raise BadInput(f"{where}poisson: must be a non-empty list of numbers")
-            continue
-        _string(s, "case", where, required=True)
-        case = os.path.join(case_root, s["case"])
-        if not os.path.isfile(case):
-            raise BadInput(f"{where}case: {s['case']}: no such file (case paths are relative to {case_root})")
-    return study
-
-
-# ---------------------------------------------------------------------------------------
 # Temporary files: everything this study writes goes to a temporary name first (gfmd's
 # "<file>.tmp.<pid>", the maps' staging file ".maps.tmp.nc", figure_io's "<base>.tmp.png" and
 # "<table>.tmp"). An interrupted study removes the ones that appeared while it ran.
@@ -311,10 +165,6 @@ def remove_new_temporary_files(top, before):
             os.remove(p)
         except OSError:
             pass
-
-
-def series_dir(out, i):
-    return os.path.join(out, f"series_{i:02d}")
 
 
 def read_table(path):
@@ -394,122 +244,6 @@ def run_percolation_series(s, sets, d, what):
     return out
 
 
-def plot_percolation(study, results, out, fig_base):
-    import netCDF4
-
-    n = len(results)
-    fig, axes = plt.subplots(1, n, figsize=(3.2 * n, 3.3), dpi=150, squeeze=False)
-    rows = []
-    for i, (s, res) in enumerate(results):
-        d = series_dir(out, i)
-        masks = []
-        for tag in ("static_at_pstar", "sliding_at_pstar"):
-            with netCDF4.Dataset(os.path.join(d, tag, "fields.nc")) as nc:
-                masks.append(np.array(nc.variables["contact"][:]) > 0.5)
-        img = np.ones(masks[0].shape + (3,))
-        img[masks[0] & ~masks[1]] = (0.2, 0.4, 0.9)   # frictionless only: blue
-        img[~masks[0] & masks[1]] = (1.0, 0.6, 0.1)   # with friction only: orange
-        img[masks[0] & masks[1]] = (0.55, 0.3, 0.65)  # both: purple
-        ax = axes[0][i]
-        ax.imshow(img, origin="lower", extent=[0, 1, 0, 1])
-        ax.set_title(s["label"], fontsize=7)
-        ax.set_xlabel("x / λ  (sliding →)", fontsize=7)
-        ax.tick_params(labelsize=6)
-        a0 = res["frictionless"]["critical_relative_contact_area"]
-        a1 = res["sliding_at_pstar"]["relative_contact_area"]
-        ax.text(0.02, 0.02, f"a_c* = {a0:.3f}\nwith friction at p*: {a1:.3f}", fontsize=6, transform=ax.transAxes,
-                va="bottom")
-        rows.append([s["label"], a0, res["frictionless"]["critical_pressure"],
-                     res["static_at_pstar"]["relative_contact_area"], a1,
-                     res["friction_along"]["critical_relative_contact_area"],
-                     res["friction_across"]["critical_relative_contact_area"]])
-    fig.suptitle(study.get("title", ""), fontsize=8)
-    fig.tight_layout()
-    save(fig, fig_base)
-    write_csv(fig_base + ".csv", ["series", "a_c*_frictionless", "p*", "a_c_static_at_p*", "a_c_sliding_at_p*",
-                                  "a_c*_friction_along_sliding", "a_c*_friction_across_sliding"], rows)
-
-
-def col(rows, key):
-    return np.array([float(r[key]) if r.get(key, "") not in ("", "null") else np.nan for r in rows])
-
-
-def plot_sweeps(study, results, fig_base):
-    """One panel of y against x per series. With a [published] table (divide_by = a summary
-    column, e.g. the realised rms gradient) a first panel draws x and y divided by that
-    column, the way a published panel was drawn, and the plain axes follow as a second panel."""
-    x, y = study["x"], study["y"]
-    xs = float(study.get("x_scale", 1.0))
-    ys = float(study.get("y_scale", 1.0))
-    pub = study.get("published")
-    panels = ([("published", pub)] if pub else []) + [("plain", None)]
-    fig, axes = plt.subplots(1, len(panels), figsize=(4.6 * len(panels), 3.4 + (0.4 if pub else 0)), dpi=150,
-                             squeeze=False)
-    data = {}
-    for (kind, spec), ax in zip(panels, axes[0]):
-        for s, rows in results:
-            xv = col(rows, x) * xs * float(s.get("x_scale", 1.0))
-            yv = col(rows, y) * ys
-            if spec:
-                g = col(rows, spec["divide_by"])
-                xv, yv = xv / g, yv / g
-            ax.plot(xv, yv, s.get("style", "o-"), label=s["label"], color=s.get("color"))
-            extra = [col(rows, c) for c in study.get("table_columns", [])]
-            data[(kind, s["label"])] = (xv, yv, extra)
-        # Without a label in the study file: the quantity's name and unit (figure_io), and a log
-        # axis where the swept values are log-spaced (as gfmd sweep draws them).
-        import figure_io
-        from plot_sweep import log_spaced
-        ax.set_xlabel(spec.get("xlabel", x) if spec else study.get("xlabel", figure_io.quantity_label(x)))
-        ax.set_ylabel(spec.get("ylabel", y) if spec else study.get("ylabel", figure_io.quantity_label(y)))
-        if study.get("xscale"):
-            ax.set_xscale(study["xscale"])
-        elif not spec:
-            spaced = [log_spaced(list(col(rows, x))) for _, rows in results if len(rows) > 2]
-            if spaced and all(spaced):
-                ax.set_xscale("log")
-        if study.get("yscale"):
-            ax.set_yscale(study["yscale"])
-        ax.axhline(0.0, color="0.6", lw=0.6)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
-        ax.set_title((spec or {}).get("title", study.get("title", "")), fontsize=8)
-    if pub and pub.get("caption"):
-        fig.text(0.5, 0.01, pub["caption"], ha="center", va="bottom", fontsize=6.5)
-        fig.tight_layout(rect=(0, 0.07, 1, 1))
-    else:
-        fig.tight_layout()
-    save(fig, fig_base)
-    # Extra summary columns (e.g. stick_fraction) per point, as listed in table_columns.
-    write_csv(fig_base + ".csv", ["panel", "series", "x", "y"] + list(study.get("table_columns", [])),
-              [[kind, label, repr(float(a)), repr(float(b))] + [repr(float(e[k])) for e in extra]
-               for (kind, label), (xv, yv, extra) in data.items() for k, (a, b) in enumerate(zip(xv, yv))])
-
-
-def plot_green(study, results, fig_base):
-    fig, ax = plt.subplots(figsize=(4.6, 3.4), dpi=150)
-    rows_out = []
-    for _, rows in results:
-        nus = sorted({r["poisson"] for r in rows}, key=float)
-        for nu in nus:
-            sel = [r for r in rows if r["poisson"] == nu]
-            qh = np.array([float(r["qh"]) for r in sel])
-            im = np.array([float(r["im_phi13"]) for r in sel])
-            ax.plot(qh, im, label=f"ν = {float(nu):g}")
-            rows_out += [[nu, a, b] for a, b in zip(qh, im)]
-    ax.set_xscale("log")
-    ax.set_xlabel("q h")
-    ax.set_ylabel("Im Φ_13")
-    ax.axhline(0, color="0.6", lw=0.6)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
-    ax.set_title(study.get("title", ""), fontsize=8)
-    fig.tight_layout()
-    save(fig, fig_base)
-    write_csv(fig_base + ".csv", ["poisson", "qh", "im_phi13"], rows_out)
-
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("study")
@@ -568,14 +302,14 @@ def run_study(study, args, name, mode, out):
         if incomplete:
             fail(f"study: {len(incomplete)} series stopped early", NOT_CONVERGED)
         return 0
-    load_plotting()
+    plots = load_plotting()
     fig_base = os.path.join(out, name)
     if study.get("kind") == "percolation":
-        plot_percolation(study, results, out, fig_base)
+        plots.plot_percolation(study, results, out, fig_base)
     elif study.get("kind") == "green":
-        plot_green(study, results, fig_base)
+        plots.plot_green(study, results, fig_base)
     elif study.get("kind", "sweep") == "sweep":
-        plot_sweeps(study, results, fig_base)
+        plots.plot_sweeps(study, results, fig_base)
     else:
         import study_figures  # noqa: E402  (field maps and profiles; needs python3-netcdf4)
 

@@ -1,0 +1,126 @@
+"""Studies over case files (the same C++ studies as the command line): sweep, percolation,
+curve, ensemble, figure studies."""
+from __future__ import annotations
+
+import json
+import os
+from typing import Iterable, Optional
+
+from . import _core
+from ._core import InputError, SolveError
+from ._checks import _flag, _positive
+
+
+def sweep(case: str, parameter: str, values: Iterable[float], output: str, set: Iterable[str] = (),
+          plot: Optional[str] = None, force: bool = False) -> dict:
+    """A load sweep as `gfmd sweep CASE --set parameter=v1,v2,...`: points solved in order, each
+    warm-started from the previous one, into output/point_NNN/; returns sweep.json (one row of
+    scalar summary keys per point). Points already solved with the same input are reused.
+    plot: a column (summary key) to draw against the parameter into output/sweep_<plot>.png, as
+    `gfmd sweep --plot` does (InputError if the summaries have no such column)."""
+    vals = [float(v) for v in values]
+    if not isinstance(parameter, str) or "." not in parameter:
+        raise InputError(f"parameter: a config key section.key (got {parameter!r})")
+    if plot is not None and (not isinstance(plot, str) or not plot):
+        raise InputError(f"plot: a summary key such as 'friction_coefficient' (got {plot!r})")
+    _core.sweep_case(str(case), parameter, vals, list(set), str(output), plot or "", _flag("force", force))
+    with open(os.path.join(str(output), "sweep.json")) as f:
+        return json.load(f)
+
+
+def percolation(case: str, direction: str = "x", set: Iterable[str] = (), area_tolerance: float = 0.002,
+                output: str = "", force: bool = False) -> dict:
+    """The critical relative contact area at which flow along direction ("x" or "y") stops, as
+    `gfmd percolation`; returns percolation.json's contents (and writes it into output if given)."""
+    return _core.percolation_case(str(case), str(direction), list(set), _positive("area_tolerance", area_tolerance),
+                                  str(output), _flag("force", force))
+
+
+def curve(case: str, pressures, output: str, set: Iterable[str] = (), force: bool = False) -> dict:
+    """Load curves as `gfmd curve`: the case solved at each mean pressure (/E*, sorted, warm
+    started, leakage on) into output/points/; writes output/curve.csv and curve.json (the
+    figure curve.png is drawn by `gfmd curve`) and returns curve.json (rows under "points",
+    the percolation threshold under "percolation")."""
+    try:
+        ps = [float(p) for p in pressures]
+    except (TypeError, ValueError):
+        raise InputError(f"pressures: a list of numbers (got {pressures!r})") from None
+    return _core.curve_case(str(case), ps, list(set), str(output), _flag("force", force))
+
+
+def ensemble(case: str, output: str, seeds=(0, 7), set: Iterable[str] = (), force: bool = False) -> dict:
+    """Flow over roughness seeds seeds[0]..seeds[1] (inclusive) as `gfmd ensemble --seeds A..B`,
+    into output/seed_N/; returns ensemble.json (per seed, mean, spread, Bruggeman value)."""
+    try:
+        first, last = (int(seeds[0]), int(seeds[1]))
+    except (TypeError, ValueError, IndexError):
+        raise InputError(f"seeds: (first, last) integers (got {seeds!r})") from None
+    return _core.ensemble_case(str(case), first, last, list(set), str(output), _flag("force", force))
+
+
+def _package_file(*parts: str) -> str:
+    """A file shipped with the package (installed: gfmd/bin/gfmd) or, in the build tree
+    (build/python/gfmd), the build's. "" if absent."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    for base in (here, os.path.dirname(os.path.dirname(here))):
+        path = os.path.join(base, *parts)
+        if os.path.exists(path):
+            return path
+    return ""
+
+
+def study(study_file: str, quick: bool = False, output: str = os.path.join("out", "studies"),
+          set: Iterable[str] = ()) -> dict:
+    """Runs a figure study (studies/*.toml) as `gfmd study` does: its sweeps or runs (reusing
+    finished results), then its figure (PNG, PDF) and the plotted data (CSV) in
+    output/<name>/<quick|full>/. Returns study.json (figure path, series, wall time, series
+    that stopped early). The study's case paths are relative to the folder above the study
+    file's (the repository root for studies/*.toml). Raises SolveError if a series stopped
+    early (its finished points are drawn), InputError (a ValueError) for a missing or malformed
+    study file or a case file given as a study, naming the file and the key. `set`: settings
+    for every run of the study, after its own (e.g. 'solver.backend="cuda"').
+    KeyboardInterrupt (Ctrl-C, or a notebook's interrupt) stops the study's runs, waits for
+    them and is raised again; the finished runs are reused by the next call."""
+    import signal
+    import subprocess
+    import tempfile
+
+    path = os.path.abspath(str(study_file))
+    if not os.path.isfile(path):
+        raise InputError(f"study_file: {study_file}: no such file")
+    program = _package_file("bin", "gfmd") or _package_file("gfmd")
+    if not program:
+        raise InputError("study: the gfmd program is not installed with the package")
+    # `gfmd study` itself (it finds study.py beside it and calls itself back for the runs).
+    args = [program, "study", path, "-o", str(output)] + (["--quick"] if quick else [])
+    for kv in set:
+        args += ["--set", str(kv)]
+    # In a process group of its own, so that an interrupt of this process (which may come
+    # alone, as a notebook's does) reaches gfmd study, study.py and the run in progress at
+    # once; they stop cleanly (exit status 4) and are waited for.
+    with tempfile.TemporaryFile(mode="w+", encoding="utf-8", errors="replace") as err:
+        p = subprocess.Popen(args, stderr=err, process_group=0)
+        interrupted = False
+        while True:
+            try:
+                p.wait()
+                break
+            except KeyboardInterrupt:
+                interrupted = True
+                try:
+                    os.killpg(p.pid, signal.SIGINT)
+                except OSError:
+                    pass
+        err.seek(0)
+        stderr = err.read()
+    name = os.path.splitext(os.path.basename(path))[0]
+    report = os.path.join(str(output), name, "quick" if quick else "full", "study.json")
+    if interrupted or p.returncode == 4:  # 4: interrupted (a signal that reached the study directly)
+        raise KeyboardInterrupt(f"study {name} interrupted; the same call continues it")
+    if p.returncode != 0:
+        tail = stderr.strip().splitlines()[-1] if stderr.strip() else f"exit status {p.returncode}"
+        if p.returncode == 2:  # bad input: the study file, a setting
+            raise InputError(tail[len("gfmd study: "):] if tail.startswith("gfmd study: ") else tail)
+        raise SolveError(f"study {name}: {tail}")
+    with open(report) as f:
+        return json.load(f)

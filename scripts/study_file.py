@@ -1,0 +1,149 @@
+"""The study file (studies/*.toml), checked before anything runs: load_study returns it as a
+dict or raises BadInput naming the key that is wrong (study.py: exit status 2, one line
+`gfmd study: FILE: reason`). Also where a study writes its series (series_dir)."""
+import os
+import tomllib
+
+
+class BadInput(Exception):
+    """A bad study file, setting or option: exit 2 with `gfmd study: <what>: <reason>`."""
+
+
+# Top-level tables of a case file (src/case/config.cpp: kSections).
+CASE_SECTIONS = ("grid", "elastic", "indenter", "load", "friction", "interaction", "solver", "output",
+                 "sweep", "stress", "flow")
+KINDS = ("sweep", "runs", "percolation", "green")
+FIGURES = ("maps", "cross_section", "profiles")
+
+
+def _type_name(v):
+    return {bool: "a boolean", int: "an integer", float: "a number", str: "a string", list: "an array",
+            dict: "a table"}.get(type(v), type(v).__name__)
+
+
+def _is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _string(d, key, where, required=False):
+    if key not in d:
+        if required:
+            raise BadInput(f"{where}{key}: missing (a string is needed)")
+        return
+    if not isinstance(d[key], str):
+        raise BadInput(f"{where}{key}: must be a string (got {_type_name(d[key])})")
+
+
+def _number(d, key, where):
+    if key in d and not _is_number(d[key]):
+        raise BadInput(f"{where}{key}: must be a number (got {_type_name(d[key])})")
+
+
+def _settings(d, key, where):
+    if key not in d:
+        return
+    v = d[key]
+    if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
+        raise BadInput(f"{where}{key}: must be a list of strings (\"key=value\")")
+    for x in v:
+        if "=" not in x:
+            raise BadInput(f"{where}{key}: \"{x}\" is not key=value")
+
+
+def _tables(d, key, where, required=False):
+    if key not in d:
+        if required:
+            raise BadInput(f"{where}no [[{key}]] table")
+        return []
+    v = d[key]
+    if not isinstance(v, list) or not all(isinstance(x, dict) for x in v):
+        raise BadInput(f"{where}{key}: must be an array of tables ([[{key}]]), got {_type_name(v)}")
+    if required and not v:
+        raise BadInput(f"{where}no [[{key}]] table")
+    return v
+
+
+def load_study(path, case_root):
+    """The study file as a dict, or BadInput naming the file and the key that is wrong."""
+    if not os.path.exists(path):
+        raise BadInput("no such file")
+    if os.path.isdir(path):
+        raise BadInput("is a directory, not a study file (studies/*.toml)")
+    try:
+        with open(path, "rb") as f:
+            study = tomllib.load(f)
+    except OSError as e:
+        raise BadInput(f"cannot read: {e.strerror}") from None
+    except UnicodeDecodeError:
+        raise BadInput("not a TOML file (not UTF-8 text)") from None
+    except tomllib.TOMLDecodeError as e:
+        raise BadInput(f"not valid TOML: {e}") from None
+    if "series" not in study:
+        found = [k for k in CASE_SECTIONS if isinstance(study.get(k), dict)]
+        if found:
+            raise BadInput(f"this is a case file ([{found[0]}]), use gfmd run; a study has [[series]] tables "
+                           "naming case files (studies/*.toml)")
+    series = _tables(study, "series", "", required=True)
+    _string(study, "title", "")
+    _string(study, "kind", "")
+    kind = study.get("kind", "sweep")
+    if kind not in KINDS:
+        raise BadInput(f"kind: must be one of {', '.join(repr(k) for k in KINDS)} (got {kind!r})")
+    for mode in ("quick", "full"):
+        if mode in study:
+            if not isinstance(study[mode], dict):
+                raise BadInput(f"{mode}: must be a table ([{mode}]), got {_type_name(study[mode])}")
+            _settings(study[mode], "set", f"{mode}.")
+    if kind == "sweep":
+        _string(study, "x", "", required=True)
+        _string(study, "y", "", required=True)
+        for key in ("xlabel", "ylabel", "xscale", "yscale"):
+            _string(study, key, "")
+        for key in ("x_scale", "y_scale"):
+            _number(study, key, "")
+        cols = study.get("table_columns", [])
+        if not isinstance(cols, list) or not all(isinstance(c, str) for c in cols):
+            raise BadInput("table_columns: must be a list of strings")
+        if "published" in study:
+            pub = study["published"]
+            if not isinstance(pub, dict):
+                raise BadInput(f"published: must be a table ([published]), got {_type_name(pub)}")
+            _string(pub, "divide_by", "published.", required=True)
+            for key in ("xlabel", "ylabel", "title", "caption"):
+                _string(pub, key, "published.")
+    elif kind == "runs":
+        _string(study, "figure", "")
+        figure = study.get("figure", "maps")
+        if figure not in FIGURES:
+            raise BadInput(f"figure: must be one of {', '.join(repr(k) for k in FIGURES)} (got {figure!r})")
+        _number(study, "crop", "")
+        if figure in ("maps", "profiles"):
+            for i, spec in enumerate(_tables(study, figure, "", required=True), 1):
+                _string(spec, "var", f"{figure}[{i}].", required=True)
+                _string(spec, "label", f"{figure}[{i}].")
+                _string(spec, "cmap", f"{figure}[{i}].")
+                _string(spec, "scale_to", f"{figure}[{i}].")
+                for key in ("scale", "vmin", "vmax"):
+                    _number(spec, key, f"{figure}[{i}].")
+    for i, s in enumerate(series, 1):
+        where = f"series[{i}]."
+        _string(s, "label", where, required=True)
+        for key in ("color", "style"):
+            _string(s, key, where)
+        _number(s, "x_scale", where)
+        for key in ("set", "quick_set", "full_set"):
+            _settings(s, key, where)
+        if kind == "green":
+            p = s.get("poisson")
+            if not isinstance(p, list) or not p or not all(_is_number(v) for v in p):
+                raise BadInput(f"{where}poisson: must be a non-empty list of numbers")
+            continue
+        _string(s, "case", where, required=True)
+        case = os.path.join(case_root, s["case"])
+        if not os.path.isfile(case):
+            raise BadInput(f"{where}case: {s['case']}: no such file (case paths are relative to {case_root})")
+    return study
+
+
+def series_dir(out, i):
+    return os.path.join(out, f"series_{i:02d}")
