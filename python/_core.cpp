@@ -513,8 +513,10 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "make_selfaffine",
       [](int nx, int ny, double lx, double ly, double hurst, double lambda_long, double lambda_short,
-         double rms_height, double rms_gradient, double lambda_rolloff, std::uint64_t seed) {
+         double rms_height, double rms_gradient, double lambda_rolloff, std::uint64_t seed,
+         const std::string& generator) {
         gfmd::SelfAffineParams p;
+        p.generator = generator;
         p.hurst = hurst;
         p.lambda_long = lambda_long;
         p.lambda_short = lambda_short;
@@ -532,7 +534,7 @@ PYBIND11_MODULE(_core, m) {
       },
       py::arg("nx"), py::arg("ny"), py::arg("lx"), py::arg("ly"), py::arg("hurst"), py::arg("lambda_long"),
       py::arg("lambda_short"), py::arg("rms_height"), py::arg("rms_gradient"), py::arg("lambda_rolloff"),
-      py::arg("seed"));
+      py::arg("seed"), py::arg("generator") = "gfmd");
   m.def(
       "read_height_file",
       [](const std::string& path) {

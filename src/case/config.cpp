@@ -313,9 +313,9 @@ Config build(const toml::value& root, const std::string& name, const std::string
   if (std::find(types.begin(), types.end(), in.type) == types.end()) {
     ind.error("type", "unknown indenter type \"" + in.type + "\"" + did_you_mean(in.type, types) +
                           "; one of hertz, eggcrate, selfaffine, file");
-    extra = {"radius", "radius_x",       "radius_y",     "wavelength", "amplitude",
-             "hurst",  "lambda_long",    "lambda_short", "rms_height", "rms_gradient",
-             "seed",   "lambda_rolloff", "path",         "lx",         "ly"};
+    extra = {"radius",      "radius_x",     "radius_y",   "wavelength",   "amplitude", "hurst",
+             "lambda_long", "lambda_short", "rms_height", "rms_gradient", "seed",      "lambda_rolloff",
+             "path",        "lx",           "ly",         "generator"};
   } else if (in.type == "hertz") {
     in.radius = ind.number("radius", 0.0);
     in.radius_x = ind.number("radius_x", in.radius);
@@ -342,6 +342,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
     s.rms_gradient = ind.number("rms_gradient", 0.0);
     s.lambda_rolloff = ind.number("lambda_rolloff", 0.0);
     s.seed = static_cast<std::uint64_t>(ind.integer("seed", 0, 0, std::numeric_limits<long long>::max()));
+    s.generator = ind.string("generator", "gfmd");
     if ((s.rms_height > 0) == (s.rms_gradient > 0)) {
       ind.error("rms_height", "give exactly one of rms_height and rms_gradient (positive)");
     } else {

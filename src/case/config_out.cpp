@@ -53,6 +53,7 @@ nlohmann::json Config::to_json() const {
     if (s.rms_gradient > 0) ind["rms_gradient"] = s.rms_gradient;
     if (s.lambda_rolloff > 0) ind["lambda_rolloff"] = s.lambda_rolloff;
     ind["seed"] = s.seed;
+    if (s.generator != "gfmd") ind["generator"] = s.generator;  // absent: ours (as before the key)
   } else {
     ind["path"] = indenter.path;
     if (!indenter.unit.empty()) ind["unit"] = indenter.unit;

@@ -27,6 +27,7 @@
 #include "gfmd/core/reduce.hpp"
 #include "gfmd/core/rng.hpp"
 #include "gfmd/io/height_map.hpp"
+#include "gfmd/surface/contmech.hpp"
 
 namespace gfmd {
 
@@ -201,6 +202,17 @@ void check_selfaffine(const Grid& g, const SelfAffineParams& p) {
       throw ParameterError("lambda_rolloff", "must not exceed the cell size max(lx, ly) = " + num(lmax) +
                                                  " (got " + num(p.lambda_rolloff) + ")");
   }
+  if (p.generator != "gfmd" && p.generator != "contmech")
+    throw ParameterError("generator", "unknown generator \"" + p.generator +
+                                          "\"; one of gfmd (ours), contmech (the paper authors' code)");
+  if (p.generator == "contmech" && rolloff)
+    throw ParameterError(
+        "lambda_rolloff",
+        "the contmech generator (the paper's surfaces) has no roll-off; leave lambda_rolloff out");
+  if (p.generator == "contmech" && p.seed > kContmechMaxSeed)
+    throw ParameterError("seed", "the contmech generator takes the paper code's seed, an int: 0 ... " +
+                                     std::to_string(kContmechMaxSeed) + " (got " + std::to_string(p.seed) +
+                                     ")");
   if (std::isnan(p.rms_height) || p.rms_height < 0.0 || std::isinf(p.rms_height))
     throw ParameterError("rms_height", "must be a finite number >= 0 (got " + num(p.rms_height) + ")");
   if (std::isnan(p.rms_gradient) || p.rms_gradient < 0.0 || std::isinf(p.rms_gradient))
@@ -215,6 +227,7 @@ void check_selfaffine(const Grid& g, const SelfAffineParams& p) {
 Topography make_selfaffine(const Grid& g, const SelfAffineParams& p) {
   validate_grid(g);
   check_selfaffine(g, p);
+  if (p.generator == "contmech") return make_selfaffine_contmech(g, p);
   const bool rolloff = p.lambda_rolloff != 0.0;
   const double expo = -1.0 - p.hurst;  // |h~| ∝ q^(-1-H)
   const double q_l = kTwoPi / p.lambda_long, q_s = kTwoPi / p.lambda_short;

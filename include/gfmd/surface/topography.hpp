@@ -53,6 +53,9 @@ struct SelfAffineParams {
   double rms_gradient = 0.0;
   double lambda_rolloff = 0.0;  // 0: none; else > lambda_long and <= max(lx, ly)
   std::uint64_t seed = 0;
+  // "gfmd" (ours, below) or "contmech": the paper authors' code's surface for their seed
+  // (surface/contmech.hpp; no roll-off, seed <= 2^31 - 1).
+  std::string generator = "gfmd";
 };
 
 // Spectrum: |h~(q)|^2 = C q^(-2-2H) for q_l <= |q| <= q_s (q_l = 2 pi/lambda_long,
@@ -77,7 +80,9 @@ struct SelfAffineParams {
 // Throws ParameterError naming hurst, lambda_long, lambda_short
 // (also when 2 * grid spacing > lambda_short: the grid is too coarse),
 // lambda_rolloff, rms_height (not exactly one of rms_height /
-// rms_gradient > 0; a negative rms_gradient names rms_gradient), grid.
+// rms_gradient > 0; a negative rms_gradient names rms_gradient), grid, generator (not one of
+// gfmd, contmech), and for contmech lambda_rolloff (none) and seed (above 2^31 - 1).
+// generator = "contmech" hands over to make_selfaffine_contmech (surface/contmech.hpp).
 Topography make_selfaffine(const Grid& grid, const SelfAffineParams& params);
 // The checks make_selfaffine makes of its parameters on a grid (ParameterError naming the
 // parameter), without making the surface: case files are checked with them when read.
