@@ -22,7 +22,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from study_file import BadInput, load_study, series_dir  # noqa: E402
+from study_file import BadInput, load_study, seed_dir, series_dir  # noqa: E402
 
 
 # The plotting modules (matplotlib, numpy) are loaded when a figure is drawn: `--runs-only`
@@ -179,8 +179,11 @@ def run_series(study, mode_sets, out, quick, incomplete):
     results = []
     total = len(study["series"])
     t0 = time.time()
+    mode_seeds = study.get("quick" if quick else "full", {}).get("seeds")
     for i, s in enumerate(study["series"]):
         check_stop()
+        if "seeds" in s and mode_seeds is not None:  # [quick] / [full] seeds: for every seeded series
+            s = dict(s, seeds=mode_seeds)
         what = f"series[{i + 1}] ({s['label']})"
         d = series_dir(out, i)
         case = os.path.join(CASE_ROOT, s.get("case", ""))
@@ -196,18 +199,26 @@ def run_series(study, mode_sets, out, quick, incomplete):
             os.makedirs(d, exist_ok=True)
             run([GFMD, "green", "--poisson", ",".join(str(v) for v in s["poisson"]), "-o", csvp], what=what)
             res = read_table(csvp)
+        elif study.get("kind", "sweep") == "sweep" and "seeds" in s:
+            # One sweep per seed (indenter.seed last, after every other setting); drawn as the
+            # mean with bands, every seed in the table.
+            res = {"seeds": {}}
+            stopped = []
+            for k, seed in enumerate(s["seeds"]):
+                rows, why = run_sweep(case, seed_dir(out, i, seed), study, args + ["--set", f"indenter.seed={seed}"],
+                                      f"{what} seed {seed}", s["label"])
+                res["seeds"][seed] = rows
+                if why:
+                    stopped.append(f"seed {seed}: {why}")
+                info(f"  {s['label']}: seed {seed} ({k + 1}/{len(s['seeds'])}) done, {time.time() - t:.0f} s")
+            if stopped:
+                incomplete.append({"series": s["label"], "reason": "; ".join(stopped)})
+                s = dict(s, label=s["label"] + " (stopped: not converged)")
         elif study.get("kind", "sweep") == "sweep":
-            p = run([GFMD, "sweep", case, "-o", d, "-q", "--plot", study["y"]] + args, tolerate_not_converged=True,
-                    what=what)
-            table = os.path.join(d, "sweep.csv")
-            if p.returncode != 0:
-                why = (p.stderr.strip().splitlines() or ["not converged"])[-1]
-                if not os.path.exists(table):
-                    fail(f"study: series '{s['label']}' failed with no finished point: {why}", NOT_CONVERGED)
-                log(f"study: series '{s['label']}' stopped early: {why}")
+            res, why = run_sweep(case, d, study, args, what, s["label"])
+            if why:
                 incomplete.append({"series": s["label"], "reason": why})
                 s = dict(s, label=s["label"] + " (stopped: not converged)")
-            res = read_table(table)
         else:
             summary = os.path.join(d, "summary.json")
             run([GFMD, "run", case, "-o", d, "-q", "--resume"] + args, what=what)
@@ -218,6 +229,20 @@ def run_series(study, mode_sets, out, quick, incomplete):
         info(f"[{i + 1}/{total}] {s['label']}: {dt:.1f} s (elapsed {el:.0f} s, about {left:.0f} s left)")
         results.append((s, res))
     return results
+
+
+def run_sweep(case, d, study, args, what, label):
+    """One gfmd sweep into d: (its rows, None) or, where it stopped at a point that did not
+    converge, (its finished rows, the reason); no finished point at all ends the study."""
+    p = run([GFMD, "sweep", case, "-o", d, "-q", "--plot", study["y"]] + args, tolerate_not_converged=True, what=what)
+    table = os.path.join(d, "sweep.csv")
+    why = None
+    if p.returncode != 0:
+        why = (p.stderr.strip().splitlines() or ["not converged"])[-1]
+        if not os.path.exists(table):
+            fail(f"study: series '{label}' failed with no finished point: {why}", NOT_CONVERGED)
+        log(f"study: series '{label}' stopped early: {why}")
+    return read_table(table), why
 
 
 def run_percolation_series(s, sets, d, what):

@@ -63,6 +63,32 @@ def _tables(d, key, where, required=False):
     return v
 
 
+MAX_SEEDS = 64  # seeds per series (each is a whole sweep)
+
+
+def parse_seeds(v, where):
+    """A series' `seeds`: "A..B" (both included) or a list of integers >= 0; the seeds as a list."""
+    if isinstance(v, str):
+        a, sep, b = v.partition("..")
+        try:
+            first, last = int(a), int(b)
+        except ValueError:
+            first = last = -1
+        if not sep or first < 0 or last < first:
+            raise BadInput(f'{where}seeds: "{v}" is not FIRST..LAST with 0 <= FIRST <= LAST (e.g. "0..7")')
+        seeds = list(range(first, last + 1))
+    elif isinstance(v, list) and v and all(isinstance(x, int) and not isinstance(x, bool) and x >= 0 for x in v):
+        seeds = list(v)
+        if len(set(seeds)) != len(seeds):
+            raise BadInput(f"{where}seeds: a seed is listed twice")
+    else:
+        raise BadInput(f'{where}seeds: must be "FIRST..LAST" (e.g. "0..7") or a list of integers >= 0 '
+                       f"(got {_type_name(v)})")
+    if len(seeds) > MAX_SEEDS:
+        raise BadInput(f"{where}seeds: {len(seeds)} seeds; at most {MAX_SEEDS} per series")
+    return seeds
+
+
 def load_study(path, case_root):
     """The study file as a dict, or BadInput naming the file and the key that is wrong."""
     if not os.path.exists(path):
@@ -94,6 +120,8 @@ def load_study(path, case_root):
             if not isinstance(study[mode], dict):
                 raise BadInput(f"{mode}: must be a table ([{mode}]), got {_type_name(study[mode])}")
             _settings(study[mode], "set", f"{mode}.")
+            if "seeds" in study[mode]:
+                study[mode]["seeds"] = parse_seeds(study[mode]["seeds"], f"{mode}.")
     if kind == "sweep":
         _string(study, "x", "", required=True)
         _string(study, "y", "", required=True)
@@ -111,6 +139,13 @@ def load_study(path, case_root):
             _string(pub, "divide_by", "published.", required=True)
             for key in ("xlabel", "ylabel", "title", "caption"):
                 _string(pub, key, "published.")
+        if "second" in study:
+            sec = study["second"]
+            if not isinstance(sec, dict):
+                raise BadInput(f"second: must be a table ([second]), got {_type_name(sec)}")
+            _string(sec, "y", "second.", required=True)
+            for key in ("ylabel", "title"):
+                _string(sec, key, "second.")
     elif kind == "runs":
         _string(study, "figure", "")
         figure = study.get("figure", "maps")
@@ -125,12 +160,37 @@ def load_study(path, case_root):
                 _string(spec, "scale_to", f"{figure}[{i}].")
                 for key in ("scale", "vmin", "vmax"):
                     _number(spec, key, f"{figure}[{i}].")
+    for i, r in enumerate(_tables(study, "reference", ""), 1):
+        where = f"reference[{i}]."
+        if kind != "sweep":
+            raise BadInput(f"{where[:-1]}: reference curves belong to a sweep study")
+        for key in ("label", "file", "x", "y"):
+            _string(r, key, where, required=True)
+        for key in ("color", "style", "panel"):
+            _string(r, key, where)
+        if r.get("panel", "published") not in ("published", "plain"):
+            raise BadInput(f"{where}panel: must be \"published\" or \"plain\" (got {r['panel']!r})")
+        _settings(r, "where", where)
+        path = os.path.join(case_root, r["file"])
+        if not os.path.isfile(path):
+            raise BadInput(f"{where}file: {r['file']}: no such file (paths are relative to {case_root})")
+        r["_path"] = path
+        with open(path, newline="") as f:
+            header = [c.strip() for c in f.readline().strip().split(",")]
+        for key in [r["x"], r["y"]] + [c.split("=", 1)[0] for c in r.get("where", [])]:
+            if key not in header:
+                raise BadInput(f"{where}: {r['file']} has no column {key!r} (columns: {', '.join(header)})")
     for i, s in enumerate(series, 1):
         where = f"series[{i}]."
         _string(s, "label", where, required=True)
         for key in ("color", "style"):
             _string(s, key, where)
         _number(s, "x_scale", where)
+        _number(s, "y_scale", where)
+        if "seeds" in s:
+            if kind != "sweep":
+                raise BadInput(f"{where}seeds: only a sweep series runs over seeds (kind = \"sweep\")")
+            s["seeds"] = parse_seeds(s["seeds"], where)
         for key in ("set", "quick_set", "full_set"):
             _settings(s, key, where)
         if kind == "green":
@@ -147,3 +207,8 @@ def load_study(path, case_root):
 
 def series_dir(out, i):
     return os.path.join(out, f"series_{i:02d}")
+
+
+def seed_dir(out, i, seed):
+    """Where seed `seed` of series i (a series with `seeds`) writes its sweep."""
+    return os.path.join(series_dir(out, i), f"seed_{seed}")
