@@ -152,6 +152,8 @@ nlohmann::json summary_json(const CaseResult& r) {
     j["tangential_iterations"] = r.info.tangential_iterations;
     j["friction_law"] = r.config.friction.regularized() ? "regularized" : "coulomb";
     j["slip_derivative"] = slip_derivative_name(r.info.slip_derivative);  // the one the solution used
+    // The friction loop's mixing history at its end (solver.anderson, deeper after a stall).
+    j["anderson_depth"] = r.info.history_depth;
   }
   j["converged"] = r.info.converged;
   j["status"] = r.info.status;

@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "gfmd/case/run_directory.hpp"
+#include "gfmd/contact/solver.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/io/netcdf.hpp"
@@ -339,10 +340,12 @@ bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& 
   auto state = std::make_shared<SolveResume>();
   if (!decode_resume_numbers(data.substr(pos, nlen), *state)) return false;
   pos += nlen;
-  if (state->friction && state->friction->mixer &&
-      state->friction->mixer_gram.size() !=
-          static_cast<std::size_t>(cfg.solver.anderson) * static_cast<std::size_t>(cfg.solver.anderson))
-    return false;
+  if (state->friction && state->friction->mixer) {
+    // solver.anderson's history, or the deeper one a stalled solve went on with.
+    const std::size_t g = state->friction->mixer_gram.size();
+    const auto m = static_cast<std::size_t>(std::lround(std::sqrt(static_cast<double>(g))));
+    if (m * m != g || !history_depth_fits(cfg.solver.anderson, static_cast<int>(m))) return false;
+  }
   FrictionRestart* fr = state->friction ? &*state->friction : nullptr;
   const std::vector<RealField*> fields =
       resume_fields(state->reference ? &state->reference->pressure : nullptr, fr);

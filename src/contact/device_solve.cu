@@ -888,10 +888,12 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
     supp_len_ = 0;
     add_support(true);
     std::optional<DeviceAnderson> mixer;
+    int depth = sp_.anderson;  // deepened once where the fixed point stalls (as on the host)
     if (sp_.anderson > 0) {
       if (sp_.anderson > kMaxDepth)
         throw InputError("solver.anderson",
                          "the CUDA backend mixes at most " + std::to_string(kMaxDepth) + " steps");
+      info.history_depth = depth;
       mixer.emplace(sp_.anderson, 2 * n, &bytes_);
       mixer->resize(2 * supp_len_);
     }
@@ -984,7 +986,13 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
         if (mixer) mixer->restart();
         continue;
       }
-      if (next == FrictionSteps::Next::Damp) {
+      if (next == FrictionSteps::Next::Damp && mixer && deepened_history(sp_.anderson, depth) != depth) {
+        // As on the host: a longer mixing history first, started afresh.
+        depth = deepened_history(sp_.anderson, depth);
+        mixer.emplace(depth, 2 * n, &bytes_);
+        mixer->resize(2 * supp_len_);
+        info.history_depth = depth;
+      } else if (next == FrictionSteps::Next::Damp) {
         omega *= 0.5;
         if (mixer) mixer->clear_history();
         if (omega < 0.04) {

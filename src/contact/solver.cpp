@@ -51,8 +51,10 @@ std::string restart_mismatch(const FrictionRestart& r, std::size_t n, int depth,
   if (r.have_z && (r.zx.size() != n || r.zy.size() != n)) return "its splitting variable is not on this grid";
   if (r.mixer != (depth > 0)) return "it was made with another solver.anderson";
   if (r.mixer) {
-    const auto m = static_cast<std::size_t>(depth);
-    if (r.mixer_gram.size() != m * m || r.mixer_slots.size() > m || r.df.size() != r.mixer_slots.size() ||
+    // The history may have been deepened (deepened_history) before the restart point was made.
+    const auto m = static_cast<std::size_t>(std::lround(std::sqrt(static_cast<double>(r.mixer_gram.size()))));
+    if (m * m != r.mixer_gram.size() || !history_depth_fits(depth, static_cast<int>(m)) ||
+        r.mixer_slots.size() > m || r.df.size() != r.mixer_slots.size() ||
         r.dx.size() != r.mixer_slots.size())
       return "its mixing history was made with another solver.anderson";
     for (const RealField* fld : {&r.xprev_x, &r.xprev_y, &r.fprev_x, &r.fprev_y})
@@ -156,8 +158,14 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       for (auto& v : row_start) v *= 2;
     };
     std::optional<AndersonMixer> mixer;  // none: plain relaxation
+    // The history's depth: solver.anderson, deepened once where the fixed point stalls (and
+    // so in a restart point made after that).
+    int depth = sp_.anderson;
+    if (resume && resume->mixer)
+      depth = static_cast<int>(std::lround(std::sqrt(static_cast<double>(resume->mixer_gram.size()))));
     if (sp_.anderson > 0) {
-      mixer.emplace(sp_.anderson);
+      info.history_depth = depth;
+      mixer.emplace(depth);
       mixer->resize(2 * supp.size());
       group_support();
       mixer->group_by_rows(&grid_, &row_start, &row_order);
@@ -425,9 +433,17 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
         if (mixer) mixer->restart();
         continue;
       }
-      if (next == FrictionSteps::Next::Damp) {
-        // Stalled: damp harder and restart the mixing history; give up once damping
-        // no longer helps (a limit cycle of the slip field).
+      if (next == FrictionSteps::Next::Damp && mixer && deepened_history(sp_.anderson, depth) != depth) {
+        // Stalled: first a longer mixing history (deepened_history), started afresh from
+        // the current iterate.
+        depth = deepened_history(sp_.anderson, depth);
+        mixer.emplace(depth);
+        mixer->resize(2 * supp.size());
+        mixer->group_by_rows(&grid_, &row_start, &row_order);
+        info.history_depth = depth;
+      } else if (next == FrictionSteps::Next::Damp) {
+        // Stalled (with the longer history too): damp harder and restart the mixing history;
+        // give up once damping no longer helps (a limit cycle of the slip field).
         omega *= 0.5;
         if (mixer) mixer->clear_history();
         if (omega < 0.04) {

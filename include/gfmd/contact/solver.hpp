@@ -22,6 +22,7 @@
 // Every outer step solves the normal problem to a tolerance tied to the outer residual.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -103,6 +104,9 @@ struct SolveInfo {
   int outer_iterations = 0;       // friction fixed-point steps
   int tangential_iterations = 0;  // stick-slip (Douglas-Rachford) steps of the exact law, in all
   std::size_t stick_points = 0;   // contact points that stick
+  // The friction loop's mixing history at its end: solver.anderson, or deeper where the fixed
+  // point stalled (deepened_history, docs/solver.md); 0 without friction or mixing.
+  int history_depth = 0;
   // The slip derivative the solution was computed with (FrictionParams::slip_derivative, or
   // the automatic choice: upwind2 where the solve met stick, else spectral for sliding).
   SlipDerivative slip_derivative = SlipDerivative::Spectral;
@@ -123,6 +127,23 @@ struct SolveInfo {
 // pattern, judged from the last 60 steps of the traction change and of the tangential force
 // along the sliding direction (one value per step).
 std::string friction_history_evidence(const std::vector<double>& change, const std::vector<double>& force);
+
+// The mixing history a stalled friction fixed point goes on with, before it damps: twice the
+// one it has (solver.anderson), once, up to kDeepHistory. A stall in the stick-slip phase is
+// Anderson's short history failing to capture the (non-smooth) map: on the thin nu = 0.49 layer
+// with mu_c = 2 at p = 0.316 E* (512^2) depth 10 damps itself out ("oscillating") where depth 20
+// converges in 246 friction steps; damping only slows a stall down (docs/solver.md). Returns
+// `depth` where there is nothing to deepen (no mixing, or already that deep). Host and device
+// alike; a restart point's history has one of the two depths (history_depth_fits).
+inline constexpr int kDeepHistory = 20;
+inline int deepened_history(int configured, int depth) {
+  if (configured <= 0 || depth != configured || configured >= kDeepHistory) return depth;
+  return std::min(2 * configured, kDeepHistory);
+}
+// Whether a mixing history of `depth` can belong to a solve with solver.anderson = configured.
+inline bool history_depth_fits(int configured, int depth) {
+  return depth == configured || (configured > 0 && depth == deepened_history(configured, configured));
+}
 
 class DeviceSolve;  // the CUDA backend's solve (contact/device_solve.hpp)
 
