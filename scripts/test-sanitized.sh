@@ -15,4 +15,4 @@ cmake --build build-asan-clang -j"$(nproc)" --target gfmd gfmd_tests
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:intercept_tls_get_addr=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 ./build-asan-clang/gfmd_tests --gtest_brief=1 \
-  --gtest_filter='Amg*:Elastic*:Rng*:Topograph*:AtomicWrite*:NetCdf*:Cli*:StressPrincipal*:StressSurface.Hooke*:StressSubsurface.SurfaceDisplacement*:StressSubsurface.LayerBase*:Flow*:Bruggeman*:Percolat*:Contact.Westergaard*:Contact.Approach*:Robustness.Interrupted*:Abuse*:RunDirectory*:XyzText*:Plausibility*:Resume.ThinLayerSliding*:-Abuse.Resume*:Abuse.MemoryLimit*'
+  --gtest_filter='Amg*:Elastic*:Rng*:Topograph*:AtomicWrite*:NetCdf*:Cli*:StressPrincipal*:StressSurface.Hooke*:StressSubsurface.SurfaceDisplacement*:StressSubsurface.LayerBase*:Flow*:Bruggeman*:Percolat*:Contact.Westergaard*:Contact.Approach*:Robustness.Interrupted*:Abuse*:RunDirectory*:XyzText*:Plausibility*:Resume.ThinLayerSliding*:Contmech.Glibc*:Contmech.CaseKey*:Contmech.Mode*:StallHistory.Deepens*:-Abuse.Resume*:Abuse.MemoryLimit*'
