@@ -1,0 +1,199 @@
+// One [section] of a case file as the config part reads it (private to src/case/): typed
+// getters that record problems instead of throwing, the check that every key was understood,
+// and the "did you mean" and "[file:line]" parts of the messages.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <sstream>
+#include <string>
+#include <toml.hpp>
+#include <vector>
+
+#include "gfmd/case/config.hpp"
+
+namespace gfmd::config_detail {
+
+inline std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+inline std::string did_you_mean(const std::string& key, const std::vector<std::string>& allowed) {
+  std::string best;
+  std::size_t bd = 3;
+  for (const auto& a : allowed) {
+    const std::size_t d = edit_distance(key, a);
+    if (d < bd) {
+      bd = d;
+      best = a;
+    }
+  }
+  return best.empty() ? "" : " (did you mean '" + best + "'?)";
+}
+
+inline std::string where(const toml::value& v) {
+  const auto loc = v.location();
+  if (loc.file_name() == "unknown file" || loc.line() == 0) return "";
+  return " [" + loc.file_name() + ":" + std::to_string(loc.line()) + "]";
+}
+
+// One [section] of the case file: typed getters that record problems instead of
+// throwing, and a check that every key present was understood.
+class Section {
+ public:
+  Section(const toml::value& root, std::string name, std::vector<std::string>& errors)
+      : name_(std::move(name)), errors_(errors) {
+    if (root.is_table() && root.as_table().count(name_)) {
+      const toml::value& v = root.as_table().at(name_);
+      if (!v.is_table()) {
+        errors_.push_back(name_ + ": must be a table [" + name_ + "]" + where(v));
+      } else {
+        tbl_ = &v;
+      }
+    }
+  }
+  [[nodiscard]] bool present() const { return tbl_ != nullptr; }
+  bool has(const std::string& key) {
+    allowed_.push_back(key);
+    return tbl_ && tbl_->as_table().count(key);
+  }
+  const toml::value* raw(const std::string& key) {
+    if (!has(key)) return nullptr;
+    return &tbl_->as_table().at(key);
+  }
+  // A finite number (an integer is converted); nan and inf are refused.
+  double number(const std::string& key, double def) { return number_impl(key, def, false); }
+  // A number that may also be "inf"/"infinity" (string or TOML inf).
+  double number_or_inf(const std::string& key, double def) {
+    const toml::value* v = raw(key);
+    if (!v) return def;
+    if (v->is_string()) {
+      std::string s = v->as_string();
+      std::transform(s.begin(), s.end(), s.begin(), ::tolower);
+      if (s == "inf" || s == "infinity" || s == "infinite") return std::numeric_limits<double>::infinity();
+      error(key, "must be a number or \"inf\", got \"" + std::string(v->as_string()) + "\"");
+      return def;
+    }
+    return number_impl(key, def, true);
+  }
+  // An integer in [lo, hi]: out of range is an error (never a silent truncation).
+  long long integer(const std::string& key, long long def, long long lo, long long hi) {
+    const toml::value* v = raw(key);
+    if (!v) return def;
+    long long x = def;
+    if (v->is_integer()) {
+      x = v->as_integer();
+    } else if (v->is_floating() && std::floor(v->as_floating()) == v->as_floating() &&
+               std::abs(v->as_floating()) < 1e15) {
+      x = static_cast<long long>(v->as_floating());
+    } else {
+      error(key, "must be an integer, got " + type_name(*v));
+      return def;
+    }
+    if (x < lo || x > hi) {
+      error(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+                     std::to_string(x));
+      return def;
+    }
+    return x;
+  }
+  bool boolean(const std::string& key, bool def) {
+    const toml::value* v = raw(key);
+    if (!v) return def;
+    if (v->is_boolean()) return v->as_boolean();
+    error(key, "must be true or false, got " + type_name(*v));
+    return def;
+  }
+  std::string string(const std::string& key, const std::string& def) {
+    const toml::value* v = raw(key);
+    if (!v) return def;
+    if (v->is_string()) return v->as_string();
+    error(key, "must be a string, got " + type_name(*v));
+    return def;
+  }
+  int line(const std::string& key) const {
+    if (!tbl_ || !tbl_->as_table().count(key)) return 0;
+    return static_cast<int>(tbl_->as_table().at(key).location().line());
+  }
+  std::string at(const std::string& key) const {
+    if (!tbl_ || !tbl_->as_table().count(key)) return "";
+    return where(tbl_->as_table().at(key));
+  }
+  // A problem with key; the key's place in the file ("[case.toml:12]", "[--set:1]") is added
+  // unless the reason already names a place in that file (an array element's, say).
+  // One problem per key: a value of the wrong type is not also reported out of range.
+  void error(const std::string& key, const std::string& why) {
+    if (std::find(reported_.begin(), reported_.end(), key) != reported_.end()) return;
+    reported_.push_back(key);
+    const std::string loc = at(key);
+    const bool placed = loc.empty() || why.find(loc.substr(0, loc.rfind(':') + 1)) != std::string::npos;
+    errors_.push_back(name_ + "." + key + ": " + why + (placed ? "" : loc));
+  }
+  // Keys in the file that no getter asked for.
+  void finish(const std::vector<std::string>& also_allowed = {}) {
+    if (!tbl_) return;
+    std::vector<std::string> allowed = allowed_;
+    allowed.insert(allowed.end(), also_allowed.begin(), also_allowed.end());
+    std::vector<std::string> keys;
+    for (const auto& kv : tbl_->as_table()) keys.push_back(kv.first);
+    std::sort(keys.begin(), keys.end());
+    for (const auto& k : keys)
+      if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
+        errors_.push_back(name_ + "." + k + ": unknown key" + did_you_mean(k, allowed) +
+                          where(tbl_->as_table().at(k)));
+  }
+  [[nodiscard]] const std::string& name() const { return name_; }
+
+ private:
+  double number_impl(const std::string& key, double def, bool allow_inf) {
+    const toml::value* v = raw(key);
+    if (!v) return def;
+    double x = def;
+    if (v->is_floating()) {
+      x = v->as_floating();
+    } else if (v->is_integer()) {
+      x = static_cast<double>(v->as_integer());
+    } else {
+      error(key, "must be a number, got " + type_name(*v));
+      return def;
+    }
+    if (std::isnan(x) || (std::isinf(x) && !(allow_inf && x > 0))) {
+      error(key, "must be a finite number, got " + std::string(std::isnan(x) ? "nan" : "inf"));
+      return def;
+    }
+    return x;
+  }
+
+ public:
+  static std::string type_name(const toml::value& v) {
+    std::ostringstream os;
+    os << v.type();
+    return os.str();
+  }
+
+ private:
+  std::string name_;
+  std::vector<std::string>& errors_;
+  const toml::value* tbl_ = nullptr;
+  std::vector<std::string> allowed_;
+  std::vector<std::string> reported_;  // keys with a problem recorded
+};
+
+// Reads the [indenter] section (its type and that type's keys) into c.indenter; a file indenter
+// fills the grid keys not given (grid_given: nx, ny, lx, ly) from its height map.
+// src/case/config_indenter.cpp.
+struct GridKeysGiven {
+  bool nx, ny, lx, ly;
+};
+void read_indenter(Section& ind, Config& c, std::vector<std::string>& errors, const GridKeysGiven& given,
+                   const std::string& base_dir);
+
+}  // namespace gfmd::config_detail
