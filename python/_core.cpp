@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 
+#include "_core_detail.hpp"
 #include "gfmd/case/config.hpp"
 #include "gfmd/case/leakage.hpp"
 #include "gfmd/case/outputs.hpp"
@@ -27,19 +28,17 @@
 #include "gfmd/core/error.hpp"
 #include "gfmd/elastic/elastic.hpp"
 #include "gfmd/io/height_map.hpp"
-#include "gfmd/studies/curve.hpp"
-#include "gfmd/studies/ensemble.hpp"
-#include "gfmd/studies/percolation.hpp"
-#include "gfmd/studies/sweep.hpp"
 #include "gfmd/surface/spectrum.hpp"
 #include "gfmd/surface/topography.hpp"
 #include "gfmd/version.hpp"
 
 namespace py = pybind11;
 
-namespace {
+extern "C" void gfmd_python_on_sigint(int) { gfmd_python::g_interrupted.store(true); }
 
-py::object json_to_py(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+namespace gfmd_python {
+
+namespace {
 
 // A copy of a field as a fresh (ny, nx) array.
 py::array_t<double> to_array(const gfmd::Grid& g, const double* data) {
@@ -66,35 +65,6 @@ py::dict result(const gfmd::CaseResult& r) {
   return out;
 }
 
-// Ctrl-C during a solve: while the solve runs without the GIL, Python's own SIGINT handler
-// cannot run, so a C handler sets a flag that the solver polls; the solve then stops within
-// an iteration and KeyboardInterrupt is raised. Installed only on the main thread (where
-// Python receives signals), and the previous handler is restored afterwards.
-std::atomic<bool> g_interrupted{false};
-extern "C" void on_sigint(int) { g_interrupted.store(true); }
-
-class SigintToFlag {
- public:
-  SigintToFlag() {
-    const py::module_ threading = py::module_::import("threading");
-    if (!threading.attr("current_thread")().is(threading.attr("main_thread")())) return;
-    g_interrupted.store(false);
-    struct sigaction sa {};
-    sa.sa_handler = on_sigint;
-    sigemptyset(&sa.sa_mask);
-    active_ = sigaction(SIGINT, &sa, &old_) == 0;
-  }
-  ~SigintToFlag() {
-    if (active_) sigaction(SIGINT, &old_, nullptr);
-  }
-  SigintToFlag(const SigintToFlag&) = delete;
-  SigintToFlag& operator=(const SigintToFlag&) = delete;
-
- private:
-  struct sigaction old_ {};
-  bool active_ = false;
-};
-
 // The generators' memory check, before they allocate: the CLI's limit (memory_limit, through
 // memory_shortfall), MemoryError naming the grid and the bytes needed and allowed.
 void require_memory(int nx, int ny, double bytes_per_point, const std::string& what) {
@@ -104,25 +74,6 @@ void require_memory(int nx, int ny, double bytes_per_point, const std::string& w
   if (why.empty()) return;
   PyErr_SetString(PyExc_MemoryError, why.c_str());
   throw py::error_already_set();
-}
-
-[[noreturn]] void raise_keyboard_interrupt() {
-  PyErr_SetNone(PyExc_KeyboardInterrupt);
-  throw py::error_already_set();
-}
-
-// Runs f(stop) with the GIL released and Ctrl-C as its stop request (solves, flows, studies);
-// gfmd::Interrupted becomes KeyboardInterrupt. f must not touch Python objects.
-template <class F>
-auto interruptible(F&& f) {
-  SigintToFlag guard;
-  try {
-    py::gil_scoped_release release;
-    return f(std::function<bool()>([] { return g_interrupted.load(); }));
-  } catch (const gfmd::Interrupted&) {
-    g_interrupted.store(false);
-    raise_keyboard_interrupt();
-  }
 }
 
 gfmd::CaseResult solve(const gfmd::Config& cfg, gfmd::RunOptions ro = {}) {
@@ -147,6 +98,8 @@ std::string find_script(const std::string& name) {
     if (std::filesystem::is_regular_file(cand, ec)) return cand.lexically_normal().string();
   return "";
 }
+
+}  // namespace
 
 // Runs the plotting helper `name` (share/gfmd/scripts beside this module) with args in a
 // separate interpreter ($GFMD_PYTHON, else this one), so that matplotlib's backend and state
@@ -178,6 +131,8 @@ std::string run_plot_script(const std::string& name, const std::vector<std::stri
     return e.what();
   }
 }
+
+namespace {
 
 // The maps and profiles.png of a run directory (output.png), drawn as `gfmd run` draws them
 // (plot_maps.py, run_plot_script). A failure only warns on stderr: the data files are
@@ -336,80 +291,12 @@ py::dict flow_of(const Solution& s, const std::vector<double>& angles, double to
   return out;
 }
 
-// The studies below run interruptible: on Ctrl-C what a study keeps on disk stays, as with the CLI.
-py::object sweep_case(const std::string& case_path, const std::string& parameter,
-                      const std::vector<double>& values, const std::vector<std::string>& set,
-                      const std::string& dir, const std::string& plot, bool force) {
-  const gfmd::Config cfg = gfmd::sweep_config(case_path, set, parameter, values);
-  return json_to_py(interruptible([&](const std::function<bool()>& stop) {
-    gfmd::SweepOptions so;
-    so.overrides = set;
-    so.stop_request = stop;
-    so.directory = {force, false, stop};
-    // The plot is drawn from the staged table and published with it.
-    if (!plot.empty())
-      so.before_publish = [&plot](const std::string& staging) {
-        py::gil_scoped_acquire acquire;
-        const std::string problem = run_plot_script(
-            "plot_sweep.py", {(std::filesystem::path(staging) / "sweep.csv").string(), "--y", plot});
-        if (!problem.empty())
-          PySys_WriteStderr("gfmd: warning: could not draw sweep_%.200s.png: %.1500s\n", plot.c_str(),
-                            problem.c_str());
-      };
-    so.plot_column = plot;  // checked on the first point ("" = none)
-    return gfmd::run_sweep(case_path, cfg, dir, so);
-  }));
-}
-
-py::object percolation_case(const std::string& case_path, const std::string& direction,
-                            const std::vector<std::string>& set, double area_tolerance,
-                            const std::string& dir, bool force) {
-  if (direction != "x" && direction != "y") throw gfmd::InputError("direction", "must be \"x\" or \"y\"");
-  const gfmd::Config cfg = gfmd::load_config(case_path, set);
-  return json_to_py(interruptible([&](const std::function<bool()>& stop) {
-    gfmd::PercolationOptions po;
-    po.axis = direction == "x" ? 0 : 1;
-    po.area_tolerance = area_tolerance;
-    po.stop_request = stop;
-    if (dir.empty()) return gfmd::find_percolation(cfg, po);
-    gfmd::check_output_directory(dir, force);
-    const gfmd::DirectoryLock lock(dir);
-    return gfmd::run_percolation(cfg, po, dir);
-  }));
-}
-
-py::object curve_case(const std::string& case_path, const std::vector<double>& pressures,
-                      const std::vector<std::string>& set, const std::string& dir, bool force) {
-  const std::vector<double> ps = gfmd::curve_pressures(pressures);
-  const gfmd::Config cfg = gfmd::curve_config(case_path, set, ps);
-  return json_to_py(interruptible([&](const std::function<bool()>& stop) {
-    gfmd::check_output_directory(dir, force);
-    const gfmd::DirectoryLock lock(dir);
-    gfmd::CurveOptions co;
-    co.sweep.overrides = set;
-    co.sweep.stop_request = stop;
-    co.sweep.directory = {false, false, stop};  // DIR/points: the curve's own sweep
-    return gfmd::run_curve(case_path, cfg, dir, co);
-  }));
-}
-
-py::object ensemble_case(const std::string& case_path, int first, int last,
-                         const std::vector<std::string>& set, const std::string& dir, bool force) {
-  gfmd::EnsembleOptions eo;
-  eo.first_seed = first;
-  eo.last_seed = last;
-  eo.overrides = set;
-  (void)gfmd::check_ensemble(case_path, eo);
-  return json_to_py(interruptible([&](const std::function<bool()>& stop) {
-    eo.stop_request = stop;
-    eo.directory = {force, false, stop};
-    return gfmd::run_ensemble(case_path, dir, eo);
-  }));
-}
-
 }  // namespace
 
+}  // namespace gfmd_python
+
 PYBIND11_MODULE(_core, m) {
+  using namespace gfmd_python;
   m.doc() = "gfmd's compiled core (use the package gfmd)";
   m.attr("__version__") = gfmd::kVersion;
   m.attr("spin_count") = gfmd::kSpinCount;  // what the package sets GOMP_SPINCOUNT to (__init__.py)
@@ -600,12 +487,5 @@ PYBIND11_MODULE(_core, m) {
       },
       py::arg("heights"), py::arg("lx"), py::arg("ly"), py::arg("bins"),
       "The radially averaged PSD (q, C(q)) over logarithmic bins with modes, as spectrum.csv.");
-  m.def("sweep_case", &sweep_case, py::arg("case"), py::arg("parameter"), py::arg("values"), py::arg("set"),
-        py::arg("output"), py::arg("plot") = "", py::arg("force") = false);
-  m.def("percolation_case", &percolation_case, py::arg("case"), py::arg("direction"), py::arg("set"),
-        py::arg("area_tolerance"), py::arg("output"), py::arg("force") = false);
-  m.def("curve_case", &curve_case, py::arg("case"), py::arg("pressures"), py::arg("set"), py::arg("output"),
-        py::arg("force") = false);
-  m.def("ensemble_case", &ensemble_case, py::arg("case"), py::arg("first_seed"), py::arg("last_seed"),
-        py::arg("set"), py::arg("output"), py::arg("force") = false);
+  bind_studies(m);  // sweep_case, percolation_case, curve_case, ensemble_case (_core_studies.cpp)
 }

@@ -1,0 +1,81 @@
+// gfmd._core's shared pieces (python/_core.cpp, python/_core_studies.cpp): Ctrl-C as a stop
+// request while a solve runs without the GIL, JSON handed to Python, the plotting helpers.
+#pragma once
+
+#include <pybind11/pybind11.h>
+#include <signal.h>
+
+#include <atomic>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "gfmd/core/error.hpp"
+
+// The SIGINT handler SigintToFlag installs (python/_core.cpp): sets g_interrupted.
+extern "C" void gfmd_python_on_sigint(int);
+
+namespace gfmd_python {
+
+namespace py = pybind11;
+
+inline py::object json_to_py(const nlohmann::json& j) {
+  return py::module_::import("json").attr("loads")(j.dump());
+}
+
+// Ctrl-C during a solve: while the solve runs without the GIL, Python's own SIGINT handler
+// cannot run, so a C handler sets a flag that the solver polls; the solve then stops within
+// an iteration and KeyboardInterrupt is raised. Installed only on the main thread (where
+// Python receives signals), and the previous handler is restored afterwards.
+inline std::atomic<bool> g_interrupted{false};
+
+class SigintToFlag {
+ public:
+  SigintToFlag() {
+    const py::module_ threading = py::module_::import("threading");
+    if (!threading.attr("current_thread")().is(threading.attr("main_thread")())) return;
+    g_interrupted.store(false);
+    struct sigaction sa {};
+    sa.sa_handler = gfmd_python_on_sigint;
+    sigemptyset(&sa.sa_mask);
+    active_ = sigaction(SIGINT, &sa, &old_) == 0;
+  }
+  ~SigintToFlag() {
+    if (active_) sigaction(SIGINT, &old_, nullptr);
+  }
+  SigintToFlag(const SigintToFlag&) = delete;
+  SigintToFlag& operator=(const SigintToFlag&) = delete;
+
+ private:
+  struct sigaction old_ {};
+  bool active_ = false;
+};
+
+[[noreturn]] inline void raise_keyboard_interrupt() {
+  PyErr_SetNone(PyExc_KeyboardInterrupt);
+  throw py::error_already_set();
+}
+
+// Runs f(stop) with the GIL released and Ctrl-C as its stop request (solves, flows, studies);
+// gfmd::Interrupted becomes KeyboardInterrupt. f must not touch Python objects.
+template <class F>
+auto interruptible(F&& f) {
+  SigintToFlag guard;
+  try {
+    py::gil_scoped_release release;
+    return f(std::function<bool()>([] { return g_interrupted.load(); }));
+  } catch (const gfmd::Interrupted&) {
+    g_interrupted.store(false);
+    raise_keyboard_interrupt();
+  }
+}
+
+// Runs the plotting helper `name` (share/gfmd/scripts beside the module) with args in a
+// separate interpreter; "" or what went wrong. Needs the GIL (python/_core.cpp).
+std::string run_plot_script(const std::string& name, const std::vector<std::string>& arguments);
+
+// Registers sweep_case, percolation_case, curve_case and ensemble_case (python/_core_studies.cpp).
+void bind_studies(py::module_& m);
+
+}  // namespace gfmd_python

@@ -1,0 +1,107 @@
+// gfmd._core's studies: sweeps, percolation, curves and seed ensembles over a case file, each
+// into its directory as the CLI writes it (gfmd sweep/percolation/curve/ensemble), interruptible.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "_core_detail.hpp"
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/run_dir.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/studies/curve.hpp"
+#include "gfmd/studies/ensemble.hpp"
+#include "gfmd/studies/percolation.hpp"
+#include "gfmd/studies/sweep.hpp"
+
+namespace gfmd_python {
+
+namespace {
+
+// The studies below run interruptible: on Ctrl-C what a study keeps on disk stays, as with the CLI.
+py::object sweep_case(const std::string& case_path, const std::string& parameter,
+                      const std::vector<double>& values, const std::vector<std::string>& set,
+                      const std::string& dir, const std::string& plot, bool force) {
+  const gfmd::Config cfg = gfmd::sweep_config(case_path, set, parameter, values);
+  return json_to_py(interruptible([&](const std::function<bool()>& stop) {
+    gfmd::SweepOptions so;
+    so.overrides = set;
+    so.stop_request = stop;
+    so.directory = {force, false, stop};
+    // The plot is drawn from the staged table and published with it.
+    if (!plot.empty())
+      so.before_publish = [&plot](const std::string& staging) {
+        py::gil_scoped_acquire acquire;
+        const std::string problem = run_plot_script(
+            "plot_sweep.py", {(std::filesystem::path(staging) / "sweep.csv").string(), "--y", plot});
+        if (!problem.empty())
+          PySys_WriteStderr("gfmd: warning: could not draw sweep_%.200s.png: %.1500s\n", plot.c_str(),
+                            problem.c_str());
+      };
+    so.plot_column = plot;  // checked on the first point ("" = none)
+    return gfmd::run_sweep(case_path, cfg, dir, so);
+  }));
+}
+
+py::object percolation_case(const std::string& case_path, const std::string& direction,
+                            const std::vector<std::string>& set, double area_tolerance,
+                            const std::string& dir, bool force) {
+  if (direction != "x" && direction != "y") throw gfmd::InputError("direction", "must be \"x\" or \"y\"");
+  const gfmd::Config cfg = gfmd::load_config(case_path, set);
+  return json_to_py(interruptible([&](const std::function<bool()>& stop) {
+    gfmd::PercolationOptions po;
+    po.axis = direction == "x" ? 0 : 1;
+    po.area_tolerance = area_tolerance;
+    po.stop_request = stop;
+    if (dir.empty()) return gfmd::find_percolation(cfg, po);
+    gfmd::check_output_directory(dir, force);
+    const gfmd::DirectoryLock lock(dir);
+    return gfmd::run_percolation(cfg, po, dir);
+  }));
+}
+
+py::object curve_case(const std::string& case_path, const std::vector<double>& pressures,
+                      const std::vector<std::string>& set, const std::string& dir, bool force) {
+  const std::vector<double> ps = gfmd::curve_pressures(pressures);
+  const gfmd::Config cfg = gfmd::curve_config(case_path, set, ps);
+  return json_to_py(interruptible([&](const std::function<bool()>& stop) {
+    gfmd::check_output_directory(dir, force);
+    const gfmd::DirectoryLock lock(dir);
+    gfmd::CurveOptions co;
+    co.sweep.overrides = set;
+    co.sweep.stop_request = stop;
+    co.sweep.directory = {false, false, stop};  // DIR/points: the curve's own sweep
+    return gfmd::run_curve(case_path, cfg, dir, co);
+  }));
+}
+
+py::object ensemble_case(const std::string& case_path, int first, int last,
+                         const std::vector<std::string>& set, const std::string& dir, bool force) {
+  gfmd::EnsembleOptions eo;
+  eo.first_seed = first;
+  eo.last_seed = last;
+  eo.overrides = set;
+  (void)gfmd::check_ensemble(case_path, eo);
+  return json_to_py(interruptible([&](const std::function<bool()>& stop) {
+    eo.stop_request = stop;
+    eo.directory = {force, false, stop};
+    return gfmd::run_ensemble(case_path, dir, eo);
+  }));
+}
+
+}  // namespace
+
+void bind_studies(py::module_& m) {
+  m.def("sweep_case", &sweep_case, py::arg("case"), py::arg("parameter"), py::arg("values"), py::arg("set"),
+        py::arg("output"), py::arg("plot") = "", py::arg("force") = false);
+  m.def("percolation_case", &percolation_case, py::arg("case"), py::arg("direction"), py::arg("set"),
+        py::arg("area_tolerance"), py::arg("output"), py::arg("force") = false);
+  m.def("curve_case", &curve_case, py::arg("case"), py::arg("pressures"), py::arg("set"), py::arg("output"),
+        py::arg("force") = false);
+  m.def("ensemble_case", &ensemble_case, py::arg("case"), py::arg("first_seed"), py::arg("last_seed"),
+        py::arg("set"), py::arg("output"), py::arg("force") = false);
+}
+
+}  // namespace gfmd_python
