@@ -248,29 +248,57 @@ struct ProgressRelay {
   }
 };
 
-std::shared_ptr<Solution> solve_case(const std::string& toml, const py::object& heights, double lx, double ly,
-                                     const py::object& progress) {
-  const gfmd::Config cfg = gfmd::parse_config(toml, "<gfmd.solve>");
-  gfmd::RunOptions ro;
-  if (!heights.is_none())
-    ro.topography = std::make_shared<gfmd::Topography>(
-        heights_to_topography(heights.cast<py::array_t<double, py::array::c_style>>(), lx, ly, "array"));
-  std::shared_ptr<ProgressRelay> relay;
-  if (!progress.is_none()) {
-    relay = std::make_shared<ProgressRelay>();
-    relay->callback = progress;
-    ro.progress = [relay](const gfmd::Progress& p) { (*relay)(p); };
+// A case parsed once with its heights converted once; each solve sets the load and starts
+// from the previous solve's solution (Python's gfmd.ContactSolver; gfmd.solve is one solve).
+class CaseSolver {
+ public:
+  CaseSolver(const std::string& toml, const py::object& heights, double lx, double ly)
+      : cfg_(gfmd::parse_config(toml, "<gfmd.solve>")) {
+    if (!heights.is_none())
+      topo_ = std::make_shared<const gfmd::Topography>(
+          heights_to_topography(heights.cast<py::array_t<double, py::array::c_style>>(), lx, ly, "array"));
   }
-  try {
-    return make_solution(solve(cfg, ro));
-  } catch (py::error_already_set&) {
-    if (relay && relay->failed) {
-      PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(relay->error.ptr())), relay->error.ptr());
-      throw py::error_already_set();
+
+  // load: "force", "pressure" or "approach". warm: start from the previous solve's solution
+  // (if there is one); the new solution becomes the next solve's start.
+  std::shared_ptr<Solution> solve(const std::string& load, double value, const py::object& progress,
+                                  bool warm) {
+    const gfmd::LoadMode mode = load == "force"      ? gfmd::LoadMode::Force
+                                : load == "pressure" ? gfmd::LoadMode::Pressure
+                                : load == "approach"
+                                    ? gfmd::LoadMode::Approach
+                                    : throw gfmd::InputError(load, "not a load: force, pressure or approach");
+    gfmd::Config cfg = cfg_;
+    cfg.load = {mode, value};
+    gfmd::check_load(cfg);
+    gfmd::RunOptions ro;
+    if (topo_) ro.topography = std::make_shared<gfmd::Topography>(*topo_);  // run_case takes it over
+    if (warm && last_) ro.warm_start = &last_->r.fields;
+    std::shared_ptr<ProgressRelay> relay;
+    if (!progress.is_none()) {
+      relay = std::make_shared<ProgressRelay>();
+      relay->callback = progress;
+      ro.progress = [relay](const gfmd::Progress& p) { (*relay)(p); };
     }
-    throw;
+    try {
+      last_ = make_solution(gfmd_python::solve(cfg, ro));
+      return last_;
+    } catch (py::error_already_set&) {
+      if (relay && relay->failed) {
+        PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(relay->error.ptr())), relay->error.ptr());
+        throw py::error_already_set();
+      }
+      throw;
+    }
   }
-}
+  void reset() { last_.reset(); }
+  [[nodiscard]] bool warm() const { return last_ != nullptr; }
+
+ private:
+  gfmd::Config cfg_;                              // the load is set per solve
+  std::shared_ptr<const gfmd::Topography> topo_;  // null: the case makes its own
+  std::shared_ptr<Solution> last_;                // the previous solve's solution
+};
 
 py::dict flow_of(const Solution& s, const std::vector<double>& angles, double tol,
                  const std::string& solver) {
@@ -378,8 +406,44 @@ PYBIND11_MODULE(_core, m) {
           py::arg("dir"), py::arg("png") = false, py::arg("force") = false)
       .def("flow", &flow_of, py::arg("angles"), py::arg("tolerance") = 1e-10, py::arg("solver") = "auto")
       .def_property_readonly("toml", [](const Solution& s) { return s.r.config.to_toml(); });
-  m.def("solve_case", &solve_case, py::arg("toml"), py::arg("heights"), py::arg("lx"), py::arg("ly"),
-        py::arg("progress"));
+  py::class_<CaseSolver>(m, "CaseSolver")
+      .def(py::init<const std::string&, const py::object&, double, double>(), py::arg("toml"),
+           py::arg("heights"), py::arg("lx"), py::arg("ly"))
+      .def("solve", &CaseSolver::solve, py::arg("load"), py::arg("value"), py::arg("progress"),
+           py::arg("warm") = true)
+      .def("reset", &CaseSolver::reset)
+      .def_property_readonly("warm", &CaseSolver::warm);
+  m.def(
+      "indenter_types",
+      [] {
+        py::list out;
+        for (const gfmd::IndenterTypeInfo& t : gfmd::indenter_types()) {
+          py::dict d;
+          d["name"] = t.name;
+          d["purpose"] = t.purpose;
+          d["keys"] = t.keys;
+          out.append(d);
+        }
+        return out;
+      },
+      "The indenter types a case file may give: [{'name', 'purpose', 'keys'}]");
+  m.def(
+      "make_indenter",
+      [](const std::string& type, int nx, int ny, double lx, double ly, const py::dict& keys) {
+        require_memory(nx, ny, 16.0, "topography (its heights and their copy)");
+        const py::module_ json = py::module_::import("json");
+        const std::string text = py::str(json.attr("dumps")(keys));
+        nlohmann::json parsed;
+        try {
+          parsed = nlohmann::json::parse(text);
+        } catch (const nlohmann::json::exception&) {  // NaN or inf
+          throw gfmd::InputError("indenter",
+                                 "the keys must be finite numbers, strings, booleans or lists of them");
+        }
+        const gfmd::Topography t = gfmd::make_indenter(type, gfmd::Grid{nx, ny, lx, ly}, parsed, ".");
+        return to_array(t.grid, t.h);
+      },
+      py::arg("type"), py::arg("nx"), py::arg("ny"), py::arg("lx"), py::arg("ly"), py::arg("keys"));
   m.def(
       "make_hertz",
       [](int nx, int ny, double lx, double ly, double rx, double ry) {

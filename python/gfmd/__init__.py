@@ -25,10 +25,11 @@ if "OMP_WAIT_POLICY" not in _os.environ and "GOMP_SPINCOUNT" not in _os.environ:
     _os.environ["GOMP_SPINCOUNT"] = "10000"  # = gfmd::kSpinCount, _core.spin_count (tested)
 
 from ._core import InputError, SolveError, __version__  # noqa: E402
-from ._api import (ElasticBody, Result, Topography, curve, ensemble, percolation, run, run_toml,  # noqa: E402
-                   solve, study, sweep)
+from ._api import (ContactSolver, ElasticBody, Result, Topography, curve, ensemble, indenter_types,  # noqa: E402
+                   load_path, percolation, run, run_toml, solve, study, sweep)
 
 __all__ = [
+    "ContactSolver",
     "ElasticBody",
     "InputError",
     "Result",
@@ -37,6 +38,8 @@ __all__ = [
     "__version__",
     "curve",
     "ensemble",
+    "indenter_types",
+    "load_path",
     "percolation",
     "run",
     "run_toml",

@@ -10,12 +10,19 @@ from . import _core
 from ._core import InputError, SolveError
 from ._checks import _count, _flag, _heights, _positive, _warn_implausible
 from ._result import Result
-from ._solve import _FRICTION_KEYS, _SOLVER_KEYS, ElasticBody, _progress_bar, _toml_value, run, run_toml, solve
+from ._solve import (_FRICTION_KEYS, _SOLVER_KEYS, ContactSolver, ElasticBody, _progress_bar, _toml_value, load_path,
+                     run, run_toml, solve)
 from ._studies import _package_file, curve, ensemble, percolation, study, sweep
 from ._topography import Topography
 
+
+def indenter_types() -> list:
+    """The indenter types a case file (indenter.type) and Topography.indenter take:
+    [{'name', 'purpose', 'keys'}], in the order the docs list them."""
+    return _core.indenter_types()
+
 __all__ = [
-    "ElasticBody", "InputError", "Result", "SolveError", "Topography", "_FRICTION_KEYS", "_SOLVER_KEYS",
+    "ContactSolver", "ElasticBody", "InputError", "Result", "SolveError", "Topography", "_FRICTION_KEYS", "_SOLVER_KEYS",
     "_core", "_count", "_flag", "_heights", "_package_file", "_positive", "_progress_bar", "_toml_value",
-    "_warn_implausible", "curve", "ensemble", "percolation", "run", "run_toml", "solve", "study", "sweep",
+    "_warn_implausible", "curve", "ensemble", "indenter_types", "load_path", "percolation", "run", "run_toml", "solve", "study", "sweep",
 ]

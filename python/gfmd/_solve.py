@@ -1,4 +1,5 @@
-"""Elastic bodies, solve() on a Topography, and case files run as `gfmd run` does."""
+"""Elastic bodies, ContactSolver / solve() / load_path on a Topography, and case files run as
+`gfmd run` does."""
 from __future__ import annotations
 
 import math
@@ -6,7 +7,7 @@ import numbers
 import re
 import warnings
 from dataclasses import dataclass
-from typing import Callable, Iterable, Optional
+from typing import Callable, Iterable, Iterator, Optional
 
 from . import _core
 from ._core import InputError
@@ -66,6 +67,143 @@ def _toml_value(name: str, v) -> str:
     raise InputError(f"{name}: unsupported value {v!r}")
 
 
+def _one_load(where: str, pressure, force, approach):
+    """The one load given: ("pressure" | "force" | "approach", value)."""
+    loads = [(k, v) for k, v in (("pressure", pressure), ("force", force), ("approach", approach)) if v is not None]
+    if len(loads) != 1:
+        raise InputError(f"pressure: give exactly one of pressure, force, approach ({where})")
+    (kind, value), = loads
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise InputError(f"load.{kind}: must be a number, got {value!r}")
+    return kind, float(value)
+
+
+def _progress_arg(progress):
+    """(callable or None, bar or None) from progress=None | False | True | callable."""
+    if progress is True:
+        return _progress_bar()
+    if progress is None or progress is False:
+        return None, None
+    if not callable(progress):
+        raise InputError("progress: True (a bar) or a callable (iteration, friction_step, change)")
+    return progress, None
+
+
+def _gfmd_solve_error(e: InputError) -> InputError:
+    # The case text is made here from the arguments: its line numbers mean nothing to the caller.
+    text = re.sub(r" \[<gfmd\.solve>:\d+\]", "", str(e))
+    return InputError(text.replace("<gfmd.solve>: ", "gfmd.solve: ", 1))
+
+
+class ContactSolver:
+    """A contact problem set up once and solved at one load after another, each solve starting
+    from the previous one's solution (a warm start: fewer iterations along a load path).
+
+        solver = gfmd.ContactSolver(top, gfmd.ElasticBody(poisson=0.49, thickness=0.2), friction=0.5)
+        for p in (0.01, 0.02, 0.05):
+            r = solver.solve(pressure=p)      # a Result; r.summary["iterations"]: this solve's
+
+    The arguments are gfmd.solve's, without the load: friction (mu_c), direction (degrees from x),
+    interaction ("harmonic" | "hardwall"), stress_depths, and the solver and friction options as
+    keywords. They are checked here, once (InputError). solve(pressure=|force=|approach=,
+    progress=, warm=True) returns a Result; warm=False (or reset()) starts from nothing.
+    Every solve gives the numbers gfmd.solve gives from the same start.
+    """
+
+    def __init__(self, topography: Topography, body: Optional[ElasticBody] = None, *, friction: float = 0.0,
+                 direction: float = 0.0, interaction: str = "harmonic", stress_depths: Iterable[float] = (),
+                 **options):
+        if not isinstance(topography, Topography):
+            raise InputError(f"topography: must be a gfmd.Topography (got {type(topography).__name__})")
+        body = ElasticBody() if body is None else body
+        if not isinstance(body, ElasticBody):
+            raise InputError(f"body: must be a gfmd.ElasticBody (got {type(body).__name__})")
+        unknown = sorted(set(options) - _SOLVER_KEYS - _FRICTION_KEYS)
+        if unknown:
+            raise InputError(f"{unknown[0]}: unknown keyword argument of gfmd.solve (solver options: "
+                             f"{', '.join(sorted(_SOLVER_KEYS))}; friction options: "
+                             f"{', '.join(sorted(_FRICTION_KEYS))})")
+        # The load is set by each solve; approach = 0 stands in while the case is read.
+        lines = ["[grid]", f"nx = {topography.nx}", f"ny = {topography.ny}", f"lx = {topography.lx!r}",
+                 f"ly = {topography.ly!r}", "[elastic]",
+                 f"contact_modulus = {_toml_value('contact_modulus', body.contact_modulus)}",
+                 f"poisson = {_toml_value('poisson', body.poisson)}",
+                 f"thickness = {_toml_value('thickness', body.thickness)}",
+                 f"coupling = {_toml_value('coupling', body.coupling)}",
+                 "[indenter]", 'type = "array"', "[load]", "approach = 0.0",
+                 "[friction]", f"coefficient = {_toml_value('friction', friction)}",
+                 f"direction = {_toml_value('direction', direction)}"]
+        lines += [f"{k} = {_toml_value(k, v)}" for k, v in options.items() if k in _FRICTION_KEYS]
+        lines += ["[interaction]", f"model = {_toml_value('interaction', interaction)}", "[solver]"]
+        lines += [f"{k} = {_toml_value(k, v)}" for k, v in options.items() if k in _SOLVER_KEYS]
+        depths = list(stress_depths)
+        lines += ["[stress]", f"depths = {_toml_value('stress_depths', depths)}", "[output]", "png = false"]
+        try:
+            self._case = _core.CaseSolver("\n".join(lines) + "\n", topography.heights, topography.lx,
+                                          topography.ly)
+        except InputError as e:
+            raise _gfmd_solve_error(e) from None
+        self.topography = topography
+        self.body = body
+        self.last: Optional[Result] = None  # the previous solve's Result
+        self._warned = False
+
+    def solve(self, *, pressure: Optional[float] = None, force: Optional[float] = None,
+              approach: Optional[float] = None, progress: Optional[Callable[[int, int, float], None]] = None,
+              warm: bool = True) -> Result:
+        """Solves at one load (exactly one of pressure, force, approach), starting from the
+        previous solve's solution unless warm=False; returns a Result."""
+        result = self._solve_quiet(pressure, force, approach, progress, warm)
+        self._warn_once(result, stacklevel=3)
+        return result
+
+    def _solve_quiet(self, pressure, force, approach, progress, warm) -> Result:
+        kind, value = _one_load("ContactSolver.solve", pressure, force, approach)
+        progress, bar = _progress_arg(progress)
+        try:
+            solution = self._case.solve(kind, value, progress, _flag("warm", warm))
+        except InputError as e:
+            raise _gfmd_solve_error(e) from None
+        finally:
+            if bar is not None:
+                bar.close()
+        self.last = Result(solution, self.topography)
+        return self.last
+
+    def _warn_once(self, result: Result, stacklevel: int) -> None:
+        # A Topography warns once, when made; a solver warns at its first solve otherwise.
+        if self._warned or getattr(self.topography, "_warned", False):
+            return
+        self._warned = True
+        for w in result.summary.get("warnings", []):
+            warnings.warn(w, UserWarning, stacklevel=stacklevel + 1)
+
+    def reset(self) -> None:
+        """Forgets the previous solution: the next solve starts from nothing."""
+        self._case.reset()
+        self.last = None
+
+    def __repr__(self) -> str:
+        return (f"ContactSolver({self.topography!r}, {self.body!r}, "
+                f"{'warm' if self._case.warm else 'cold'})")
+
+
+def load_path(solver: ContactSolver, pressures: Optional[Iterable[float]] = None, *,
+              forces: Optional[Iterable[float]] = None, approaches: Optional[Iterable[float]] = None,
+              progress=None) -> Iterator[Result]:
+    """Solves the loads in order with solver, each from the previous solution; yields one
+    Result per load (a generator: stop iterating to stop the path)."""
+    if not isinstance(solver, ContactSolver):
+        raise InputError(f"solver: must be a gfmd.ContactSolver (got {type(solver).__name__})")
+    given = [(k, v) for k, v in (("pressure", pressures), ("force", forces), ("approach", approaches))
+             if v is not None]
+    if len(given) != 1:
+        raise InputError("pressures: give exactly one of pressures, forces, approaches")
+    (kind, values), = given
+    for v in values:
+        yield solver.solve(**{kind: v}, progress=progress)
+
+
 def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressure: Optional[float] = None,
           force: Optional[float] = None, approach: Optional[float] = None, friction: float = 0.0,
           direction: float = 0.0, interaction: str = "harmonic", stress_depths: Iterable[float] = (),
@@ -78,56 +216,19 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
     threads, fft_planner, backend) and the [friction] keys (regularization, creepage,
     lateral_creepage, slip_derivative, stick_step, stick_acceleration, reference). progress(iteration, friction_step, change) is called about every
     0.2 s; progress=True shows a tqdm bar (plain lines without tqdm). Ctrl-C raises KeyboardInterrupt within an iteration. The same case through
-    gfmd.run or `gfmd run` gives the same numbers.
+    gfmd.run or `gfmd run` gives the same numbers. One solve of a ContactSolver: to solve
+    several loads, each from the last, keep a ContactSolver (or use gfmd.load_path).
     """
     if not isinstance(topography, Topography):
         raise InputError(f"topography: must be a gfmd.Topography (got {type(topography).__name__})")
-    body = ElasticBody() if body is None else body
-    if not isinstance(body, ElasticBody):
+    if body is not None and not isinstance(body, ElasticBody):
         raise InputError(f"body: must be a gfmd.ElasticBody (got {type(body).__name__})")
-    loads = {k: v for k, v in (("pressure", pressure), ("force", force), ("approach", approach)) if v is not None}
-    if len(loads) != 1:
-        raise InputError("pressure: give exactly one of pressure, force, approach")
-    unknown = sorted(set(options) - _SOLVER_KEYS - _FRICTION_KEYS)
-    if unknown:
-        raise InputError(f"{unknown[0]}: unknown keyword argument of gfmd.solve (solver options: "
-                         f"{', '.join(sorted(_SOLVER_KEYS))}; friction options: {', '.join(sorted(_FRICTION_KEYS))})")
-    bar = None
-    if progress is True:
-        progress, bar = _progress_bar()
-    elif progress is not None and progress is not False and not callable(progress):
-        raise InputError("progress: True (a bar) or a callable (iteration, friction_step, change)")
-    elif progress is False:
-        progress = None
-    (lk, lv), = loads.items()
-    lines = ["[grid]", f"nx = {topography.nx}", f"ny = {topography.ny}", f"lx = {topography.lx!r}",
-             f"ly = {topography.ly!r}", "[elastic]",
-             f"contact_modulus = {_toml_value('contact_modulus', body.contact_modulus)}",
-             f"poisson = {_toml_value('poisson', body.poisson)}",
-             f"thickness = {_toml_value('thickness', body.thickness)}",
-             f"coupling = {_toml_value('coupling', body.coupling)}",
-             "[indenter]", 'type = "array"', "[load]", f"{lk} = {_toml_value(lk, lv)}",
-             "[friction]", f"coefficient = {_toml_value('friction', friction)}",
-             f"direction = {_toml_value('direction', direction)}"]
-    lines += [f"{k} = {_toml_value(k, v)}" for k, v in options.items() if k in _FRICTION_KEYS]
-    lines += ["[interaction]", f"model = {_toml_value('interaction', interaction)}", "[solver]"]
-    lines += [f"{k} = {_toml_value(k, v)}" for k, v in options.items() if k in _SOLVER_KEYS]
-    depths = list(stress_depths)
-    lines += ["[stress]", f"depths = {_toml_value('stress_depths', depths)}", "[output]", "png = false"]
-    try:
-        solution = _core.solve_case("\n".join(lines) + "\n", topography.heights, topography.lx, topography.ly,
-                                    progress)
-    except InputError as e:
-        # The case text is made here from the arguments: its line numbers mean nothing to the caller.
-        text = re.sub(r" \[<gfmd\.solve>:\d+\]", "", str(e))
-        raise InputError(text.replace("<gfmd.solve>: ", "gfmd.solve: ", 1)) from None
-    finally:
-        if bar is not None:
-            bar.close()
-    result = Result(solution, topography)
-    if not getattr(topography, "_warned", False):  # a Topography warns once, when made
-        for w in result.summary.get("warnings", []):
-            warnings.warn(w, UserWarning, stacklevel=2)
+    _one_load("gfmd.solve", pressure, force, approach)
+    _progress_arg(progress if progress is not True else None)
+    solver = ContactSolver(topography, body, friction=friction, direction=direction, interaction=interaction,
+                           stress_depths=stress_depths, **options)
+    result = solver._solve_quiet(pressure, force, approach, progress, True)
+    solver._warn_once(result, stacklevel=2)
     return result
 
 

@@ -43,6 +43,30 @@ class Topography:
                                  "where its slope is small)")
 
     @classmethod
+    def flatpunch(cls, nx: int, lx: float, radius: float, depth: Optional[float] = None, *,
+                  ny: Optional[int] = None, ly: Optional[float] = None) -> "Topography":
+        """Flat cylindrical punch: h = 0 on the face (radius, centred in the cell), -depth beside it.
+
+        depth defaults to the radius (the body meets only the face while its deflection beside the
+        punch stays below depth). Boussinesq: stiffness 2 radius E*, p = F / (2 pi a sqrt(a^2 - r^2)).
+        """
+        keys = {"radius": radius} if depth is None else {"radius": radius, "depth": depth}
+        return cls.indenter("flatpunch", nx, lx, ny=ny, ly=ly, **keys)
+
+    @classmethod
+    def indenter(cls, type: str, nx: int, lx: float, *, ny: Optional[int] = None, ly: Optional[float] = None,
+                 **keys) -> "Topography":
+        """Any indenter type a case file names (gfmd.indenter_types()), its keys as keywords:
+        Topography.indenter("flatpunch", 256, 8.0, radius=0.5) is [indenter] type = "flatpunch",
+        radius = 0.5 on that grid, read and checked as the case file's section is."""
+        nx, ny, lx, ly = cls._grid(nx, lx, ny, ly)
+        for k, v in keys.items():
+            if isinstance(v, numbers.Real) and not isinstance(v, bool) and not math.isfinite(v):
+                raise InputError(f"indenter.{k}: must be a finite number, got {v!r}")
+        h = _core.make_indenter(str(type), nx, ny, lx, ly, keys)
+        return _warn_implausible(cls(h, lx, ly, str(type)), f"the keys of the {type} indenter against lx, ly")
+
+    @classmethod
     def eggcrate(cls, nx: int, lx: float, wavelength: Optional[float] = None, amplitude: Optional[float] = None, *,
                  ny: Optional[int] = None, ly: Optional[float] = None) -> "Topography":
         """h = amplitude [cos(2 pi x/wavelength) + cos(2 pi y/wavelength)]; wavelength must divide lx and ly.

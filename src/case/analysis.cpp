@@ -8,6 +8,8 @@
 #include <numeric>
 #include <sstream>
 
+#include "indenter_types.hpp"
+
 namespace gfmd {
 
 namespace {
@@ -61,7 +63,7 @@ RunAnalysis analyse_run(const Topography& topo, const ContactFields& f) {
   a.pressure_p90 = quantile(a.pressure, 0.9);
   a.psd = isotropic_psd(topo, 64);
   a.bands = band_statistics(topo);
-  a.rough = topo.kind == "selfaffine" || topo.kind == "file" || topo.kind == "array";
+  a.rough = config_detail::rough_indenter(topo.kind);
   if (a.rough) {
     const double L = std::max(g.lx, g.ly);
     const double q_lo = 2.0 * std::numbers::pi / (L / 2.0);

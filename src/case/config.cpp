@@ -156,12 +156,8 @@ Config build(const toml::value& root, const std::string& name, const std::string
     c.load = {LoadMode::Approach, load.number("approach", 0.0)};
     if (!(c.load.value >= 0)) load.error("approach", "must be zero or positive");
   }
-  if (hf && c.load.value > 0 && c.elastic.contact_modulus > 0 && c.grid.lx > 0 && c.grid.ly > 0 &&
-      c.load.value / (c.elastic.contact_modulus * c.grid.lx * c.grid.ly) > kMaxPressureOverModulus)
-    load.error("force", "the mean pressure force / (lx ly) exceeds 1000 E*: not a contact problem");
-  if (hp && c.load.value / c.elastic.contact_modulus > kMaxPressureOverModulus)
-    load.error("pressure", "exceeds 1000 E*: not a contact problem");
-  if (ha && c.load.value > kMaxLength) load.error("approach", "must be at most 1e30 (a length)");
+  if (hf || hp || ha)
+    if (const auto [key, why] = load_problem(c); !key.empty()) load.error(key, why);
   load.finish();
 
   Section fr(root, "friction", errors);
@@ -434,6 +430,31 @@ std::vector<double> parse_flow_directions(const std::string& text) {
   const double a = std::strtod(text.c_str(), &end);
   if (end == text.c_str() || *end != '\0' || !std::isfinite(a)) return {};
   return {a};
+}
+
+std::pair<std::string, std::string> load_problem(const Config& c) {
+  const LoadParams& l = c.load;
+  const char* key = l.mode == LoadMode::Force      ? "force"
+                    : l.mode == LoadMode::Pressure ? "pressure"
+                                                   : "approach";
+  if (!std::isfinite(l.value)) return {key, "must be a finite number"};
+  if (l.mode == LoadMode::Approach) {
+    if (!(l.value >= 0)) return {key, "must be zero or positive"};
+    if (l.value > kMaxLength) return {key, "must be at most 1e30 (a length)"};
+    return {};
+  }
+  if (!(l.value > 0)) return {key, "must be positive"};
+  const double e = c.elastic.contact_modulus;
+  if (l.mode == LoadMode::Force && e > 0 && c.grid.lx > 0 && c.grid.ly > 0 &&
+      l.value / (e * c.grid.lx * c.grid.ly) > kMaxPressureOverModulus)
+    return {key, "the mean pressure force / (lx ly) exceeds 1000 E*: not a contact problem"};
+  if (l.mode == LoadMode::Pressure && l.value / e > kMaxPressureOverModulus)
+    return {key, "exceeds 1000 E*: not a contact problem"};
+  return {};
+}
+
+void check_load(const Config& c) {
+  if (const auto [key, why] = load_problem(c); !key.empty()) throw InputError("load." + key, why);
 }
 
 Config parse_config(const std::string& text, const std::string& name,

@@ -21,6 +21,7 @@
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/flow/flow.hpp"
+#include "indenter_types.hpp"
 
 namespace gfmd {
 
@@ -79,45 +80,8 @@ std::vector<std::string> plausibility_warnings(const Config& cfg, const Topograp
                                                const MapReport* map) {
   std::vector<std::string> warnings;
   if (!(s.rms_gradient > kMaxPlausibleRmsGradient)) return warnings;
-  const auto g3 = [](double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3g", v);
-    return std::string(buf);
-  };
-  const IndenterConfig& ind = cfg.indenter;
-  const std::string cell = "grid.lx = " + g3(cfg.grid.lx) + ", grid.ly = " + g3(cfg.grid.ly);
-  std::string what = "the surface's", check;
-  if (ind.type == "file") {
-    what = "the height map's";
-    const bool stated = map != nullptr && map->file_unit == "m" && ind.unit.empty();
-    check = "indenter.unit (the unit of the file's heights; " +
-            (stated             ? std::string("the file states its own")
-             : ind.unit.empty() ? std::string("none given")
-                                : "\"" + ind.unit + "\" given") +
-            ") against the map's size (" + cell +
-            (map != nullptr && map->file_lx > 0
-                 ? "; the file states " + g3(map->file_lx) + " x " + g3(map->file_ly)
-                 : std::string()) +
-            ")";
-  } else if (ind.type == "selfaffine") {
-    what = "the self-affine surface's";
-    check = ind.selfaffine.rms_gradient > 0
-                ? "indenter.rms_gradient = " + g3(ind.selfaffine.rms_gradient) + " (asked for)"
-                : "indenter.rms_height = " + g3(ind.selfaffine.rms_height) + " against " + cell;
-  } else if (ind.type == "hertz") {
-    what = "the Hertz indenter's";
-    check = (ind.radius_x == ind.radius_y
-                 ? "indenter.radius = " + g3(ind.radius_x)
-                 : "indenter.radius_x, radius_y = " + g3(ind.radius_x) + ", " + g3(ind.radius_y)) +
-            " against " + cell + " (a paraboloid is a sphere only where its slope is small)";
-  } else if (ind.type == "eggcrate") {
-    what = "the egg-crate's";
-    check =
-        "indenter.amplitude = " + g3(ind.amplitude) + " against indenter.wavelength = " + g3(ind.wavelength);
-  } else {
-    what = "the given heights'";
-    check = "the heights against the cell's size (" + cell + ")";
-  }
+  using config_detail::g3;
+  const auto [what, check] = config_detail::implausible_surface_text(cfg, map);
   warnings.push_back(what + " rms gradient is " + g3(s.rms_gradient) + ", above " +
                      g3(kMaxPlausibleRmsGradient) +
                      " (slopes steeper than 79 degrees): heights and lateral lengths are likely in different "

@@ -1,5 +1,5 @@
 // A Config written back: its JSON (summary "input") and TOML (fields.nc, checkpoints), and
-// the topography it describes.
+// the map options of a file indenter.
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -20,6 +20,7 @@
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/flow/flow.hpp"
+#include "indenter_types.hpp"
 
 namespace gfmd {
 
@@ -36,33 +37,7 @@ nlohmann::json Config::to_json() const {
     j["elastic"]["thickness"] = "inf";
   else
     j["elastic"]["thickness"] = elastic.thickness;
-  nlohmann::json ind = {{"type", indenter.type}};
-  if (indenter.type == "hertz") {
-    ind["radius_x"] = indenter.radius_x;
-    ind["radius_y"] = indenter.radius_y;
-    if (indenter.radius_x == indenter.radius_y) ind["radius"] = indenter.radius_x;
-  } else if (indenter.type == "eggcrate") {
-    ind["wavelength"] = indenter.wavelength;
-    ind["amplitude"] = indenter.amplitude;
-  } else if (indenter.type == "selfaffine") {
-    const auto& s = indenter.selfaffine;
-    ind["hurst"] = s.hurst;
-    ind["lambda_long"] = s.lambda_long;
-    ind["lambda_short"] = s.lambda_short;
-    if (s.rms_height > 0) ind["rms_height"] = s.rms_height;
-    if (s.rms_gradient > 0) ind["rms_gradient"] = s.rms_gradient;
-    if (s.lambda_rolloff > 0) ind["lambda_rolloff"] = s.lambda_rolloff;
-    ind["seed"] = s.seed;
-    if (s.generator != "gfmd") ind["generator"] = s.generator;  // absent: ours (as before the key)
-  } else {
-    ind["path"] = indenter.path;
-    if (!indenter.unit.empty()) ind["unit"] = indenter.unit;
-    ind["missing"] = indenter.missing;
-    ind["detrend"] = indenter.detrend;
-    ind["periodize"] = indenter.periodize;
-    if (indenter.crop[2] > 0) ind["crop"] = indenter.crop;
-  }
-  j["indenter"] = ind;
+  j["indenter"] = config_detail::indenter_json(indenter);
   const char* lk = load.mode == LoadMode::Force      ? "force"
                    : load.mode == LoadMode::Pressure ? "pressure"
                                                      : "approach";
@@ -143,23 +118,6 @@ MapOptions map_options(const Config& c) {
   o.nx = c.grid.nx;
   o.ny = c.grid.ny;
   return o;
-}
-
-bool surface_made_on_slabs(const Config& c) { return c.indenter.type != "file"; }
-
-Topography make_topography(const Config& c, MapReport* report) {
-  const IndenterConfig& in = c.indenter;
-  if (in.type == "hertz")
-    return in_section("indenter", [&] { return make_hertz(c.grid, in.radius_x, in.radius_y); });
-  if (in.type == "eggcrate")
-    return in_section("indenter", [&] { return make_eggcrate(c.grid, in.wavelength, in.amplitude); });
-  if (in.type == "selfaffine")
-    return in_section("indenter", [&] { return make_selfaffine(c.grid, in.selfaffine); });
-  if (in.type == "array")
-    throw InputError("indenter.type",
-                     "\"array\" takes its heights from the calling program (Python: gfmd.solve); "
-                     "a case file gives type = \"file\" and a path");
-  return in_section("indenter", [&] { return load_height_map(in.path, map_options(c), report); });
 }
 
 }  // namespace gfmd

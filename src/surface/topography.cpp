@@ -137,6 +137,37 @@ Topography make_hertz(const Grid& grid, double rx, double ry) {
   return t;
 }
 
+void check_flatpunch(const Grid& grid, double radius, double depth) {
+  if (!positive_finite(radius)) throw ParameterError("radius", "must be > 0 (got " + num(radius) + ")");
+  if (!positive_finite(depth)) throw ParameterError("depth", "must be > 0 (got " + num(depth) + ")");
+  const double d = std::max(grid.dx(), grid.dy());
+  if (radius < 2 * d)
+    throw ParameterError("radius", "the punch radius " + num(radius) +
+                                       " spans fewer than 2 grid spacings (dx = " + num(d) +
+                                       "); refine the grid");
+  if (2 * radius > 0.5 * std::min(grid.lx, grid.ly))
+    throw ParameterError("radius", "the punch (diameter " + num(2 * radius) +
+                                       ") is wider than half the cell (" + num(std::min(grid.lx, grid.ly)) +
+                                       "): periodic images would interfere; enlarge grid.lx");
+}
+
+Topography make_flatpunch(const Grid& grid, double radius, double depth) {
+  validate_grid(grid);
+  check_flatpunch(grid, radius, depth);
+  const double dx = grid.dx(), dy = grid.dy();
+  Topography t{grid, RealField(grid.local_size()), "flatpunch"};
+  const int cx = grid.nx / 2, cy = grid.ny / 2;
+  const double r2 = radius * radius;
+  for_rows(grid.rows(), [&](int row) {
+    const double y = (grid.y0 + row - cy) * dy;
+    for (int ix = 0; ix < grid.nx; ++ix) {
+      const double x = (ix - cx) * dx;
+      t.h[static_cast<std::size_t>(row) * grid.nx + ix] = x * x + y * y <= r2 ? 0.0 : -depth;
+    }
+  });
+  return t;
+}
+
 Topography make_eggcrate(const Grid& grid, double wavelength, double amplitude) {
   validate_grid(grid);
   if (!positive_finite(wavelength))

@@ -4,6 +4,7 @@
 #include <array>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gfmd/contact/solver.hpp"
@@ -29,8 +30,11 @@ inline constexpr double kMinThicknessRatio = 1e-12;
 inline constexpr double kMaxPressureOverModulus = 1e3;
 
 struct IndenterConfig {
-  std::string type = "hertz";  // hertz | eggcrate | selfaffine | file
-  double radius = 0.0, radius_x = 0.0, radius_y = 0.0;
+  // One of the registered types (src/case/indenter_types.cpp; indenter_types() below):
+  // hertz | flatpunch | eggcrate | selfaffine | file, and array for a program's heights.
+  std::string type = "hertz";
+  double radius = 0.0, radius_x = 0.0, radius_y = 0.0;  // hertz; flatpunch: radius
+  double depth = 0.0;                                   // flatpunch: the drop of its side
   double wavelength = 0.0, amplitude = 0.0;
   SelfAffineParams selfaffine;
   std::string path;  // file: resolved against the case file's folder
@@ -107,8 +111,28 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
 Config parse_config(const std::string& toml_text, const std::string& name,
                     const std::vector<std::string>& overrides = {}, const std::string& base_dir = ".");
 
-// Builds the indenter's topography of a configuration.
+// The case's load (c.load) against the limits a case file's [load] is held to: the key
+// ("force", "pressure", "approach") and why, or two empty strings; check_load throws it as
+// InputError("load.<key>", why). For programs that set a parsed case's load themselves.
+std::pair<std::string, std::string> load_problem(const Config& c);
+void check_load(const Config& c);
+
+// Builds the indenter's topography of a configuration (through its type's part).
 Topography make_topography(const Config& cfg, MapReport* report = nullptr);
+
+// The indenter types a case file may give (indenter.type), each with its one-line purpose
+// and keys, in the order the docs list them.
+struct IndenterTypeInfo {
+  std::string name, purpose;
+  std::vector<std::string> keys;
+};
+std::vector<IndenterTypeInfo> indenter_types();
+// The topography of an indenter type on `grid` from its keys (a JSON object of numbers,
+// strings, booleans and lists, as in summary.json's "input"), read and checked as the case
+// file's [indenter] would be; a relative path is taken from base_dir. Throws InputError
+// naming "indenter.<key>".
+Topography make_indenter(const std::string& type, const Grid& grid, const nlohmann::json& keys,
+                         const std::string& base_dir = ".");
 // Whether a distributed run makes each process's rows of the surface alone: analytic and
 // self-affine surfaces (on any grid: the slabs' transforms have one process's bits, core/fft.hpp).
 // A height map is read and prepared whole on rank 0, which hands out the rows (docs/mpi.md).

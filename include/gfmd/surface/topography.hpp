@@ -21,7 +21,7 @@ namespace gfmd {
 struct Topography {
   Grid grid;
   RealField h;       // grid.size() heights
-  std::string kind;  // "hertz", "eggcrate", "selfaffine" or "file"
+  std::string kind;  // the indenter type that made it: "hertz", "flatpunch", ..., "file" or "array"
 };
 
 // Realised statistics. rms_height is about the mean. rms_gradient = sqrt(<|grad h|^2>) and
@@ -37,6 +37,15 @@ struct TopographyStats {
 // computed from integer offsets so that h(xc+d) == h(xc-d) bit for bit. max(h) = 0.
 // Throws ParameterError("radius_x"/"radius_y", ...) and ("grid", ...).
 Topography make_hertz(const Grid& grid, double rx, double ry);
+
+// Flat cylindrical punch of radius a, face on the node (nx/2, ny/2): h = 0 where
+// (x-xc)^2 + (y-yc)^2 <= a^2 (offsets as make_hertz's), h = -depth elsewhere (the punch's
+// side drops by depth, so the body meets only the face while its deflection outside stays
+// below depth). max(h) = 0. Throws ParameterError("radius", ...) when a spans fewer than two
+// grid spacings or the punch is wider than half the cell, ("depth", ...) for depth <= 0.
+Topography make_flatpunch(const Grid& grid, double radius, double depth);
+// The checks of make_flatpunch on the parameters alone (the grid's size and spacing).
+void check_flatpunch(const Grid& grid, double radius, double depth);
 
 // Egg-crate h = h0 [cos(2 pi x / lambda) + cos(2 pi y / lambda)], peaks (h = 2 h0) at the
 // origin. lambda must divide lx and ly (relative tolerance 1e-9) so that the surface is

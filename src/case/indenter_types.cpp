@@ -1,0 +1,161 @@
+// The indenter types' table (one line per part, indenter_<name>.cpp) and what is built on
+// it: reading [indenter], writing it back, making the topography.
+#include "indenter_types.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <toml.hpp>
+
+#include "gfmd/core/error.hpp"
+
+namespace gfmd {
+
+namespace config_detail {
+
+const std::vector<const IndenterType*>& indenter_registry() {
+  static const std::vector<const IndenterType*> table = {
+      &hertz_indenter(),       //
+      &flatpunch_indenter(),   //
+      &eggcrate_indenter(),    //
+      &selfaffine_indenter(),  //
+      &file_indenter(),        //
+      &array_indenter(),       //
+  };
+  return table;
+}
+
+const IndenterType* find_indenter_type(const std::string& name) {
+  for (const IndenterType* t : indenter_registry())
+    if (t->name == name) return t;
+  return nullptr;
+}
+
+std::vector<std::string> case_indenter_names() {
+  std::vector<std::string> names;
+  for (const IndenterType* t : indenter_registry())
+    if (t->in_case_files) names.push_back(t->name);
+  return names;
+}
+
+std::string indenter_names_text() {
+  std::string text;
+  for (const std::string& n : case_indenter_names()) text += (text.empty() ? "" : ", ") + n;
+  return text;
+}
+
+std::string g3(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+std::string cell_text(const Config& c) {
+  return "grid.lx = " + g3(c.grid.lx) + ", grid.ly = " + g3(c.grid.ly);
+}
+
+void read_indenter(Section& ind, Config& c, std::vector<std::string>& errors, const GridKeysGiven& given,
+                   const std::string& base_dir) {
+  IndenterConfig& in = c.indenter;
+  in.type = ind.string("type", "hertz");
+  const IndenterType* type = find_indenter_type(in.type);
+  // "array" is accepted here so that a program's case (gfmd.solve) reads; its topography
+  // comes with the run (make_topography refuses it).
+  if (type == nullptr) {
+    const std::vector<std::string> names = case_indenter_names();
+    ind.error("type", "unknown indenter type \"" + in.type + "\"" + did_you_mean(in.type, names) +
+                          "; one of " + indenter_names_text());
+    std::vector<std::string> every_key;  // no second error for keys of the type meant
+    for (const IndenterType* t : indenter_registry())
+      every_key.insert(every_key.end(), t->keys.begin(), t->keys.end());
+    ind.finish(every_key);
+    return;
+  }
+  IndenterRead r{c, errors, given, base_dir};
+  type->read(ind, r);
+  ind.finish();
+}
+
+nlohmann::json indenter_json(const IndenterConfig& in) {
+  nlohmann::json out = {{"type", in.type}};
+  if (const IndenterType* t = find_indenter_type(in.type)) t->write(in, out);
+  return out;
+}
+
+bool rough_indenter(const std::string& type) {
+  const IndenterType* t = find_indenter_type(type);
+  return t != nullptr && t->rough;
+}
+
+std::pair<std::string, std::string> implausible_surface_text(const Config& c, const MapReport* map) {
+  const IndenterType* t = find_indenter_type(c.indenter.type);
+  if (t == nullptr) t = &array_indenter();
+  return t->implausible(c, map);
+}
+
+}  // namespace config_detail
+
+using namespace config_detail;
+
+bool surface_made_on_slabs(const Config& c) {
+  const IndenterType* t = find_indenter_type(c.indenter.type);
+  return t == nullptr || t->made_on_slabs;
+}
+
+Topography make_topography(const Config& c, MapReport* report) {
+  const IndenterType* t = find_indenter_type(c.indenter.type);
+  if (t == nullptr)
+    throw InputError("indenter.type",
+                     "unknown indenter type \"" + c.indenter.type + "\"; one of " + indenter_names_text());
+  return in_section("indenter", [&] { return t->make(c, report); });
+}
+
+std::vector<IndenterTypeInfo> indenter_types() {
+  std::vector<IndenterTypeInfo> out;
+  for (const IndenterType* t : indenter_registry())
+    if (t->in_case_files) out.push_back({t->name, t->purpose, t->keys});
+  return out;
+}
+
+namespace {
+// A JSON value of an [indenter] key as TOML (numbers, strings, booleans, arrays of them).
+toml::value to_toml_value(const std::string& key, const nlohmann::json& v) {
+  if (v.is_boolean()) return toml::value(v.get<bool>());
+  if (v.is_number_integer() || v.is_number_unsigned()) return toml::value(v.get<toml::integer>());
+  if (v.is_number()) return toml::value(v.get<double>());
+  if (v.is_string()) return toml::value(v.get<std::string>());
+  if (v.is_array()) {
+    toml::array a;
+    for (const auto& e : v) a.push_back(to_toml_value(key, e));
+    return toml::value(a);
+  }
+  throw InputError("indenter." + key, "must be a number, a string, a boolean or a list of them");
+}
+}  // namespace
+
+Topography make_indenter(const std::string& type, const Grid& grid, const nlohmann::json& keys,
+                         const std::string& base_dir) {
+  if (!keys.is_object()) throw InputError("indenter", "the keys must be a mapping of key to value");
+  toml::table section{{"type", toml::value(type)}};
+  for (const auto& [k, v] : keys.items()) {
+    if (k == "type") throw InputError("indenter.type", "give the type once, as the first argument");
+    section[k] = to_toml_value(k, v);
+  }
+  const toml::value root(toml::table{{"indenter", toml::value(section)}});
+  Config c;
+  c.grid = grid;
+  std::vector<std::string> errors;
+  Section ind(root, "indenter", errors);
+  read_indenter(ind, c, errors, {true, true, true, true}, base_dir);
+  if (errors.size() == 1) {  // "indenter.radius: why": the key, and why
+    const std::size_t colon = errors[0].find(": ");
+    if (colon != std::string::npos) throw InputError(errors[0].substr(0, colon), errors[0].substr(colon + 2));
+  }
+  if (!errors.empty()) {
+    std::string why = std::to_string(errors.size()) + " problems:";
+    for (const std::string& e : errors) why += "\n  - " + e;
+    throw InputError("indenter", why);
+  }
+  return make_topography(c);
+}
+
+}  // namespace gfmd

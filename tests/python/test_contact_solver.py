@@ -1,0 +1,108 @@
+"""gfmd.ContactSolver and gfmd.load_path: a problem set up once and solved load after load,
+each solve warm-started from the previous solution; gfmd.indenter_types and
+Topography.indenter / flatpunch (the indenter registry seen from Python)."""
+import math
+
+import numpy as np
+import pytest
+
+import gfmd
+
+
+def rough():
+    return gfmd.Topography.self_affine(64, 1.0, hurst=0.8, lambda_short=1 / 16, rms_gradient=0.1, seed=3)
+
+
+LOADS = [0.002, 0.004, 0.006, 0.008, 0.01, 0.012, 0.014, 0.016, 0.018, 0.02]
+
+
+def test_load_path_warm_starts_and_matches_cold_solves():
+    top, body = rough(), gfmd.ElasticBody(poisson=0.3)
+    solver = gfmd.ContactSolver(top, body, tolerance=1e-10)
+    warm = list(gfmd.load_path(solver, pressures=LOADS))
+    assert len(warm) == len(LOADS)
+    cold = [gfmd.solve(top, body, pressure=p, tolerance=1e-10) for p in LOADS]
+    for p, w, c in zip(LOADS, warm, cold):
+        assert w.summary["mean_pressure"] == pytest.approx(p, rel=1e-12)
+        # Both converged to the same solution of a convex problem: equal within the tolerance.
+        assert w.summary["relative_contact_area"] == pytest.approx(c.summary["relative_contact_area"], abs=2e-3)
+        assert w.summary["mean_gap"] == pytest.approx(c.summary["mean_gap"], rel=1e-6)
+        assert np.max(np.abs(w.pressure - c.pressure)) < 1e-6 * np.max(c.pressure)
+    # The first load starts from nothing, as gfmd.solve does: the same iterations, the same bits.
+    assert warm[0].summary["iterations"] == cold[0].summary["iterations"]
+    assert np.array_equal(warm[0].pressure, cold[0].pressure)
+    # Every later load starts from the previous solution: fewer CG iterations in all (frictionless
+    # Polonsky-Keer gains little from a warm start, here about 8 %; see the benchmark).
+    w_its = sum(r.summary["iterations"] for r in warm[1:])
+    c_its = sum(r.summary["iterations"] for r in cold[1:])
+    assert w_its < c_its, (w_its, c_its)
+
+
+def test_a_solve_repeated_warm_is_nearly_free_and_warm_false_starts_cold():
+    top = rough()
+    solver = gfmd.ContactSolver(top, friction=0.3, tolerance=1e-9)
+    first = solver.solve(pressure=0.01)
+    again = solver.solve(pressure=0.01)
+    assert again.summary["iterations"] < first.summary["iterations"] / 3, (
+        again.summary["iterations"], first.summary["iterations"])
+    assert again.summary["friction_coefficient"] == pytest.approx(first.summary["friction_coefficient"], rel=1e-6)
+    cold = solver.solve(pressure=0.01, warm=False)
+    assert cold.summary["iterations"] == first.summary["iterations"]
+    assert np.array_equal(cold.pressure, first.pressure)
+    solver.reset()
+    assert solver.last is None and "cold" in repr(solver)
+    assert np.array_equal(solver.solve(pressure=0.01).pressure, first.pressure)
+    # Results stay valid after later solves (each owns its fields).
+    assert np.array_equal(first.pressure, cold.pressure)
+
+
+def test_contact_solver_checks_its_arguments_once_and_each_load():
+    top = rough()
+    with pytest.raises(gfmd.InputError, match="frobnicate"):
+        gfmd.ContactSolver(top, frobnicate=1)
+    with pytest.raises(gfmd.InputError, match="interaction"):
+        gfmd.ContactSolver(top, interaction="glue")
+    solver = gfmd.ContactSolver(top)
+    for kw, what in [(dict(), "exactly one"), (dict(pressure=0.1, force=0.1), "exactly one"),
+                     (dict(pressure=-0.1), "load.pressure: must be positive"),
+                     (dict(pressure=float("nan")), "load.pressure: must be a finite number"),
+                     (dict(pressure=5e3), "load.pressure: exceeds 1000 E"),
+                     (dict(approach=-1.0), "load.approach"), (dict(force="big"), "load.force: must be a number")]:
+        with pytest.raises(gfmd.InputError, match=what):
+            solver.solve(**kw)
+    assert solver.last is None  # nothing was solved
+    with pytest.raises(gfmd.InputError, match="exactly one of pressures"):
+        next(gfmd.load_path(solver, pressures=[0.01], forces=[0.01]))
+    with pytest.raises(gfmd.InputError, match="ContactSolver"):
+        next(gfmd.load_path("solver", pressures=[0.01]))
+
+
+def test_indenter_types_come_from_the_registry():
+    types = {t["name"]: t for t in gfmd.indenter_types()}
+    assert {"hertz", "flatpunch", "eggcrate", "selfaffine", "file"} <= set(types)
+    assert "array" not in types
+    assert types["flatpunch"]["keys"] == ["radius", "depth"] and types["flatpunch"]["purpose"]
+    # Topography.indenter reads the keys as a case file's [indenter] is read.
+    h = gfmd.Topography.indenter("hertz", 64, 2.0, radius=1.5)
+    assert np.array_equal(h.heights, gfmd.Topography.hertz(64, 2.0, radius=1.5).heights)
+    with pytest.raises(gfmd.InputError, match="did you mean 'radius'"):
+        gfmd.Topography.indenter("hertz", 64, 2.0, radiu=1.0)
+    with pytest.raises(gfmd.InputError, match="unknown indenter type \"cone\".*one of hertz, flatpunch"):
+        gfmd.Topography.indenter("cone", 64, 2.0)
+    with pytest.raises(gfmd.InputError, match="indenter.radius: must be a finite"):
+        gfmd.Topography.flatpunch(64, 2.0, radius=math.inf)
+
+
+def test_flat_punch_from_python_presses_its_face():
+    t = gfmd.Topography.flatpunch(128, 8.0, radius=0.5, depth=0.2)
+    assert t.kind == "flatpunch" and t.heights.max() == 0.0 and t.heights.min() == -0.2
+    face = t.heights == 0.0
+    assert face.sum() * (8.0 / 128) ** 2 == pytest.approx(math.pi * 0.25, rel=0.03)
+    r = gfmd.solve(t, force=0.01, interaction="hardwall", tolerance=1e-10)
+    assert np.all(r.pressure[~face] == 0.0) and np.all(r.pressure[face] > 0.0)
+    # Boussinesq's stiffness 2 a E* within the periodic cell's correction (c F / (E* L), below 20 %)
+    # and the staircase edge: tested to 1 % after extrapolation in tests/test_indenters.cpp.
+    assert r.summary["approach"] == pytest.approx(0.01 / (2 * 0.5), rel=0.2)
+    with pytest.raises(gfmd.InputError, match="indenter.radius: the punch radius .* fewer than 2 grid"):
+        gfmd.Topography.flatpunch(128, 8.0, radius=0.1)
+
