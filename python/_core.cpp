@@ -414,6 +414,24 @@ PYBIND11_MODULE(_core, m) {
       .def("reset", &CaseSolver::reset)
       .def_property_readonly("warm", &CaseSolver::warm);
   m.def(
+      "friction_laws",
+      [] {
+        py::list out;
+        for (const gfmd::FrictionLawType* t : gfmd::friction_law_types()) {
+          py::dict d;
+          d["name"] = t->name;
+          d["purpose"] = t->purpose;
+          std::vector<std::string> keys;
+          for (const auto& k : t->keys) keys.push_back(k.name);
+          d["keys"] = keys;
+          d["set_valued_stick"] = t->set_valued_stick;
+          d["on_device"] = t->on_device;
+          out.append(d);
+        }
+        return out;
+      },
+      "The friction laws (friction.law): [{'name', 'purpose', 'keys', 'set_valued_stick', 'on_device'}]");
+  m.def(
       "indenter_types",
       [] {
         py::list out;

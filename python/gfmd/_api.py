@@ -16,6 +16,12 @@ from ._studies import _package_file, curve, ensemble, percolation, study, sweep
 from ._topography import Topography
 
 
+def friction_laws() -> list:
+    """The friction laws (friction.law; gfmd.solve(..., law=..., and its keys)): [{'name', 'purpose',
+    'keys', 'set_valued_stick', 'on_device'}]; set_valued_stick False: the law needs regularization > 0."""
+    return _core.friction_laws()
+
+
 def indenter_types() -> list:
     """The indenter types a case file (indenter.type) and Topography.indenter take:
     [{'name', 'purpose', 'keys'}], in the order the docs list them."""
@@ -24,5 +30,5 @@ def indenter_types() -> list:
 __all__ = [
     "ContactSolver", "ElasticBody", "InputError", "Result", "SolveError", "Topography", "_FRICTION_KEYS", "_SOLVER_KEYS",
     "_core", "_count", "_flag", "_heights", "_package_file", "_positive", "_progress_bar", "_toml_value",
-    "_warn_implausible", "curve", "ensemble", "indenter_types", "load_path", "percolation", "run", "run_toml", "solve", "study", "sweep",
+    "_warn_implausible", "curve", "ensemble", "friction_laws", "indenter_types", "load_path", "percolation", "run", "run_toml", "solve", "study", "sweep",
 ]

@@ -46,8 +46,9 @@ class ElasticBody:
 
 _SOLVER_KEYS = {"tolerance", "max_iterations", "max_outer", "max_tangential", "anderson", "mixing", "threads",
                 "fft_planner", "backend"}
+# The [friction] keys besides coefficient and direction; the laws' own keys come from the registry.
 _FRICTION_KEYS = {"regularization", "creepage", "lateral_creepage", "slip_derivative", "stick_step",
-                  "stick_acceleration", "reference"}
+                  "stick_acceleration", "reference", "law"} | {k for law in _core.friction_laws() for k in law["keys"]}
 
 
 def _toml_value(name: str, v) -> str:
@@ -214,7 +215,8 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
     Coulomb coefficient mu_c; direction: sliding direction in degrees from x. options: the
     [solver] keys (tolerance, max_iterations, max_outer, max_tangential, anderson, mixing,
     threads, fft_planner, backend) and the [friction] keys (regularization, creepage,
-    lateral_creepage, slip_derivative, stick_step, stick_acceleration, reference). progress(iteration, friction_step, change) is called about every
+    lateral_creepage, slip_derivative, stick_step, stick_acceleration, reference, law and the
+    law's keys: gfmd.friction_laws()). progress(iteration, friction_step, change) is called about every
     0.2 s; progress=True shows a tqdm bar (plain lines without tqdm). Ctrl-C raises KeyboardInterrupt within an iteration. The same case through
     gfmd.run or `gfmd run` gives the same numbers. One solve of a ContactSolver: to solve
     several loads, each from the last, keep a ContactSolver (or use gfmd.load_path).

@@ -201,7 +201,30 @@ Config build(const toml::value& root, const std::string& name, const std::string
              "\"upwind\"): with the spectral one its looser inner solves stall the friction iteration "
              "(docs/solver.md)");
   c.friction_reference = fr.boolean("reference", true);
-  fr.finish();
+  const std::string law_name = fr.string("law", "coulomb");
+  std::vector<std::string> law_keys;  // an unknown law: the keys of every law, no second error
+  if (const FrictionLawType* law = find_friction_law(law_name)) {
+    c.friction.law.kind = law->kind;
+    for (const FrictionLawType::Key& k : law->keys)
+      c.friction.law.*k.member = fr.number(k.name, k.default_value);
+    if (law->check)
+      if (const auto [key, why] = law->check(c.friction.law, c.friction.coefficient); !key.empty())
+        fr.error(key, why);
+    if (!law->set_valued_stick && c.friction.coefficient > 0 && !c.friction.regularized())
+      fr.error("regularization", "must be positive with friction.law = \"" + law->name +
+                                     "\" (its stick is solved regularised: e.g. 0.01)");
+  } else {
+    std::vector<std::string> names;
+    for (const FrictionLawType* t : friction_law_types()) {
+      names.push_back(t->name);
+      for (const auto& k : t->keys) law_keys.push_back(k.name);
+    }
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    fr.error("law", "unknown friction law \"" + law_name + "\"" + did_you_mean(law_name, names) +
+                        "; one of " + list);
+  }
+  fr.finish(law_keys);
 
   Section ia(root, "interaction", errors);
   const std::string model = ia.string("model", "harmonic");
@@ -307,6 +330,13 @@ Config build(const toml::value& root, const std::string& name, const std::string
       kind(*v);
     }
   }
+  if (!c.stress.post_analysis.empty() && c.friction.law.kind != FrictionLawKind::Coulomb &&
+      c.friction.coefficient > 0)
+    st.error("post_analysis",
+             "adds Coulomb's traction mu_c p e_s to the frictionless solution: not defined for "
+             "friction.law = \"" +
+                 friction_law_type(c.friction.law.kind).name +
+                 "\" (the solve's own stresses are: stress.depths, fields.nc)");
   c.stress.high_tension_fraction = st.number("high_tension_fraction", 0.9);
   c.stress.profiles = st.boolean("profiles", true);
   if (!(c.stress.high_tension_fraction > 0 && c.stress.high_tension_fraction <= 1))

@@ -52,6 +52,11 @@ nlohmann::json Config::to_json() const {
                    {"lateral_creepage", friction.lateral_creepage},
                    {"slip_derivative",
                     friction.slip_derivative ? slip_derivative_name(*friction.slip_derivative) : "auto"}};
+  if (friction.law.kind != FrictionLawKind::Coulomb) {  // absent: Coulomb's (as before the key)
+    const FrictionLawType& law = friction_law_type(friction.law.kind);
+    j["friction"]["law"] = law.name;
+    for (const FrictionLawType::Key& k : law.keys) j["friction"][k.name] = friction.law.*k.member;
+  }
   j["interaction"] = {{"model", interaction.hard_wall ? "hardwall" : "harmonic"},
                       {"stiffness", interaction.stiffness}};
   j["solver"] = {{"tolerance", solver.tolerance},

@@ -150,7 +150,13 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["outer_iterations"] = r.info.outer_iterations;
   if (r.config.friction.coefficient > 0) {
     j["tangential_iterations"] = r.info.tangential_iterations;
-    j["friction_law"] = r.config.friction.regularized() ? "regularized" : "coulomb";
+    const FrictionLawType& law = friction_law_type(r.config.friction.law.kind);
+    if (law.kind == FrictionLawKind::Coulomb) {
+      j["friction_law"] = r.config.friction.regularized() ? "regularized" : "coulomb";
+    } else {
+      j["friction_law"] = law.name;
+      j["friction_law_traction"] = law.traction;
+    }
     j["slip_derivative"] = slip_derivative_name(r.info.slip_derivative);  // the one the solution used
     // The friction loop's mixing history at its end (solver.anderson, deeper after a stall).
     j["anderson_depth"] = r.info.history_depth;
@@ -296,9 +302,13 @@ FieldSet result_fields(const CaseResult& r, bool maps_only) {
                       "relative longitudinal slip velocity v_l^rel/v0 - 1 = (e_s.grad) u_s", "1"});
     fields.push_back({"slip_transverse", d.slip_transverse.data(),
                       "transverse slip velocity / v0 = (e_s.grad) u_perp", "1"});
-    fields.push_back({"dissipation", d.dissipation.data(),
-                      "dissipated power density / v0 = tau . v_slip / v0 (mu_c p |v|/v0 where slipping)",
-                      "E*"});
+    const FrictionLawKind kind = r.config.friction.law.kind;
+    fields.push_back(
+        {"dissipation", d.dissipation.data(),
+         kind == FrictionLawKind::Coulomb
+             ? "dissipated power density / v0 = tau . v_slip / v0 (mu_c p |v|/v0 where slipping)"
+             : "dissipated power density / v0 = tau . v_slip / v0 (mu(|v|) p |v|/v0 where slipping)",
+         "E*"});
   }
   if (r.fields.stick.size() == n) {
     RealField& sm = set.masks.emplace_back(n);

@@ -81,7 +81,8 @@ std::array<double, 4> ContactSolver::slip_tractions(const ContactFields& f, Real
   fft_.backward_unscaled_destroying(s1_.data(), r1_.data());
   fft_.backward_unscaled_destroying(s2_.data(), r2_.data());
   const double mu = fric_.coefficient;
-  const double eps = fric_.regularization;  // tau = mu p v / max(|v|, eps)
+  const double eps = fric_.regularization;  // tau = mu(|v|) p v / max(|v|, eps)
+  const FrictionLaw law = fric_.law;        // |tau| = mu p for Coulomb's law
   const std::array<double, 2> rigid = fric_.rigid_slip(ex, ey);
   const double rx = rigid[0], ry = rigid[1];  // plain names: lambdas may capture them
   // Outside the contact set the new traction is zero; outside the Anderson support the
@@ -93,11 +94,13 @@ std::array<double, 4> ContactSolver::slip_tractions(const ContactFields& f, Real
       const double vx = rx + r1_[i], vy = ry + r2_[i];
       const double v2 = vx * vx + vy * vy;
       if (v2 < slow2) acc[3] += 1.0;
-      const double norm = std::max(std::sqrt(v2), eps);  // |v| = O(1): no hypot needed
+      const double speed = std::sqrt(v2);  // |v| = O(1): no hypot needed
+      const double norm = std::max(speed, eps);
+      const double t = law.bound(mu, p, speed);  // mu p for Coulomb's law
       double x = 0.0, y = 0.0;
       if (norm > 0) {
-        x = mu * p * vx / norm;
-        y = mu * p * vy / norm;
+        x = t * vx / norm;
+        y = t * vy / norm;
       }
       tx[i] = x;
       ty[i] = y;
@@ -170,9 +173,11 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
     });
     have_z_ = true;
   }
-  // Projection onto the disc of radius mu_c p.
+  // Projection onto the disc of radius mu_c p (the law's bound at rest: a law with a set-valued
+  // stick, contact/friction_law.hpp).
+  const FrictionLaw law = fric_.law;
   const auto project = [&](std::size_t i, double zx, double zy, double& x, double& y) {
-    const double r = mu * p[i];
+    const double r = law.bound(mu, p[i], 0.0);
     if (!(r > 0)) {
       x = y = 0.0;
       return;

@@ -210,7 +210,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
                         !fric_.slip_derivative && deriv_ == SlipDerivative::Spectral);
     // Stick: the splitting variable inside the friction disc (there z = tau, v = 0).
     const auto sticks = [&](std::size_t i) {
-      const double r = mu * f.pressure[i];
+      const double r = fric_.law.bound(mu, f.pressure[i], 0.0);  // the friction disc's radius
       return r > 0 && zx_[i] * zx_[i] + zy_[i] * zy_[i] < r * r;
     };
     double stick_now = 0.0;                    // contact points that stick in the last stick-slip solve

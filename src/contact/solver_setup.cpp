@@ -54,7 +54,15 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   g0_rms_ = std::sqrt(std::max(0.0, sums[1] / points - m * m));
   deriv_ = fric_.derivative();
   const bool exact_friction = fric_.coefficient > 0 && !fric_.regularized();
+  const FrictionLawType& law = friction_law_type(fric_.law.kind);
+  if (exact_friction && !law.set_valued_stick)
+    throw ParameterError("friction.regularization", "must be positive with friction.law = \"" + law.name +
+                                                        "\": its stick is solved regularised (near rest)");
   if (backend().name() == "cuda") {
+    if (fric_.coefficient > 0 && !law.on_device)
+      throw ParameterError("friction.law", "\"" + law.name +
+                                               "\" is not implemented on the cuda backend: use "
+                                               "solver.backend = \"threads\" (or \"serial\")");
     if (fric_.stick_acceleration > 0)
       throw ParameterError("friction.stick_acceleration",
                            "is not implemented on the cuda backend: set it to 0 (plain splitting) there");

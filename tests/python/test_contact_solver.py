@@ -106,3 +106,25 @@ def test_flat_punch_from_python_presses_its_face():
     with pytest.raises(gfmd.InputError, match="indenter.radius: the punch radius .* fewer than 2 grid"):
         gfmd.Topography.flatpunch(128, 8.0, radius=0.1)
 
+
+def test_friction_laws_from_python():
+    laws = {law["name"]: law for law in gfmd.friction_laws()}
+    assert laws["coulomb"]["set_valued_stick"] and laws["coulomb"]["keys"] == []
+    assert laws["velocity"]["keys"] == ["static_coefficient", "velocity_scale"]
+    assert laws["tresca"]["keys"] == ["shear_strength"] and laws["tresca"]["set_valued_stick"]
+    assert not laws["velocity"]["set_valued_stick"] and not laws["velocity"]["on_device"]
+    t = gfmd.Topography.hertz(64, 1.6, radius=1.0)
+    base = dict(force=0.01, friction=0.4, regularization=0.01, tolerance=1e-10)
+    c = gfmd.solve(t, **base)
+    same = gfmd.solve(t, **base, law="velocity", static_coefficient=0.4, velocity_scale=0.1)
+    assert np.array_equal(c.pressure, same.pressure) and np.array_equal(c["traction_x"], same["traction_x"])
+    v = gfmd.solve(t, **base, law="velocity", static_coefficient=0.8, velocity_scale=0.5)
+    assert v.summary["friction_law"] == "velocity" and "exp(-|v|/v_c)" in v.summary["friction_law_traction"]
+    assert 0.4 < v.summary["friction_coefficient"] < 0.8
+    capped = gfmd.solve(t, **base, law="tresca", shear_strength=0.005)
+    assert capped.summary["friction_law"] == "tresca" and capped.summary["friction_coefficient"] < 0.4
+    assert np.max(np.hypot(capped["traction_x"], capped["traction_y"])) <= 0.005 * (1 + 1e-12)
+    with pytest.raises(gfmd.InputError, match="friction.regularization: must be positive with friction.law"):
+        gfmd.solve(t, force=0.01, friction=0.4, law="velocity", static_coefficient=0.8, velocity_scale=0.5)
+    with pytest.raises(gfmd.InputError, match="did you mean 'velocity'"):
+        gfmd.solve(t, **base, law="velocty")

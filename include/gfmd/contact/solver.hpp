@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "gfmd/contact/anderson.hpp"
+#include "gfmd/contact/friction_law.hpp"
 #include "gfmd/core/fft.hpp"
 #include "gfmd/core/fields.hpp"
 #include "gfmd/elastic/elastic.hpp"
@@ -46,7 +47,10 @@ struct InteractionParams {
 };
 
 struct FrictionParams {
-  double coefficient = 0.0;    // mu_c
+  double coefficient = 0.0;  // mu_c (a speed-dependent law's kinetic coefficient mu_k)
+  // The law (contact/friction_law.hpp): Coulomb's constant mu_c, or a coefficient that
+  // depends on the slip speed, mu_c * f(|v|); every law gives tau = mu(|v|) p v/|v| in slip.
+  FrictionLaw law;
   double direction_deg = 0.0;  // sliding direction of the indenter, degrees from +x
   // Regularised Coulomb law near stick: where the slip speed |v_slip|/v0 falls below this
   // value, the traction is mu_c p v_slip / regularization (it vanishes with the slip

@@ -1,0 +1,78 @@
+// Friction laws as parts: the traction magnitude where a point slips (from the pressure and the
+// slip speed) and the stick disc's radius, what
+// each law's solve can do (capabilities), its keys and how outputs describe it. One file per
+// law, src/contact/friction_law_<name>.cpp; the table is src/contact/friction_law.cpp.
+//
+// Adding a law: a FrictionLawKind, its branch in FrictionLaw::bound (host and device alike:
+// GFMD_HD), the file with its FrictionLawType and one line in the table; its keys are
+// read and written back from `keys` (case/config), listed in Python (gfmd.friction_laws()).
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gfmd/core/host_device.hpp"
+
+namespace gfmd {
+
+enum class FrictionLawKind : int { Coulomb = 0, Velocity = 1, Tresca = 2 };
+
+// The law's parameters, plain data (the solve copies it into its passes). The kinetic
+// coefficient mu_k is FrictionParams::coefficient (friction.coefficient).
+struct FrictionLaw {
+  FrictionLawKind kind = FrictionLawKind::Coulomb;
+  double static_coefficient = 0.0;  // velocity: mu_s, the coefficient at zero slip speed
+  double velocity_scale = 0.0;      // velocity: v_c / v0, the slip speed over which mu_s decays to mu_k
+  double shear_strength = 0.0;      // tresca: tau_0 / E*, the most shear stress the interface carries
+  // The traction magnitude |tau| where a point with pressure p > 0 slips at the speed
+  // |v_slip| / v0 = speed; for a law with a set-valued stick (FrictionLawType::set_valued_stick)
+  // bound(mu_k, p, 0) is also the radius of the disc |tau| <= ... where it sticks:
+  //   coulomb:  mu_k p;
+  //   velocity: (mu_k + (mu_s - mu_k) exp(-speed / v_c)) p   (mu_s at rest, mu_k sliding fast);
+  //   tresca:   min(mu_k p, tau_0)                             (Coulomb capped at the shear strength).
+  [[nodiscard]] GFMD_HD double bound(double mu_k, double p, double speed) const {
+    if (kind == FrictionLawKind::Velocity)
+      return (mu_k + (static_coefficient - mu_k) * std::exp(-speed / velocity_scale)) * p;
+    if (kind == FrictionLawKind::Tresca) return std::fmin(mu_k * p, shear_strength);
+    return mu_k * p;
+  }
+};
+
+// A law as a registered part.
+struct FrictionLawType {
+  std::string name;     // friction.law
+  std::string purpose;  // one line (docs, gfmd.friction_laws())
+  FrictionLawKind kind = FrictionLawKind::Coulomb;
+  struct Key {
+    std::string name;             // friction.<name>
+    double FrictionLaw::*member;  // where it goes
+    double default_value;
+    std::string doc;
+  };
+  std::vector<Key> keys;
+  // Capabilities. set_valued_stick: the exact law (friction.regularization = 0), whose stick
+  // is set-valued, is solved (Douglas-Rachford splitting); otherwise the law needs
+  // regularization > 0. on_device: the cuda backend computes it.
+  bool set_valued_stick = true;
+  bool on_device = true;
+  // The traction the law gives where a point slips, for summary.json ("friction_law_traction")
+  // and the dissipation field's description: e.g. "mu_c p v/|v|".
+  std::string traction;
+  // The law's own checks of its parameters: (key, why), or two empty strings.
+  std::pair<std::string, std::string> (*check)(const FrictionLaw& law, double mu_k) = nullptr;
+};
+
+const FrictionLawType& coulomb_friction_law();
+const FrictionLawType& velocity_friction_law();
+const FrictionLawType& tresca_friction_law();
+
+// Every registered law, in the order the docs list them.
+const std::vector<const FrictionLawType*>& friction_law_types();
+// The law named `name`, or nullptr.
+const FrictionLawType* find_friction_law(const std::string& name);
+// The law of a kind (always registered).
+const FrictionLawType& friction_law_type(FrictionLawKind kind);
+
+}  // namespace gfmd

@@ -1,0 +1,41 @@
+// friction.law = "velocity": a coefficient that falls (or rises) with the slip speed,
+// mu(|v|) = mu_k + (mu_s - mu_k) exp(-|v|/v_c), mu_k = friction.coefficient (as in the paper
+// authors' code: a static peak and a velocity threshold). Solved with the regularised law.
+#include <cmath>
+
+#include "gfmd/contact/friction_law.hpp"
+
+namespace gfmd {
+
+namespace {
+
+std::pair<std::string, std::string> check(const FrictionLaw& law, double) {
+  if (!(law.static_coefficient >= 0) || !std::isfinite(law.static_coefficient))
+    return {"static_coefficient", "must be a non-negative number (mu_s, the coefficient at rest)"};
+  if (!(law.velocity_scale > 0) || !std::isfinite(law.velocity_scale))
+    return {"velocity_scale",
+            "must be a positive number (v_c / v0, the slip speed of the decay from mu_s to mu_k)"};
+  return {};
+}
+
+}  // namespace
+
+const FrictionLawType& velocity_friction_law() {
+  static const FrictionLawType t{
+      .name = "velocity",
+      .purpose =
+          "speed-dependent coefficient mu(|v|) = mu_k + (mu_s - mu_k) exp(-|v|/v_c), mu_k = coefficient",
+      .kind = FrictionLawKind::Velocity,
+      .keys = {{"static_coefficient", &FrictionLaw::static_coefficient, 0.0, "mu_s, the coefficient at rest"},
+               {"velocity_scale", &FrictionLaw::velocity_scale, 0.0,
+                "v_c / v0, the slip speed of the decay"}},
+      // A coefficient that varies with the slip speed has no set-valued stick of the Coulomb
+      // kind here: near rest the regularised traction mu(|v|) p v / eps is used.
+      .set_valued_stick = false,
+      .on_device = false,
+      .traction = "mu(|v|) p v/max(|v|, eps), mu(|v|) = mu_k + (mu_s - mu_k) exp(-|v|/v_c)",
+      .check = check};
+  return t;
+}
+
+}  // namespace gfmd
