@@ -48,7 +48,7 @@ constexpr int kDirectoryReady = 1, kDirectoryFailed = 2, kNothingToDo = 3;
 // A rank other than 0 of a distributed run: waits for rank 0's directory, takes its part of
 // the solves and leaves the outputs to rank 0. Its exit code follows the solve's outcome,
 // which every rank shares.
-int run_follower(const gfmd::Config& cfg) {
+int run_follower(const gfmd::Config& cfg, std::shared_ptr<gfmd::Topography> surface) {
   switch (gfmd::mpi::from_root(0)) {
     case kDirectoryReady:
       break;
@@ -59,6 +59,7 @@ int run_follower(const gfmd::Config& cfg) {
   }
   gfmd::RunOptions opts;
   opts.stop_request = stop_requested;
+  opts.made_surface = std::move(surface);
   gfmd::CaseResult r;
   try {
     r = gfmd::run_case(cfg, opts);
@@ -79,9 +80,10 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   if (out_dir.empty())
     out_dir = (std::filesystem::path("out") / std::filesystem::path(case_path).stem()).string();
   namespace fs = std::filesystem;
-  // Validates the topography before anything is written.
-  (void)gfmd::make_topography_here(cfg);
-  if (gfmd::mpi::distributed() && !gfmd::mpi::root()) return run_follower(cfg);
+  // Validates the topography before anything is written; the solve takes these heights over.
+  gfmd::MapReport report;
+  auto surface = std::make_shared<gfmd::Topography>(gfmd::make_topography_here(cfg, &report));
+  if (gfmd::mpi::distributed() && !gfmd::mpi::root()) return run_follower(cfg, std::move(surface));
   // Rank 0 of a distributed run tells the others what it found in the directory before they
   // start the solve: ready (it holds the lock and cleared it), nothing to do, or failed (if
   // anything below throws first).
@@ -137,6 +139,8 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   opts.checkpoint_interval_s = checkpoint_s;
   opts.keep_stress_fields = gfmd::outputs_need_stress_fields(cfg);
   opts.whole_solution = false;  // the outputs ask for the fields they write (keep_stress_fields)
+  opts.made_surface = std::move(surface);
+  opts.made_report = std::move(report);
   if (have_warm) {
     opts.warm_start = &warm;
     opts.resumed = done;

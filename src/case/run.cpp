@@ -291,7 +291,12 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
   } else {
     MapReport rep;
     Topography& made = distributed ? slab_topo : r.topography;
-    made = make_topography_here(cfg, &rep);
+    if (opts.made_surface) {  // made once by the caller (the CLI's validation)
+      made = std::move(*opts.made_surface);
+      rep = opts.made_report;
+    } else {
+      made = make_topography_here(cfg, &rep);
+    }
     if (cfg.indenter.type == "file" && mpi::root()) r.map_report = std::move(rep);
   }
   const Topography& topo = distributed ? slab_topo : r.topography;

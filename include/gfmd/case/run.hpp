@@ -32,6 +32,11 @@ struct RunOptions {
   // Heights given by the calling program (indenter.type = "array", e.g. Python's
   // gfmd.solve), on the case's grid; moved into the result (not copied).
   std::shared_ptr<Topography> topography;
+  // This process's heights of the case's indenter, made by make_topography_here (the CLI
+  // makes them once to validate the case before it writes anything; its MapReport with them):
+  // taken over by run_case instead of making them again. Ignored for "array".
+  std::shared_ptr<Topography> made_surface;
+  MapReport made_report;
 };
 
 // Whether the configured outputs show stress fields (fields.nc, PNG maps).
