@@ -112,8 +112,8 @@ class ContactSolver:
     """
 
     def __init__(self, topography: Topography, body: Optional[ElasticBody] = None, *, friction: float = 0.0,
-                 direction: float = 0.0, interaction: str = "harmonic", stress_depths: Iterable[float] = (),
-                 **options):
+                 direction: float = 0.0, interaction: str = "harmonic", hardness: float = math.inf,
+                 stress_depths: Iterable[float] = (), **options):
         if not isinstance(topography, Topography):
             raise InputError(f"topography: must be a gfmd.Topography (got {type(topography).__name__})")
         body = ElasticBody() if body is None else body
@@ -135,7 +135,10 @@ class ContactSolver:
                  "[friction]", f"coefficient = {_toml_value('friction', friction)}",
                  f"direction = {_toml_value('direction', direction)}"]
         lines += [f"{k} = {_toml_value(k, v)}" for k, v in options.items() if k in _FRICTION_KEYS]
-        lines += ["[interaction]", f"model = {_toml_value('interaction', interaction)}", "[solver]"]
+        lines += ["[interaction]", f"model = {_toml_value('interaction', interaction)}"]
+        if not (isinstance(hardness, numbers.Real) and not isinstance(hardness, bool) and hardness == math.inf):
+            lines += [f"hardness = {_toml_value('hardness', hardness)}"]
+        lines += ["[solver]"]
         lines += [f"{k} = {_toml_value(k, v)}" for k, v in options.items() if k in _SOLVER_KEYS]
         depths = list(stress_depths)
         lines += ["[stress]", f"depths = {_toml_value('stress_depths', depths)}", "[output]", "png = false"]
@@ -207,12 +210,14 @@ def load_path(solver: ContactSolver, pressures: Optional[Iterable[float]] = None
 
 def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressure: Optional[float] = None,
           force: Optional[float] = None, approach: Optional[float] = None, friction: float = 0.0,
-          direction: float = 0.0, interaction: str = "harmonic", stress_depths: Iterable[float] = (),
-          progress: Optional[Callable[[int, int, float], None]] = None, **options) -> Result:
+          direction: float = 0.0, interaction: str = "harmonic", hardness: float = math.inf,
+          stress_depths: Iterable[float] = (), progress: Optional[Callable[[int, int, float], None]] = None,
+          **options) -> Result:
     """Presses (and, with friction > 0, slides) the topography on the body; returns a Result.
 
     Exactly one of pressure (mean, E*), force (E* L^2) or approach (L). friction: the local
-    Coulomb coefficient mu_c; direction: sliding direction in degrees from x. options: the
+    Coulomb coefficient mu_c; direction: sliding direction in degrees from x. hardness: the
+    plastic cap H of the local pressure (interaction.hardness; inf: none). options: the
     [solver] keys (tolerance, max_iterations, max_outer, max_tangential, anderson, mixing,
     threads, fft_planner, backend) and the [friction] keys (regularization, creepage,
     lateral_creepage, slip_derivative, stick_step, stick_acceleration, reference, law and the
@@ -228,7 +233,7 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
     _one_load("gfmd.solve", pressure, force, approach)
     _progress_arg(progress if progress is not True else None)
     solver = ContactSolver(topography, body, friction=friction, direction=direction, interaction=interaction,
-                           stress_depths=stress_depths, **options)
+                           hardness=hardness, stress_depths=stress_depths, **options)
     result = solver._solve_quiet(pressure, force, approach, progress, True)
     solver._warn_once(result, stacklevel=2)
     return result

@@ -238,7 +238,13 @@ Config build(const toml::value& root, const std::string& name, const std::string
   c.interaction.stiffness = ia.number("stiffness", 0.0);
   if (!(c.interaction.stiffness >= 0))
     ia.error("stiffness", "must be zero (the default, 2 E*/dx) or positive");
+  c.interaction.hardness = ia.number_or_inf("hardness", std::numeric_limits<double>::infinity());
+  if (!(c.interaction.hardness > 0))
+    ia.error("hardness", "must be positive (the largest local pressure, in units of E*) or \"inf\" (no cap)");
   ia.finish();
+  // A cap below the mean pressure leaves no solution: the load is named.
+  if (c.interaction.plastic() && c.interaction.hardness > 0 && (hf || hp))
+    if (const auto [key, why] = load_problem(c); !key.empty()) load.error(key, why);
 
   Section so(root, "solver", errors);
   c.solver.tolerance = so.number("tolerance", 1e-8);
@@ -480,6 +486,11 @@ std::pair<std::string, std::string> load_problem(const Config& c) {
     return {key, "the mean pressure force / (lx ly) exceeds 1000 E*: not a contact problem"};
   if (l.mode == LoadMode::Pressure && l.value / e > kMaxPressureOverModulus)
     return {key, "exceeds 1000 E*: not a contact problem"};
+  const double mean = l.mode == LoadMode::Force ? l.value / (c.grid.lx * c.grid.ly) : l.value;
+  if (c.interaction.plastic() && !(mean < c.interaction.hardness))
+    return {key,
+            "the mean pressure reaches interaction.hardness: the whole cell would flow plastically "
+            "(lower the load or raise the hardness)"};
   return {};
 }
 

@@ -59,6 +59,7 @@ nlohmann::json Config::to_json() const {
   }
   j["interaction"] = {{"model", interaction.hard_wall ? "hardwall" : "harmonic"},
                       {"stiffness", interaction.stiffness}};
+  if (interaction.plastic()) j["interaction"]["hardness"] = interaction.hardness;  // absent: no cap
   j["solver"] = {{"tolerance", solver.tolerance},
                  {"max_iterations", solver.max_iterations},
                  {"max_outer", solver.max_outer},

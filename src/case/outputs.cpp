@@ -76,6 +76,11 @@ nlohmann::json observables_json(const Observables& o) {
                       {"max_pressure", o.max_pressure},
                       {"mean_gap", o.mean_gap},
                       {"approach", o.approach}};
+  if (o.plastic) {
+    j["plastic_area_fraction"] = o.plastic_area_fraction;
+    j["max_plastic_displacement"] = o.max_plastic_displacement;
+    j["mean_plastic_displacement"] = o.mean_plastic_displacement;
+  }
   if (o.friction) {
     j["friction_force"] = o.friction_force;
     j["friction_force_slip"] = o.friction_force_slip;
@@ -310,6 +315,11 @@ FieldSet result_fields(const CaseResult& r, bool maps_only) {
              : "dissipated power density / v0 = tau . v_slip / v0 (mu(|v|) p |v|/v0 where slipping)",
          "E*"});
   }
+  if (d.plastic_displacement.size() == n)
+    fields.push_back({"plastic_displacement", d.plastic_displacement.data(),
+                      "plastic displacement: the indenter's overlap beyond the elastic one where p is at "
+                      "interaction.hardness",
+                      length});
   if (r.fields.stick.size() == n) {
     RealField& sm = set.masks.emplace_back(n);
     for (std::size_t i = 0; i < n; ++i) sm[i] = r.fields.stick[i] ? 1.0 : 0.0;

@@ -78,6 +78,36 @@ void compare_with_references(const Config& cfg, CaseResult& r) {
   }
 }
 
+// Plastic saturation's figures (interaction.hardness): where the pressure is at the cap, the
+// indenter overlaps the undeformed surface by delta + u_z - g0 (g0 = max h - h), of which p/k
+// is elastic (harmonic interaction; none for the hard wall). A collective on a slab.
+void plastic_saturation(const Config& cfg, const Grid& grid, const Topography& topo, CaseResult& r) {
+  const double H = cfg.interaction.hardness;
+  const double hmax = grid_max(
+      grid, [&](std::size_t i) { return topo.h[i]; }, -std::numeric_limits<double>::infinity());
+  const double elastic =
+      cfg.interaction.hard_wall
+          ? 0.0
+          : H / (cfg.interaction.stiffness > 0 ? cfg.interaction.stiffness
+                                               : 2.0 * cfg.elastic.contact_modulus / cfg.grid.dx());
+  RealField& pd = r.derived.plastic_displacement;
+  pd.assign(grid.local_size(), 0.0);
+  const double delta = r.info.approach;
+  const auto s = grid_sums<2>(grid, [&](std::size_t i, std::array<double, 2>& acc) {
+    if (!(r.fields.pressure[i] >= H)) return;
+    const double g0 = hmax - topo.h[i];
+    pd[i] = std::max(0.0, delta + r.fields.uz[i] - g0 - elastic);
+    acc[0] += 1.0;
+    acc[1] += pd[i];
+  });
+  Observables& o = r.observables;
+  o.plastic = true;
+  o.plastic_area_fraction = s[0] / static_cast<double>(grid.size());
+  o.max_plastic_displacement = grid_max(
+      grid, [&](std::size_t i) { return pd[i]; }, 0.0);
+  o.mean_plastic_displacement = s[0] > 0 ? s[1] / s[0] : 0.0;
+}
+
 // Everything after the solve that works on the fields where they are -- the whole cell in
 // one process, this process's slab in a distributed run, where every process calls it (its
 // passes, transforms and reductions are collectives): observables, derived fields, stresses
@@ -91,6 +121,7 @@ void after_solve_here(const Config& cfg, const RunOptions& opts, const Grid& gri
   fric.slip_derivative = r.info.slip_derivative;
   r.observables = compute_observables(fft, topo, fric, r.fields, r.info);
   if (fric.coefficient > 0) r.derived = derived_fields(fft, fric, r.fields);
+  if (cfg.interaction.plastic()) plastic_saturation(cfg, grid, topo, r);
   if (r.info.converged) {
     const auto t0 = std::chrono::steady_clock::now();
     compute_stresses(r, fft, topo, opts.keep_stress_fields);
@@ -177,7 +208,7 @@ void gather_for_root(const Config& cfg, const RunOptions& opts, const Grid& slab
   gather_on_root(slab, {&f.pressure, &f.tx, &f.ty, &f.ux, &f.uy, &f.uz, &f.gap});
   gather_on_root(slab, {&f.stick});
   DerivedFields& d = r.derived;
-  gather_on_root(slab, {&d.slip_longitudinal, &d.slip_transverse, &d.dissipation});
+  gather_on_root(slab, {&d.slip_longitudinal, &d.slip_transverse, &d.dissipation, &d.plastic_displacement});
   StressField& st = r.stress;
   PrincipalField& pr = r.principal;
   gather_on_root(slab, {&st.xx, &st.yy, &st.zz, &st.xy, &st.xz, &st.yz, &pr.s1, &pr.s2, &pr.s3, &pr.e1x,

@@ -28,6 +28,87 @@ void ContactSolver::apply_compliance(const RealField& in, RealField& out, double
 
 ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, const RealField& w, bool w_zero,
                                                     RealField& p, double tol, int max_it) {
+  if (inter_.plastic() && load.mode != LoadMode::Approach)
+    return solve_normal_capped_load(load, w, w_zero, p, tol, max_it);
+  return solve_normal_pk(load, w, w_zero, p, tol, max_it);
+}
+
+ContactSolver::PKResult ContactSolver::solve_normal_capped_load(const LoadParams& load, const RealField& w,
+                                                                bool w_zero, RealField& p, double tol,
+                                                                int max_it) {
+  // With a cap Polonsky-Keer's load control (rescaling the pressure) has no hold where every
+  // contact point is at the cap; the approach is the Lagrange multiplier instead: the mean
+  // pressure of the capped solution at approach d, P(d), is continuous and non-decreasing,
+  // and P(d) = pbar is solved for d by regula falsi with the Illinois safeguard.
+  const double pbar = load.mode == LoadMode::Force ? load.value / grid_.area() : load.value;
+  const double n = static_cast<double>(grid_.size());
+  PKResult total{0, 1.0, 0.0, false};
+  bool inner_ok = true;
+  double inner_err = 0.0;
+  double evaluated = -1.0;  // the approach whose solution p holds
+  const auto mean_at = [&](double d) {
+    evaluated = d;
+    const PKResult r = solve_normal_pk(LoadParams{LoadMode::Approach, d}, w, w_zero, p, tol,
+                                       std::max(1, max_it - total.iterations));
+    total.iterations += r.iterations;
+    inner_ok = r.converged;
+    inner_err = r.error;
+    return grid_sum(grid_, [&](std::size_t i) { return p[i]; }) / n;
+  };
+  // A bracket [lo, hi] with P(lo) < pbar <= P(hi), from the last approach (or the surface's
+  // rms height) outwards.
+  double hi = capped_delta_ > 0 ? capped_delta_ : std::max(g0_rms_, 1e-300);
+  double phi = mean_at(hi);
+  double lo = 0.0, plo = 0.0;
+  if (phi < pbar) {
+    for (int k = 0; k < 200 && phi < pbar && total.iterations < max_it; ++k) {
+      lo = hi;
+      plo = phi;
+      hi *= 2.0;
+      phi = mean_at(hi);
+    }
+  } else {
+    lo = hi;
+    for (int k = 0; k < 200 && total.iterations < max_it; ++k) {
+      lo *= 0.5;
+      plo = mean_at(lo);
+      if (plo < pbar) break;
+      hi = lo;
+      phi = plo;
+    }
+  }
+  double d = hi, pd = phi;
+  int side = 0;  // Illinois: the end kept twice in a row has its residual halved
+  for (int k = 0; k < 200 && total.iterations < max_it; ++k) {
+    if (std::abs(pd - pbar) <= tol * pbar && inner_ok) break;
+    const double flo = plo - pbar, fhi = phi - pbar;
+    d = fhi != flo ? hi - fhi * (hi - lo) / (fhi - flo) : 0.5 * (lo + hi);
+    if (!(d > lo && d < hi)) d = 0.5 * (lo + hi);
+    pd = mean_at(d);
+    if (pd < pbar) {
+      lo = d;
+      plo = pd;
+      if (side == -1) phi = pbar + 0.5 * (phi - pbar);
+      side = -1;
+    } else {
+      hi = d;
+      phi = pd;
+      if (side == 1) plo = pbar + 0.5 * (plo - pbar);
+      side = 1;
+    }
+    if (hi - lo <= 1e-15 * hi) break;
+  }
+  if (evaluated != d) pd = mean_at(d);  // p must hold d's solution (a bracket found it at once)
+  capped_delta_ = d;
+  total.delta = d;
+  const double load_err = std::abs(pd - pbar) / pbar;
+  total.error = std::max(inner_err, load_err);
+  total.converged = inner_ok && load_err <= tol;
+  return total;
+}
+
+ContactSolver::PKResult ContactSolver::solve_normal_pk(const LoadParams& load, const RealField& w,
+                                                       bool w_zero, RealField& p, double tol, int max_it) {
   // Constrained conjugate gradients (Polonsky & Keer 1999) on (C_zz + 1/k) p = overlap.
   // Per iteration: two compliance products (2 forward + 2 inverse FFTs) and four fused
   // pointwise passes (A, C, D, E below; 17 reads and writes of 8 bytes per point, 16 when
@@ -38,10 +119,18 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
   const double pbar = load.mode == LoadMode::Force ? load.value / grid_.area() : load.value;
   const double delta_imp = load_ctrl ? 0.0 : load.value;
   const double ik = inv_k_;
+  // Plastic saturation (interaction.hardness), under approach control only (load control
+  // with a cap is solve_normal_capped_load): the pressure is capped at H. Points at the cap
+  // are fixed loads of the CG (not in its active set): they may overlap (plastic flow) and
+  // leave the cap where their gap opens. H = inf: the plain method, bit for bit.
+  const double H = inter_.hardness;
+  const bool capped = std::isfinite(H);
+  if (capped && load_ctrl) throw SolveError("solve_normal_pk: a capped pressure needs approach control");
 
   // The load rescaling of a step (a factor on the whole pressure) is applied by the next
   // step's compliance product and pass A, which writes p anyway: `pending` until then.
   double pending = 1.0;
+  if (capped) parallel_for(nl, [&](std::ptrdiff_t i) { p[i] = std::min(p[i], H); });
   double psum = grid_sum(grid_, [&](std::size_t i) { return p[i]; });
   if (load_ctrl) {
     if (!(psum > 0)) {
@@ -51,7 +140,7 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     }
   } else if (!(psum > 0)) {
     const double kk = inter_.hard_wall ? body_.params().contact_modulus / grid_.dx() : k_;
-    for (std::ptrdiff_t i = 0; i < nl; ++i) p[i] = kk * std::max(0.0, delta_imp + w[i] - g0_[i]);
+    for (std::ptrdiff_t i = 0; i < nl; ++i) p[i] = std::min(kk * std::max(0.0, delta_imp + w[i] - g0_[i]), H);
   }
 
   RealField& g = cg_g_;
@@ -81,6 +170,8 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     unscaled = RealField();
   };
   PKResult res{0, 1.0, 0.0, false};
+  double last_tau = 0.0;  // the last CG step length (capped: the step of points outside the CG)
+  const double local_k = inter_.hard_wall ? body_.params().contact_modulus / grid_.dx() : k_;
   for (int it = 0; it < max_it; ++it) {
     ++res.iterations;
     ++total_it_;
@@ -102,7 +193,7 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
         }
         const double v = g[i] + ik * pi + gw - delta_imp;
         g[i] = v;
-        if (pi > 0) {
+        if (pi > 0 && pi < H) {
           const double d = gw - ref, e = v - gref;
           acc[0] += 1.0;
           acc[1] += e;
@@ -115,7 +206,7 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     const auto a = w_zero ? pass_a.template operator()<true>() : pass_a.template operator()<false>();
     pending = 1.0;
     const double ns = a[0];
-    if (ns == 0.0) {
+    if (ns == 0.0 && !capped) {
       // Approach control with no contact at all: p = 0 is the solution if nothing overlaps.
       const double minimum = -grid_max(
           grid_, [&](std::size_t i) { return -g[i]; }, -1e300);
@@ -131,9 +222,12 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     }
     // With load control the separation is measured from its mean on the contact set, gbar:
     // g - gbar below (g itself is not rewritten). G: squared residual on the contact set.
-    const double shift = a[1] / ns;  // gbar - gref
+    // Capped, every contact point may be at the cap (ns = 0): the separation's reference is then
+    // the previous one, and the step below moves the points outside the CG only.
+    const double nsd = ns > 0 ? ns : 1.0;
+    const double shift = a[1] / nsd;  // gbar - gref
     const double gbar = load_ctrl ? gref + shift : 0.0;
-    double G = load_ctrl ? std::max(0.0, a[2] - ns * shift * shift) : a[2];
+    double G = load_ctrl ? std::max(0.0, a[2] - nsd * shift * shift) : a[2];
     if (load_ctrl) {
       g_mean_ref_ = gbar;
       // Shifted sums lose log10(ns shift^2 / G) digits: recomputed directly when that
@@ -141,12 +235,12 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
       if (!(G > 1e-10 * ns * shift * shift)) {
         G = grid_sum(grid_, [&](std::size_t i) {
           const double v = g[i] - gbar;
-          return p[i] > 0 ? v * v : 0.0;
+          return p[i] > 0 && p[i] < H ? v * v : 0.0;
         });
       }
     }
-    const double s1 = a[3] / ns;
-    const double s2 = std::max(0.0, a[4] / ns - s1 * s1);  // variance of g0 - w on the contact set
+    const double s1 = a[3] / nsd;
+    const double s2 = std::max(0.0, a[4] / nsd - s1 * s1);  // variance of g0 - w on the contact set
     gw_mean_ref_ = ref + s1;
     const double beta = conjugate ? G / gold : 0.0;
     gold = G;
@@ -154,10 +248,10 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     const auto c = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
       const double gi = g[i] - gbar;
       double v = 0.0;
-      if (p[i] > 0) {
+      if (p[i] > 0 && p[i] < H) {
         v = gi + beta * t[i];
-      } else if (gi < 0) {
-        acc[2] += gi * gi;
+      } else if (p[i] > 0 ? gi > 0 : gi < 0) {
+        acc[2] += gi * gi;  // overlap outside the contact, or an opening gap under a point at the cap
       }
       t[i] = v;
       acc[0] += gi * v;
@@ -167,36 +261,59 @@ ContactSolver::PKResult ContactSolver::solve_normal(const LoadParams& load, cons
     // Residual of the contact conditions: gap on the contact set and overlap outside,
     // relative to the spread of the separation over the contact set.
     const double scale = std::max(std::sqrt(s2), 1e-3 * g0_rms_) + 1e-300;
-    const double gap_residual = std::sqrt((G + viol) / ns) / scale;
+    const double gap_residual = std::sqrt((G + viol) / nsd) / scale;
     apply_compliance(t, r);
     // D: r = (C + 1/k) t; with load control the mean of r over the contact set is removed,
     // which changes sum_c r t by rbar sum_c t.
     const auto d = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
-      if (p[i] > 0) {
+      if (p[i] > 0 && p[i] < H) {
         const double v = r[i] + ik * t[i];
         acc[0] += v;
         acc[1] += v * t[i];
       }
     });
     const double num = c[0];
-    const double den = load_ctrl ? d[1] - (d[0] / ns) * c[1] : d[1];
+    const double den = load_ctrl ? d[1] - (d[0] / nsd) * c[1] : d[1];
     require_finite(num, "the pressure residual", total_it_);
-    if (den == 0.0 || G == 0.0) {
+    // Capped: the points below the cap may satisfy their conditions (G = 0, or none of them
+    // left) while points outside them do not (viol > 0): the step then moves only those, with
+    // the last step length (or the stiffness scale E*/dx, k).
+    const bool stalled = den == 0.0 || G == 0.0;
+    if (stalled && !(capped && viol > 0.0)) {
       res.converged = true;
       res.error = 0.0;
       res.delta = load_ctrl ? gbar : delta_imp;
       return res;
     }
-    const double tau = num / den;
+    const double tau =
+        !stalled ? num / den
+                 : (last_tau > 0 ? last_tau
+                                 : (inter_.hard_wall ? body_.params().contact_modulus / grid_.dx() : k_));
+    if (!stalled) last_tau = tau;
+    // Points that enter the contact or leave the cap move by at most the local stiffness
+    // (E*/dx, k) times their gap when capped: the CG's step of a small free set can be far
+    // larger and would throw points between 0 and H (without a cap: Polonsky-Keer's tau).
+    const double tau_cap = capped ? std::min(tau, local_k) : tau;
     // E: projected step; points that overlap outside the contact set enter it. Sums: the
     // entering points, the new total and the change of the pressure.
+    // Capped: steps are clipped at H; a point at the cap whose gap opens leaves it by the same
+    // rule as an overlapping point enters the contact.
     const auto e = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
       const double pi = p[i];
-      double v = pi > 0 ? std::max(0.0, pi - tau * t[i]) : 0.0;
       const double gi = g[i] - gbar;
-      if (v == 0.0 && gi < 0.0) {
-        v = -tau * gi;
-        acc[0] += 1.0;
+      double v;
+      if (pi >= H) {
+        v = H;
+        if (gi > 0.0) {
+          v = std::max(0.0, H - tau_cap * gi);
+          acc[0] += 1.0;
+        }
+      } else {
+        v = pi > 0 ? std::min(std::max(0.0, pi - tau * t[i]), H) : 0.0;
+        if (v == 0.0 && gi < 0.0) {
+          v = std::min(-tau_cap * gi, H);
+          acc[0] += 1.0;
+        }
       }
       p[i] = v;
       acc[1] += v;

@@ -59,6 +59,10 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
     throw ParameterError("friction.regularization", "must be positive with friction.law = \"" + law.name +
                                                         "\": its stick is solved regularised (near rest)");
   if (backend().name() == "cuda") {
+    if (inter_.plastic())
+      throw ParameterError("interaction.hardness",
+                           "plastic saturation is not implemented on the cuda backend: use "
+                           "solver.backend = \"threads\" (or \"serial\")");
     if (fric_.coefficient > 0 && !law.on_device)
       throw ParameterError("friction.law", "\"" + law.name +
                                                "\" is not implemented on the cuda backend: use "
@@ -124,9 +128,10 @@ void ContactSolver::update_displacements(ContactFields& f) {
 double ContactSolver::residual(const ContactFields& f, double delta) {
   // Independent check of the final state: gap from the full 3D displacement.
   const auto gap = [&](std::size_t i) { return g0_[i] - delta - f.uz[i]; };
+  const double H = inter_.hardness;  // inf: no cap (min(x, inf) = x)
   if (!inter_.hard_wall) {
     const double num = grid_sum(grid_, [&](std::size_t i) {
-      const double d = f.pressure[i] - k_ * std::max(0.0, -gap(i));
+      const double d = f.pressure[i] - std::min(k_ * std::max(0.0, -gap(i)), H);
       return d * d;
     });
     const double den = grid_sum(grid_, [&](std::size_t i) { return f.pressure[i] * f.pressure[i]; });
@@ -134,6 +139,7 @@ double ContactSolver::residual(const ContactFields& f, double delta) {
   }
   const double num = grid_sum(grid_, [&](std::size_t i) {
     const double g = gap(i);
+    if (f.pressure[i] >= H) return g > 0 ? g * g : 0.0;  // at the cap: overlap is plastic flow
     if (f.pressure[i] > 0) return g * g;
     return g < 0 ? g * g : 0.0;
   });

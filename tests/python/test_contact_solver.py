@@ -128,3 +128,16 @@ def test_friction_laws_from_python():
         gfmd.solve(t, force=0.01, friction=0.4, law="velocity", static_coefficient=0.8, velocity_scale=0.5)
     with pytest.raises(gfmd.InputError, match="did you mean 'velocity'"):
         gfmd.solve(t, **base, law="velocty")
+
+
+def test_hardness_caps_the_pressure_from_python():
+    t = gfmd.Topography.hertz(64, 1.6, radius=1.0)
+    e = gfmd.solve(t, force=0.01, interaction="hardwall", tolerance=1e-10)
+    h = 0.6 * e.summary["max_pressure"]
+    r = gfmd.solve(t, force=0.01, interaction="hardwall", hardness=h, tolerance=1e-10)
+    assert r.summary["max_pressure"] <= h and r.summary["plastic_area_fraction"] > 0
+    assert r["plastic_displacement"].max() == pytest.approx(r.summary["max_plastic_displacement"], rel=1e-12)
+    assert r.summary["relative_contact_area"] > e.summary["relative_contact_area"]
+    assert "plastic_area_fraction" not in e.summary
+    with pytest.raises(gfmd.InputError, match="interaction.hardness: must be positive"):
+        gfmd.solve(t, force=0.01, hardness=-1.0)

@@ -45,9 +45,10 @@ struct FrictionLawType {
   std::string name;     // friction.law
   std::string purpose;  // one line (docs, gfmd.friction_laws())
   FrictionLawKind kind = FrictionLawKind::Coulomb;
+  using Member = double FrictionLaw::*;
   struct Key {
-    std::string name;             // friction.<name>
-    double FrictionLaw::*member;  // where it goes
+    std::string name;  // friction.<name>
+    Member member;     // where it goes
     double default_value;
     std::string doc;
   };

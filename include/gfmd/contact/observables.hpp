@@ -56,6 +56,10 @@ struct Observables {
   // Exact Coulomb law with stick: fraction of the contact cells that stick (zero slip
   // velocity, traction inside the friction disc).
   double stick_fraction = 0;
+  // Plastic saturation (set by the case pipeline where interaction.hardness caps p): the
+  // fraction of the cell at the cap, the largest and the mean plastic displacement there.
+  bool plastic = false;
+  double plastic_area_fraction = 0, max_plastic_displacement = 0, mean_plastic_displacement = 0;
   // Tangential force the body exerts on the indenter, sum tau dA: along e_s and in lab axes;
   // its ratio to the normal force (the traction coefficient of rolling; mu_c where every
   // point slips).
@@ -68,6 +72,10 @@ struct DerivedFields {
   RealField slip_longitudinal;  // v_l^rel / v0 - xi: relative longitudinal slip excess ((e_s.grad) u_s)
   RealField slip_transverse;    // transverse slip / v0 ((e_s.grad) u_perp)
   RealField dissipation;        // tau . v_slip / v0 (power density per unit v0; 0 where stuck)
+  // Plastic saturation (interaction.hardness): how far the indenter overlaps the undeformed
+  // surface beyond the elastic overlap where the pressure is at the cap (0 elsewhere); empty
+  // without a cap.
+  RealField plastic_displacement;
 };
 DerivedFields derived_fields(const FFT& fft, const FrictionParams& fric, const ContactFields& f);
 

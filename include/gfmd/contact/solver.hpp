@@ -44,6 +44,11 @@ namespace gfmd {
 struct InteractionParams {
   bool hard_wall = false;
   double stiffness = 0.0;  // k_if; 0 means the default 2 E* / dx
+  // Plastic saturation: the local pressure is capped at the hardness H (a perfectly plastic
+  // surface flows where the elastic solution would press harder; there the indenter overlaps
+  // the undeformed surface by the plastic displacement). inf: no cap.
+  double hardness = std::numeric_limits<double>::infinity();
+  [[nodiscard]] bool plastic() const { return hardness < std::numeric_limits<double>::infinity(); }
 };
 
 struct FrictionParams {
@@ -275,6 +280,14 @@ class ContactSolver {
   // w_zero: w is zero everywhere (not read then).
   PKResult solve_normal(const LoadParams& load, const RealField& w, bool w_zero, RealField& p, double tol,
                         int max_it);
+  // Polonsky-Keer itself (solve_normal without a cap, or with a cap under approach control).
+  PKResult solve_normal_pk(const LoadParams& load, const RealField& w, bool w_zero, RealField& p, double tol,
+                           int max_it);
+  // A capped pressure under load control: the approach whose capped solution carries the load,
+  // found by safeguarded regula falsi (Illinois) over approach-controlled solves, each started
+  // from the last (normal.cpp).
+  PKResult solve_normal_capped_load(const LoadParams& load, const RealField& w, bool w_zero, RealField& p,
+                                    double tol, int max_it);
   void apply_compliance(const RealField& in, RealField& out, double scale = 1.0);  // scale C_zz in
   void update_displacements(ContactFields& f);                                     // u from (tau, -p)
   // Coulomb tractions of the current slip into (tx, ty); returns, over the grid,
@@ -317,6 +330,7 @@ class ContactSolver {
   double g0_rms_ = 0.0;
   double gw_mean_ref_ = 0.0;      // solve_normal: last mean of g0 - w on the contact set
   double g_mean_ref_ = 0.0;       // solve_normal: last mean of the separation there (load control)
+  double capped_delta_ = 0.0;     // solve_normal_capped_load: the last approach found (0: none yet)
   SpecField s1_, s2_, s3_;        // half-spectrum scratch
   RealField cg_g_, cg_t_, cg_r_;  // work arrays of solve_normal
   // Real scratch of the friction step and the displacement update; solve_normal does not

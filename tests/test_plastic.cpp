@@ -1,0 +1,150 @@
+// Plastic saturation (interaction.hardness): the local pressure capped at the hardness H.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/outputs.hpp"
+#include "gfmd/case/run.hpp"
+#include "test_util.hpp"
+
+using namespace gfmd;
+using gfmd::testing::solve;
+
+namespace {
+
+// Hertz: R = 1, F = 0.01 E* R^2 on a half-space, hard wall: a = 0.196, p0 = 0.1247 E*.
+const char* kHertz = R"(
+[grid]
+nx = 128
+lx = 1.6
+[elastic]
+poisson = 0.25
+[indenter]
+type = "hertz"
+radius = 1.0
+[load]
+force = 0.01
+[interaction]
+model = "hardwall"
+[solver]
+tolerance = 1e-10
+[output]
+analysis = false
+)";
+
+const double kF = 0.01, kA = std::cbrt(3 * kF / 4), kP0 = 3 * kF / (2 * std::numbers::pi * kA * kA);
+
+std::string hardness(double h) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "interaction.hardness=%.17g", h);
+  return buf;
+}
+
+double max_pressure(const CaseResult& r) {
+  return *std::max_element(r.fields.pressure.begin(), r.fields.pressure.end());
+}
+
+std::string problem(const std::vector<std::string>& sets) {
+  try {
+    (void)parse_config(kHertz, "t.toml", sets);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(Plastic, ACapAboveThePeakChangesNothing) {
+  // H = 2 p0 is never reached: the capped method's solution is the elastic one, to the
+  // tolerance (load control with a cap solves for the approach instead: other bits).
+  const CaseResult e = solve(kHertz);
+  const CaseResult c = solve(kHertz, {hardness(2 * kP0)});
+  double d = 0.0;
+  for (std::size_t i = 0; i < e.fields.pressure.size(); ++i)
+    d = std::max(d, std::abs(e.fields.pressure[i] - c.fields.pressure[i]));
+  EXPECT_LT(d, 1e-7 * kP0);
+  EXPECT_EQ(c.observables.plastic_area_fraction, 0.0);
+  EXPECT_EQ(e.observables.relative_contact_area, c.observables.relative_contact_area);
+}
+
+TEST(Plastic, TheCapHoldsAndTheContactConditionsAreMet) {
+  // H = 0.6 p0: the centre flows. The solve's independent residual (solver_setup.cpp: gap zero
+  // below the cap, no overlap outside, no opening under a point at the cap) is within its bound
+  // for a converged solve; the pressure never exceeds H and carries the load.
+  for (const char* model : {"hardwall", "harmonic"}) {
+    const double H = 0.6 * kP0;
+    const CaseResult r = solve(kHertz, {hardness(H), std::string("interaction.model=\"") + model + "\""});
+    ASSERT_TRUE(r.info.converged) << model << ": " << r.info.status;
+    EXPECT_LT(r.info.residual, 1e-6) << model;
+    EXPECT_LE(max_pressure(r), H) << model;
+    EXPECT_NEAR(r.observables.normal_force, kF, 1e-10 * kF) << model;
+    EXPECT_GT(r.observables.plastic_area_fraction, 0.0) << model;
+    // Flattening spreads the load: a larger contact than Hertz's pi a^2.
+    EXPECT_GT(r.observables.relative_contact_area * r.config.grid.area(), std::numbers::pi * kA * kA)
+        << model;
+    EXPECT_GT(r.observables.max_plastic_displacement, 0.0) << model;
+  }
+}
+
+TEST(Plastic, AFullyPlasticContactCarriesTheLoadAtHOverItsArea) {
+  // H = p0 / 20: all but a rim of the contact is at the cap, so the plastic area tends to F/H
+  // (the area a uniform pressure H needs for the load), within the rim's share.
+  const double H = kP0 / 20;
+  const CaseResult r = solve(kHertz, {hardness(H)});
+  ASSERT_TRUE(r.info.converged) << r.info.status;
+  const double cell = r.config.grid.area();
+  const double plastic = r.observables.plastic_area_fraction * cell;
+  const double contact = r.observables.relative_contact_area * cell;
+  EXPECT_NEAR(plastic / (kF / H), 1.0, 0.05);
+  EXPECT_LE(plastic, kF / H * (1 + 1e-9)) << "at most the load over H can be at the cap";
+  EXPECT_GT(plastic / contact, 0.9);
+  // The plastic displacement is the overlap of the sphere's cap: at the centre
+  // delta + u_z - g0, about a_p^2 / (2R) less the elastic sink (< a_p^2 / 2R).
+  const double ap = std::sqrt(kF / H / std::numbers::pi);
+  EXPECT_GT(r.observables.max_plastic_displacement, 0.0);
+  EXPECT_LT(r.observables.max_plastic_displacement, ap * ap / 2);
+}
+
+TEST(Plastic, WithFrictionAndCoupling) {
+  // Sliding with mu_c = 0.5 on a compressible half-space: the cap holds with the friction
+  // fixed point, and the friction coefficient stays near mu_c (Coulomb: |tau| = mu_c p).
+  const double H = 0.6 * kP0;
+  const CaseResult r = solve(kHertz, {hardness(H), "friction.coefficient=0.5", "friction.reference=false"});
+  ASSERT_TRUE(r.info.converged) << r.info.status;
+  EXPECT_LE(max_pressure(r), H);
+  EXPECT_GT(r.observables.plastic_area_fraction, 0.0);
+  EXPECT_NEAR(r.observables.friction_coefficient, 0.5, 0.05);
+  const nlohmann::json s = summary_json(r);
+  EXPECT_TRUE(s.contains("plastic_area_fraction"));
+  EXPECT_EQ(r.config.to_json()["interaction"]["hardness"], r.config.interaction.hardness);
+}
+
+TEST(Plastic, ApproachControl) {
+  // The approach that load control found gives back its load under approach control.
+  const CaseResult lc = solve(kHertz, {hardness(0.6 * kP0)});
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "load.approach=%.17g", lc.info.approach);
+  const CaseResult dc = solve(kHertz, {hardness(0.6 * kP0), buf});
+  EXPECT_NEAR(dc.observables.normal_force / kF, 1.0, 1e-5);
+  EXPECT_NEAR(dc.observables.plastic_area_fraction, lc.observables.plastic_area_fraction, 1e-12);
+}
+
+TEST(Plastic, BadHardnessAndLoadsAreNamed) {
+  EXPECT_NE(problem({"interaction.hardness=0"}).find("interaction.hardness: must be positive"),
+            std::string::npos);
+  EXPECT_NE(problem({"interaction.hardness=-1"}).find("interaction.hardness: must be positive"),
+            std::string::npos);
+  // Mean pressure F / L^2 = 0.0039: a cap at 0.003 cannot carry it.
+  EXPECT_NE(problem({"interaction.hardness=0.003"})
+                .find("load.force: the mean pressure reaches interaction.hardness"),
+            std::string::npos);
+  EXPECT_EQ(problem({"interaction.hardness=\"inf\""}), "");
+  EXPECT_FALSE(parse_config(kHertz, "t.toml").to_json()["interaction"].contains("hardness"));
+}
