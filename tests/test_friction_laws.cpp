@@ -226,3 +226,74 @@ TEST(FrictionLaws, TrescaWithStickInRolling) {
   }
   EXPECT_LT(worst, 1e-9) << "no traction outside the disc";
 }
+
+namespace {
+
+std::vector<std::string> rate(double a, double v_c, std::vector<std::string> more = {}) {
+  more.push_back("friction.law=\"rate\"");
+  more.push_back("friction.rate_coefficient=" + std::to_string(a));
+  more.push_back("friction.velocity_scale=" + std::to_string(v_c));
+  return more;
+}
+
+const std::vector<std::string> kRolling = {"friction.regularization=0", "friction.creepage=0.002"};
+
+}  // namespace
+
+TEST(FrictionLaws, ARateLawWithoutStrengtheningIsCoulombBitForBit) {
+  // a = 0: bound = mu p, and the resolvent is the projection: Coulomb's bits, with stick.
+  const CaseResult c = solve(kSliding, kRolling);
+  const CaseResult r = solve(kSliding, rate(0.0, 0.01, kRolling));
+  ASSERT_GT(c.observables.stick_fraction, 0.05);
+  for (std::size_t i = 0; i < c.fields.pressure.size(); ++i) {
+    ASSERT_EQ(c.fields.pressure[i], r.fields.pressure[i]) << i;
+    ASSERT_EQ(c.fields.tx[i], r.fields.tx[i]) << i;
+  }
+  EXPECT_EQ(c.observables.friction_coefficient, r.observables.friction_coefficient);
+}
+
+TEST(FrictionLaws, RateLawHoldsWhereItSlipsAndTheDiscWhereItSticks) {
+  // Tractive rolling: the stick zone holds |tau| <= mu_c p with zero slip, the slip zone
+  // |tau| = (mu_c + a ln(1 + |v|/v_c)) p at the solution's slip speed (CaseResult::derived).
+  const double mu = 0.4, a = 0.05, v_c = 1e-3, xi = 0.002;
+  const CaseResult r = solve(kSliding, rate(a, v_c, kRolling));
+  ASSERT_GT(r.observables.stick_fraction, 0.02);
+  ASSERT_LT(r.observables.stick_fraction, 0.98);
+  double worst_slip = 0.0, worst_stick = 0.0;
+  std::size_t slipping = 0;
+  for (std::size_t i = 0; i < r.fields.pressure.size(); ++i) {
+    const double p = r.fields.pressure[i];
+    if (!(p > 0)) continue;
+    const double t = std::hypot(r.fields.tx[i], r.fields.ty[i]);
+    if (r.fields.stick[i]) {
+      worst_stick = std::max(worst_stick, t / (mu * p) - 1);
+      continue;
+    }
+    const double vx = xi + r.derived.slip_longitudinal[i], vy = r.derived.slip_transverse[i];
+    const double speed = std::hypot(vx, vy);
+    if (speed < 1e-2 * xi) continue;  // the stick zone's edge: slip too slow to resolve
+    const double expected = (mu + a * std::log1p(speed / v_c)) * p;
+    worst_slip = std::max(worst_slip, std::abs(t - expected) / expected);
+    ++slipping;
+  }
+  EXPECT_GT(slipping, 20u);
+  EXPECT_LT(worst_stick, 1e-12) << "inside the disc where stuck";
+  EXPECT_LT(worst_slip, 1e-8) << "the law where it slips (measured 1.7e-11)";
+}
+
+TEST(FrictionLaws, RateLawInSlidingStrengthensWithSpeed) {
+  // Sliding at v0 on an incompressible half-space (no coupling: the pressure is Hertz's): the
+  // slip speed is 1 up to the in-plane strain, so mu ~ mu_c + a ln(1 + 1/v_c), and the work of
+  // the drive equals the dissipation (energy_balance_error_exact) as for Coulomb's law.
+  const double mu = 0.4, a = 0.02, v_c = 0.01;
+  const CaseResult c = solve(kSliding, {"friction.regularization=0", "elastic.poisson=0.5"});
+  const CaseResult r = solve(kSliding, rate(a, v_c, {"friction.regularization=0", "elastic.poisson=0.5"}));
+  const double expected = mu + a * std::log1p(1.0 / v_c);
+  EXPECT_NEAR(r.observables.friction_coefficient / expected, 1.0, 0.005);
+  EXPECT_NEAR(c.observables.friction_coefficient / mu, 1.0, 0.005) << "Coulomb's, the same way";
+  EXPECT_LT(r.observables.energy_balance_error_exact,
+            std::max(1e-8, 10 * c.observables.energy_balance_error_exact));
+  EXPECT_NE(problem({"friction.law=\"rate\"", "friction.velocity_scale=0.1", "friction.rate_coefficient=-1"})
+                .find("friction.rate_coefficient: must be a non-negative"),
+            std::string::npos);
+}

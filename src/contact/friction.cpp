@@ -174,8 +174,10 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
     have_z_ = true;
   }
   // Projection onto the disc of radius mu_c p (the law's bound at rest: a law with a set-valued
-  // stick, contact/friction_law.hpp).
+  // stick, contact/friction_law.hpp); for a law whose bound grows with the slip speed, its
+  // resolvent: tau along z with |tau| + gamma |v| = |z|, |tau| = bound(|v|).
   const FrictionLaw law = fric_.law;
+  const bool speed_law = law.speed_dependent();
   const auto project = [&](std::size_t i, double zx, double zy, double& x, double& y) {
     const double r = law.bound(mu, p[i], 0.0);
     if (!(r > 0)) {
@@ -187,7 +189,8 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
       x = zx;
       y = zy;
     } else {
-      const double f = r / std::sqrt(m2);
+      const double zm = std::sqrt(m2);
+      const double f = (speed_law ? law.resolvent(mu, p[i], zm, gamma) : r) / zm;
       x = f * zx;
       y = f * zy;
     }

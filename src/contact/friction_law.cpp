@@ -10,6 +10,7 @@ const std::vector<const FrictionLawType*>& friction_law_types() {
       &coulomb_friction_law(),   //
       &velocity_friction_law(),  //
       &tresca_friction_law(),    //
+      &rate_friction_law(),      //
   };
   return table;
 }

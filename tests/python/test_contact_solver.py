@@ -112,6 +112,7 @@ def test_friction_laws_from_python():
     assert laws["coulomb"]["set_valued_stick"] and laws["coulomb"]["keys"] == []
     assert laws["velocity"]["keys"] == ["static_coefficient", "velocity_scale"]
     assert laws["tresca"]["keys"] == ["shear_strength"] and laws["tresca"]["set_valued_stick"]
+    assert laws["rate"]["keys"] == ["rate_coefficient", "velocity_scale"] and laws["rate"]["set_valued_stick"]
     assert not laws["velocity"]["set_valued_stick"] and not laws["velocity"]["on_device"]
     t = gfmd.Topography.hertz(64, 1.6, radius=1.0)
     base = dict(force=0.01, friction=0.4, regularization=0.01, tolerance=1e-10)

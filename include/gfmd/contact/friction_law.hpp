@@ -17,7 +17,7 @@
 
 namespace gfmd {
 
-enum class FrictionLawKind : int { Coulomb = 0, Velocity = 1, Tresca = 2 };
+enum class FrictionLawKind : int { Coulomb = 0, Velocity = 1, Tresca = 2, Rate = 3 };
 
 // The law's parameters, plain data (the solve copies it into its passes). The kinetic
 // coefficient mu_k is FrictionParams::coefficient (friction.coefficient).
@@ -26,17 +26,57 @@ struct FrictionLaw {
   double static_coefficient = 0.0;  // velocity: mu_s, the coefficient at zero slip speed
   double velocity_scale = 0.0;      // velocity: v_c / v0, the slip speed over which mu_s decays to mu_k
   double shear_strength = 0.0;      // tresca: tau_0 / E*, the most shear stress the interface carries
+  double rate_coefficient = 0.0;    // rate: a, mu(|v|) = mu_c + a ln(1 + |v|/v_c)
   // The traction magnitude |tau| where a point with pressure p > 0 slips at the speed
   // |v_slip| / v0 = speed; for a law with a set-valued stick (FrictionLawType::set_valued_stick)
   // bound(mu_k, p, 0) is also the radius of the disc |tau| <= ... where it sticks:
   //   coulomb:  mu_k p;
   //   velocity: (mu_k + (mu_s - mu_k) exp(-speed / v_c)) p   (mu_s at rest, mu_k sliding fast);
-  //   tresca:   min(mu_k p, tau_0)                             (Coulomb capped at the shear strength).
+  //   tresca:   min(mu_k p, tau_0)                             (Coulomb capped at the shear strength);
+  //   rate:     (mu_k + a ln(1 + speed / v_c)) p               (rate strengthening, mu_k at rest).
   [[nodiscard]] GFMD_HD double bound(double mu_k, double p, double speed) const {
     if (kind == FrictionLawKind::Velocity)
       return (mu_k + (static_coefficient - mu_k) * std::exp(-speed / velocity_scale)) * p;
     if (kind == FrictionLawKind::Tresca) return std::fmin(mu_k * p, shear_strength);
+    if (kind == FrictionLawKind::Rate)
+      return (mu_k + rate_coefficient * std::log1p(speed / velocity_scale)) * p;
     return mu_k * p;
+  }
+  // Whether the traction's magnitude where a point slips depends on its speed.
+  [[nodiscard]] GFMD_HD bool speed_dependent() const {
+    return kind == FrictionLawKind::Velocity || (kind == FrictionLawKind::Rate && rate_coefficient != 0.0);
+  }
+  // The stick-slip splitting's resolvent, radially: the splitting variable z = tau + gamma v at
+  // a point has the magnitude zm; returns |tau|. Inside the disc (zm <= bound at rest) the point
+  // sticks, tau = z; outside it slips at the speed s with bound(s) + gamma s = zm, |tau| =
+  // bound(s). For a speed-independent bound that is the projection onto the disc; for a bound
+  // that grows with the speed (rate) the root of that increasing function (Newton from the
+  // left, bracketed): a law whose bound falls with the speed has no such resolvent (its
+  // FrictionLawType has no set-valued stick).
+  [[nodiscard]] GFMD_HD double resolvent(double mu_k, double p, double zm, double gamma) const {
+    const double rest = bound(mu_k, p, 0.0);
+    if (zm <= rest) return zm;
+    if (kind != FrictionLawKind::Rate) return rest;  // the projection
+    double lo = 0.0, hi = (zm - rest) / gamma;       // bound(s) + gamma s - zm: < 0 at lo, >= 0 at hi
+    double s = lo;
+    for (int k = 0; k < 60; ++k) {
+      const double f = bound(mu_k, p, s) + gamma * s - zm;
+      if (f < 0) {
+        lo = s;
+      } else {
+        hi = s;
+      }
+      // d bound / ds for the rate law: a p / (v_c + s)
+      const double df = rate_coefficient * p / (velocity_scale + s) + gamma;
+      double next = s - f / df;
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (std::fabs(next - s) <= 1e-15 * (1.0 + s)) {
+        s = next;
+        break;
+      }
+      s = next;
+    }
+    return zm - gamma * s;
   }
 };
 
@@ -68,6 +108,7 @@ struct FrictionLawType {
 const FrictionLawType& coulomb_friction_law();
 const FrictionLawType& velocity_friction_law();
 const FrictionLawType& tresca_friction_law();
+const FrictionLawType& rate_friction_law();
 
 // Every registered law, in the order the docs list them.
 const std::vector<const FrictionLawType*>& friction_law_types();
