@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -147,4 +149,19 @@ TEST(Plastic, BadHardnessAndLoadsAreNamed) {
             std::string::npos);
   EXPECT_EQ(problem({"interaction.hardness=\"inf\""}), "");
   EXPECT_FALSE(parse_config(kHertz, "t.toml").to_json()["interaction"].contains("hardness"));
+}
+
+TEST(Plastic, RoughExampleRunsFromTheCommandLine) {
+  // examples/plastic_rough.toml, frictionless here (fast): about F/H of the cell at the cap.
+  const auto dir = gfmd::testing::scratch_dir("plastic", "example");
+  const auto out = gfmd::testing::run_gfmd("run " + std::string(GFMD_SOURCE_DIR) +
+                                           "/examples/plastic_rough.toml -o " + (dir / "run").string() +
+                                           " --set output.png=false --set friction.coefficient=0 -q");
+  ASSERT_EQ(out.code, 0) << out.output;
+  std::ifstream f(dir / "run" / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(f);
+  const double plastic = s["plastic_area_fraction"].get<double>();
+  EXPECT_GT(plastic, 0.9 * 0.002 / 0.02);
+  EXPECT_LE(plastic, 0.002 / 0.02 * (1 + 1e-9)) << "no more than the load over H at the cap";
+  EXPECT_EQ(s["input"]["interaction"]["hardness"], 0.02);
 }
