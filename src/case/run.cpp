@@ -86,10 +86,7 @@ void plastic_saturation(const Config& cfg, const Grid& grid, const Topography& t
   const double hmax = grid_max(
       grid, [&](std::size_t i) { return topo.h[i]; }, -std::numeric_limits<double>::infinity());
   const double elastic =
-      cfg.interaction.hard_wall
-          ? 0.0
-          : H / (cfg.interaction.stiffness > 0 ? cfg.interaction.stiffness
-                                               : 2.0 * cfg.elastic.contact_modulus / cfg.grid.dx());
+      H / cfg.interaction.stiffness_on(cfg.elastic.contact_modulus, cfg.grid.dx());  // 0: hard wall
   RealField& pd = r.derived.plastic_displacement;
   pd.assign(grid.local_size(), 0.0);
   const double delta = r.info.approach;

@@ -119,6 +119,9 @@ ContactSolver::PKResult ContactSolver::solve_normal_pk(const LoadParams& load, c
   const double pbar = load.mode == LoadMode::Force ? load.value / grid_.area() : load.value;
   const double delta_imp = load_ctrl ? 0.0 : load.value;
   const double ik = inv_k_;
+  // The local stiffness: the interaction's k, or E*/dx for the hard wall (a start without a
+  // pressure; capped, the largest step of points outside the CG).
+  const double local_k = inter_.hard_wall ? body_.params().contact_modulus / grid_.dx() : k_;
   // Plastic saturation (interaction.hardness), under approach control only (load control
   // with a cap is solve_normal_capped_load): the pressure is capped at H. Points at the cap
   // are fixed loads of the CG (not in its active set): they may overlap (plastic flow) and
@@ -139,8 +142,8 @@ ContactSolver::PKResult ContactSolver::solve_normal_pk(const LoadParams& load, c
       pending = pbar * static_cast<double>(n) / psum;
     }
   } else if (!(psum > 0)) {
-    const double kk = inter_.hard_wall ? body_.params().contact_modulus / grid_.dx() : k_;
-    for (std::ptrdiff_t i = 0; i < nl; ++i) p[i] = std::min(kk * std::max(0.0, delta_imp + w[i] - g0_[i]), H);
+    for (std::ptrdiff_t i = 0; i < nl; ++i)
+      p[i] = std::min(local_k * std::max(0.0, delta_imp + w[i] - g0_[i]), H);
   }
 
   RealField& g = cg_g_;
@@ -171,7 +174,6 @@ ContactSolver::PKResult ContactSolver::solve_normal_pk(const LoadParams& load, c
   };
   PKResult res{0, 1.0, 0.0, false};
   double last_tau = 0.0;  // the last CG step length (capped: the step of points outside the CG)
-  const double local_k = inter_.hard_wall ? body_.params().contact_modulus / grid_.dx() : k_;
   for (int it = 0; it < max_it; ++it) {
     ++res.iterations;
     ++total_it_;
@@ -285,10 +287,7 @@ ContactSolver::PKResult ContactSolver::solve_normal_pk(const LoadParams& load, c
       res.delta = load_ctrl ? gbar : delta_imp;
       return res;
     }
-    const double tau =
-        !stalled ? num / den
-                 : (last_tau > 0 ? last_tau
-                                 : (inter_.hard_wall ? body_.params().contact_modulus / grid_.dx() : k_));
+    const double tau = !stalled ? num / den : (last_tau > 0 ? last_tau : local_k);
     if (!stalled) last_tau = tau;
     // Points that enter the contact or leave the cap move by at most the local stiffness
     // (E*/dx, k) times their gap when capped: the CG's step of a small free set can be far

@@ -39,7 +39,7 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
     k_ = std::numeric_limits<double>::infinity();
     inv_k_ = 0.0;
   } else {
-    k_ = inter_.stiffness > 0 ? inter_.stiffness : 2.0 * body.params().contact_modulus / grid_.dx();
+    k_ = inter_.stiffness_on(body.params().contact_modulus, grid_.dx());
     inv_k_ = 1.0 / k_;
   }
   const double hmax = grid_max(

@@ -49,6 +49,11 @@ struct InteractionParams {
   // the undeformed surface by the plastic displacement). inf: no cap.
   double hardness = std::numeric_limits<double>::infinity();
   [[nodiscard]] bool plastic() const { return hardness < std::numeric_limits<double>::infinity(); }
+  // k_if on a grid of spacing dx: inf for the hard wall, else stiffness or its default 2 E*/dx.
+  [[nodiscard]] double stiffness_on(double contact_modulus, double dx) const {
+    if (hard_wall) return std::numeric_limits<double>::infinity();
+    return stiffness > 0 ? stiffness : 2.0 * contact_modulus / dx;
+  }
 };
 
 struct FrictionParams {
