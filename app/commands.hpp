@@ -28,10 +28,13 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
 int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets_in,
               std::string plot, bool quiet, DirFlags dir_flags);
 // gfmd curve: the load curves (area, gap, friction, leakage) of a case over --pressures, with
-// the percolation threshold; curve.csv, curve.json and curve.png (unless no_png or output.png
-// is off) in out_dir.
+// the percolation threshold, or along an approach path (--approaches, --unload: back through
+// them; adhesion's loading and unloading, with the pull-off); curve.csv, curve.json and
+// curve.png (unless no_png or output.png is off) in out_dir. by_approach: the approaches are
+// the curve's (--approaches given), else the pressures.
 int cmd_curve(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
-              const std::string& pressures, bool no_png, bool quiet, DirFlags dir_flags);
+              const std::string& pressures, const std::string& approaches, bool by_approach, bool unload,
+              bool no_png, bool quiet, DirFlags dir_flags);
 int cmd_flow(const std::string& dir, const std::string& direction, double tol, const std::string& solver,
              DirFlags dir_flags);
 int cmd_percolation(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,

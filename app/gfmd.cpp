@@ -89,17 +89,26 @@ int run_main(int argc, char** argv) {
   add_force(sweep);
   sweep->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
 
-  std::string pressures;
-  bool no_png = false;
+  std::string pressures, approaches;
+  bool no_png = false, unload = false;
   auto* curve = app.add_subcommand(
       "curve", "load curves of a case: contact area, mean gap, friction and leakage against the pressure");
   curve->add_option("case", case_path, "case file (TOML)")->required();
+  auto* pressures_opt =
+      curve->add_option("--pressures", pressures,
+                        "mean pressures in units of E*: P1,P2,... where an item may also be FROM:TO:N, N "
+                        "log-spaced values from FROM to TO inclusive (0.001:1:10 gives 10 values; "
+                        "0.001:0.01:4,0.05 mixes both); sorted ascending, each > 0, none twice");
+  auto* approaches_opt = curve->add_option(
+      "--approaches", approaches,
+      "an approach path instead (load.approach, lengths): D1,D2,... where an item may also be FROM:TO:N, N "
+      "evenly spaced values from FROM to TO inclusive; solved in the order given (negative values need "
+      "interaction.model = \"adhesive\")");
+  pressures_opt->excludes(approaches_opt);
   curve
-      ->add_option("--pressures", pressures,
-                   "mean pressures in units of E*: P1,P2,... where an item may also be FROM:TO:N, N "
-                   "log-spaced values from FROM to TO inclusive (0.001:1:10 gives 10 values; "
-                   "0.001:0.01:4,0.05 mixes both); sorted ascending, each > 0, none twice")
-      ->required();
+      ->add_flag("--unload", unload,
+                 "with --approaches: go back through the approaches after the last (unloading)")
+      ->needs(approaches_opt);
   curve->add_option("-o,--output", out_dir, "output directory (default: out/<case name>_curve)")
       ->check(non_empty);
   curve->add_option("--set", sets, "override a key: section.key=value (repeatable; not load.*)");
@@ -108,9 +117,11 @@ int run_main(int argc, char** argv) {
   add_force(curve);
   curve->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
   curve->footer(
-      "Solves the case at each pressure (load.pressure, replacing the case's load), warm-starting each "
-      "point from the previous one, with the leakage switched on (flow.enabled = true) even if the case "
-      "has no [flow]. Writes DIR/curve.csv (one row per pressure), DIR/curve.json (the rows, the "
+      "Solves the case at each pressure (load.pressure, replacing the case's load), or at each approach "
+      "along the path (load.approach), warm-starting each point from the previous one, with the leakage "
+      "switched on (flow.enabled = true) even if the case has no [flow]. An approach path records the "
+      "pull-off force (the most tensile force) in curve.json. Writes DIR/curve.csv (one row per pressure), "
+      "DIR/curve.json (the rows, the "
       "percolation threshold: where the leakage stops, between the last open and the first sealed point, "
       "on a log axis) and DIR/curve.png (four panels, threshold marked); the runs of the points are kept "
       "in DIR/points/ and reused when the same command runs again.");
@@ -221,7 +232,14 @@ int run_main(int argc, char** argv) {
     if (run->parsed())
       return cmd_run(case_path, out_dir, sets, quiet, verbose, resume, checkpoint_s, dir_flags);
     if (sweep->parsed()) return cmd_sweep(case_path, out_dir, sets, plot, quiet, dir_flags);
-    if (curve->parsed()) return cmd_curve(case_path, out_dir, sets, pressures, no_png, quiet, dir_flags);
+    if (curve->parsed()) {
+      if (pressures_opt->count() == 0 && approaches_opt->count() == 0) {
+        std::fprintf(stderr, "gfmd curve: --pressures is required (or --approaches, an approach path)\n");
+        return 2;
+      }
+      return cmd_curve(case_path, out_dir, sets, pressures, approaches_opt->count() > 0 ? approaches : "",
+                       approaches_opt->count() > 0, unload, no_png, quiet, dir_flags);
+    }
     if (flow->parsed()) return cmd_flow(flow_dir, direction, flow_tol, flow_solver, dir_flags);
     if (perc->parsed())
       return cmd_percolation(case_path, out_dir, sets, direction, area_tol, quiet, dir_flags);

@@ -182,6 +182,9 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   for (const std::string& w :
        gfmd::plausibility_warnings(r.config, r.topography_stats, r.map_report ? &*r.map_report : nullptr))
     std::fprintf(stderr, "gfmd: warning: %s: %s\n", case_path.c_str(), w.c_str());
+  if (r.info.converged)
+    for (const std::string& w : gfmd::solution_warnings(r.observables))
+      std::fprintf(stderr, "gfmd: warning: %s: %s\n", case_path.c_str(), w.c_str());
   if (!r.info.converged) {
     char why[512];
     std::snprintf(why, sizeof why,

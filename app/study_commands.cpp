@@ -158,26 +158,35 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
 }
 
 int cmd_curve(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
-              const std::string& pressures, bool no_png, bool quiet, DirFlags dir_flags) {
-  // Library errors name the parameter "pressures"; here it is the option --pressures.
+              const std::string& pressures, const std::string& approaches, bool by_approach, bool unload,
+              bool no_png, bool quiet, DirFlags dir_flags) {
+  // Library errors name the parameter "pressures" or "approaches"; here they are options.
   const auto as_option = [](const gfmd::InputError& e) {
-    return e.where() == "pressures" ? gfmd::InputError("--pressures", e.why()) : e;
+    if (e.where() == "pressures" || e.where() == "approaches")
+      return gfmd::InputError("--" + e.where(), e.why());
+    return e;
   };
   gfmd::Config cfg;
   bool png = false;
   try {
-    const std::vector<double> ps = gfmd::curve_pressures(gfmd::parse_pressures(pressures));
     // What the case asks for with the user's overrides (its load, flow and figure settings).
     const gfmd::Config asked = gfmd::load_config(case_path, sets);
     png = asked.output.png && !no_png;
-    cfg = gfmd::curve_config(case_path, sets, ps);
+    if (by_approach)
+      cfg = gfmd::curve_config_approaches(case_path, sets,
+                                          gfmd::approach_path(gfmd::parse_approaches(approaches), unload));
+    else
+      cfg = gfmd::curve_config(case_path, sets, gfmd::curve_pressures(gfmd::parse_pressures(pressures)));
+    const gfmd::LoadMode own = by_approach ? gfmd::LoadMode::Approach : gfmd::LoadMode::Pressure;
     if (!quiet && gfmd::mpi::root()) {
       if (!asked.flow.enabled)
         std::fprintf(stderr, "gfmd: the leakage is switched on for the curve (flow.enabled=true)\n");
-      if (asked.load.mode != gfmd::LoadMode::Pressure)
-        std::fprintf(stderr, "gfmd: the case's load.%s = %s is replaced by the curve's pressures\n",
-                     asked.load.mode == gfmd::LoadMode::Force ? "force" : "approach",
-                     gfmd::format_number(asked.load.value).c_str());
+      if (asked.load.mode != own)
+        std::fprintf(stderr, "gfmd: the case's load.%s = %s is replaced by the curve's %s\n",
+                     asked.load.mode == gfmd::LoadMode::Force      ? "force"
+                     : asked.load.mode == gfmd::LoadMode::Pressure ? "pressure"
+                                                                   : "approach",
+                     gfmd::format_number(asked.load.value).c_str(), by_approach ? "approaches" : "pressures");
     }
   } catch (const gfmd::InputError& e) {
     throw as_option(e);
@@ -228,8 +237,12 @@ int cmd_curve(const std::string& case_path, std::string out_dir, const std::vect
   pp.done();
   if (!root) return 0;
   if (!quiet) {
-    std::printf("curve of %s over %zu pressures: %s/curve.csv and curve.json (runs in points/)\n",
-                case_path.c_str(), cfg.sweep.values.size(), out_dir.c_str());
+    std::printf("curve of %s over %zu %s: %s/curve.csv and curve.json (runs in points/)\n", case_path.c_str(),
+                cfg.sweep.values.size(), by_approach ? "approaches" : "pressures", out_dir.c_str());
+    if (j["pull_off_force"].is_number())
+      std::printf("  pull-off force (the most tensile on the path): %s at approach %s\n",
+                  gfmd::format_number(j["pull_off_force"].get<double>()).c_str(),
+                  gfmd::format_number(j["pull_off_approach"].get<double>()).c_str());
     const nlohmann::json& perc = j["percolation"];
     std::printf("  percolation threshold: %s\n", perc["message"].get<std::string>().c_str());
     for (const auto& [tag, d] : perc["directions"].items())

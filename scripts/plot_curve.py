@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """Draws the load curves of gfmd curve (curve.csv + curve.json): contact area fraction, mean
 gap, friction coefficient and leakage against the mean pressure, four panels on a log pressure
-axis, with the percolation threshold (where the leakage stops) marked on every panel. The mean
+axis, with the percolation threshold (where the leakage stops) marked on every panel; for an
+approach path (--approaches) the force against the approach and the contact area, loading and
+unloading apart, with the pull-off force. The mean
 gap is summary.json's mean_gap: the mean over the whole cell, contact points counting 0 (not
 analysis.png's mean gap out of contact). Lengths in the case's grid.unit, else L. Exit status 4
 when interrupted (nothing written)."""
@@ -74,6 +76,8 @@ def figure(table, meta_path=None):
     head = list(rows[0].keys())
     tags = [c[len("conductivity_"):] for c in head if c.startswith("conductivity_")]
 
+    if meta.get("parameter") == "load.approach":
+        return path_figure(rows, meta, unit)
     p = column(rows, "pressure")
     fig, axes = plt.subplots(2, 2, figsize=(9, 6.6), dpi=150, sharex=True)
     (a_ax, g_ax), (m_ax, k_ax) = axes
@@ -145,6 +149,47 @@ def figure(table, meta_path=None):
     if perc:
         title += ": " + perc.get("message", "")
     fig.suptitle(title, fontsize=9, wrap=True)
+    fig.tight_layout()
+    return fig
+
+
+def path_figure(rows, meta, unit):
+    """An approach path (gfmd curve --approaches, --unload): the normal force against the approach
+    and against the contact area, loading and unloading apart (adhesion's hysteresis), the
+    pull-off force marked."""
+    lab = figure_io.label
+    fig, (f_ax, a_ax) = plt.subplots(1, 2, figsize=(9, 3.8), dpi=150)
+    branch = [r.get("branch", "load").strip('"') for r in rows]
+    d, force, area = column(rows, "approach"), column(rows, "normal_force"), column(rows, "relative_contact_area")
+    styles = {"load": ("o-", "C0"), "unload": ("s--", "C3")}
+    labelled = set()
+    start = 0
+    for end in range(1, len(rows) + 1):  # each run of one branch, joined to the point before it
+        if end < len(rows) and branch[end] == branch[start]:
+            continue
+        name = branch[start]
+        style, colour = styles.get(name, ("o-", "C0"))
+        idx = list(range(max(0, start - 1) if start > 0 else 0, end))
+        label = None if name in labelled else name + "ing"
+        labelled.add(name)
+        for ax, x in ((f_ax, d), (a_ax, area)):
+            xy = pairs([x[i] for i in idx], [force[i] for i in idx])
+            ax.plot([a for a, _ in xy], [b for _, b in xy], style, color=colour, ms=3, label=label)
+        start = end
+    pull = meta.get("pull_off_force")
+    for ax in (f_ax, a_ax):
+        ax.axhline(0.0, color="0.5", lw=0.8)
+        if pull is not None:
+            ax.axhline(pull, color="C2", ls=":", lw=1.2, label=f"pull-off {pull:.4g}")
+        ax.set_ylabel(lab("normal force F (negative: tension)", f"E* {unit}^2"))
+        ax.grid(alpha=0.3)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=7, loc="best")
+    f_ax.set_xlabel(lab(r"approach $\delta$", unit))
+    f_ax.set_title("force along the approach path", fontsize=9)
+    a_ax.set_xlabel(lab("contact area fraction A/A$_0$", "1"))
+    a_ax.set_title("force against contact area", fontsize=9)
+    fig.suptitle(os.path.basename(meta.get("case", "")) or "gfmd curve", fontsize=9)
     fig.tight_layout()
     return fig
 

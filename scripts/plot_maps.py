@@ -12,6 +12,7 @@ DIR/flow.nc when there is one. One PNG per field present, written atomically int
     slip_longitudinal.png     v_l^rel/v0 - 1 inside the contact (diverging; stick zone outlined)
     slip_transverse.png       v_perp/v0 inside the contact (diverging; stick zone outlined)
     dissipation.png           dissipated power density / v0
+    adhesive_traction.png     adhesive traction (interaction.model = "adhesive"; contact outlined)
     max_principal_stress.png  sigma_I (diverging)
     von_mises.png             von Mises stress
     current_<dir>.png         |current density| for a pressure gradient along <dir>
@@ -75,6 +76,8 @@ MAPS = [
      r"$v_\ell^\mathrm{rel}/v_0 - 1$", "RdBu_r", "slip"),
     ("slip_transverse", "slip_transverse", "transverse slip", r"$v_\perp/v_0$", "RdBu_r", "slip"),
     ("dissipation", "dissipation", "dissipated power density", r"$\dot w/v_0$", "inferno", "positive"),
+    ("adhesive_traction", "adhesive_traction", "adhesive traction (contact and cohesive zone)",
+     r"$\sigma_\mathrm{a}$", "viridis", "positive"),
     ("max_principal_stress", "sigma_1", "maximum principal surface stress", r"$\sigma_\mathrm{I}$",
      "RdBu_r", "diverging"),
     ("von_mises", "von_mises", "von Mises surface stress", r"$\sigma_\mathrm{vM}$", "inferno", "positive"),
@@ -389,7 +392,9 @@ def plot_dir(d, fields=None, only=None, profiles=False, batch=None):
     if stick is not None and not np.any(stick > 0.5):
         stick = None
     hertz = indenter_type(data["input_toml"], summary) == "hertz"
-    view = View(nx, ny, data["lx"], data["ly"], map_limits(data, pressure, hertz))
+    # The zoom frames what is loaded: the contact, and with adhesion the attracted cells too.
+    footprint = np.maximum(pressure, f["adhesive_traction"][0]) if "adhesive_traction" in f else pressure
+    view = View(nx, ny, data["lx"], data["ly"], map_limits(data, footprint, hertz))
     unit = data["length_unit"] or "length"
     note = subtitle(summary, unit)
     written = []
@@ -399,6 +404,8 @@ def plot_dir(d, fields=None, only=None, profiles=False, batch=None):
         values, _, units = f[var]
         if kind == "slip":
             values = np.where(contact > 0.5, values, np.nan)  # shown inside the contact only
+        if name == "pressure" and np.nanmin(values) < 0:
+            cmap, kind = "RdBu_r", "diverging"  # adhesion: tension (blue) beside compression (red)
         out = os.path.join(d, name + ".png")
         draw(out, view, values, title, colour_label(symbol, units), cmap, kind, unit, contact,
              stick if kind == "slip" else None, note, batch)

@@ -187,7 +187,10 @@ TEST(Curve, EggCrateCurveHasTheColumnsTrendsAndThreshold) {
                                          "flow_factor_y",
                                          "percolates_y",
                                          "open",
-                                         "iterations"};
+                                         "iterations",
+                                         "branch",
+                                         "normal_force",
+                                         "adhesive_force"};
   EXPECT_EQ(t.head, head);
   ASSERT_EQ(t.rows.size(), kPressures.size());
   for (std::size_t i = 0; i < t.rows.size(); ++i) {

@@ -139,6 +139,15 @@ Config build(const toml::value& root, const std::string& name, const std::string
   if (!ind.present()) errors.push_back("indenter: missing section [indenter] (type = \"hertz\", ...)");
   read_indenter(ind, c, errors, {grid_nx, grid_ny, grid_lx, grid_ly}, base_dir);
 
+  // An adhesive interaction admits tensile loads and negative approaches (unloading): the
+  // load's checks need to know it before [interaction] is read (which sets the value).
+  const bool adhesive_model = [&root] {
+    if (!root.is_table() || !root.as_table().count("interaction")) return false;
+    const toml::value& t = root.as_table().at("interaction");
+    return t.is_table() && t.as_table().count("model") && t.as_table().at("model").is_string() &&
+           t.as_table().at("model").as_string() == "adhesive";
+  }();
+  c.interaction.work_of_adhesion = adhesive_model ? 1.0 : 0.0;
   Section load(root, "load", errors);
   const bool hf = load.has("force"), hp = load.has("pressure"), ha = load.has("approach");
   if (int(hf) + int(hp) + int(ha) != 1) {
@@ -148,13 +157,10 @@ Config build(const toml::value& root, const std::string& name, const std::string
   }
   if (hf) {
     c.load = {LoadMode::Force, load.number("force", 0.0)};
-    if (!(c.load.value > 0)) load.error("force", "must be positive");
   } else if (hp) {
     c.load = {LoadMode::Pressure, load.number("pressure", 0.0)};
-    if (!(c.load.value > 0)) load.error("pressure", "must be positive");
   } else if (ha) {
     c.load = {LoadMode::Approach, load.number("approach", 0.0)};
-    if (!(c.load.value >= 0)) load.error("approach", "must be zero or positive");
   }
   if (hf || hp || ha)
     if (const auto [key, why] = load_problem(c); !key.empty()) load.error(key, why);
@@ -228,12 +234,34 @@ Config build(const toml::value& root, const std::string& name, const std::string
 
   Section ia(root, "interaction", errors);
   const std::string model = ia.string("model", "harmonic");
+  std::vector<std::string> adhesion_keys;
   if (model == "harmonic") {
     c.interaction.hard_wall = false;
   } else if (model == "hardwall" || model == "hard_wall") {
     c.interaction.hard_wall = true;
+  } else if (model == "adhesive") {
+    // The Maugis-Dugdale cohesive law on a repulsion (hard wall by default, as in the
+    // theories it is checked against).
+    adhesion_keys = {"work_of_adhesion", "range", "repulsion"};
+    // 0: the repulsion alone (the limit of vanishing adhesion, solved as without the model).
+    c.interaction.work_of_adhesion = ia.number("work_of_adhesion", 0.0);
+    if (!(c.interaction.work_of_adhesion >= 0) || !std::isfinite(c.interaction.work_of_adhesion))
+      ia.error("work_of_adhesion",
+               "must be zero or positive and finite (the work of adhesion, energy per area in E* x length "
+               "units)");
+    c.interaction.range = ia.number("range", 0.0);
+    if (!(c.interaction.range > 0) || !std::isfinite(c.interaction.range))
+      ia.error("range", "must be positive and finite (the range of the cohesive law, a length)");
+    const std::string rep = ia.string("repulsion", "hardwall");
+    if (rep == "hardwall" || rep == "hard_wall") {
+      c.interaction.hard_wall = true;
+    } else if (rep == "harmonic") {
+      c.interaction.hard_wall = false;
+    } else {
+      ia.error("repulsion", "unknown repulsion \"" + rep + "\"; one of hardwall, harmonic");
+    }
   } else {
-    ia.error("model", "unknown model \"" + model + "\"; one of harmonic, hardwall");
+    ia.error("model", "unknown model \"" + model + "\"; one of harmonic, hardwall, adhesive");
   }
   c.interaction.stiffness = ia.number("stiffness", 0.0);
   if (!(c.interaction.stiffness >= 0))
@@ -241,7 +269,15 @@ Config build(const toml::value& root, const std::string& name, const std::string
   c.interaction.hardness = ia.number_or_inf("hardness", std::numeric_limits<double>::infinity());
   if (!(c.interaction.hardness > 0))
     ia.error("hardness", "must be positive (the largest local pressure, in units of E*) or \"inf\" (no cap)");
-  ia.finish();
+  if (c.interaction.adhesive() && c.friction.coefficient > 0)
+    ia.error("model",
+             "adhesion with friction is not implemented yet: set friction.coefficient = 0 with "
+             "interaction.model = \"adhesive\"");
+  if (c.interaction.adhesive() && c.interaction.plastic())
+    ia.error("hardness",
+             "adhesion with plastic saturation is not implemented: leave interaction.hardness out "
+             "with interaction.model = \"adhesive\"");
+  ia.finish(adhesion_keys);
   // A cap below the mean pressure leaves no solution: the load is named.
   if (c.interaction.plastic() && c.interaction.hardness > 0 && (hf || hp))
     if (const auto [key, why] = load_problem(c); !key.empty()) load.error(key, why);
@@ -408,7 +444,8 @@ Config build(const toml::value& root, const std::string& name, const std::string
          << c.elastic.thickness;
       errors.push_back("elastic.thickness: " + os.str() + el.at("thickness"));
     }
-    if (c.indenter.type == "hertz" && c.load.mode == LoadMode::Force) {
+    // (Adhesion holds a contact at no load or in tension: the Hertz estimate does not apply.)
+    if (c.indenter.type == "hertz" && c.load.mode == LoadMode::Force && !c.interaction.adhesive()) {
       const double r = std::sqrt(c.indenter.radius_x * c.indenter.radius_y);
       const double a = std::cbrt(3 * c.load.value * r / (4 * c.elastic.contact_modulus));
       const double l = std::min(c.grid.lx, c.grid.ly);
@@ -475,11 +512,15 @@ std::pair<std::string, std::string> load_problem(const Config& c) {
                                                    : "approach";
   if (!std::isfinite(l.value)) return {key, "must be a finite number"};
   if (l.mode == LoadMode::Approach) {
-    if (!(l.value >= 0)) return {key, "must be zero or positive"};
-    if (l.value > kMaxLength) return {key, "must be at most 1e30 (a length)"};
+    // With adhesion the indenter may be pulled back beyond first touch (unloading).
+    if (!(l.value >= 0) && !c.interaction.adhesive())
+      return {key, "must be zero or positive (negative only with interaction.model = \"adhesive\")"};
+    if (std::abs(l.value) > kMaxLength) return {key, "must be at most 1e30 in size (a length)"};
     return {};
   }
-  if (!(l.value > 0)) return {key, "must be positive"};
+  // With adhesion a load may be tensile (negative) up to the pull-off.
+  if (!(l.value > 0) && !c.interaction.adhesive())
+    return {key, "must be positive (negative, tensile, only with interaction.model = \"adhesive\")"};
   const double e = c.elastic.contact_modulus;
   if (l.mode == LoadMode::Force && e > 0 && c.grid.lx > 0 && c.grid.ly > 0 &&
       l.value / (e * c.grid.lx * c.grid.ly) > kMaxPressureOverModulus)

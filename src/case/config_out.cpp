@@ -60,6 +60,12 @@ nlohmann::json Config::to_json() const {
   j["interaction"] = {{"model", interaction.hard_wall ? "hardwall" : "harmonic"},
                       {"stiffness", interaction.stiffness}};
   if (interaction.plastic()) j["interaction"]["hardness"] = interaction.hardness;  // absent: no cap
+  if (interaction.adhesive()) {
+    j["interaction"]["model"] = "adhesive";
+    j["interaction"]["repulsion"] = interaction.hard_wall ? "hardwall" : "harmonic";
+    j["interaction"]["work_of_adhesion"] = interaction.work_of_adhesion;
+    j["interaction"]["range"] = interaction.range;
+  }
   j["solver"] = {{"tolerance", solver.tolerance},
                  {"max_iterations", solver.max_iterations},
                  {"max_outer", solver.max_outer},

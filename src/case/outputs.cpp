@@ -81,6 +81,14 @@ nlohmann::json observables_json(const Observables& o) {
     j["max_plastic_displacement"] = o.max_plastic_displacement;
     j["mean_plastic_displacement"] = o.mean_plastic_displacement;
   }
+  if (o.adhesive) {
+    j["adhesive_force"] = o.adhesive_force;
+    j["repulsive_force"] = o.repulsive_force;
+    j["attraction_area_fraction"] = o.attraction_area_fraction;
+    j["cohesive_zone_fraction"] = o.cohesive_zone_fraction;
+    j["min_pressure"] = o.min_pressure;
+    j["cohesive_zone_cells"] = o.cohesive_zone_cells;
+  }
   if (o.friction) {
     j["friction_force"] = o.friction_force;
     j["friction_force_slip"] = o.friction_force_slip;
@@ -153,6 +161,7 @@ nlohmann::json summary_json(const CaseResult& r) {
   nlohmann::json j = observables_json(r.observables);
   j["iterations"] = r.info.iterations;
   j["outer_iterations"] = r.info.outer_iterations;
+  if (r.config.interaction.adhesive()) j["adhesion_steps"] = r.info.adhesion_steps;
   if (r.config.friction.coefficient > 0) {
     j["tangential_iterations"] = r.info.tangential_iterations;
     const FrictionLawType& law = friction_law_type(r.config.friction.law.kind);
@@ -261,6 +270,7 @@ nlohmann::json summary_json(const CaseResult& r) {
   for (const std::string& w :
        plausibility_warnings(r.config, r.topography_stats, r.map_report ? &*r.map_report : nullptr))
     j["warnings"].push_back(w);
+  for (const std::string& w : solution_warnings(r.observables)) j["warnings"].push_back(w);
   if (r.analysis) j["analysis"] = analysis_json(*r.analysis);
   j["input"] = r.config.to_json();
   j["units"] = lengths_in(r.config) +
@@ -275,6 +285,21 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["version"] = kVersion;
   j["git_commit"] = kGitCommit;
   return j;
+}
+
+std::vector<std::string> solution_warnings(const Observables& o) {
+  std::vector<std::string> w;
+  if (o.adhesive && o.cohesive_zone_fraction > 0 && o.cohesive_zone_cells < kMinCohesiveZoneCells) {
+    char buf[400];
+    std::snprintf(
+        buf, sizeof buf,
+        "the cohesive zone is %.2g cells wide: below about %.0f cells its edge is trapped by the grid "
+        "and the adhesive force and pull-off come out too large (refine the grid: more cells per "
+        "contact radius)",
+        o.cohesive_zone_cells, kMinCohesiveZoneCells);
+    w.emplace_back(buf);
+  }
+  return w;
 }
 
 FieldSet result_fields(const CaseResult& r, bool maps_only) {
@@ -314,6 +339,16 @@ FieldSet result_fields(const CaseResult& r, bool maps_only) {
              ? "dissipated power density / v0 = tau . v_slip / v0 (mu_c p |v|/v0 where slipping)"
              : "dissipated power density / v0 = tau . v_slip / v0 (mu(|v|) p |v|/v0 where slipping)",
          "E*"});
+  }
+  if (r.fields.adhesion.size() == n) {
+    fields.push_back({"adhesive_traction", r.fields.adhesion.data(),
+                      "adhesive (tensile) traction the indenter exerts on the body: the Maugis-Dugdale "
+                      "stress where the gap is below interaction.range, 0 elsewhere",
+                      "E*"});
+    RealField& am = set.masks.emplace_back(n);
+    for (std::size_t i = 0; i < n; ++i) am[i] = r.fields.adhesion[i] > 0 ? 1.0 : 0.0;
+    fields.push_back({"attraction", am.data(),
+                      "attraction mask (1 = under adhesive traction: contact or cohesive zone)", "1"});
   }
   if (d.plastic_displacement.size() == n)
     fields.push_back({"plastic_displacement", d.plastic_displacement.data(),

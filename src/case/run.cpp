@@ -55,6 +55,8 @@ ContactFields warm_start_rows(const Grid& slab, const ContactFields& whole) {
   f.pressure = mpi::scatter(slab, whole.pressure);
   f.tx = mpi::scatter(slab, whole.tx);
   f.ty = mpi::scatter(slab, whole.ty);
+  // An adhesive state's cohesive zone (its branch on a load path) goes with it.
+  if (mpi::from_root(whole.adhesion.empty() ? 0 : 1) == 1) f.adhesion = mpi::scatter(slab, whole.adhesion);
   return f;
 }
 // The solution's figures over its references' (summary.json; Comparisons), from the
@@ -202,7 +204,7 @@ void gather_for_root(const Config& cfg, const RunOptions& opts, const Grid& slab
     return;
   }
   ContactFields& f = r.fields;
-  gather_on_root(slab, {&f.pressure, &f.tx, &f.ty, &f.ux, &f.uy, &f.uz, &f.gap});
+  gather_on_root(slab, {&f.pressure, &f.tx, &f.ty, &f.ux, &f.uy, &f.uz, &f.gap, &f.adhesion});
   gather_on_root(slab, {&f.stick});
   DerivedFields& d = r.derived;
   gather_on_root(slab, {&d.slip_longitudinal, &d.slip_transverse, &d.dissipation, &d.plastic_displacement});

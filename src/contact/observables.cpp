@@ -53,13 +53,36 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
   const double n = static_cast<double>(g.size());
   const double da = g.cell_area();
   Observables o;
-  o.relative_contact_area = grid_sum(g, [&](std::size_t i) { return f.pressure[i] > 0 ? 1.0 : 0.0; }) / n;
+  o.relative_contact_area = grid_sum(g, [&](std::size_t i) { return f.in_contact(i) ? 1.0 : 0.0; }) / n;
   o.normal_force = grid_sum(g, [&](std::size_t i) { return f.pressure[i]; }) * da;
   o.mean_pressure = o.normal_force / g.area();
   o.max_pressure = grid_max(
       g, [&](std::size_t i) { return f.pressure[i]; }, 0.0);
   o.mean_gap = grid_sum(g, [&](std::size_t i) { return f.gap[i]; }) / n;
   o.approach = info.approach;
+  if (!f.adhesion.empty()) {
+    // Adhesion: the pull sum a dA, the repulsion, the area under attraction (the contact and
+    // the cohesive zone around it) and the cohesive zone alone (attraction out of contact).
+    const double amax = grid_max(
+        g, [&](std::size_t i) { return f.adhesion[i]; }, 0.0);
+    const auto s = grid_sums<4>(g, [&](std::size_t i, std::array<double, 4>& acc) {
+      const double a = f.adhesion[i];
+      acc[0] += a;
+      if (a > 0) acc[1] += 1.0;
+      if (a > 0 && !f.in_contact(i)) acc[2] += 1.0;
+      if (a > 0 && a < amax * (1.0 - 1e-9)) acc[3] += 1.0;  // a cell the zone's edge crosses
+    });
+    // Each line across the zone ends in one partly attracted cell: cells in the zone per such
+    // cell is its width in cells.
+    o.cohesive_zone_cells = s[3] > 0 ? s[2] / s[3] : 0.0;
+    o.adhesive = true;
+    o.adhesive_force = s[0] * da;
+    o.repulsive_force = o.normal_force + o.adhesive_force;
+    o.attraction_area_fraction = s[1] / n;
+    o.cohesive_zone_fraction = s[2] / n;
+    o.min_pressure = -grid_max(
+        g, [&](std::size_t i) { return -f.pressure[i]; }, -1e300);
+  }
   const double mu = fric.coefficient;
   if (mu > 0) {
     RealField vx, vy, dh;
@@ -155,7 +178,7 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     return grid_max(
         g,
         [&](std::size_t i) {
-          if (!(f.pressure[i] > 0)) return -1e300;
+          if (!f.in_contact(i)) return -1e300;
           double l, t;
           rel(first + i, l, t);
           return sign * (along ? l : t);

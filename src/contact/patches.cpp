@@ -142,7 +142,7 @@ PatchStats contact_patches(const Grid& g, const std::vector<unsigned char>& cont
 std::vector<unsigned char> contact_mask(const ContactFields& f) {
   std::vector<unsigned char> mask(f.pressure.size());
   parallel_for(static_cast<std::ptrdiff_t>(mask.size()),
-               [&](std::ptrdiff_t i) { mask[i] = f.pressure[i] > 0 ? 1 : 0; });
+               [&](std::ptrdiff_t i) { mask[i] = f.in_contact(i) ? 1 : 0; });
   return mask;
 }
 

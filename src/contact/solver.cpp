@@ -84,6 +84,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
   // back during the iterations.
   for (auto* fld : {&f.ux, &f.uy, &f.uz, &f.gap}) RealField().swap(*fld);
   f.stick.clear();
+  if (!inter_.adhesive()) RealField().swap(f.adhesion);
   total_it_ = 0;
   SolveInfo info;
   info.stiffness = k_;
@@ -95,9 +96,13 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
   if (mu == 0.0) {
     std::fill(f.tx.begin(), f.tx.end(), 0.0);
     std::fill(f.ty.begin(), f.ty.end(), 0.0);
-    pk = solve_normal(load, w, true, f.pressure, tol, sp_.max_iterations);
-    info.converged = pk.converged;
-    info.status = pk.converged ? "converged" : "not converged: iteration limit reached";
+    if (inter_.adhesive()) {
+      pk = solve_adhesive(load, f, tol, info);
+    } else {
+      pk = solve_normal(load, w, true, f.pressure, tol, sp_.max_iterations);
+      info.converged = pk.converged;
+      info.status = pk.converged ? "converged" : "not converged: iteration limit reached";
+    }
   } else {
     // Friction fixed point on the traction tau = (tau_x, tau_y): G(tau) = mu_c p s(u), with
     // p the normal solution for w = C_z.tau and u the displacement of (tau, -p). The plain

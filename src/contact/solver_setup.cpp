@@ -58,7 +58,22 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   if (exact_friction && !law.set_valued_stick)
     throw ParameterError("friction.regularization", "must be positive with friction.law = \"" + law.name +
                                                         "\": its stick is solved regularised (near rest)");
+  if (inter_.adhesive()) {
+    if (!(inter_.range > 0) || !std::isfinite(inter_.range) || !std::isfinite(inter_.work_of_adhesion))
+      throw ParameterError("interaction.range", "must be positive and finite with adhesion");
+    if (fric_.coefficient > 0)
+      throw ParameterError(
+          "friction.coefficient",
+          "adhesion with friction is not implemented yet: set it to 0 with interaction.model = "
+          "\"adhesive\"");
+    if (inter_.plastic())
+      throw ParameterError("interaction.hardness", "adhesion with plastic saturation is not implemented");
+  }
   if (backend().name() == "cuda") {
+    if (inter_.adhesive())
+      throw ParameterError("interaction.model",
+                           "adhesion is not implemented on the cuda backend: use solver.backend = "
+                           "\"threads\" (or \"serial\")");
     if (inter_.plastic())
       throw ParameterError("interaction.hardness",
                            "plastic saturation is not implemented on the cuda backend: use "
@@ -129,6 +144,32 @@ double ContactSolver::residual(const ContactFields& f, double delta) {
   // Independent check of the final state: gap from the full 3D displacement.
   const auto gap = [&](std::size_t i) { return g0_[i] - delta - f.uz[i]; };
   const double H = inter_.hardness;  // inf: no cap (min(x, inf) = x)
+  if (inter_.adhesive()) {
+    // The repulsion p + a against the interaction, and the adhesive traction a against the
+    // cohesive law on the cells (adhesive_fraction with the gap's spread of the last step),
+    // relative to the size of the two pressures.
+    const double s0 = inter_.adhesive_stress(), rho = inter_.range;
+    // The hard wall's gap errors are measured as the repulsive solve's are (below).
+    const double mean =
+        grid_sum(grid_, [&](std::size_t i) { return g0_[i]; }) / static_cast<double>(grid_.size());
+    const auto sums = grid_sums<4>(grid_, [&](std::size_t i, std::array<double, 4>& acc) {
+      const double g = gap(i), pr = f.repulsion(i), ai = f.adhesion[i];
+      if (inter_.hard_wall) {
+        if (pr > 0 || g < 0) acc[2] += g * g;
+        acc[3] += (g0_[i] - mean) * (g0_[i] - mean);
+      } else {
+        const double d = pr - k_ * std::max(0.0, -g);
+        acc[0] += d * d;
+      }
+      const double law =
+          adh_spread_.size() == f.adhesion.size() ? s0 * adhesive_fraction(g, adh_spread_[i], rho) : ai;
+      acc[0] += (ai - law) * (ai - law);
+      acc[1] += pr * pr + ai * ai;
+    });
+    const double law_part = sums[1] > 0 ? std::sqrt(sums[0] / sums[1]) : std::sqrt(sums[0]);
+    const double gap_part = sums[3] > 0 ? std::sqrt(sums[2] / sums[3]) : std::sqrt(sums[2]);
+    return std::max(law_part, gap_part);
+  }
   if (!inter_.hard_wall) {
     const double num = grid_sum(grid_, [&](std::size_t i) {
       const double d = f.pressure[i] - std::min(k_ * std::max(0.0, -gap(i)), H);

@@ -43,11 +43,11 @@ std::optional<double> to_number(const std::string& tok) {
   return v;
 }
 
-// The point's pressure as the sweep passes it on (%.17g reads back exactly).
-std::string pressure_override(double p) {
+// The point's load as the sweep passes it on (%.17g reads back exactly).
+std::string load_override(const std::string& parameter, double v) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "load.pressure=%.17g", p);
-  return buf;
+  std::snprintf(buf, sizeof buf, "=%.17g", v);
+  return parameter + buf;
 }
 
 std::string point_name(std::size_t i) {
@@ -71,10 +71,14 @@ std::vector<std::string> direction_tags(const Config& cfg) {
 }
 
 // One row of curve.csv from a point's summary.json.
-nlohmann::json curve_row(double p, const nlohmann::json& s, const std::vector<std::string>& tags) {
+nlohmann::json curve_row(const nlohmann::json& p, const std::string& branch, const nlohmann::json& s,
+                         const std::vector<std::string>& tags) {
   const auto get = [&s](const char* k) { return s.contains(k) ? s[k] : nlohmann::json(); };
   nlohmann::json row = nlohmann::json::object();
+  row["branch"] = branch;
   row["pressure"] = p;
+  row["normal_force"] = get("normal_force");
+  row["adhesive_force"] = get("adhesive_force");
   row["relative_contact_area"] = get("relative_contact_area");
   row["mean_gap"] = get("mean_gap");
   row["approach"] = get("approach");
@@ -105,15 +109,21 @@ std::vector<std::string> curve_columns(const std::vector<std::string>& tags) {
   }
   c.emplace_back("open");
   c.emplace_back("iterations");
+  // Added for approach paths (adhesion), after the columns older tables have.
+  for (const char* k : {"branch", "normal_force", "adhesive_force"}) c.emplace_back(k);
   return c;
 }
 
 nlohmann::json column_meanings(const std::vector<std::string>& tags) {
   nlohmann::json m = {
-      {"pressure", "imposed mean pressure (E*)"},
+      {"branch", "load (the load or approach grows from the previous point) or unload (it falls)"},
+      {"pressure",
+       "mean pressure (E*): imposed (pressures), or the solution's (approaches; negative in tension)"},
+      {"normal_force", "net normal force on the indenter (E* length^2; negative in tension)"},
+      {"adhesive_force", "adhesive pull sum a dA (E* length^2); empty without adhesion"},
       {"relative_contact_area", "contact area fraction A/A0 (1)"},
       {"mean_gap", "mean gap between indenter and deformed surface (length)"},
-      {"approach", "indenter displacement towards the body from first touch (length)"},
+      {"approach", "indenter displacement towards the body from first touch (length; imposed by approaches)"},
       {"friction_coefficient", "friction coefficient mu from the dissipation (1); empty when frictionless"},
       {"friction_coefficient_downhill", "mu from mu_c F + downhill force (1); empty when frictionless"},
       {"open", "1 if the gap percolates along any direction (leakage > 0), else 0"},
@@ -136,7 +146,7 @@ std::vector<nlohmann::json> finished_points(const std::string& case_path, const 
   for (const auto& s : curve_overrides()) sets.push_back(s);
   sets.emplace_back();
   for (std::size_t i = 0; i < cfg.sweep.values.size(); ++i) {
-    sets.back() = pressure_override(cfg.sweep.values[i]);
+    sets.back() = load_override(cfg.sweep.parameter, cfg.sweep.values[i]);
     auto s = finished_summary((fs::path(pdir) / point_name(i)).string(), load_config(case_path, sets));
     if (!s) break;
     out.push_back(std::move(*s));
@@ -158,14 +168,36 @@ nlohmann::json write_curve_tables(const std::string& case_path, const Config& cf
   nlohmann::json points = nlohmann::json::array();
   std::vector<double> pressures, areas;
   std::vector<bool> open;
+  const bool by_approach = cfg.sweep.parameter == "load.approach";
+  const std::vector<std::string> branches = curve_branches(ps);
+  // The pull-off: the most tensile force on the path (an approach-controlled path passes the
+  // force minimum before it jumps off), and where the unloading branch lost contact.
+  nlohmann::json pull_off = nullptr, pull_off_approach = nullptr, jump_off_approach = nullptr;
+  double fmin = 0.0;
+  bool contact_before = false;
   for (std::size_t i = 0; i < summaries.size(); ++i) {
-    const nlohmann::json row = curve_row(ps[i], summaries[i], tags);
+    const nlohmann::json& si = summaries[i];
+    const nlohmann::json p =
+        by_approach ? si.value("mean_pressure", nlohmann::json()) : nlohmann::json(ps[i]);
+    const nlohmann::json row = curve_row(p, branches[i], si, tags);
     for (std::size_t k = 0; k < cols.size(); ++k) csv << (k ? "," : "") << csv_number(row[cols[k]]);
     csv << "\n";
     points.push_back(row);
-    pressures.push_back(ps[i]);
-    areas.push_back(row["relative_contact_area"].is_number() ? row["relative_contact_area"].get<double>()
-                                                             : 0.0);
+    const double area =
+        row["relative_contact_area"].is_number() ? row["relative_contact_area"].get<double>() : 0.0;
+    if (row["normal_force"].is_number() && row["normal_force"].get<double>() < fmin) {
+      fmin = row["normal_force"].get<double>();
+      pull_off = fmin;
+      pull_off_approach = row["approach"];
+    }
+    if (branches[i] == "unload" && contact_before && !(area > 0) && jump_off_approach.is_null())
+      jump_off_approach = ps[i];
+    contact_before = area > 0;
+    // The percolation threshold over the loading branch at positive pressures (ascending).
+    if (branches[i] != "load" || !p.is_number() || !(p.get<double>() > 0)) continue;
+    if (!pressures.empty() && !(p.get<double>() > pressures.back())) continue;
+    pressures.push_back(p.get<double>());
+    areas.push_back(area);
     open.push_back(row["open"].get<bool>());
   }
 
@@ -173,16 +205,28 @@ nlohmann::json write_curve_tables(const std::string& case_path, const Config& cf
   j["case"] = case_path;
   j["overrides"] = user_sets;
   j["curve_overrides"] = curve_overrides();
-  j["curve_overrides"].push_back("load.pressure=<each pressure>");
+  j["curve_overrides"].push_back(by_approach ? "load.approach=<each approach>"
+                                             : "load.pressure=<each pressure>");
+  j["parameter"] = cfg.sweep.parameter;
   // What the case itself asks for, without the curve's overrides.
   const Config asked = load_config(case_path, user_sets);
   j["leakage_switched_on"] = !asked.flow.enabled;
-  if (asked.load.mode == LoadMode::Pressure)
+  const LoadMode own = by_approach ? LoadMode::Approach : LoadMode::Pressure;
+  if (asked.load.mode == own)
     j["load_replaced"] = nullptr;
   else
-    j["load_replaced"] = std::string(asked.load.mode == LoadMode::Force ? "load.force" : "load.approach") +
+    j["load_replaced"] = std::string(asked.load.mode == LoadMode::Force      ? "load.force"
+                                     : asked.load.mode == LoadMode::Pressure ? "load.pressure"
+                                                                             : "load.approach") +
                          " = " + format_number(asked.load.value);
-  j["pressures"] = ps;
+  j[by_approach ? "approaches" : "pressures"] = ps;
+  j["pull_off_force"] = pull_off;
+  j["pull_off_approach"] = pull_off_approach;
+  j["jump_off_approach"] = jump_off_approach;
+  j["pull_off_note"] =
+      "pull_off_force: the most tensile normal force on the path (null if none is tensile); an "
+      "approach-controlled path resolves it to its point spacing. jump_off_approach: the first unloading "
+      "point without contact (null if contact never ended while unloading)";
   j["completed"] = summaries.size();
   j["total"] = ps.size();
   j["columns"] = column_meanings(tags);
@@ -269,6 +313,60 @@ std::vector<double> curve_pressures(std::vector<double> ps) {
   return ps;
 }
 
+std::vector<double> parse_approaches(const std::string& text) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  const auto bad = [](const std::string& why) { throw InputError("approaches", why); };
+  if (trim(text).empty()) bad("give at least one approach: D1,D2,... or FROM:TO:N");
+  if (trim(text).back() == ',') bad("an empty item in '" + text + "' (two commas, or one at an end)");
+  while (std::getline(ss, item, ',')) {
+    item = trim(item);
+    if (item.empty()) bad("an empty item in '" + text + "' (two commas, or one at an end)");
+    if (item.find(':') == std::string::npos) {
+      const auto v = to_number(item);
+      if (!v || !std::isfinite(*v)) bad("'" + item + "' is not a finite number");
+      out.push_back(*v);
+      continue;
+    }
+    std::vector<std::string> parts;
+    std::stringstream is(item);
+    std::string part;
+    while (std::getline(is, part, ':')) parts.push_back(trim(part));
+    if (parts.size() != 3 || item.back() == ':')
+      bad("'" + item + "': a range is FROM:TO:N (N evenly spaced values from FROM to TO)");
+    const auto from = to_number(parts[0]), to = to_number(parts[1]);
+    const auto n = to_number(parts[2]);
+    if (!from || !to || !n || !std::isfinite(*from) || !std::isfinite(*to))
+      bad("'" + item + "': FROM and TO must be finite numbers and N a number");
+    if (!(*n >= 2 && *n <= static_cast<double>(kMaxSweepPoints) && *n == std::floor(*n)))
+      bad("'" + item + "': N must be an integer in [2, " + std::to_string(kMaxSweepPoints) + "]");
+    const int count = static_cast<int>(*n);
+    if (out.size() + static_cast<std::size_t>(count) > static_cast<std::size_t>(kMaxSweepPoints))
+      bad("more than " + std::to_string(kMaxSweepPoints) + " approaches");
+    for (int i = 0; i < count; ++i)
+      out.push_back(i == count - 1 ? *to : *from + (*to - *from) * static_cast<double>(i) / (count - 1));
+  }
+  return out;
+}
+
+std::vector<double> approach_path(std::vector<double> approaches, bool unload) {
+  if (approaches.empty()) throw InputError("approaches", "give at least one approach");
+  if (unload)
+    for (std::size_t k = approaches.size() - 1; k-- > 0;) approaches.push_back(approaches[k]);
+  if (approaches.size() > static_cast<std::size_t>(kMaxSweepPoints))
+    throw InputError("approaches", "at most " + std::to_string(kMaxSweepPoints) + " points, got " +
+                                       std::to_string(approaches.size()));
+  return approaches;
+}
+
+std::vector<std::string> curve_branches(const std::vector<double>& values) {
+  std::vector<std::string> b(values.size(), "load");
+  for (std::size_t i = 1; i < values.size(); ++i)
+    b[i] = values[i] < values[i - 1] ? "unload" : values[i] > values[i - 1] ? "load" : b[i - 1];
+  return b;
+}
+
 std::vector<std::string> curve_overrides() { return {"flow.enabled=true", "output.png=false"}; }
 
 Config curve_config(const std::string& case_path, const std::vector<std::string>& overrides,
@@ -291,6 +389,28 @@ Config curve_config(const std::string& case_path, const std::vector<std::string>
     throw InputError("pressures", "the pressure " + format_number(pressures.back()) + " exceeds 1000 E* (" +
                                       format_number(limit) + "): not a contact problem");
   return sweep_config(case_path, sets, "load.pressure", pressures);
+}
+
+Config curve_config_approaches(const std::string& case_path, const std::vector<std::string>& overrides,
+                               const std::vector<double>& path) {
+  for (const auto& s : overrides) {
+    const auto eq = s.find('=');
+    const std::string key = trim(s.substr(0, eq));
+    if (key.rfind("load.", 0) == 0)
+      throw InputError("--set " + s, "the curve sets the load itself (load.approach from the approaches)");
+    if (key == "flow.enabled" && (eq == std::string::npos || trim(s.substr(eq + 1)) != "true"))
+      throw InputError("--set " + s, "the curve needs the leakage: it switches the flow on itself");
+  }
+  std::vector<std::string> sets = overrides;
+  for (const auto& s : curve_overrides()) sets.push_back(s);
+  // Each approach against the case (negative ones need adhesion), named as the option.
+  Config probe = load_config(case_path, sets);
+  for (double d : path) {
+    probe.load = {LoadMode::Approach, d};
+    if (const auto [key, why] = load_problem(probe); !key.empty())
+      throw InputError("approaches", "the approach " + format_number(d) + ": " + why);
+  }
+  return sweep_config(case_path, sets, "load.approach", path);
 }
 
 nlohmann::json curve_threshold(const std::vector<double>& p, const std::vector<double>& a,
@@ -351,7 +471,8 @@ nlohmann::json curve_threshold(const std::vector<double>& p, const std::vector<d
 
 nlohmann::json run_curve(const std::string& case_path, const Config& cfg, const std::string& dir,
                          const CurveOptions& opts) {
-  if (!cfg.sweep.active() || cfg.sweep.parameter != "load.pressure")
+  if (!cfg.sweep.active() ||
+      (cfg.sweep.parameter != "load.pressure" && cfg.sweep.parameter != "load.approach"))
     throw InputError(case_path, "not a curve: make the configuration with curve_config");
   // Under mpirun every process solves the points (run_sweep); rank 0 alone writes and reads
   // the directory, and the tables' JSON is its (empty on the others).

@@ -47,6 +47,11 @@ struct FieldSet {
 };
 FieldSet result_fields(const CaseResult& r, bool maps_only = false);
 
+// Warnings about a solution itself (summary.json's warnings, printed by gfmd run): an adhesive
+// cohesive zone narrower than kMinCohesiveZoneCells cells.
+inline constexpr double kMinCohesiveZoneCells = 2.0;
+std::vector<std::string> solution_warnings(const Observables& o);
+
 // Writes the contents of fields.nc to path (atomically): every field, or with maps_only
 // only those the maps are drawn from (pressure, gap, contact, stick, slip, dissipation,
 // sigma_1, von_mises).

@@ -9,7 +9,7 @@
 namespace gfmd {
 
 struct Observables {
-  double relative_contact_area = 0;  // fraction of cells with p > 0
+  double relative_contact_area = 0;  // fraction of cells in contact (repulsive pressure > 0)
   double normal_force = 0;           // sum p dA
   double mean_pressure = 0;          // normal_force / (lx ly)
   double max_pressure = 0;
@@ -60,6 +60,16 @@ struct Observables {
   // fraction of the cell at the cap, the largest and the mean plastic displacement there.
   bool plastic = false;
   double plastic_area_fraction = 0, max_plastic_displacement = 0, mean_plastic_displacement = 0;
+  // Adhesion (interaction.model = "adhesive"): the adhesive pull sum a dA (>= 0), the
+  // repulsive force (normal_force + adhesive_force; normal_force is the net force, negative in
+  // tension), the fractions of the cell under attraction (contact and cohesive zone) and in the
+  // cohesive zone alone (attracted, out of contact), and the most tensile net pressure.
+  bool adhesive = false;
+  double adhesive_force = 0, repulsive_force = 0, attraction_area_fraction = 0, cohesive_zone_fraction = 0;
+  double min_pressure = 0;
+  // The cohesive zone's mean width in cells (cells attracted out of contact per cell its outer
+  // edge crosses); below about 2 the zone's edge is trapped by the grid.
+  double cohesive_zone_cells = 0;
   // Tangential force the body exerts on the indenter, sum tau dA: along e_s and in lab axes;
   // its ratio to the normal force (the traction coefficient of rolling; mu_c where every
   // point slips).

@@ -49,6 +49,14 @@ struct InteractionParams {
   // the undeformed surface by the plastic displacement). inf: no cap.
   double hardness = std::numeric_limits<double>::infinity();
   [[nodiscard]] bool plastic() const { return hardness < std::numeric_limits<double>::infinity(); }
+  // Adhesion (interaction.model = "adhesive"): the Maugis-Dugdale cohesive law on top of the
+  // repulsion. A tensile traction sigma0 = work_of_adhesion / range pulls the body towards the
+  // indenter wherever the gap is below the range (inside the contact too), none beyond; the
+  // work of separating a unit area is work_of_adhesion. 0: no adhesion (the repulsive solve).
+  double work_of_adhesion = 0.0;
+  double range = 0.0;
+  [[nodiscard]] bool adhesive() const { return work_of_adhesion > 0; }
+  [[nodiscard]] double adhesive_stress() const { return adhesive() ? work_of_adhesion / range : 0.0; }
   // k_if on a grid of spacing dx: inf for the hard wall, else stiffness or its default 2 E*/dx.
   [[nodiscard]] double stiffness_on(double contact_modulus, double dx) const {
     if (hard_wall) return std::numeric_limits<double>::infinity();
@@ -121,6 +129,9 @@ struct SolveInfo {
   // The friction loop's mixing history at its end: solver.anderson, or deeper where the fixed
   // point stalled (deepened_history, docs/solver.md); 0 without friction or mixing.
   int history_depth = 0;
+  // Adhesion: the cohesive-set steps (majorize-minimize over the set where the gap is below
+  // the range; each a repulsive solve) the solve took; 0 without adhesion.
+  int adhesion_steps = 0;
   // The slip derivative the solution was computed with (FrictionParams::slip_derivative, or
   // the automatic choice: upwind2 where the solve met stick, else spectral for sliding).
   SlipDerivative slip_derivative = SlipDerivative::Spectral;
@@ -158,6 +169,12 @@ inline int deepened_history(int configured, int depth) {
 inline bool history_depth_fits(int configured, int depth) {
   return depth == configured || (configured > 0 && depth == deepened_history(configured, configured));
 }
+
+// The Maugis-Dugdale law integrated over a cell whose gap is linear across it, with value
+// `gap` at its centre and range `spread` over it: the fraction of the cell where the gap is
+// below `range` (1 in contact), clamp((range - gap)/spread + 1/2, 0, 1); the cell's adhesive
+// traction is sigma0 times it.
+double adhesive_fraction(double gap, double spread, double range);
 
 class DeviceSolve;  // the CUDA backend's solve (contact/device_solve.hpp)
 
@@ -291,6 +308,13 @@ class ContactSolver {
   // A capped pressure under load control: the approach whose capped solution carries the load,
   // found by safeguarded regula falsi (Illinois) over approach-controlled solves, each started
   // from the last (normal.cpp).
+  // The adhesive normal problem (adhesion.cpp): with the adhesive traction a held fixed, the
+  // repulsive problem (w = C_zz a) is convex; a is then rebuilt from the new gap by the cell
+  // integral of the cohesive law (adhesive_fraction), Anderson-mixed, until it settles.
+  // f.pressure holds the net pressure (repulsion minus adhesion), f.adhesion the traction.
+  PKResult solve_adhesive(const LoadParams& load, ContactFields& f, double tol, SolveInfo& info);
+  // spread = |g_x| dx + |g_y| dy, the gap's range over each cell (gx: scratch).
+  void gap_spread(const RealField& gap, RealField& gx, RealField& spread);
   PKResult solve_normal_capped_load(const LoadParams& load, const RealField& w, bool w_zero, RealField& p,
                                     double tol, int max_it);
   void apply_compliance(const RealField& in, RealField& out, double scale = 1.0);  // scale C_zz in
@@ -342,6 +366,7 @@ class ContactSolver {
   // keep anything in its work arrays between calls, so these share them.
   RealField& r1_ = cg_t_;
   RealField& r2_ = cg_r_;
+  RealField adh_spread_;         // adhesion: the gap's spread over each cell in the last step
   RealField zx_, zy_, bx_, by_;  // splitting variable and pressure-induced slip of solve_tangential
   bool have_z_ = false;
   double gamma_ = 0.0;  // its step

@@ -13,6 +13,14 @@ struct ContactFields {
   // 1 where a contact point sticks (|tau| < mu_c p, zero slip velocity); filled at the end
   // of a solve with the exact Coulomb law, empty otherwise.
   std::vector<unsigned char> stick;
+  // Adhesion: the tensile traction the indenter exerts on the body (>= 0; pressure is the net
+  // pressure, repulsion minus this); empty without adhesion.
+  RealField adhesion;
+  // The repulsive part of the pressure at point i: the contact is where it is positive.
+  [[nodiscard]] double repulsion(std::size_t i) const {
+    return adhesion.empty() ? pressure[i] : pressure[i] + adhesion[i];
+  }
+  [[nodiscard]] bool in_contact(std::size_t i) const { return repulsion(i) > 0; }
 };
 
 }  // namespace gfmd

@@ -25,6 +25,24 @@ std::vector<double> parse_pressures(const std::string& text);
 // kMaxSweepPoints, a value is not positive and finite, or a value appears twice.
 std::vector<double> curve_pressures(std::vector<double> pressures);
 
+// Approach-controlled curves (load paths; adhesion's loading and unloading): the approaches
+// from text, comma-separated items, each a number or FROM:TO:N (N evenly spaced values, both
+// ends included; any sign), kept in the order given. Throws InputError("approaches", ...).
+std::vector<double> parse_approaches(const std::string& text);
+// The path of an approach curve: the approaches as given and, with `unload`, back through them
+// in reverse (the turning point once). Throws InputError("approaches", ...) if empty or longer
+// than kMaxSweepPoints.
+std::vector<double> approach_path(std::vector<double> approaches, bool unload);
+// Each point's branch: "load" where the value grew from the previous point (the first point
+// too), "unload" where it fell, the previous one's where it stayed.
+std::vector<std::string> curve_branches(const std::vector<double>& values);
+// The case of an approach curve: as curve_config, the sweep over load.approach along `path`
+// (in its order: each point warm-starts from the one before, so unloading follows the
+// branch it came from). Throws InputError("approaches", ...) for an approach the case does
+// not admit (a negative one without adhesion).
+Config curve_config_approaches(const std::string& case_path, const std::vector<std::string>& overrides,
+                               const std::vector<double>& path);
+
 // The overrides a curve adds to the user's (in this order, after them): the flow switched on
 // (flow.enabled=true: the leakage is computed for every point even if the case has no [flow]
 // table), no PNG maps per point (output.png=false; the curve draws one figure). The load is
@@ -48,8 +66,9 @@ struct CurveOptions {
 // run is stopped (Interrupted), the tables of the points finished so far are written and the
 // error is rethrown. The caller holds dir's DirectoryLock. Returns curve.json's contents.
 //
-// curve.csv columns (one row per finished point, pressures ascending):
-//   pressure                       the imposed mean pressure (E*)
+// curve.csv columns (one row per finished point, in the order solved: pressures ascending, or
+// the approach path):
+//   pressure                       the imposed mean pressure (E*), or the solution's (approaches)
 //   relative_contact_area          contact area fraction A/A0
 //   mean_gap                       mean gap between indenter and deformed surface (length)
 //   approach                       indenter displacement from first touch (length)
@@ -60,8 +79,13 @@ struct CurveOptions {
 //   percolates_<d>                 1 if the open gap wraps around the cell along d, else 0
 //   open                           1 if the gap percolates along any direction, else 0
 //   iterations                     iterations of the contact solve
-// curve.json: case, overrides (the user's), curve_overrides, leakage_switched_on,
-//   load_replaced, pressures, completed, total, columns (name -> meaning), points (the rows),
+//   branch                         load or unload (curve_branches)
+//   normal_force                   net normal force (negative in tension)
+//   adhesive_force                 adhesive pull (empty without adhesion)
+// curve.json: case, overrides (the user's), curve_overrides, parameter (load.pressure or
+//   load.approach), leakage_switched_on, load_replaced, pressures or approaches, pull_off_force
+//   (the most tensile force on the path, or null), pull_off_approach, jump_off_approach (the first
+//   unloading point out of contact, or null), completed, total, columns (name -> meaning), points (the rows),
 //   percolation (threshold over all directions) with directions.<d> (each direction's own),
 //   points_dir, units, input_first_point, version, git_commit.
 nlohmann::json run_curve(const std::string& case_path, const Config& cfg, const std::string& dir,
