@@ -25,10 +25,11 @@ if "OMP_WAIT_POLICY" not in _os.environ and "GOMP_SPINCOUNT" not in _os.environ:
     _os.environ["GOMP_SPINCOUNT"] = "10000"  # = gfmd::kSpinCount, _core.spin_count (tested)
 
 from ._core import InputError, SolveError, __version__  # noqa: E402
-from ._api import (ContactSolver, ElasticBody, Result, Topography, curve, ensemble, friction_laws,  # noqa: E402
+from ._api import (Adhesive, ContactSolver, ElasticBody, Result, Topography, curve, ensemble, friction_laws,  # noqa: E402
                    indenter_types, load_path, percolation, run, run_toml, solve, study, sweep)
 
 __all__ = [
+    "Adhesive",
     "ContactSolver",
     "ElasticBody",
     "InputError",

@@ -44,6 +44,47 @@ class ElasticBody:
             raise InputError(f"ElasticBody.{e}") from None
 
 
+@dataclass(frozen=True)
+class Adhesive:
+    """The adhesive interaction (interaction.model = "adhesive"): the Maugis-Dugdale cohesive law,
+    a tensile stress work_of_adhesion / range wherever the gap is below range, on a repulsion
+    ("hardwall", the default, or "harmonic"). work_of_adhesion: energy per area (E* L); range:
+    a length (L). Pass it as interaction= to gfmd.solve or gfmd.ContactSolver:
+
+        solver = gfmd.ContactSolver(top, interaction=gfmd.Adhesive(1e-3, 0.0113))
+        for r in gfmd.load_path(solver, approaches=[0.01, 0.0, -0.005, -0.01]):
+            r.summary["normal_force"]   # negative in tension; the path unloads along its branch
+    """
+
+    work_of_adhesion: float
+    range: float
+    repulsion: str = "hardwall"
+
+    def __post_init__(self):
+        for name in ("work_of_adhesion", "range"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v):
+                raise InputError(f"Adhesive.{name}: must be a finite number, got {v!r}")
+        if not self.work_of_adhesion >= 0:
+            raise InputError(f"Adhesive.work_of_adhesion: must be zero or positive, got {self.work_of_adhesion!r}")
+        if not self.range > 0:
+            raise InputError(f"Adhesive.range: must be positive, got {self.range!r}")
+        if self.repulsion not in ("hardwall", "harmonic"):
+            raise InputError(f"Adhesive.repulsion: one of hardwall, harmonic, got {self.repulsion!r}")
+
+
+def _interaction_lines(interaction) -> list:
+    """The [interaction] lines of a model name or a gfmd.Adhesive."""
+    if isinstance(interaction, Adhesive):
+        return ["[interaction]", 'model = "adhesive"',
+                f"work_of_adhesion = {_toml_value('work_of_adhesion', interaction.work_of_adhesion)}",
+                f"range = {_toml_value('range', interaction.range)}",
+                f"repulsion = {_toml_value('repulsion', interaction.repulsion)}"]
+    if not isinstance(interaction, str):
+        raise InputError(f"interaction: \"harmonic\", \"hardwall\" or a gfmd.Adhesive (got {interaction!r})")
+    return ["[interaction]", f"model = {_toml_value('interaction', interaction)}"]
+
+
 _SOLVER_KEYS = {"tolerance", "max_iterations", "max_outer", "max_tangential", "anderson", "mixing", "threads",
                 "fft_planner", "backend"}
 # The [friction] keys besides coefficient and direction; the laws' own keys come from the registry.
@@ -105,14 +146,14 @@ class ContactSolver:
             r = solver.solve(pressure=p)      # a Result; r.summary["iterations"]: this solve's
 
     The arguments are gfmd.solve's, without the load: friction (mu_c), direction (degrees from x),
-    interaction ("harmonic" | "hardwall"), stress_depths, and the solver and friction options as
+    interaction ("harmonic" | "hardwall" | gfmd.Adhesive(work_of_adhesion, range)), stress_depths, and the solver and friction options as
     keywords. They are checked here, once (InputError). solve(pressure=|force=|approach=,
     progress=, warm=True) returns a Result; warm=False (or reset()) starts from nothing.
     Every solve gives the numbers gfmd.solve gives from the same start.
     """
 
     def __init__(self, topography: Topography, body: Optional[ElasticBody] = None, *, friction: float = 0.0,
-                 direction: float = 0.0, interaction: str = "harmonic", hardness: float = math.inf,
+                 direction: float = 0.0, interaction="harmonic", hardness: float = math.inf,
                  stress_depths: Iterable[float] = (), **options):
         if not isinstance(topography, Topography):
             raise InputError(f"topography: must be a gfmd.Topography (got {type(topography).__name__})")
@@ -135,7 +176,7 @@ class ContactSolver:
                  "[friction]", f"coefficient = {_toml_value('friction', friction)}",
                  f"direction = {_toml_value('direction', direction)}"]
         lines += [f"{k} = {_toml_value(k, v)}" for k, v in options.items() if k in _FRICTION_KEYS]
-        lines += ["[interaction]", f"model = {_toml_value('interaction', interaction)}"]
+        lines += _interaction_lines(interaction)
         if not (isinstance(hardness, numbers.Real) and not isinstance(hardness, bool) and hardness == math.inf):
             lines += [f"hardness = {_toml_value('hardness', hardness)}"]
         lines += ["[solver]"]
@@ -210,13 +251,14 @@ def load_path(solver: ContactSolver, pressures: Optional[Iterable[float]] = None
 
 def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressure: Optional[float] = None,
           force: Optional[float] = None, approach: Optional[float] = None, friction: float = 0.0,
-          direction: float = 0.0, interaction: str = "harmonic", hardness: float = math.inf,
+          direction: float = 0.0, interaction="harmonic", hardness: float = math.inf,
           stress_depths: Iterable[float] = (), progress: Optional[Callable[[int, int, float], None]] = None,
           **options) -> Result:
     """Presses (and, with friction > 0, slides) the topography on the body; returns a Result.
 
     Exactly one of pressure (mean, E*), force (E* L^2) or approach (L). friction: the local
-    Coulomb coefficient mu_c; direction: sliding direction in degrees from x. hardness: the
+    Coulomb coefficient mu_c; direction: sliding direction in degrees from x. interaction:
+    "harmonic" (default), "hardwall" or gfmd.Adhesive(work_of_adhesion, range). hardness: the
     plastic cap H of the local pressure (interaction.hardness; inf: none). options: the
     [solver] keys (tolerance, max_iterations, max_outer, max_tangential, anderson, mixing,
     threads, fft_planner, backend) and the [friction] keys (regularization, creepage,

@@ -1,0 +1,63 @@
+"""Adhesion from Python: gfmd.Adhesive as the interaction of gfmd.solve / gfmd.ContactSolver, and
+load paths that unload along their branch (gfmd.load_path with approaches)."""
+import math
+
+import numpy as np
+import pytest
+
+import gfmd
+
+# A paraboloid R = 1 on an incompressible half-space, w = 1e-3, range for Maugis's lambda = 1.
+W, RANGE = 1e-3, 0.0113
+
+
+def sphere(nx=128):
+    return gfmd.Topography.hertz(nx=nx, lx=1.5, radius=1.0)
+
+
+def test_unloading_keeps_the_contact_a_cold_start_does_not_make():
+    # Hysteresis: at approach -0.015 (beyond the range at first touch) the path unloading from
+    # contact still holds one (Maugis's branch goes on to about -0.0157 here), a cold solve has none.
+    body = gfmd.ElasticBody(poisson=0.5)
+    solver = gfmd.ContactSolver(sphere(), body, interaction=gfmd.Adhesive(W, RANGE))
+    path = list(gfmd.load_path(solver, approaches=[0.01, 0.0, -0.005, -0.01, -0.015]))
+    forces = [r.summary["normal_force"] for r in path]
+    assert min(forces) < -1.5 * math.pi * W  # the pull-off, about -1.6 pi w R
+    assert path[-1].summary["relative_contact_area"] > 0
+    assert path[-1].summary["normal_force"] < 0
+    cold = gfmd.solve(sphere(), body, approach=-0.015, interaction=gfmd.Adhesive(W, RANGE))
+    assert cold.summary["relative_contact_area"] == 0
+    # The adhesive figures and fields.
+    r = path[2]
+    assert r.summary["adhesive_force"] > 0
+    assert r.summary["repulsive_force"] == pytest.approx(r.summary["normal_force"] + r.summary["adhesive_force"])
+    a = r["adhesive_traction"]
+    assert a.shape == (128, 128)
+    assert a.max() == pytest.approx(W / RANGE)
+    assert np.array_equal(r["attraction"] > 0.5, a > 0)
+    assert r.pressure.min() < 0  # tension where the cohesive zone pulls
+
+
+def test_vanishing_adhesion_is_the_hard_wall_bit_for_bit():
+    body = gfmd.ElasticBody(poisson=0.5)
+    a = gfmd.solve(sphere(64), body, approach=0.01, interaction=gfmd.Adhesive(0.0, RANGE))
+    h = gfmd.solve(sphere(64), body, approach=0.01, interaction="hardwall")
+    assert np.array_equal(a.pressure, h.pressure)
+
+
+@pytest.mark.parametrize("args, message", [
+    ((-1e-3, 0.01), "Adhesive.work_of_adhesion: must be zero or positive"),
+    ((1e-3, 0.0), "Adhesive.range: must be positive"),
+    ((1e-3, math.nan), "Adhesive.range: must be a finite number"),
+    ((1e-3, 0.01, "soft"), "Adhesive.repulsion: one of hardwall, harmonic"),
+])
+def test_bad_adhesion_is_refused(args, message):
+    with pytest.raises(gfmd.InputError, match=message):
+        gfmd.Adhesive(*args)
+
+
+def test_adhesion_with_friction_is_refused_naming_the_key():
+    with pytest.raises(gfmd.InputError, match="interaction.model: adhesion with friction is not implemented"):
+        gfmd.ContactSolver(sphere(64), interaction=gfmd.Adhesive(W, RANGE), friction=0.3)
+    with pytest.raises(gfmd.InputError, match="interaction: "):
+        gfmd.ContactSolver(sphere(64), interaction=3)
