@@ -378,3 +378,58 @@ TEST(Adhesion, CurveLoadsAndUnloadsAlongAnApproachPath) {
   EXPECT_EQ(un.code, 2) << un.output;
   EXPECT_FALSE(std::filesystem::exists(d / "bad"));
 }
+
+TEST(Adhesion, CycleWorkIsTheEnergyReleasedAtTheJumps) {
+  // Energy: along a branch the force is the derivative of the state's energy (elastic +
+  // adhesive), F = dE/d(approach); over a closed load-unload cycle the work of the external
+  // force, the loop integral of F d(approach), is what the jumps release (jump-in and jump-off:
+  // the intervals where the contact appears or vanishes). lambda = 2.5, 128^2, spacing 0.001:
+  // measured the smooth intervals' |dE - F dd| up to 5.3 % of F dd (1.2 % at 256^2: the cell law's
+  // spread follows the state, which the energy's derivative leaves out) and the cycle's work within
+  // 2 % of the jumps' release (0.85 % at 256^2).
+  std::vector<double> ds;
+  for (int k = -20; k <= 10; ++k) ds.push_back(1e-3 * k);
+  for (int k = 9; k >= -20; --k) ds.push_back(1e-3 * k);
+  const Grid grid{128, 128, 1.5, 1.5};
+  ElasticParams ep;
+  ep.poisson = 0.5;
+  const ElasticBody body(grid, ep);
+  InteractionParams inter;
+  inter.hard_wall = true;
+  inter.work_of_adhesion = kW;
+  inter.range = kW / sigma0(2.5);
+  ContactSolver solver(body, make_hertz(grid, 1.0, 1.0), inter, FrictionParams{}, SolverParams{});
+  ContactFields f;
+  std::vector<double> E, F, A;
+  for (double d : ds) {
+    const SolveInfo info = solver.solve(LoadParams{LoadMode::Approach, d}, f);
+    ASSERT_TRUE(info.converged) << d << ": " << info.status;
+    double force = 0, cells = 0;
+    for (std::size_t i = 0; i < f.pressure.size(); ++i) {
+      force += f.pressure[i];
+      cells += f.in_contact(i) ? 1.0 : 0.0;
+    }
+    E.push_back(info.energy);
+    F.push_back(force * grid.cell_area());
+    A.push_back(cells);
+  }
+  EXPECT_EQ(E.front(), 0.0);  // out of contact and out of range: no energy
+  EXPECT_EQ(E.back(), 0.0);
+  double cycle = 0, released = 0;
+  int jumps = 0;
+  for (std::size_t k = 0; k + 1 < ds.size(); ++k) {
+    const double work = 0.5 * (F[k] + F[k + 1]) * (ds[k + 1] - ds[k]);
+    const double dE = E[k + 1] - E[k];
+    cycle += work;
+    if ((A[k] > 0) != (A[k + 1] > 0)) {
+      ++jumps;
+      released += work - dE;
+      EXPECT_GT(work - dE, 0) << "a jump releases energy, it does not take any: interval " << k;
+    } else {
+      EXPECT_LE(std::abs(dE - work), 0.08 * std::abs(work) + 1e-12) << "interval " << k << " at " << ds[k];
+    }
+  }
+  EXPECT_EQ(jumps, 2);  // jump-in on the way in, jump-off on the way out
+  EXPECT_GT(cycle, 0);  // hysteresis: the cycle costs work
+  EXPECT_NEAR(cycle / released, 1.0, 0.03);
+}

@@ -161,7 +161,12 @@ nlohmann::json summary_json(const CaseResult& r) {
   nlohmann::json j = observables_json(r.observables);
   j["iterations"] = r.info.iterations;
   j["outer_iterations"] = r.info.outer_iterations;
-  if (r.config.interaction.adhesive()) j["adhesion_steps"] = r.info.adhesion_steps;
+  if (r.config.interaction.adhesive()) {
+    j["adhesion_steps"] = r.info.adhesion_steps;
+    j["elastic_energy"] = r.info.elastic_energy;
+    j["adhesive_energy"] = r.info.adhesive_energy;
+    j["energy"] = r.info.energy;
+  }
   if (r.config.friction.coefficient > 0) {
     j["tangential_iterations"] = r.info.tangential_iterations;
     const FrictionLawType& law = friction_law_type(r.config.friction.law.kind);

@@ -39,17 +39,29 @@ using namespace contact_detail;
 
 void ContactSolver::gap_spread(const RealField& gap, RealField& gx, RealField& spread) {
   // |g_x| dx + |g_y| dy by one forward and two inverse transforms (s2_, s3_ are free outside
-  // the friction steps, and adhesion runs without friction).
-  fft_.forward(gap.data(), s2_.data());
+  // the friction steps, and adhesion runs without friction). The spectral derivative's symbols
+  // are i q_x and i q_y (0 on the Nyquist lines), tabulated once with 1/N folded in.
   const int nxh = grid_.nxh();
-  const double inv_n = 1.0 / static_cast<double>(grid_.size());
-  for_rows(grid_.rows(), [&](int row) {
-    for (int ikx = 0; ikx < nxh; ++ikx) {
-      const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
-      const cplx v = s2_[k] * inv_n;
-      s3_[k] = v * slip_derivative_symbol(grid_, ikx, grid_.y0 + row, 0.0, 1.0, SlipDerivative::Spectral);
-      s2_[k] = v * slip_derivative_symbol(grid_, ikx, grid_.y0 + row, 1.0, 0.0, SlipDerivative::Spectral);
-    }
+  const std::size_t ns = s2_.size();
+  if (adh_.qx.size() != ns) {
+    adh_.qx.assign(ns, 0.0);
+    adh_.qy.assign(ns, 0.0);
+    const double inv_n = 1.0 / static_cast<double>(grid_.size());
+    for_rows(grid_.rows(), [&](int row) {
+      for (int ikx = 0; ikx < nxh; ++ikx) {
+        const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
+        adh_.qx[k] =
+            slip_derivative_symbol(grid_, ikx, grid_.y0 + row, 1.0, 0.0, SlipDerivative::Spectral).imag() * inv_n;
+        adh_.qy[k] =
+            slip_derivative_symbol(grid_, ikx, grid_.y0 + row, 0.0, 1.0, SlipDerivative::Spectral).imag() * inv_n;
+      }
+    });
+  }
+  fft_.forward(gap.data(), s2_.data());
+  parallel_for(static_cast<std::ptrdiff_t>(ns), [&](std::ptrdiff_t k) {
+    const cplx iv = cplx(-s2_[k].imag(), s2_[k].real());  // i times the mode
+    s3_[k] = iv * adh_.qy[k];
+    s2_[k] = iv * adh_.qx[k];
   });
   fft_.backward_unscaled_destroying(s2_.data(), gx.data());
   fft_.backward_unscaled_destroying(s3_.data(), spread.data());
@@ -62,6 +74,17 @@ double adhesive_fraction(double gap, double spread, double range) {
   if (gap <= 0.0) return 1.0;
   if (spread > 0.0) return std::clamp((range - gap) / spread + 0.5, 0.0, 1.0);
   return gap < range ? 1.0 : 0.0;
+}
+
+double adhesive_integral(double gap, double spread, double range) {
+  const double g = std::max(gap, 0.0);
+  if (!(spread > 0.0)) return std::min(g, range);
+  const double lo = range - 0.5 * spread, hi = range + 0.5 * spread;
+  if (g <= lo) return g;  // (lo < 0: the ramp reaches into the contact; the law is 1 at g <= 0)
+  if (g >= hi) return range;
+  // lo + the integral of (range - t)/spread + 1/2 from lo to g.
+  const double t = g - lo;
+  return lo + t - 0.5 * t * t / spread;
 }
 
 ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, ContactFields& f, double tol,
@@ -83,22 +106,24 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
     (void)pre;
     if (!info.converged) return pre;
   }
-  RealField w(n), d(n), gap(n);
-  adh_spread_.assign(n, 0.0);
-  // Anderson mixing of the traction, summed by grid row (the same bits on any process count).
-  std::unique_ptr<AndersonMixer> mixer;
-  std::vector<std::uint32_t> start, order;
-  if (sp_.anderson > 0) {
-    mixer = std::make_unique<AndersonMixer>(sp_.anderson);
-    mixer->resize(n);
+  for (RealField* fld : {&adh_.w, &adh_.d, &adh_.gap, &adh_.spread})
+    if (fld->size() != n) fld->assign(n, 0.0);
+  RealField &w = adh_.w, &d = adh_.d, &gap = adh_.gap;
+  // Anderson mixing of the traction, summed by grid row (the same bits on any process count);
+  // made once, restarted for each solve.
+  if (sp_.anderson > 0 && !adh_.mixer) {
+    adh_.mixer = std::make_unique<AndersonMixer>(sp_.anderson);
+    adh_.mixer->resize(n);
     const auto rows = static_cast<std::size_t>(grid_.rows());
-    start.resize(rows + 1);
-    for (std::size_t r = 0; r <= rows; ++r) start[r] = static_cast<std::uint32_t>(r * grid_.nx);
-    order.resize(n);
-    for (std::size_t e = 0; e < n; ++e) order[e] = static_cast<std::uint32_t>(e);
-    mixer->group_by_rows(&grid_, &start, &order);
+    adh_.start.resize(rows + 1);
+    for (std::size_t r = 0; r <= rows; ++r) adh_.start[r] = static_cast<std::uint32_t>(r * grid_.nx);
+    adh_.order.resize(n);
+    for (std::size_t e = 0; e < n; ++e) adh_.order[e] = static_cast<std::uint32_t>(e);
+    adh_.mixer->group_by_rows(&grid_, &adh_.start, &adh_.order);
   }
-  RealField kept_image;  // the image of the last iterate the safeguard kept
+  AndersonMixer* mixer = adh_.mixer.get();
+  if (mixer) mixer->restart();
+  RealField& kept_image = adh_.kept;  // the image of the last iterate the safeguard kept
   double kept_change = std::numeric_limits<double>::infinity();
   bool mixed = false;  // the current iterate is an extrapolation
   int rejected = 0, plain_left = 0;
@@ -131,15 +156,28 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
     // The gap of this step's state, C_zz (p - a) + p/k + g0 - delta, and the law on it.
     parallel_for(nl, [&](std::ptrdiff_t i) { d[i] = p[i] - a[i]; });
     apply_compliance(d, gap);
+    // The elastic energy 1/2 sum (p - a) C_zz (p - a) dA of this step's state (gap is C_zz (p - a)
+    // here), and the harmonic repulsion's 1/2 sum p^2 / k dA.
+    const auto en = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
+      acc[0] += d[i] * gap[i];
+      acc[1] += p[i] * p[i];
+    });
+    info.elastic_energy = 0.5 * en[0] * grid_.cell_area();
+    const double repulsion_energy = 0.5 * en[1] * inv_k_ * grid_.cell_area();
     const double ik = inv_k_, delta = pk.delta;
     parallel_for(nl, [&](std::ptrdiff_t i) { gap[i] += ik * p[i] + g0_[i] - delta; });
-    gap_spread(gap, d, adh_spread_);
-    const auto sums = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
-      const double an = s0 * adhesive_fraction(gap[i], adh_spread_[i], rho);
+    gap_spread(gap, d, adh_.spread);
+    // The adhesive energy goes with the traction this step used (a): its cell law's spread is
+    // the one it was made from, so the energy of a converged state is its own.
+    const auto sums = grid_sums<3>(grid_, [&](std::size_t i, std::array<double, 3>& acc) {
+      const double an = s0 * adhesive_fraction(gap[i], adh_.spread[i], rho);
       acc[0] += std::abs(an - a[i]);
       acc[1] += an;
+      acc[2] += s0 * (adhesive_integral(gap[i], adh_.spread[i], rho) - rho);
       d[i] = an;
     });
+    info.adhesive_energy = sums[2] * grid_.cell_area();
+    info.energy = info.elastic_energy + info.adhesive_energy + repulsion_energy;
     change = sums[1] > 0 ? sums[0] / sums[1] : (sums[0] > 0 ? 1.0 : 0.0);
     if (change <= tol && pk.converged && inner_tol <= tol) {
       info.status = "converged";

@@ -162,7 +162,7 @@ double ContactSolver::residual(const ContactFields& f, double delta) {
         acc[0] += d * d;
       }
       const double law =
-          adh_spread_.size() == f.adhesion.size() ? s0 * adhesive_fraction(g, adh_spread_[i], rho) : ai;
+          adh_.spread.size() == f.adhesion.size() ? s0 * adhesive_fraction(g, adh_.spread[i], rho) : ai;
       acc[0] += (ai - law) * (ai - law);
       acc[1] += pr * pr + ai * ai;
     });

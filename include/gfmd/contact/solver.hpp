@@ -132,6 +132,12 @@ struct SolveInfo {
   // Adhesion: the cohesive-set steps (majorize-minimize over the set where the gap is below
   // the range; each a repulsive solve) the solve took; 0 without adhesion.
   int adhesion_steps = 0;
+  // Adhesion: the energy of the solution (per the solve's own discretisation, so that along a
+  // load path d(energy)/d(approach) = normal_force): the elastic energy 1/2 sum p_net C p_net dA,
+  // the adhesive energy sum phi(g) dA (phi = -w + the cell law's integral over the gap: -w in
+  // contact, 0 beyond the range) and the harmonic repulsion's 1/2 sum p_rep^2/k dA (0 for the
+  // hard wall); energy is their sum. 0 without adhesion.
+  double elastic_energy = 0.0, adhesive_energy = 0.0, energy = 0.0;
   // The slip derivative the solution was computed with (FrictionParams::slip_derivative, or
   // the automatic choice: upwind2 where the solve met stick, else spectral for sliding).
   SlipDerivative slip_derivative = SlipDerivative::Spectral;
@@ -175,6 +181,9 @@ inline bool history_depth_fits(int configured, int depth) {
 // below `range` (1 in contact), clamp((range - gap)/spread + 1/2, 0, 1); the cell's adhesive
 // traction is sigma0 times it.
 double adhesive_fraction(double gap, double spread, double range);
+// Its integral over the gap from 0, the adhesive energy per area of such a cell being
+// sigma0 (adhesive_integral - range): gap in contact, range beyond range + spread/2.
+double adhesive_integral(double gap, double spread, double range);
 
 class DeviceSolve;  // the CUDA backend's solve (contact/device_solve.hpp)
 
@@ -366,7 +375,16 @@ class ContactSolver {
   // keep anything in its work arrays between calls, so these share them.
   RealField& r1_ = cg_t_;
   RealField& r2_ = cg_r_;
-  RealField adh_spread_;         // adhesion: the gap's spread over each cell in the last step
+  // Adhesion's state between solves (adhesion.cpp; a load path reuses it): the gap's spread over
+  // each cell in the last step (the residual reads it), work arrays, the traction's mixer and
+  // its row grouping, the spectral gradient's factors i q_x, i q_y per half-spectrum mode.
+  struct AdhesionWork {
+    RealField spread, w, d, gap, kept;
+    std::unique_ptr<AndersonMixer> mixer;
+    std::vector<std::uint32_t> start, order;
+    std::vector<double> qx, qy;
+  };
+  AdhesionWork adh_;
   RealField zx_, zy_, bx_, by_;  // splitting variable and pressure-induced slip of solve_tangential
   bool have_z_ = false;
   double gamma_ = 0.0;  // its step
