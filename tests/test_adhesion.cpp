@@ -433,3 +433,27 @@ TEST(Adhesion, CycleWorkIsTheEnergyReleasedAtTheJumps) {
   EXPECT_GT(cycle, 0);  // hysteresis: the cycle costs work
   EXPECT_NEAR(cycle / released, 1.0, 0.03);
 }
+
+TEST(Adhesion, CellLawIsTheDerivativeOfItsPotential) {
+  // The cell integral of the Dugdale law (adhesive_fraction) and its energy (adhesive_potential):
+  // -range in contact, 0 beyond range + spread/2, and the traction its derivative in the gap,
+  // also where the spread exceeds twice the range (the ramp reaching into the contact).
+  const double rho = 0.01;
+  for (const double s : {0.0, 0.002, 0.01, 0.05}) {
+    EXPECT_EQ(adhesive_fraction(-1e-3, s, rho), 1.0);
+    EXPECT_EQ(adhesive_potential(1.0, s, rho), 0.0);
+    if (s <= 2 * rho) {
+      EXPECT_DOUBLE_EQ(adhesive_potential(0.0, s, rho), -rho) << s;
+    }
+    for (double g = 1e-4; g < rho + s; g += 7.3e-4) {
+      const double h = 1e-7;
+      const double slope = (adhesive_potential(g + h, s, rho) - adhesive_potential(g - h, s, rho)) / (2 * h);
+      EXPECT_NEAR(slope, adhesive_fraction(g, s, rho), 1e-6) << "spread " << s << " gap " << g;
+    }
+  }
+  // Sampled (no spread): Dugdale's step, whole cells.
+  EXPECT_EQ(adhesive_fraction(0.5 * rho, 0.0, rho), 1.0);
+  EXPECT_EQ(adhesive_fraction(1.5 * rho, 0.0, rho), 0.0);
+  // Half a cell inside the range: half the stress.
+  EXPECT_DOUBLE_EQ(adhesive_fraction(rho, 0.004, rho), 0.5);
+}

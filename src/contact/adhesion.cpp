@@ -51,9 +51,11 @@ void ContactSolver::gap_spread(const RealField& gap, RealField& gx, RealField& s
       for (int ikx = 0; ikx < nxh; ++ikx) {
         const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
         adh_.qx[k] =
-            slip_derivative_symbol(grid_, ikx, grid_.y0 + row, 1.0, 0.0, SlipDerivative::Spectral).imag() * inv_n;
+            slip_derivative_symbol(grid_, ikx, grid_.y0 + row, 1.0, 0.0, SlipDerivative::Spectral).imag() *
+            inv_n;
         adh_.qy[k] =
-            slip_derivative_symbol(grid_, ikx, grid_.y0 + row, 0.0, 1.0, SlipDerivative::Spectral).imag() * inv_n;
+            slip_derivative_symbol(grid_, ikx, grid_.y0 + row, 0.0, 1.0, SlipDerivative::Spectral).imag() *
+            inv_n;
       }
     });
   }
@@ -76,15 +78,17 @@ double adhesive_fraction(double gap, double spread, double range) {
   return gap < range ? 1.0 : 0.0;
 }
 
-double adhesive_integral(double gap, double spread, double range) {
+double adhesive_potential(double gap, double spread, double range) {
+  // -(the integral of adhesive_fraction from the gap to infinity). The fraction is 1 up to
+  // a0 = max(range - spread/2, 0), falls linearly to 0 at hi = range + spread/2 and is 0 beyond.
+  if (!(spread > 0.0)) return std::max(gap, 0.0) < range ? std::max(gap, 0.0) - range : 0.0;
+  const double hi = range + 0.5 * spread, a0 = std::max(range - 0.5 * spread, 0.0);
   const double g = std::max(gap, 0.0);
-  if (!(spread > 0.0)) return std::min(g, range);
-  const double lo = range - 0.5 * spread, hi = range + 0.5 * spread;
-  if (g <= lo) return g;  // (lo < 0: the ramp reaches into the contact; the law is 1 at g <= 0)
-  if (g >= hi) return range;
-  // lo + the integral of (range - t)/spread + 1/2 from lo to g.
-  const double t = g - lo;
-  return lo + t - 0.5 * t * t / spread;
+  if (g >= hi) return 0.0;
+  // The linear part from max(g, a0) to hi: the area of a triangle of height f there.
+  const double from = std::max(g, a0);
+  const double f_from = std::clamp((range - from) / spread + 0.5, 0.0, 1.0);
+  return -(0.5 * f_from * (hi - from) + std::max(a0 - g, 0.0));
 }
 
 ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, ContactFields& f, double tol,
@@ -173,7 +177,7 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
       const double an = s0 * adhesive_fraction(gap[i], adh_.spread[i], rho);
       acc[0] += std::abs(an - a[i]);
       acc[1] += an;
-      acc[2] += s0 * (adhesive_integral(gap[i], adh_.spread[i], rho) - rho);
+      acc[2] += s0 * adhesive_potential(gap[i], adh_.spread[i], rho);
       d[i] = an;
     });
     info.adhesive_energy = sums[2] * grid_.cell_area();

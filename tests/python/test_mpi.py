@@ -154,6 +154,30 @@ def test_hertz_frictionless_any_rank_count(tmp_path, ranks):
     same_solution(tmp_path / "serial", tmp_path / "mpi", ranks)
 
 
+ADHESIVE = HERTZ.replace("force = 0.01", "approach = 0.002").replace(
+    "[solver]", "[interaction]\nmodel = \"adhesive\"\nwork_of_adhesion = 2e-3\nrange = 0.02\n[solver]")
+
+
+@pytest.mark.parametrize("ranks", [2, 3])
+def test_adhesive_hertz_any_rank_count(tmp_path, ranks):
+    # The adhesive steps (the cell law's spectral gradient, the traction's Anderson mixing summed by
+    # grid row) give the serial bits on slabs, the adhesive figures and fields included.
+    case = tmp_path / "adh.toml"
+    case.write_text(ADHESIVE)
+    p = run(case, tmp_path / "serial")
+    assert p.returncode == 0, p.stderr
+    p = run(case, tmp_path / "mpi", ranks)
+    assert p.returncode == 0, p.stderr
+    a, b = same_solution(tmp_path / "serial", tmp_path / "mpi", ranks)
+    assert a["adhesive_force"] > 0 and a["normal_force"] < a["repulsive_force"]
+    for k in ("adhesive_force", "repulsive_force", "attraction_area_fraction", "cohesive_zone_fraction",
+              "adhesion_steps", "energy"):
+        assert b[k] == a[k], k
+    import netCDF4
+    with netCDF4.Dataset(tmp_path / "serial" / "fields.nc") as x, netCDF4.Dataset(tmp_path / "mpi" / "fields.nc") as y:
+        assert np.array_equal(np.array(x["adhesive_traction"][:]), np.array(y["adhesive_traction"][:]))
+
+
 @pytest.mark.parametrize("ranks", [2, 3])
 def test_thin_layer_sliding_with_stick(tmp_path, ranks):
     case = tmp_path / "thin.toml"

@@ -181,9 +181,10 @@ inline bool history_depth_fits(int configured, int depth) {
 // below `range` (1 in contact), clamp((range - gap)/spread + 1/2, 0, 1); the cell's adhesive
 // traction is sigma0 times it.
 double adhesive_fraction(double gap, double spread, double range);
-// Its integral over the gap from 0, the adhesive energy per area of such a cell being
-// sigma0 (adhesive_integral - range): gap in contact, range beyond range + spread/2.
-double adhesive_integral(double gap, double spread, double range);
+// The cell's adhesive energy per area over sigma0: minus the integral of adhesive_fraction from
+// the gap to infinity (-range in contact where spread <= 2 range; 0 beyond range + spread/2),
+// so that the traction is its derivative in the gap.
+double adhesive_potential(double gap, double spread, double range);
 
 class DeviceSolve;  // the CUDA backend's solve (contact/device_solve.hpp)
 
