@@ -155,11 +155,11 @@ TEST(Adhesion, MaugisReferenceHasItsLimits) {
 
 TEST(Adhesion, PullOffFollowsMaugisFromDmtToJkr) {
   // The most tensile force on an approach-controlled unloading path (the force is flat at its
-  // minimum) against Maugis's pull-off, within 3 % (measured: 0.02 % at lambda =
-  // 0.1 with the cell 4R on 256^2; 0.3 % at 1 and 1.0 % at 2.5 with 1.5R on 256^2, contact radius
-  // 20-25 cells; the errors shrink with refinement: 0.68/0.33/0.23 % at lambda = 1 on
-  // 128/256/512^2). lambda = 0.1 is the DMT end (mu_T = lambda/1.157 = 0.086): -2 pi w R within
-  // 3 % too.
+  // minimum) against Maugis's pull-off, within 3 % (measured with these paths: 0.16 % at
+  // lambda = 0.1 with the cell 4R on 128^2; 0.33 % at 1 and 1.8 % at 2.5 with 1.5R on 256^2,
+  // contact radius 21-25 cells; the errors shrink with refinement: 0.63/0.33/0.23 % at lambda = 1
+  // on 128/256/512^2, 1.8/0.44 % at 2.5 on 256/512^2; scripts/validate_adhesion.py). lambda = 0.1
+  // is the DMT end (mu_T = lambda/1.157 = 0.086): -2 pi w R within 3 % too.
   struct Case {
     double lambda, lx;
     int nx;
