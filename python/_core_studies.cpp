@@ -62,10 +62,13 @@ py::object percolation_case(const std::string& case_path, const std::string& dir
   }));
 }
 
-py::object curve_case(const std::string& case_path, const std::vector<double>& pressures,
-                      const std::vector<std::string>& set, const std::string& dir, bool force) {
-  const std::vector<double> ps = gfmd::curve_pressures(pressures);
-  const gfmd::Config cfg = gfmd::curve_config(case_path, set, ps);
+// by_approach: `values` is an approach path (unload: back through it), else the pressures.
+py::object curve_case(const std::string& case_path, const std::vector<double>& values,
+                      const std::vector<std::string>& set, const std::string& dir, bool force,
+                      bool by_approach, bool unload) {
+  const gfmd::Config cfg =
+      by_approach ? gfmd::curve_config_approaches(case_path, set, gfmd::approach_path(values, unload))
+                  : gfmd::curve_config(case_path, set, gfmd::curve_pressures(values));
   return json_to_py(interruptible([&](const std::function<bool()>& stop) {
     gfmd::check_output_directory(dir, force);
     const gfmd::DirectoryLock lock(dir);
@@ -98,8 +101,8 @@ void bind_studies(py::module_& m) {
         py::arg("output"), py::arg("plot") = "", py::arg("force") = false);
   m.def("percolation_case", &percolation_case, py::arg("case"), py::arg("direction"), py::arg("set"),
         py::arg("area_tolerance"), py::arg("output"), py::arg("force") = false);
-  m.def("curve_case", &curve_case, py::arg("case"), py::arg("pressures"), py::arg("set"), py::arg("output"),
-        py::arg("force") = false);
+  m.def("curve_case", &curve_case, py::arg("case"), py::arg("values"), py::arg("set"), py::arg("output"),
+        py::arg("force") = false, py::arg("by_approach") = false, py::arg("unload") = false);
   m.def("ensemble_case", &ensemble_case, py::arg("case"), py::arg("first_seed"), py::arg("last_seed"),
         py::arg("set"), py::arg("output"), py::arg("force") = false);
 }

@@ -36,16 +36,28 @@ def percolation(case: str, direction: str = "x", set: Iterable[str] = (), area_t
                                   str(output), _flag("force", force))
 
 
-def curve(case: str, pressures, output: str, set: Iterable[str] = (), force: bool = False) -> dict:
+def curve(case: str, pressures=None, output: str = "", set: Iterable[str] = (), force: bool = False, *,
+          approaches=None, unload: bool = False) -> dict:
     """Load curves as `gfmd curve`: the case solved at each mean pressure (/E*, sorted, warm
     started, leakage on) into output/points/; writes output/curve.csv and curve.json (the
     figure curve.png is drawn by `gfmd curve`) and returns curve.json (rows under "points",
-    the percolation threshold under "percolation")."""
+    the percolation threshold under "percolation"). approaches=[...] instead of pressures: an
+    approach path in the order given (gfmd curve --approaches), unload=True going back through
+    it (--unload); curve.json then has "pull_off_force" (adhesion: the most tensile force)."""
+    if (pressures is None) == (approaches is None):
+        raise InputError("pressures: give one of pressures and approaches")
+    name = "pressures" if approaches is None else "approaches"
+    values = pressures if approaches is None else approaches
     try:
-        ps = [float(p) for p in pressures]
+        vs = [float(p) for p in values]
     except (TypeError, ValueError):
-        raise InputError(f"pressures: a list of numbers (got {pressures!r})") from None
-    return _core.curve_case(str(case), ps, list(set), str(output), _flag("force", force))
+        raise InputError(f"{name}: a list of numbers (got {values!r})") from None
+    if not output:
+        raise InputError("output: give the curve's directory")
+    if unload and approaches is None:
+        raise InputError("unload: only with approaches (an approach path)")
+    return _core.curve_case(str(case), vs, list(set), str(output), _flag("force", force), approaches is not None,
+                            _flag("unload", unload))
 
 
 def ensemble(case: str, output: str, seeds=(0, 7), set: Iterable[str] = (), force: bool = False) -> dict:

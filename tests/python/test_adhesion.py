@@ -61,3 +61,19 @@ def test_adhesion_with_friction_is_refused_naming_the_key():
         gfmd.ContactSolver(sphere(64), interaction=gfmd.Adhesive(W, RANGE), friction=0.3)
     with pytest.raises(gfmd.InputError, match="interaction: "):
         gfmd.ContactSolver(sphere(64), interaction=3)
+
+
+def test_curve_along_an_approach_path_as_the_command_line(tmp_path):
+    # gfmd.curve(approaches=..., unload=True) = gfmd curve --approaches ... --unload: the same rows.
+    case = tmp_path / "adh.toml"
+    case.write_text('[grid]\nnx = 64\nlx = 1.5\n[elastic]\npoisson = 0.5\n[indenter]\ntype = "hertz"\nradius = 1.0\n'
+                    '[load]\napproach = 0.0\n[interaction]\nmodel = "adhesive"\nwork_of_adhesion = 1e-3\n'
+                    'range = 0.0113\n[output]\npng = false\n')
+    j = gfmd.curve(str(case), output=str(tmp_path / "py"), approaches=[-0.01, 0.0, 0.01], unload=True)
+    assert j["approaches"] == [-0.01, 0.0, 0.01, 0.0, -0.01]
+    assert [p["branch"] for p in j["points"]] == ["load", "load", "load", "unload", "unload"]
+    assert j["pull_off_force"] == min(p["normal_force"] for p in j["points"]) < 0
+    with pytest.raises(gfmd.InputError, match="unload: only with approaches"):
+        gfmd.curve(str(case), [0.01], str(tmp_path / "bad"), unload=True)
+    with pytest.raises(gfmd.InputError, match="give one of pressures and approaches"):
+        gfmd.curve(str(case), [0.01], str(tmp_path / "bad"), approaches=[0.0])
