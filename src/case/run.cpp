@@ -387,8 +387,11 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
   // Checkpoints hold the whole pressure and tractions, so that a run resumes on any number
   // of processes: a distributed run gathers them on rank 0 a field at a time (below). Every
   // process takes part when rank 0 has a checkpoint path.
+  // An adhesive solve writes none: a checkpoint holds the pressure and tractions, not the
+  // adhesive traction, and a solve resumed without it could settle on another branch.
   const bool checkpoints =
-      distributed ? mpi::from_root(opts.checkpoint_path.empty() ? 0 : 1) == 1 : !opts.checkpoint_path.empty();
+      !cfg.interaction.adhesive() && (distributed ? mpi::from_root(opts.checkpoint_path.empty() ? 0 : 1) == 1
+                                                  : !opts.checkpoint_path.empty());
   const auto save = [&](const ContactFields& f) {
     if (!checkpoints) return;
     // The friction solve's restart point where it has one: its fields (the pressure at the

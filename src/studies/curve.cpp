@@ -233,6 +233,9 @@ nlohmann::json write_curve_tables(const std::string& case_path, const Config& cf
   j["column_order"] = cols;
   j["points"] = points;
   nlohmann::json perc = curve_threshold(pressures, areas, open);
+  if (by_approach && pressures.empty() && !summaries.empty())
+    perc["message"] =
+        "no point of the loading branch at a positive mean pressure (the threshold is sought there)";
   perc["criterion"] =
       "the leakage stops: the open gap (g > 0) wraps around the cell along no direction, i.e. the contact "
       "percolates";

@@ -204,6 +204,21 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
                                           "/; numeric columns: " + columns + ")");
     }
   };
+  // With adhesion each point's state depends on the path before it (its branch): finished
+  // points are reused only when every point is, else the whole path is solved again (a point
+  // after a reused one would start cold and could land on the other branch).
+  bool reuse = true;
+  if (base.interaction.adhesive() && root)
+    for (int i = 0; i < total && reuse; ++i) {
+      char name[32];
+      std::snprintf(name, sizeof name, "point_%03d", i);
+      std::vector<std::string> sets = opts.overrides;
+      sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
+      const Config cfg = load_config(case_path, sets);
+      reuse = finished_summary((fs::path(stage) / name).string(), cfg).has_value() ||
+              finished_summary((fs::path(dir) / name).string(), cfg).has_value();
+    }
+  reuse = mpi::from_root(reuse ? 1 : 0) == 1;
   for (int i = 0; i < total; ++i) {
     char name[32];
     std::snprintf(name, sizeof name, "point_%03d", i);
@@ -220,7 +235,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     const std::string sdir = root ? (fs::path(stage) / name).string() : std::string();
     const std::string pdir = (fs::path(dir) / name).string();
     std::optional<nlohmann::json> old;
-    if (root) {
+    if (root && reuse) {
       old = finished_summary(sdir, cfg);
       if (!old && (old = finished_summary(pdir, cfg))) reused.insert(name);
     }
