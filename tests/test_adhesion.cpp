@@ -185,11 +185,12 @@ TEST(Adhesion, PullOffFollowsMaugisFromDmtToJkr) {
 }
 
 TEST(Adhesion, ForceAgainstContactRadiusFollowsMaugis) {
-  // lambda = 1: the contact radius a = sqrt(A_c/pi) at each force of the unloading path down to
-  // the pull-off, against Maugis's radius at that force, within 3 % (measured up to 1.2 % at
-  // 256^2; the contact's area counts whole cells).
+  // lambda = 1: the contact radius a = sqrt(A_c/pi) at each force of the unloading path towards
+  // the pull-off, against Maugis's radius at that force, within 3 % (measured 0.6-1.6 % at 256^2
+  // down to approach -0.002; the contact's area counts whole cells). Closer to the pull-off the
+  // force no longer fixes the radius (dA/dP is infinite there): 2.7 % at approach -0.004.
   std::vector<double> ds = {0.01};
-  for (double d : unloading(0.005, -0.004, 10)) ds.push_back(d);
+  for (double d : unloading(0.005, -0.002, 8)) ds.push_back(d);
   const auto pts = path(1.0, 256, 1.5, ds);
   int checked = 0;
   for (std::size_t k = 1; k < pts.size(); ++k) {
@@ -199,7 +200,7 @@ TEST(Adhesion, ForceAgainstContactRadiusFollowsMaugis) {
     EXPECT_NEAR(A / ref, 1.0, 0.03) << "force " << P << ": A " << A << " against Maugis " << ref;
     ++checked;
   }
-  EXPECT_EQ(checked, 10);
+  EXPECT_EQ(checked, 8);
 }
 
 TEST(Adhesion, UnloadingFollowsItsBranchToTheJumpOff) {
