@@ -107,7 +107,6 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
   if (load.mode != LoadMode::Approach && !(load.value > 0) &&
       !(grid_sum(grid_, [&](std::size_t i) { return a[i]; }) > 0)) {
     const PKResult pre = solve_adhesive(LoadParams{LoadMode::Approach, 0.0}, f, tol, info);
-    (void)pre;
     if (!info.converged) return pre;
   }
   for (RealField* fld : {&adh_.w, &adh_.d, &adh_.gap, &adh_.spread})
@@ -160,16 +159,17 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
     // The gap of this step's state, C_zz (p - a) + p/k + g0 - delta, and the law on it.
     parallel_for(nl, [&](std::ptrdiff_t i) { d[i] = p[i] - a[i]; });
     apply_compliance(d, gap);
-    // The elastic energy 1/2 sum (p - a) C_zz (p - a) dA of this step's state (gap is C_zz (p - a)
-    // here), and the harmonic repulsion's 1/2 sum p^2 / k dA.
+    // In one pass with the gap: the elastic energy 1/2 sum (p - a) C_zz (p - a) dA of this step's
+    // state (gap holds C_zz (p - a) until it is completed here) and the harmonic repulsion's
+    // 1/2 sum p^2 / k dA.
+    const double ik = inv_k_, delta = pk.delta;
     const auto en = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
       acc[0] += d[i] * gap[i];
       acc[1] += p[i] * p[i];
+      gap[i] += ik * p[i] + g0_[i] - delta;
     });
     info.elastic_energy = 0.5 * en[0] * grid_.cell_area();
     const double repulsion_energy = 0.5 * en[1] * inv_k_ * grid_.cell_area();
-    const double ik = inv_k_, delta = pk.delta;
-    parallel_for(nl, [&](std::ptrdiff_t i) { gap[i] += ik * p[i] + g0_[i] - delta; });
     gap_spread(gap, d, adh_.spread);
     // The adhesive energy goes with the traction this step used (a): its cell law's spread is
     // the one it was made from, so the energy of a converged state is its own.

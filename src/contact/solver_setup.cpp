@@ -144,50 +144,40 @@ double ContactSolver::residual(const ContactFields& f, double delta) {
   // Independent check of the final state: gap from the full 3D displacement.
   const auto gap = [&](std::size_t i) { return g0_[i] - delta - f.uz[i]; };
   const double H = inter_.hardness;  // inf: no cap (min(x, inf) = x)
-  if (inter_.adhesive()) {
-    // The repulsion p + a against the interaction, and the adhesive traction a against the
-    // cohesive law on the cells (adhesive_fraction with the gap's spread of the last step),
-    // relative to the size of the two pressures.
-    const double s0 = inter_.adhesive_stress(), rho = inter_.range;
-    // The hard wall's gap errors are measured as the repulsive solve's are (below).
-    const double mean =
-        grid_sum(grid_, [&](std::size_t i) { return g0_[i]; }) / static_cast<double>(grid_.size());
-    const auto sums = grid_sums<4>(grid_, [&](std::size_t i, std::array<double, 4>& acc) {
-      const double g = gap(i), pr = f.repulsion(i), ai = f.adhesion[i];
-      if (inter_.hard_wall) {
-        if (pr > 0 || g < 0) acc[2] += g * g;
-        acc[3] += (g0_[i] - mean) * (g0_[i] - mean);
-      } else {
-        const double d = pr - k_ * std::max(0.0, -g);
-        acc[0] += d * d;
-      }
-      const double law =
-          adh_.spread.size() == f.adhesion.size() ? s0 * adhesive_fraction(g, adh_.spread[i], rho) : ai;
-      acc[0] += (ai - law) * (ai - law);
-      acc[1] += pr * pr + ai * ai;
-    });
-    const double law_part = sums[1] > 0 ? std::sqrt(sums[0] / sums[1]) : std::sqrt(sums[0]);
-    const double gap_part = sums[3] > 0 ? std::sqrt(sums[2] / sums[3]) : std::sqrt(sums[2]);
-    return std::max(law_part, gap_part);
-  }
+  // The repulsion (the pressure; with adhesion p + a) against the interaction.
+  double r;
   if (!inter_.hard_wall) {
     const double num = grid_sum(grid_, [&](std::size_t i) {
-      const double d = f.pressure[i] - std::min(k_ * std::max(0.0, -gap(i)), H);
+      const double d = f.repulsion(i) - std::min(k_ * std::max(0.0, -gap(i)), H);
       return d * d;
     });
-    const double den = grid_sum(grid_, [&](std::size_t i) { return f.pressure[i] * f.pressure[i]; });
-    return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
+    const double den = grid_sum(grid_, [&](std::size_t i) { return f.repulsion(i) * f.repulsion(i); });
+    r = den > 0 ? std::sqrt(num / den) : std::sqrt(num);
+  } else {
+    const double num = grid_sum(grid_, [&](std::size_t i) {
+      const double g = gap(i), pr = f.repulsion(i);
+      if (pr >= H) return g > 0 ? g * g : 0.0;  // at the cap: overlap is plastic flow
+      if (pr > 0) return g * g;
+      return g < 0 ? g * g : 0.0;
+    });
+    const double mean =
+        grid_sum(grid_, [&](std::size_t i) { return g0_[i]; }) / static_cast<double>(grid_.size());
+    const double den = grid_sum(grid_, [&](std::size_t i) { return (g0_[i] - mean) * (g0_[i] - mean); });
+    r = den > 0 ? std::sqrt(num / den) : std::sqrt(num);
   }
-  const double num = grid_sum(grid_, [&](std::size_t i) {
-    const double g = gap(i);
-    if (f.pressure[i] >= H) return g > 0 ? g * g : 0.0;  // at the cap: overlap is plastic flow
-    if (f.pressure[i] > 0) return g * g;
-    return g < 0 ? g * g : 0.0;
+  if (!inter_.adhesive()) return r;
+  // With adhesion also the adhesive traction a against the cohesive law on the cells
+  // (adhesive_fraction with the gap's spread of the last step), relative to the size of the two
+  // pressures.
+  const double s0 = inter_.adhesive_stress(), rho = inter_.range;
+  const auto sums = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
+    const double g = gap(i), pr = f.repulsion(i), ai = f.adhesion[i];
+    const double law =
+        adh_.spread.size() == f.adhesion.size() ? s0 * adhesive_fraction(g, adh_.spread[i], rho) : ai;
+    acc[0] += (ai - law) * (ai - law);
+    acc[1] += pr * pr + ai * ai;
   });
-  const double mean =
-      grid_sum(grid_, [&](std::size_t i) { return g0_[i]; }) / static_cast<double>(grid_.size());
-  const double den = grid_sum(grid_, [&](std::size_t i) { return (g0_[i] - mean) * (g0_[i] - mean); });
-  return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
+  return std::max(r, sums[1] > 0 ? std::sqrt(sums[0] / sums[1]) : std::sqrt(sums[0]));
 }
 
 void ContactSolver::poll(const ContactFields* f, const std::function<void()>& settle,

@@ -259,21 +259,31 @@ nlohmann::json write_curve_tables(const std::string& case_path, const Config& cf
   return j;
 }
 
-}  // namespace
-
-std::vector<double> parse_pressures(const std::string& text) {
+// A list of values from text (parse_pressures, parse_approaches): comma-separated items, each a
+// number or FROM:TO:N, N values from FROM to TO (both included) log-spaced (pressures: FROM and
+// TO positive) or evenly spaced (approaches: any finite values). Errors name `key`.
+struct ValueList {
+  const char* key;      // "pressures" or "approaches"
+  const char* one;      // "pressure" or "approach"
+  const char* example;  // "P1,P2,..."
+  bool log_spaced;      // pressures' ranges; approaches' are linear and their values finite
+};
+std::vector<double> parse_value_list(const std::string& text, const ValueList& l) {
   std::vector<double> out;
   std::stringstream ss(text);
   std::string item;
-  const auto bad = [](const std::string& why) { throw InputError("pressures", why); };
-  if (trim(text).empty()) bad("give at least one pressure: P1,P2,... or FROM:TO:N");
+  const auto bad = [&l](const std::string& why) { throw InputError(l.key, why); };
+  if (trim(text).empty()) bad(std::string("give at least one ") + l.one + ": " + l.example + " or FROM:TO:N");
   if (trim(text).back() == ',') bad("an empty item in '" + text + "' (two commas, or one at an end)");
+  const std::string spacing = l.log_spaced ? "log-spaced" : "evenly spaced";
   while (std::getline(ss, item, ',')) {
     item = trim(item);
     if (item.empty()) bad("an empty item in '" + text + "' (two commas, or one at an end)");
     if (item.find(':') == std::string::npos) {
       const auto v = to_number(item);
-      if (!v) bad("'" + item + "' is not a number");
+      // Pressures are checked as a whole later (curve_pressures); approaches here.
+      if (!v || (!l.log_spaced && !std::isfinite(*v)))
+        bad("'" + item + "' is not " + (l.log_spaced ? "a number" : "a finite number"));
       out.push_back(*v);
       continue;
     }
@@ -282,23 +292,38 @@ std::vector<double> parse_pressures(const std::string& text) {
     std::string part;
     while (std::getline(is, part, ':')) parts.push_back(trim(part));
     if (parts.size() != 3 || item.back() == ':')
-      bad("'" + item + "': a range is FROM:TO:N (N log-spaced values from FROM to TO)");
+      bad("'" + item + "': a range is FROM:TO:N (N " + spacing + " values from FROM to TO)");
     const auto from = to_number(parts[0]), to = to_number(parts[1]);
     const auto n = to_number(parts[2]);
-    if (!from || !to || !n) bad("'" + item + "': FROM, TO and N must be numbers");
-    if (!(*from > 0 && *to > 0 && std::isfinite(*from) && std::isfinite(*to)))
-      bad("'" + item + "': a log-spaced range needs positive, finite FROM and TO");
+    if (l.log_spaced) {
+      if (!from || !to || !n) bad("'" + item + "': FROM, TO and N must be numbers");
+      if (!(*from > 0 && *to > 0 && std::isfinite(*from) && std::isfinite(*to)))
+        bad("'" + item + "': a log-spaced range needs positive, finite FROM and TO");
+    } else if (!from || !to || !n || !std::isfinite(*from) || !std::isfinite(*to)) {
+      bad("'" + item + "': FROM and TO must be finite numbers and N a number");
+    }
     if (!(*n >= 2 && *n <= static_cast<double>(kMaxSweepPoints) && *n == std::floor(*n)))
       bad("'" + item + "': N must be an integer in [2, " + std::to_string(kMaxSweepPoints) + "]");
     const int count = static_cast<int>(*n);
     if (out.size() + static_cast<std::size_t>(count) > static_cast<std::size_t>(kMaxSweepPoints))
-      bad("more than " + std::to_string(kMaxSweepPoints) + " pressures");
+      bad("more than " + std::to_string(kMaxSweepPoints) + " " + l.key);
     for (int i = 0; i < count; ++i) {
-      const double t = static_cast<double>(i) / (count - 1);
-      out.push_back(i == 0 ? *from : i == count - 1 ? *to : *from * std::pow(*to / *from, t));
+      if (i == 0 || i == count - 1) {
+        out.push_back(i == 0 ? *from : *to);
+      } else if (l.log_spaced) {
+        out.push_back(*from * std::pow(*to / *from, static_cast<double>(i) / (count - 1)));
+      } else {
+        out.push_back(*from + (*to - *from) * static_cast<double>(i) / (count - 1));
+      }
     }
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<double> parse_pressures(const std::string& text) {
+  return parse_value_list(text, {"pressures", "pressure", "P1,P2,...", true});
 }
 
 std::vector<double> curve_pressures(std::vector<double> ps) {
@@ -317,40 +342,7 @@ std::vector<double> curve_pressures(std::vector<double> ps) {
 }
 
 std::vector<double> parse_approaches(const std::string& text) {
-  std::vector<double> out;
-  std::stringstream ss(text);
-  std::string item;
-  const auto bad = [](const std::string& why) { throw InputError("approaches", why); };
-  if (trim(text).empty()) bad("give at least one approach: D1,D2,... or FROM:TO:N");
-  if (trim(text).back() == ',') bad("an empty item in '" + text + "' (two commas, or one at an end)");
-  while (std::getline(ss, item, ',')) {
-    item = trim(item);
-    if (item.empty()) bad("an empty item in '" + text + "' (two commas, or one at an end)");
-    if (item.find(':') == std::string::npos) {
-      const auto v = to_number(item);
-      if (!v || !std::isfinite(*v)) bad("'" + item + "' is not a finite number");
-      out.push_back(*v);
-      continue;
-    }
-    std::vector<std::string> parts;
-    std::stringstream is(item);
-    std::string part;
-    while (std::getline(is, part, ':')) parts.push_back(trim(part));
-    if (parts.size() != 3 || item.back() == ':')
-      bad("'" + item + "': a range is FROM:TO:N (N evenly spaced values from FROM to TO)");
-    const auto from = to_number(parts[0]), to = to_number(parts[1]);
-    const auto n = to_number(parts[2]);
-    if (!from || !to || !n || !std::isfinite(*from) || !std::isfinite(*to))
-      bad("'" + item + "': FROM and TO must be finite numbers and N a number");
-    if (!(*n >= 2 && *n <= static_cast<double>(kMaxSweepPoints) && *n == std::floor(*n)))
-      bad("'" + item + "': N must be an integer in [2, " + std::to_string(kMaxSweepPoints) + "]");
-    const int count = static_cast<int>(*n);
-    if (out.size() + static_cast<std::size_t>(count) > static_cast<std::size_t>(kMaxSweepPoints))
-      bad("more than " + std::to_string(kMaxSweepPoints) + " approaches");
-    for (int i = 0; i < count; ++i)
-      out.push_back(i == count - 1 ? *to : *from + (*to - *from) * static_cast<double>(i) / (count - 1));
-  }
-  return out;
+  return parse_value_list(text, {"approaches", "approach", "D1,D2,...", false});
 }
 
 std::vector<double> approach_path(std::vector<double> approaches, bool unload) {
@@ -372,19 +364,28 @@ std::vector<std::string> curve_branches(const std::vector<double>& values) {
 
 std::vector<std::string> curve_overrides() { return {"flow.enabled=true", "output.png=false"}; }
 
-Config curve_config(const std::string& case_path, const std::vector<std::string>& overrides,
-                    const std::vector<double>& pressures_in) {
-  const std::vector<double> pressures = curve_pressures(pressures_in);
+namespace {
+// The user's overrides checked (the curve sets the load, named by `load`, and needs the flow),
+// followed by curve_overrides().
+std::vector<std::string> curve_sets(const std::vector<std::string>& overrides, const std::string& load) {
   for (const auto& s : overrides) {
     const auto eq = s.find('=');
     const std::string key = trim(s.substr(0, eq));
     if (key.rfind("load.", 0) == 0)
-      throw InputError("--set " + s, "the curve sets the load itself (load.pressure from the pressures)");
+      throw InputError("--set " + s, "the curve sets the load itself (" + load + ")");
     if (key == "flow.enabled" && (eq == std::string::npos || trim(s.substr(eq + 1)) != "true"))
       throw InputError("--set " + s, "the curve needs the leakage: it switches the flow on itself");
   }
   std::vector<std::string> sets = overrides;
   for (const auto& s : curve_overrides()) sets.push_back(s);
+  return sets;
+}
+}  // namespace
+
+Config curve_config(const std::string& case_path, const std::vector<std::string>& overrides,
+                    const std::vector<double>& pressures_in) {
+  const std::vector<double> pressures = curve_pressures(pressures_in);
+  const std::vector<std::string> sets = curve_sets(overrides, "load.pressure from the pressures");
   // The pressures against this case's E* before any is applied (the case's own load stands
   // in: a pressure above the limit would otherwise be reported as the key load.pressure).
   const double limit = kMaxPressureOverModulus * load_config(case_path, sets).elastic.contact_modulus;
@@ -396,16 +397,7 @@ Config curve_config(const std::string& case_path, const std::vector<std::string>
 
 Config curve_config_approaches(const std::string& case_path, const std::vector<std::string>& overrides,
                                const std::vector<double>& path) {
-  for (const auto& s : overrides) {
-    const auto eq = s.find('=');
-    const std::string key = trim(s.substr(0, eq));
-    if (key.rfind("load.", 0) == 0)
-      throw InputError("--set " + s, "the curve sets the load itself (load.approach from the approaches)");
-    if (key == "flow.enabled" && (eq == std::string::npos || trim(s.substr(eq + 1)) != "true"))
-      throw InputError("--set " + s, "the curve needs the leakage: it switches the flow on itself");
-  }
-  std::vector<std::string> sets = overrides;
-  for (const auto& s : curve_overrides()) sets.push_back(s);
+  const std::vector<std::string> sets = curve_sets(overrides, "load.approach from the approaches");
   // Each approach against the case (negative ones need adhesion), named as the option.
   Config probe = load_config(case_path, sets);
   for (double d : path) {

@@ -207,21 +207,27 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   // With adhesion each point's state depends on the path before it (its branch): finished
   // points are reused only when every point is, else the whole path is solved again (a point
   // after a reused one would start cold and could land on the other branch).
+  const auto point_name = [](int i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "point_%03d", i);
+    return std::string(name);
+  };
+  const auto point_config = [&](int i) {
+    std::vector<std::string> sets = opts.overrides;
+    sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
+    return load_config(case_path, sets);
+  };
   bool reuse = true;
   if (base.interaction.adhesive() && root)
     for (int i = 0; i < total && reuse; ++i) {
-      char name[32];
-      std::snprintf(name, sizeof name, "point_%03d", i);
-      std::vector<std::string> sets = opts.overrides;
-      sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
-      const Config cfg = load_config(case_path, sets);
-      reuse = finished_summary((fs::path(stage) / name).string(), cfg).has_value() ||
-              finished_summary((fs::path(dir) / name).string(), cfg).has_value();
+      const Config cfg = point_config(i);
+      reuse = finished_summary((fs::path(stage) / point_name(i)).string(), cfg).has_value() ||
+              finished_summary((fs::path(dir) / point_name(i)).string(), cfg).has_value();
     }
   reuse = mpi::from_root(reuse ? 1 : 0) == 1;
   for (int i = 0; i < total; ++i) {
-    char name[32];
-    std::snprintf(name, sizeof name, "point_%03d", i);
+    const std::string name_s = point_name(i);
+    const char* name = name_s.c_str();
     // Stop requests are honoured between points too (points that need no iterations never
     // poll inside the solve).
     if (mpi::from_root(root && opts.stop_request && opts.stop_request() ? 1 : 0) == 1) {
@@ -229,9 +235,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       (void)stop_early("interrupted", why);
       throw Interrupted(why);
     }
-    std::vector<std::string> sets = opts.overrides;
-    sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
-    Config cfg = load_config(case_path, sets);
+    Config cfg = point_config(i);
     const std::string sdir = root ? (fs::path(stage) / name).string() : std::string();
     const std::string pdir = (fs::path(dir) / name).string();
     std::optional<nlohmann::json> old;
