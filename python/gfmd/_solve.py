@@ -45,6 +45,54 @@ class ElasticBody:
 
 
 @dataclass(frozen=True)
+class ViscoelasticBody(ElasticBody):
+    """A viscoelastic body in steady sliding (elastic.viscoelastic): contact_modulus is the relaxed
+    (low-frequency) modulus E0. Either a standard linear solid, high_frequency_modulus (the glassy
+    E_inf >= E0) and relaxation_time (tau), or a Prony series, prony_moduli E_i and prony_times
+    tau_i (E(omega) = E0 + sum E_i i omega tau_i / (1 + i omega tau_i)). Poisson's ratio is
+    constant. The sliding speed is the solve's velocity= (length per time unit of tau):
+
+        body = gfmd.ViscoelasticBody(poisson=0.5, high_frequency_modulus=10.0, relaxation_time=1.0)
+        r = gfmd.solve(top, body, force=0.01, velocity=0.02)
+        r.summary["hysteresis_friction"]   # the friction of the pressure's asymmetry
+    """
+
+    high_frequency_modulus: Optional[float] = None
+    relaxation_time: Optional[float] = None
+    prony_moduli: tuple = ()
+    prony_times: tuple = ()
+
+    def __post_init__(self):
+        super().__post_init__()
+        sls = self.high_frequency_modulus is not None or self.relaxation_time is not None
+        if sls == bool(self.prony_moduli or self.prony_times):
+            raise InputError("ViscoelasticBody: give high_frequency_modulus and relaxation_time (a standard linear "
+                             "solid) or prony_moduli and prony_times (a Prony series)")
+        # The values are checked as [elastic] is (InputError naming the key) when a solve reads them.
+
+    @property
+    def model(self) -> str:
+        return "sls" if self.high_frequency_modulus is not None or self.relaxation_time is not None else "prony"
+
+
+def _body_lines(body: ElasticBody) -> list:
+    """The [elastic] lines of a gfmd.ElasticBody or gfmd.ViscoelasticBody."""
+    lines = ["[elastic]", f"contact_modulus = {_toml_value('contact_modulus', body.contact_modulus)}",
+             f"poisson = {_toml_value('poisson', body.poisson)}",
+             f"thickness = {_toml_value('thickness', body.thickness)}",
+             f"coupling = {_toml_value('coupling', body.coupling)}"]
+    if isinstance(body, ViscoelasticBody):
+        lines.append(f'viscoelastic = "{body.model}"')
+        for k in (("high_frequency_modulus", "relaxation_time") if body.model == "sls" else ("prony_moduli",
+                                                                                               "prony_times")):
+            v = getattr(body, k)
+            if v is None:
+                raise InputError(f"ViscoelasticBody.{k}: is needed with a standard linear solid")
+            lines.append(f"{k} = {_toml_value(k, list(v) if isinstance(v, (tuple, list)) else v)}")
+    return lines
+
+
+@dataclass(frozen=True)
 class Adhesive:
     """The adhesive interaction (interaction.model = "adhesive"): the Maugis-Dugdale cohesive law,
     a tensile stress work_of_adhesion / range wherever the gap is below range, on a repulsion
@@ -89,7 +137,7 @@ _SOLVER_KEYS = {"tolerance", "max_iterations", "max_outer", "max_tangential", "a
                 "fft_planner", "backend"}
 # The [friction] keys besides coefficient and direction; the laws' own keys come from the registry.
 _FRICTION_KEYS = {"regularization", "creepage", "lateral_creepage", "slip_derivative", "stick_step",
-                  "stick_acceleration", "reference", "law"} | {k for law in _core.friction_laws() for k in law["keys"]}
+                  "stick_acceleration", "reference", "law", "velocity"} | {k for law in _core.friction_laws() for k in law["keys"]}
 
 
 def _toml_value(name: str, v) -> str:
@@ -167,11 +215,7 @@ class ContactSolver:
                              f"{', '.join(sorted(_FRICTION_KEYS))})")
         # The load is set by each solve; approach = 0 stands in while the case is read.
         lines = ["[grid]", f"nx = {topography.nx}", f"ny = {topography.ny}", f"lx = {topography.lx!r}",
-                 f"ly = {topography.ly!r}", "[elastic]",
-                 f"contact_modulus = {_toml_value('contact_modulus', body.contact_modulus)}",
-                 f"poisson = {_toml_value('poisson', body.poisson)}",
-                 f"thickness = {_toml_value('thickness', body.thickness)}",
-                 f"coupling = {_toml_value('coupling', body.coupling)}",
+                 f"ly = {topography.ly!r}"] + _body_lines(body) + [
                  "[indenter]", 'type = "array"', "[load]", "approach = 0.0",
                  "[friction]", f"coefficient = {_toml_value('friction', friction)}",
                  f"direction = {_toml_value('direction', direction)}"]

@@ -43,6 +43,58 @@ using config_detail::where;
 
 using config_detail::kSections;
 
+constexpr std::size_t kMaxPronyArms = 64;
+
+// A list of positive numbers at key (at most kMaxPronyArms), or an error naming the entry.
+std::vector<double> positive_list(Section& sec, const std::string& key) {
+  std::vector<double> out;
+  const toml::value* v = sec.raw(key);
+  if (!v) return out;
+  if (!v->is_array() || v->as_array().empty() || v->as_array().size() > kMaxPronyArms) {
+    sec.error(key, "must be a list of 1 to " + std::to_string(kMaxPronyArms) + " positive numbers");
+    return out;
+  }
+  for (const auto& e : v->as_array()) {
+    const double d = e.is_floating()  ? e.as_floating()
+                     : e.is_integer() ? static_cast<double>(e.as_integer())
+                                      : -1.0;
+    if (!(d > 0) || !std::isfinite(d)) {
+      sec.error(key, "each entry must be a positive finite number" + where(e));
+      return {};
+    }
+    out.push_back(d);
+  }
+  return out;
+}
+
+// elastic.viscoelastic and its keys (the relaxed modulus is elastic.contact_modulus).
+void read_viscoelastic(Section& el, ViscoelasticParams& v) {
+  using Model = ViscoelasticParams::Model;
+  const std::string model = el.string("viscoelastic", "none");
+  if (model == "sls")
+    v.model = Model::StandardLinearSolid;
+  else if (model == "prony")
+    v.model = Model::Prony;
+  else if (model != "none")
+    el.error("viscoelastic", "unknown model \"" + model + "\" (\"none\", \"sls\" or \"prony\")");
+  const bool einf = el.has("high_frequency_modulus"), tau = el.has("relaxation_time");
+  v.high_frequency_modulus = el.number("high_frequency_modulus", 0.0);
+  v.relaxation_time = el.number("relaxation_time", 0.0);
+  v.prony_moduli = positive_list(el, "prony_moduli");
+  v.prony_times = positive_list(el, "prony_times");
+  const auto needs = [&](const char* key, bool given, Model m) {
+    if (given && v.model != m)
+      el.error(key, std::string("belongs to elastic.viscoelastic = \"") + viscoelastic_model_name(m) + "\"");
+    else if (!given && v.model == m)
+      el.error(key,
+               std::string("is needed with elastic.viscoelastic = \"") + viscoelastic_model_name(m) + "\"");
+  };
+  needs("high_frequency_modulus", einf, Model::StandardLinearSolid);
+  needs("relaxation_time", tau, Model::StandardLinearSolid);
+  needs("prony_moduli", !v.prony_moduli.empty(), Model::Prony);
+  needs("prony_times", !v.prony_times.empty(), Model::Prony);
+}
+
 void apply_override(toml::value& root, const std::string& spec) {
   const auto eq = spec.find('=');
   if (eq == std::string::npos || eq == 0) throw InputError("--set " + spec, "expected section.key=value");
@@ -128,6 +180,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
   c.elastic.poisson = el.number("poisson", 0.25);
   c.elastic.thickness = el.number_or_inf("thickness", std::numeric_limits<double>::infinity());
   c.elastic.coupling = el.boolean("coupling", true);
+  read_viscoelastic(el, c.visco);
   el.finish();
   try {
     c.elastic.validate();
@@ -170,6 +223,23 @@ Config build(const toml::value& root, const std::string& name, const std::string
   c.friction.coefficient = fr.number("coefficient", 0.0);
   c.friction.direction_deg = fr.number("direction", 0.0);
   c.friction.regularization = fr.number("regularization", 0.0);
+  // The sliding speed a viscoelastic body's modes are excited at (omega = -(q.e_s) v0).
+  c.visco.velocity = fr.number("velocity", 0.0);
+  c.visco.direction_deg = c.friction.direction_deg;
+  if (!(c.visco.velocity >= 0))
+    fr.error("velocity", "must be a non-negative speed (length per time unit of elastic.relaxation_time)");
+  else if (c.visco.velocity != 0 && !c.visco.enabled())
+    fr.error("velocity",
+             "a sliding speed needs a viscoelastic body (elastic.viscoelastic = \"sls\" or \"prony\"): an "
+             "elastic body's steady state does not depend on it");
+  try {
+    c.visco.validate(c.elastic.contact_modulus);
+  } catch (const ParameterError& e) {
+    if (e.where() == "velocity")
+      fr.error("velocity", e.why());
+    else
+      el.error(e.where(), e.why());
+  }
   if (!(c.friction.regularization >= 0 && c.friction.regularization < 1))
     fr.error("regularization", "must be in [0, 1) (slip speed / v0 below which the traction is regularised)");
   // Section::number has refused nan and inf already (they come back as the default).
@@ -273,6 +343,15 @@ Config build(const toml::value& root, const std::string& name, const std::string
     ia.error("model",
              "adhesion with friction is not implemented yet: set friction.coefficient = 0 with "
              "interaction.model = \"adhesive\"");
+  if (c.visco.enabled()) {
+    if (c.friction.coefficient > 0)
+      fr.error("coefficient",
+               "a viscoelastic body with Coulomb friction is not implemented yet: set it to 0 "
+               "(the hysteresis friction is computed without it)");
+    if (c.interaction.adhesive()) ia.error("model", "adhesion on a viscoelastic body is not implemented");
+    if (c.interaction.plastic())
+      ia.error("hardness", "plastic saturation on a viscoelastic body is not implemented");
+  }
   if (c.interaction.adhesive() && c.interaction.plastic())
     ia.error("hardness",
              "adhesion with plastic saturation is not implemented: leave interaction.hardness out "

@@ -37,6 +37,16 @@ nlohmann::json Config::to_json() const {
     j["elastic"]["thickness"] = "inf";
   else
     j["elastic"]["thickness"] = elastic.thickness;
+  if (visco.enabled()) {  // absent: elastic (as before the key)
+    j["elastic"]["viscoelastic"] = viscoelastic_model_name(visco.model);
+    if (visco.model == ViscoelasticParams::Model::StandardLinearSolid) {
+      j["elastic"]["high_frequency_modulus"] = visco.high_frequency_modulus;
+      j["elastic"]["relaxation_time"] = visco.relaxation_time;
+    } else {
+      j["elastic"]["prony_moduli"] = visco.prony_moduli;
+      j["elastic"]["prony_times"] = visco.prony_times;
+    }
+  }
   j["indenter"] = config_detail::indenter_json(indenter);
   const char* lk = load.mode == LoadMode::Force      ? "force"
                    : load.mode == LoadMode::Pressure ? "pressure"
@@ -52,6 +62,7 @@ nlohmann::json Config::to_json() const {
                    {"lateral_creepage", friction.lateral_creepage},
                    {"slip_derivative",
                     friction.slip_derivative ? slip_derivative_name(*friction.slip_derivative) : "auto"}};
+  if (visco.enabled()) j["friction"]["velocity"] = visco.velocity;
   if (friction.law.kind != FrictionLawKind::Coulomb) {  // absent: Coulomb's (as before the key)
     const FrictionLawType& law = friction_law_type(friction.law.kind);
     j["friction"]["law"] = law.name;

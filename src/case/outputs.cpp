@@ -111,6 +111,12 @@ nlohmann::json observables_json(const Observables& o) {
     j["tangential_force_y"] = o.tangential_force_y;
     j["traction_coefficient"] = o.traction_coefficient;
   }
+  if (o.viscoelastic) {
+    j["hysteresis_force"] = o.hysteresis_force;
+    j["hysteresis_friction"] = o.hysteresis_friction;
+    j["hysteresis_dissipation"] = o.hysteresis_dissipation;
+    j["hysteresis_balance_error"] = o.hysteresis_balance_error;
+  }
   j["centroid_shift"] = o.centroid_shift;
   j["centroid_shift_transverse"] = o.centroid_shift_transverse;
   j["pressure_max_shift"] = o.pressure_max_shift;
@@ -166,6 +172,11 @@ nlohmann::json summary_json(const CaseResult& r) {
     j["elastic_energy"] = r.info.elastic_energy;
     j["adhesive_energy"] = r.info.adhesive_energy;
     j["energy"] = r.info.energy;
+  }
+  if (r.config.visco.enabled()) {
+    j["viscoelastic_steps"] = r.info.viscoelastic_steps;
+    // The power the body dissipates, F_h v0 (length x force per time unit of the relaxation time).
+    j["hysteresis_power"] = r.observables.hysteresis_force * r.config.visco.velocity;
   }
   if (r.config.friction.coefficient > 0) {
     j["tangential_iterations"] = r.info.tangential_iterations;

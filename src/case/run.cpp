@@ -23,6 +23,7 @@
 
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/contact/device.hpp"
+#include "gfmd/contact/friction_law.hpp"
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
@@ -290,6 +291,13 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
   // The CUDA solve runs on one process: "auto" means the cores under mpirun, and "cuda" is
   // refused there, or where no device is usable, before any work.
   if (mpi::distributed() && cfg.backend == "auto") chosen = &threads_backend();
+  // "auto" also means the cores for the physics the device does not have (the solver refuses
+  // "cuda" for it by name).
+  const bool host_only =
+      cfg.interaction.adhesive() || cfg.interaction.plastic() || cfg.visco.enabled() ||
+      cfg.friction.stick_acceleration > 0 ||
+      (cfg.friction.coefficient > 0 && !friction_law_type(cfg.friction.law.kind).on_device);
+  if (host_only && cfg.backend == "auto") chosen = &threads_backend();
   if (chosen->name() == "cuda") {
     if (mpi::distributed())
       throw InputError("solver.backend", "\"cuda\" solves on one process; under mpirun use \"threads\"");
@@ -333,7 +341,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
   r.topography_stats = statistics(topo);
   // The body and the solvers live only as long as the solves: the stage after them
   // (stresses, flow) gets the memory back.
-  auto body = std::make_unique<ElasticBody>(slab, cfg.elastic);
+  auto body = std::make_unique<ElasticBody>(slab, cfg.elastic, cfg.visco);
   // A distributed run starts warm when rank 0 has a warm start: the others get its rows.
   bool warm = opts.warm_start && opts.warm_start->pressure.size() == cfg.grid.size();
   if (distributed) {

@@ -112,25 +112,9 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
   for (RealField* fld : {&adh_.w, &adh_.d, &adh_.gap, &adh_.spread})
     if (fld->size() != n) fld->assign(n, 0.0);
   RealField &w = adh_.w, &d = adh_.d, &gap = adh_.gap;
-  // Anderson mixing of the traction, summed by grid row (the same bits on any process count);
-  // made once, restarted for each solve.
-  if (sp_.anderson > 0 && !adh_.mixer) {
-    adh_.mixer = std::make_unique<AndersonMixer>(sp_.anderson);
-    adh_.mixer->resize(n);
-    const auto rows = static_cast<std::size_t>(grid_.rows());
-    adh_.start.resize(rows + 1);
-    for (std::size_t r = 0; r <= rows; ++r) adh_.start[r] = static_cast<std::uint32_t>(r * grid_.nx);
-    adh_.order.resize(n);
-    for (std::size_t e = 0; e < n; ++e) adh_.order[e] = static_cast<std::uint32_t>(e);
-    adh_.mixer->group_by_rows(&grid_, &adh_.start, &adh_.order);
-  }
-  AndersonMixer* mixer = adh_.mixer.get();
-  if (mixer) mixer->restart();
-  RealField& kept_image = adh_.kept;  // the image of the last iterate the safeguard kept
-  double kept_change = std::numeric_limits<double>::infinity();
-  bool mixed = false;  // the current iterate is an extrapolation
-  int rejected = 0, plain_left = 0;
-  constexpr int kPlainSteps = 5;
+  // Anderson mixing of the traction (made once, restarted for each solve).
+  if (!adh_.mixer) adh_.mixer = std::make_unique<GuardedAnderson>(sp_.anderson, grid_);
+  adh_.mixer->restart();
   PKResult pk{0, 1.0, 0.0, false};
   int used = 0;
   double change = 1.0;  // relative change of the traction in the last step
@@ -182,49 +166,15 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
     });
     info.adhesive_energy = sums[2] * grid_.cell_area();
     info.energy = info.elastic_energy + info.adhesive_energy + repulsion_energy;
-    change = sums[1] > 0 ? sums[0] / sums[1] : (sums[0] > 0 ? 1.0 : 0.0);
-    if (change <= tol && pk.converged && inner_tol <= tol) {
-      info.status = "converged";
-      break;
-    }
-    if (used >= sp_.max_iterations) {
-      info.status = "not converged: iteration limit reached";
-      break;
-    }
-    if (step + 1 >= sp_.max_outer) {
-      std::ostringstream os;
-      os << "not converged: the adhesive traction did not settle in solver.max_outer = " << sp_.max_outer
-         << " steps (relative change " << change << " in the last); raise solver.max_outer";
-      info.status = os.str();
-      break;
-    }
-    if (!mixer || plain_left > 0) {
-      parallel_for(nl, [&](std::ptrdiff_t i) { a[i] = d[i]; });
-      if (plain_left > 0 && --plain_left == 0) kept_change = std::numeric_limits<double>::infinity();
-      continue;
-    }
-    // Safeguard: an extrapolated traction is kept only where its step's change is below the
-    // last kept one's; otherwise the plain step from the last kept iterate is taken and the
-    // history dropped. Near an instability (the jump-off) an unguarded extrapolation throws the
-    // state over the barrier onto the other branch (out of contact early: at lambda = 2.5 it
-    // left at P = -1.24 pi w R where the plain steps follow Maugis's branch to -0.87).
-    if (mixed && !(change < kept_change)) {
-      parallel_for(nl, [&](std::ptrdiff_t i) { a[i] = kept_image[i]; });
-      mixer->restart();
-      mixed = false;
-      // Where extrapolation keeps failing (the contact edge's cells flip in and out: the map
-      // is not smooth there) plain steps take over for a while, longer after each rejection:
-      // 5, 10, 20, ... steps before mixing starts afresh.
-      plain_left = kPlainSteps << std::min(rejected, 10);
-      ++rejected;
-      continue;
-    }
-    kept_change = change;
-    kept_image.assign(d.begin(), d.end());
-    mixer->step(
-        1.0, [&](std::size_t e) { return a[e]; }, [&](std::size_t e) { return d[e]; },
-        [&](std::size_t e, double v) { a[e] = std::clamp(v, 0.0, s0); });
-    mixed = mixer->history() > 0;
+    change = relative_change(sums[0], sums[1]);
+    info.status =
+        outer_status(change, tol, pk.converged, inner_tol, used, step, sp_, "the adhesive traction");
+    if (!info.status.empty()) break;
+    // The safeguard (GuardedAnderson): near an instability (the jump-off) an unguarded
+    // extrapolation throws the state over the barrier onto the other branch (out of contact
+    // early: at lambda = 2.5 it left at P = -1.24 pi w R where the plain steps follow Maugis's
+    // branch to -0.87).
+    adh_.mixer->advance(a, d, change, 0.0, s0);
   }
   info.converged = info.status == "converged";
   if (!info.converged && info.status.find("pull-off") == std::string::npos) {

@@ -1,6 +1,7 @@
 // Anderson acceleration: the ring of differences and the small least-squares solve.
 #include "gfmd/contact/anderson.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -12,6 +13,49 @@ AndersonMixer::AndersonMixer(int depth) : m_(depth) {
   df_.resize(static_cast<std::size_t>(m_));
   dx_.resize(static_cast<std::size_t>(m_));
   gram_.assign(static_cast<std::size_t>(m_) * static_cast<std::size_t>(m_), 0.0);
+}
+
+GuardedAnderson::GuardedAnderson(int depth, const Grid& grid) {
+  if (depth <= 0) return;
+  const std::size_t n = grid.local_size();
+  mixer_ = std::make_unique<AndersonMixer>(depth);
+  mixer_->resize(n);
+  const auto rows = static_cast<std::size_t>(grid.rows());
+  start_.resize(rows + 1);
+  for (std::size_t r = 0; r <= rows; ++r) start_[r] = static_cast<std::uint32_t>(r * grid.nx);
+  order_.resize(n);
+  for (std::size_t e = 0; e < n; ++e) order_[e] = static_cast<std::uint32_t>(e);
+  mixer_->group_by_rows(&grid, &start_, &order_);
+}
+
+void GuardedAnderson::restart() {
+  if (mixer_) mixer_->restart();
+  kept_change_ = std::numeric_limits<double>::infinity();
+  mixed_ = false;
+  rejected_ = plain_left_ = 0;
+}
+
+void GuardedAnderson::advance(RealField& x, const RealField& image, double change, double lo, double hi) {
+  const auto n = static_cast<std::ptrdiff_t>(x.size());
+  if (!mixer_ || plain_left_ > 0) {
+    parallel_for(n, [&](std::ptrdiff_t i) { x[i] = image[i]; });
+    if (plain_left_ > 0 && --plain_left_ == 0) kept_change_ = std::numeric_limits<double>::infinity();
+    return;
+  }
+  if (mixed_ && !(change < kept_change_)) {
+    parallel_for(n, [&](std::ptrdiff_t i) { x[i] = kept_[i]; });
+    mixer_->restart();
+    mixed_ = false;
+    plain_left_ = kPlainSteps << std::min(rejected_, 10);
+    ++rejected_;
+    return;
+  }
+  kept_change_ = change;
+  kept_.assign(image.begin(), image.end());
+  mixer_->step(
+      1.0, [&](std::size_t e) { return x[e]; }, [&](std::size_t e) { return image[e]; },
+      [&](std::size_t e, double v) { x[e] = std::clamp(v, lo, hi); });
+  mixed_ = mixer_->history() > 0;
 }
 
 void AndersonMixer::resize(std::size_t len) {

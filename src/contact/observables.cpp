@@ -146,6 +146,20 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
         g, [&](std::size_t i) { return f.pressure[i] > 0 ? -std::hypot(vx[i], vy[i]) : -inf; }, -inf);
     o.min_slip_velocity = std::isfinite(vmin) ? vmin : 0.0;
   }
+  if (info.viscoelastic_steps > 0) {
+    const double th = fric.direction_deg * std::numbers::pi / 180.0;
+    RealField du;
+    directional_derivative(fft, std::cos(th), std::sin(th), f.uz, du);
+    o.viscoelastic = true;
+    o.hysteresis_force = da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * du[i]; });
+    o.hysteresis_friction = o.normal_force > 0 ? o.hysteresis_force / o.normal_force : 0.0;
+    o.hysteresis_dissipation = info.hysteresis_dissipation;
+    // Relative to the larger of the two (an elastic response, v0 = 0: both vanish to round-off).
+    const double scale = std::max(
+        {std::abs(o.hysteresis_force), std::abs(o.hysteresis_dissipation), 1e-12 * std::abs(o.normal_force)});
+    o.hysteresis_balance_error =
+        scale > 0 ? std::abs(o.hysteresis_force - o.hysteresis_dissipation) / scale : 0.0;
+  }
   // Geometry relative to the highest point of the indenter (the first in row-major order).
   const std::size_t apex = grid_argmax(g, [&](std::size_t i) { return topo.h[i]; }).first;
   const int ax = static_cast<int>(apex % g.nx), ay = static_cast<int>(apex / g.nx);

@@ -98,6 +98,8 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
     std::fill(f.ty.begin(), f.ty.end(), 0.0);
     if (inter_.adhesive()) {
       pk = solve_adhesive(load, f, tol, info);
+    } else if (body_.viscoelastic()) {
+      pk = solve_viscoelastic(load, f, tol, info);
     } else {
       pk = solve_normal(load, w, true, f.pressure, tol, sp_.max_iterations);
       info.converged = pk.converged;

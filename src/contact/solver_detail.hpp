@@ -8,6 +8,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include "gfmd/contact/solver.hpp"
 #include "gfmd/core/error.hpp"
@@ -145,5 +146,23 @@ class FrictionSteps {
   double best_ = std::numeric_limits<double>::infinity();
   int since_best_ = 0;
 };
+
+// An outer loop over inner normal solves (adhesion's traction, a viscoelastic body's pressure):
+// the relative change sum |new - old| / sum |new| of a step, and its end test: "" to go on,
+// else the status ("converged" once the change, the inner solve and its tolerance all meet
+// `tol`; or why not). `what` names the iterate in the message.
+inline double relative_change(double diff, double size) {
+  return size > 0 ? diff / size : (diff > 0 ? 1.0 : 0.0);
+}
+inline std::string outer_status(double change, double tol, bool inner_ok, double inner_tol, int used,
+                                int step, const SolverParams& sp, const char* what) {
+  if (change <= tol && inner_ok && inner_tol <= tol) return "converged";
+  if (used >= sp.max_iterations) return "not converged: iteration limit reached";
+  if (step + 1 < sp.max_outer) return "";
+  std::ostringstream os;
+  os << "not converged: " << what << " did not settle in solver.max_outer = " << sp.max_outer
+     << " steps (relative change " << change << " in the last); raise solver.max_outer";
+  return os.str();
+}
 
 }  // namespace gfmd::contact_detail

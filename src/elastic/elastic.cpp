@@ -78,9 +78,10 @@ PhiRotated phi_rotated(double x, double nu) {
   return r;
 }
 
-ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params)
-    : grid_(grid), params_(params), modes_(grid.spectral_size()) {
+ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const ViscoelasticParams& visco)
+    : grid_(grid), params_(params), modes_(grid.spectral_size()), visco_(visco) {
   params_.validate();
+  visco_.validate(params_.contact_modulus);
   const double es = params_.contact_modulus;
   const double nu = params_.poisson;
   const double h = params_.thickness;
@@ -127,6 +128,17 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params)
     modes_[0].czz = c0_zz_;
     modes_[0].cxx = modes_[0].cyy = c0_t_;
   }
+  if (visco_.enabled()) response_ = viscoelastic_factors(grid, visco_, es);
+}
+
+void ElasticBody::apply_response(cplx* a, cplx* b, cplx* c) const {
+  if (response_.empty()) return;
+  parallel_for(static_cast<std::ptrdiff_t>(response_.size()), [&](std::ptrdiff_t k) {
+    const cplx r = response_[k];
+    if (a) a[k] *= r;
+    if (b) b[k] *= r;
+    if (c) c[k] *= r;
+  });
 }
 
 std::array<cplx, 9> ElasticBody::compliance(int ikx, int iky) const {

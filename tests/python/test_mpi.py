@@ -178,6 +178,26 @@ def test_adhesive_hertz_any_rank_count(tmp_path, ranks):
         assert np.array_equal(np.array(x["adhesive_traction"][:]), np.array(y["adhesive_traction"][:]))
 
 
+VISCO = HERTZ.replace("poisson = 0.3", "poisson = 0.3\nviscoelastic = \"sls\"\nhigh_frequency_modulus = 10.0\n"
+                      "relaxation_time = 1.0").replace("[solver]", "[friction]\nvelocity = 0.02\ndirection = 30\n[solver]")
+
+
+@pytest.mark.parametrize("ranks", [2, 3])
+def test_viscoelastic_sliding_any_rank_count(tmp_path, ranks):
+    # The response factors on each slab's rows of the spectrum (the y Nyquist row on one of them),
+    # the splitting's mixing summed by grid row and the spectral dissipation: the serial bits.
+    case = tmp_path / "visco.toml"
+    case.write_text(VISCO)
+    p = run(case, tmp_path / "serial")
+    assert p.returncode == 0, p.stderr
+    p = run(case, tmp_path / "mpi", ranks)
+    assert p.returncode == 0, p.stderr
+    a, b = same_solution(tmp_path / "serial", tmp_path / "mpi", ranks)
+    assert a["hysteresis_friction"] > 0 and a["hysteresis_balance_error"] < 1e-9
+    for k in ("hysteresis_force", "hysteresis_dissipation", "viscoelastic_steps", "centroid_shift"):
+        assert b[k] == a[k], k
+
+
 @pytest.mark.parametrize("ranks", [2, 3])
 def test_thin_layer_sliding_with_stick(tmp_path, ranks):
     case = tmp_path / "thin.toml"

@@ -84,6 +84,9 @@ struct Config {
   Grid grid;
   std::string length_unit;  // grid.unit: the unit of every length of the case ("" = none named)
   ElasticParams elastic;
+  // elastic.viscoelastic and its keys, friction.velocity (and direction): a viscoelastic body
+  // in steady sliding; disabled: elastic.
+  ViscoelasticParams visco;
   IndenterConfig indenter;
   LoadParams load;
   FrictionParams friction;

@@ -13,9 +13,12 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
+#include <memory>
 #include <vector>
 
 #include "gfmd/core/backend.hpp"
+#include "gfmd/core/fft.hpp"
 #include "gfmd/core/reduce.hpp"
 
 namespace gfmd {
@@ -104,6 +107,34 @@ class AndersonMixer {
   const Grid* grid_ = nullptr;
   const std::vector<std::uint32_t>* start_ = nullptr;
   const std::vector<std::uint32_t>* order_ = nullptr;
+};
+
+// A fixed point x <- G(x) over every point of the grid held here (adhesion's traction, a
+// viscoelastic body's pressure), Anderson-mixed with a safeguard: an extrapolated iterate is
+// kept only where its step's change is below the last kept one's; otherwise the plain image of
+// the last kept iterate is taken and the history dropped, and plain steps take over for a
+// while, longer after each rejection (5, 10, 20, ... steps) before mixing starts afresh. Near
+// an instability (adhesion's jump-off) an unguarded extrapolation throws the state over the
+// barrier; where the map is not smooth (contact edges flipping) it keeps failing. Sums by grid
+// row: the same iterates on any process count.
+class GuardedAnderson {
+ public:
+  // depth 0: plain steps only.
+  GuardedAnderson(int depth, const Grid& grid);
+  // Forgets the history and the rejections (a new solve).
+  void restart();
+  // x: the iterate, image: G(x), change: the step's relative change (the caller's measure of
+  // |G(x) - x|). Writes the next iterate into x, clipped to [lo, hi].
+  void advance(RealField& x, const RealField& image, double change, double lo, double hi);
+
+ private:
+  static constexpr int kPlainSteps = 5;
+  std::unique_ptr<AndersonMixer> mixer_;
+  std::vector<std::uint32_t> start_, order_;
+  RealField kept_;  // the image of the last iterate kept
+  double kept_change_ = std::numeric_limits<double>::infinity();
+  bool mixed_ = false;  // the current iterate is an extrapolation
+  int rejected_ = 0, plain_left_ = 0;
 };
 
 // Solves the small (regularised) normal equations M x = rhs of the least-squares problem

@@ -41,6 +41,14 @@ struct Observables {
   double numerical_dissipation = 0;
   double numerical_dissipation_fraction = 0;
   bool friction = false;  // the friction observables were computed (mu_c > 0)
+  // A viscoelastic body: the friction force of the pressure's asymmetry, F_h = sum p (e_s.grad
+  // u_z) dA (= -sum p (e_s.grad h) dA where the surfaces touch: the pressure's downhill force;
+  // with the body's displacement it holds for the harmonic interaction too), F_h / F_z, and the
+  // body's own dissipation per speed from the pressure's spectrum (SolveInfo::
+  // hysteresis_dissipation) with its relative difference to F_h: the energy balance.
+  bool viscoelastic = false;
+  double hysteresis_force = 0, hysteresis_friction = 0, hysteresis_dissipation = 0,
+         hysteresis_balance_error = 0;
   double mean_tangential_traction_x = 0, mean_tangential_traction_y = 0;
   // Geometry relative to the indenter's highest point (the Hertz apex), along the
   // sliding direction e_s ("longitudinal") and across it ("transverse"), minimum image.

@@ -138,6 +138,13 @@ struct SolveInfo {
   // contact, 0 beyond the range) and the harmonic repulsion's 1/2 sum p_rep^2/k dA (0 for the
   // hard wall); energy is their sum. 0 without adhesion.
   double elastic_energy = 0.0, adhesive_energy = 0.0, energy = 0.0;
+  // A viscoelastic body (elastic.viscoelastic): the splitting steps (each a Polonsky-Keer solve
+  // on the storage part of the response; viscoelastic.cpp) and the hysteresis force from the
+  // spectrum of the final pressure, sum over q of (q.e_s) Im(E0/E(omega)) C_zz(q) |p~(q)|^2 dA/N:
+  // the power the body dissipates per sliding speed (its balance with the friction force of the
+  // pressure's asymmetry is a test). 0 for an elastic body.
+  int viscoelastic_steps = 0;
+  double hysteresis_dissipation = 0.0;
   // The slip derivative the solution was computed with (FrictionParams::slip_derivative, or
   // the automatic choice: upwind2 where the solve met stick, else spectral for sliding).
   SlipDerivative slip_derivative = SlipDerivative::Spectral;
@@ -323,6 +330,13 @@ class ContactSolver {
   // integral of the cohesive law (adhesive_fraction), Anderson-mixed, until it settles.
   // f.pressure holds the net pressure (repulsion minus adhesion), f.adhesion the traction.
   PKResult solve_adhesive(const LoadParams& load, ContactFields& f, double tol, SolveInfo& info);
+  // A viscoelastic body (viscoelastic.cpp): the response C_zz E0/E(omega) split into a
+  // symmetric part (czz_n_, each mode's elastic compliance at its storage modulus) that the
+  // Polonsky-Keer solve takes and the rest, whose displacement from the last pressure is held
+  // fixed (w) during that solve; Anderson-mixed over the pressure until it settles.
+  PKResult solve_viscoelastic(const LoadParams& load, ContactFields& f, double tol, SolveInfo& info);
+  // The hysteresis force of SolveInfo::hysteresis_dissipation from the pressure p.
+  double hysteresis_dissipation(const RealField& p);
   // spread = |g_x| dx + |g_y| dy, the gap's range over each cell (gx: scratch).
   void gap_spread(const RealField& gap, RealField& gx, RealField& spread);
   PKResult solve_normal_capped_load(const LoadParams& load, const RealField& w, bool w_zero, RealField& p,
@@ -380,12 +394,20 @@ class ContactSolver {
   // each cell in the last step (the residual reads it), work arrays, the traction's mixer and
   // its row grouping, the spectral gradient's factors i q_x, i q_y per half-spectrum mode.
   struct AdhesionWork {
-    RealField spread, w, d, gap, kept;
-    std::unique_ptr<AndersonMixer> mixer;
-    std::vector<std::uint32_t> start, order;
+    RealField spread, w, d, gap;
+    std::unique_ptr<GuardedAnderson> mixer;
     std::vector<double> qx, qy;
   };
   AdhesionWork adh_;
+  // A viscoelastic body's state (viscoelastic.cpp): the rest of the response per mode, minus
+  // (E0/E(omega) - storage factor) C_zz / N (its displacement enters the normal solve as w), work
+  // arrays and the pressure's mixer.
+  struct ViscoWork {
+    std::vector<cplx> rest_n;
+    RealField w, image;
+    std::unique_ptr<GuardedAnderson> mixer;
+  };
+  ViscoWork visco_;
   RealField zx_, zy_, bx_, by_;  // splitting variable and pressure-induced slip of solve_tangential
   bool have_z_ = false;
   double gamma_ = 0.0;  // its step

@@ -12,6 +12,7 @@
 
 #include "gfmd/core/fft.hpp"
 #include "gfmd/core/grid.hpp"
+#include "gfmd/elastic/viscoelastic.hpp"
 
 namespace gfmd {
 
@@ -64,7 +65,10 @@ struct ComplianceMode {
 
 class ElasticBody {
  public:
-  ElasticBody(const Grid& grid, const ElasticParams& params);
+  // With `visco` enabled a viscoelastic body in steady sliding (viscoelastic.hpp):
+  // params.contact_modulus is then its relaxed modulus E0. Throws ParameterError naming the
+  // key (ElasticParams::validate, ViscoelasticParams::validate).
+  ElasticBody(const Grid& grid, const ElasticParams& params, const ViscoelasticParams& visco = {});
 
   [[nodiscard]] const Grid& grid() const { return grid_; }
   [[nodiscard]] const ElasticParams& params() const { return params_; }
@@ -80,6 +84,16 @@ class ElasticBody {
   // Full 3x3 lab-frame stiffness q E* Phi at a mode (row-major, complex) for tests.
   [[nodiscard]] std::array<cplx, 9> stiffness(int ikx, int iky) const;
   [[nodiscard]] std::array<cplx, 9> compliance(int ikx, int iky) const;
+
+  // A viscoelastic body's response per mode: its displacement spectra are the elastic ones
+  // (the calls below, made with the relaxed modulus) times response(k) = E0/E(omega(q)).
+  // Stresses from given tractions do not depend on E with nu constant: the elastic calls give
+  // them. An elastic body has no factors (viscoelastic() false).
+  [[nodiscard]] bool viscoelastic() const { return !response_.empty(); }
+  [[nodiscard]] const ViscoelasticParams& visco() const { return visco_; }
+  [[nodiscard]] cplx response(std::size_t k) const { return response_.empty() ? cplx(1.0) : response_[k]; }
+  // Multiplies each given spectrum (null = skipped) by the response, in place.
+  void apply_response(cplx* a, cplx* b, cplx* c) const;
 
   // Displacement spectra from traction spectra, times `scale` (any of tx, ty, tz may be
   // null = zero; any of ux, uy, uz null = not wanted). Outputs may alias inputs (each mode
@@ -118,6 +132,8 @@ class ElasticBody {
   Grid grid_;
   ElasticParams params_;
   std::vector<ComplianceMode> modes_;
+  ViscoelasticParams visco_;
+  std::vector<cplx> response_;  // E0/E(omega) per mode held here; empty: elastic
   double c0_zz_ = 0.0, c0_t_ = 0.0;
 };
 
