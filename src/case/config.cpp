@@ -1,28 +1,20 @@
+// A case file read into a Config: the sections in order ([grid], [indenter] and [load] here,
+// the others in config_physics.cpp and config_run.cpp), their combinations, the load checks and
+// command-line overrides.
 #include "gfmd/case/config.hpp"
-
-#include <sys/resource.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <limits>
-#include <map>
-#include <numbers>
-#include <set>
 #include <sstream>
 #include <toml.hpp>
-#include <tuple>
 
 #include "config_detail.hpp"
 #include "config_section.hpp"
-#include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/core/mpi.hpp"
-#include "gfmd/flow/flow.hpp"
 #include "gfmd/io/height_map.hpp"
 
 namespace gfmd {
@@ -37,63 +29,19 @@ const std::vector<std::string> config_detail::kSections = {"grid",     "elastic"
 namespace {
 
 using config_detail::did_you_mean;
+using config_detail::read_elastic;
+using config_detail::read_flow;
+using config_detail::read_friction;
 using config_detail::read_indenter;
+using config_detail::read_interaction;
+using config_detail::read_output;
+using config_detail::read_solver;
+using config_detail::read_stress;
+using config_detail::read_sweep;
 using config_detail::Section;
 using config_detail::where;
 
 using config_detail::kSections;
-
-constexpr std::size_t kMaxPronyArms = 64;
-
-// A list of positive numbers at key (at most kMaxPronyArms), or an error naming the entry.
-std::vector<double> positive_list(Section& sec, const std::string& key) {
-  std::vector<double> out;
-  const toml::value* v = sec.raw(key);
-  if (!v) return out;
-  if (!v->is_array() || v->as_array().empty() || v->as_array().size() > kMaxPronyArms) {
-    sec.error(key, "must be a list of 1 to " + std::to_string(kMaxPronyArms) + " positive numbers");
-    return out;
-  }
-  for (const auto& e : v->as_array()) {
-    const double d = e.is_floating()  ? e.as_floating()
-                     : e.is_integer() ? static_cast<double>(e.as_integer())
-                                      : -1.0;
-    if (!(d > 0) || !std::isfinite(d)) {
-      sec.error(key, "each entry must be a positive finite number" + where(e));
-      return {};
-    }
-    out.push_back(d);
-  }
-  return out;
-}
-
-// elastic.viscoelastic and its keys (the relaxed modulus is elastic.contact_modulus).
-void read_viscoelastic(Section& el, ViscoelasticParams& v) {
-  using Model = ViscoelasticParams::Model;
-  const std::string model = el.string("viscoelastic", "none");
-  if (model == "sls")
-    v.model = Model::StandardLinearSolid;
-  else if (model == "prony")
-    v.model = Model::Prony;
-  else if (model != "none")
-    el.error("viscoelastic", "unknown model \"" + model + "\" (\"none\", \"sls\" or \"prony\")");
-  const bool einf = el.has("high_frequency_modulus"), tau = el.has("relaxation_time");
-  v.high_frequency_modulus = el.number("high_frequency_modulus", 0.0);
-  v.relaxation_time = el.number("relaxation_time", 0.0);
-  v.prony_moduli = positive_list(el, "prony_moduli");
-  v.prony_times = positive_list(el, "prony_times");
-  const auto needs = [&](const char* key, bool given, Model m) {
-    if (given && v.model != m)
-      el.error(key, std::string("belongs to elastic.viscoelastic = \"") + viscoelastic_model_name(m) + "\"");
-    else if (!given && v.model == m)
-      el.error(key,
-               std::string("is needed with elastic.viscoelastic = \"") + viscoelastic_model_name(m) + "\"");
-  };
-  needs("high_frequency_modulus", einf, Model::StandardLinearSolid);
-  needs("relaxation_time", tau, Model::StandardLinearSolid);
-  needs("prony_moduli", !v.prony_moduli.empty(), Model::Prony);
-  needs("prony_times", !v.prony_times.empty(), Model::Prony);
-}
 
 void apply_override(toml::value& root, const std::string& spec) {
   const auto eq = spec.find('=');
@@ -176,12 +124,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
   grid.finish();
 
   Section el(root, "elastic", errors);
-  c.elastic.contact_modulus = el.number("contact_modulus", 1.0);
-  c.elastic.poisson = el.number("poisson", 0.25);
-  c.elastic.thickness = el.number_or_inf("thickness", std::numeric_limits<double>::infinity());
-  c.elastic.coupling = el.boolean("coupling", true);
-  read_viscoelastic(el, c.visco);
-  el.finish();
+  read_elastic(el, c);
   try {
     c.elastic.validate();
   } catch (const ParameterError& e) {
@@ -220,297 +163,28 @@ Config build(const toml::value& root, const std::string& name, const std::string
   load.finish();
 
   Section fr(root, "friction", errors);
-  c.friction.coefficient = fr.number("coefficient", 0.0);
-  c.friction.direction_deg = fr.number("direction", 0.0);
-  c.friction.regularization = fr.number("regularization", 0.0);
-  // The sliding speed a viscoelastic body's modes are excited at (omega = -(q.e_s) v0).
-  c.visco.velocity = fr.number("velocity", 0.0);
-  c.visco.direction_deg = c.friction.direction_deg;
-  if (!(c.visco.velocity >= 0))
-    fr.error("velocity", "must be a non-negative speed (length per time unit of elastic.relaxation_time)");
-  else if (c.visco.velocity != 0 && !c.visco.enabled())
-    fr.error("velocity",
-             "a sliding speed needs a viscoelastic body (elastic.viscoelastic = \"sls\" or \"prony\"): an "
-             "elastic body's steady state does not depend on it");
-  try {
-    c.visco.validate(c.elastic.contact_modulus);
-  } catch (const ParameterError& e) {
-    if (e.where() == "velocity")
-      fr.error("velocity", e.why());
-    else
-      el.error(e.where(), e.why());
-  }
-  if (!(c.friction.regularization >= 0 && c.friction.regularization < 1))
-    fr.error("regularization", "must be in [0, 1) (slip speed / v0 below which the traction is regularised)");
-  // Section::number has refused nan and inf already (they come back as the default).
-  if (!(c.friction.coefficient >= 0)) fr.error("coefficient", "must be a non-negative number");
-  c.friction.creepage = fr.number("creepage", 1.0);
-  if (!(c.friction.creepage > 0))
-    fr.error("creepage", "must be a positive finite number (rigid slip speed / v0; 1 = sliding)");
-  else if (c.friction.creepage != 1.0 && !(c.friction.coefficient > 0))
-    fr.error("creepage", "rolling with creepage needs friction: set friction.coefficient > 0");
-  c.friction.lateral_creepage = fr.number("lateral_creepage", 0.0);
-  if (c.friction.lateral_creepage != 0.0 && !(c.friction.coefficient > 0))
-    fr.error("lateral_creepage", "rolling with creepage needs friction: set friction.coefficient > 0");
-  else if (std::abs(c.friction.lateral_creepage) > 1e6)
-    fr.error("lateral_creepage", "must be at most 1e6 in magnitude (rigid slip speed / v0)");
-  const std::string deriv = fr.string("slip_derivative", "auto");
-  if (deriv == "spectral")
-    c.friction.slip_derivative = SlipDerivative::Spectral;
-  else if (deriv == "upwind")
-    c.friction.slip_derivative = SlipDerivative::Upwind;
-  else if (deriv == "upwind2")
-    c.friction.slip_derivative = SlipDerivative::Upwind2;
-  else if (deriv != "auto")
-    fr.error(
-        "slip_derivative",
-        "unknown discretisation \"" + deriv +
-            "\"; one of auto (upwind2 for rolling and where sliding meets stick, else spectral), spectral, "
-            "upwind, upwind2");
-  c.friction.stick_step = fr.number("stick_step", 0.0);
-  if (!(c.friction.stick_step >= 0) || c.friction.stick_step > 1e6)
-    fr.error("stick_step", "must be 0 (automatic) or a positive step gamma/E* up to 1e6");
-  c.friction.stick_acceleration = static_cast<int>(fr.integer("stick_acceleration", 0, 0, 50));
-  if (c.friction.stick_acceleration > 0 && c.friction.slip_derivative == SlipDerivative::Spectral)
-    fr.error("stick_acceleration",
-             "needs an upwind slip derivative (friction.slip_derivative = \"auto\", \"upwind2\" or "
-             "\"upwind\"): with the spectral one its looser inner solves stall the friction iteration "
-             "(docs/solver.md)");
-  c.friction_reference = fr.boolean("reference", true);
-  const std::string law_name = fr.string("law", "coulomb");
-  std::vector<std::string> law_keys;  // an unknown law: the keys of every law, no second error
-  if (const FrictionLawType* law = find_friction_law(law_name)) {
-    c.friction.law.kind = law->kind;
-    for (const FrictionLawType::Key& k : law->keys)
-      c.friction.law.*k.member = fr.number(k.name, k.default_value);
-    if (law->check)
-      if (const auto [key, why] = law->check(c.friction.law, c.friction.coefficient); !key.empty())
-        fr.error(key, why);
-    if (!law->set_valued_stick && c.friction.coefficient > 0 && !c.friction.regularized())
-      fr.error("regularization", "must be positive with friction.law = \"" + law->name +
-                                     "\" (its stick is solved regularised: e.g. 0.01)");
-  } else {
-    std::vector<std::string> names;
-    for (const FrictionLawType* t : friction_law_types()) {
-      names.push_back(t->name);
-      for (const auto& k : t->keys) law_keys.push_back(k.name);
-    }
-    std::string list;
-    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-    fr.error("law", "unknown friction law \"" + law_name + "\"" + did_you_mean(law_name, names) +
-                        "; one of " + list);
-  }
-  fr.finish(law_keys);
+  read_friction(fr, c);
 
   Section ia(root, "interaction", errors);
-  const std::string model = ia.string("model", "harmonic");
-  std::vector<std::string> adhesion_keys;
-  if (model == "harmonic") {
-    c.interaction.hard_wall = false;
-  } else if (model == "hardwall" || model == "hard_wall") {
-    c.interaction.hard_wall = true;
-  } else if (model == "adhesive") {
-    // The Maugis-Dugdale cohesive law on a repulsion (hard wall by default, as in the
-    // theories it is checked against).
-    adhesion_keys = {"work_of_adhesion", "range", "repulsion"};
-    // 0: the repulsion alone (the limit of vanishing adhesion, solved as without the model).
-    c.interaction.work_of_adhesion = ia.number("work_of_adhesion", 0.0);
-    if (!(c.interaction.work_of_adhesion >= 0) || !std::isfinite(c.interaction.work_of_adhesion))
-      ia.error("work_of_adhesion",
-               "must be zero or positive and finite (the work of adhesion, energy per area in E* x length "
-               "units)");
-    c.interaction.range = ia.number("range", 0.0);
-    if (!(c.interaction.range > 0) || !std::isfinite(c.interaction.range))
-      ia.error("range", "must be positive and finite (the range of the cohesive law, a length)");
-    const std::string rep = ia.string("repulsion", "hardwall");
-    if (rep == "hardwall" || rep == "hard_wall") {
-      c.interaction.hard_wall = true;
-    } else if (rep == "harmonic") {
-      c.interaction.hard_wall = false;
-    } else {
-      ia.error("repulsion", "unknown repulsion \"" + rep + "\"; one of hardwall, harmonic");
-    }
-  } else {
-    ia.error("model", "unknown model \"" + model + "\"; one of harmonic, hardwall, adhesive");
-  }
-  c.interaction.stiffness = ia.number("stiffness", 0.0);
-  if (!(c.interaction.stiffness >= 0))
-    ia.error("stiffness", "must be zero (the default, 2 E*/dx) or positive");
-  c.interaction.hardness = ia.number_or_inf("hardness", std::numeric_limits<double>::infinity());
-  if (!(c.interaction.hardness > 0))
-    ia.error("hardness", "must be positive (the largest local pressure, in units of E*) or \"inf\" (no cap)");
-  if (c.interaction.adhesive() && c.friction.coefficient > 0)
-    ia.error("model",
-             "adhesion with friction is not implemented yet: set friction.coefficient = 0 with "
-             "interaction.model = \"adhesive\"");
-  if (c.visco.enabled()) {
-    if (c.friction.coefficient > 0)
-      fr.error("coefficient",
-               "a viscoelastic body with Coulomb friction is not implemented yet: set it to 0 "
-               "(the hysteresis friction is computed without it)");
-    if (c.interaction.adhesive()) ia.error("model", "adhesion on a viscoelastic body is not implemented");
-    if (c.interaction.plastic())
-      ia.error("hardness", "plastic saturation on a viscoelastic body is not implemented");
-  }
-  if (c.interaction.adhesive() && c.interaction.plastic())
-    ia.error("hardness",
-             "adhesion with plastic saturation is not implemented: leave interaction.hardness out "
-             "with interaction.model = \"adhesive\"");
-  ia.finish(adhesion_keys);
+  read_interaction(ia, c);
   // A cap below the mean pressure leaves no solution: the load is named.
   if (c.interaction.plastic() && c.interaction.hardness > 0 && (hf || hp))
     if (const auto [key, why] = load_problem(c); !key.empty()) load.error(key, why);
 
   Section so(root, "solver", errors);
-  c.solver.tolerance = so.number("tolerance", 1e-8);
-  c.solver.max_iterations = static_cast<int>(so.integer("max_iterations", 20000, 1, 1000000000));
-  c.solver.max_outer = static_cast<int>(so.integer("max_outer", 2000, 1, 1000000000));
-  c.solver.max_tangential = static_cast<int>(so.integer("max_tangential", 20000, 1, 100000000));
-  c.solver.anderson = static_cast<int>(so.integer("anderson", 10, 0, 50));
-  c.solver.mixing = so.number("mixing", 0.5);
-  if (!(c.solver.mixing > 0 && c.solver.mixing <= 1)) so.error("mixing", "must be in (0, 1]");
-  c.threads = static_cast<int>(so.integer("threads", 0, 0, kMaxThreads));
-  c.backend = so.string("backend", c.backend);
-  if (find_backend(c.backend) == nullptr) {
-    std::string names;
-    for (const auto& b : backend_names()) names += (names.empty() ? "\"" : ", \"") + b + "\"";
-    so.error("backend", "must be one of " + names + " (got \"" + c.backend + "\")");
-  }
-  {
-    const std::string planner = so.string("fft_planner", "estimate");
-    if (planner == "estimate") {
-      c.solver.fft_planner = Planner::Estimate;
-    } else if (planner == "measure") {
-      c.solver.fft_planner = Planner::Measure;
-    } else {
-      so.error("fft_planner", "must be \"estimate\" or \"measure\" (got \"" + planner + "\")");
-    }
-  }
-  if (!(c.solver.tolerance > 0 && c.solver.tolerance < 1)) so.error("tolerance", "must be in (0, 1)");
-  so.finish();
+  read_solver(so, c);
 
   Section sw(root, "sweep", errors);
-  if (sw.present()) {
-    c.sweep.parameter = sw.string("parameter", "");
-    c.sweep.plot = sw.string("plot", c.sweep.plot);
-    if (const toml::value* v = sw.raw("values")) {
-      if (!v->is_array()) {
-        sw.error("values", "must be an array of numbers");
-      } else if (v->as_array().size() > static_cast<std::size_t>(kMaxSweepPoints)) {
-        sw.error("values", "at most " + std::to_string(kMaxSweepPoints) + " values, got " +
-                               std::to_string(v->as_array().size()));
-      } else {
-        for (const auto& e : v->as_array()) {
-          if (e.is_floating() && std::isfinite(e.as_floating()))
-            c.sweep.values.push_back(e.as_floating());
-          else if (e.is_integer())
-            c.sweep.values.push_back(static_cast<double>(e.as_integer()));
-          else
-            sw.error("values", "must be an array of finite numbers" + where(e));
-        }
-      }
-    }
-    const double from = sw.number("from", 0.0), to = sw.number("to", 0.0);
-    const long long points = sw.integer("points", 0, 0, kMaxSweepPoints);
-    const std::string spacing = sw.string("spacing", "log");
-    if (points > 0) {
-      if (!c.sweep.values.empty()) sw.error("points", "give either values or from/to/points, not both");
-      if (spacing != "log" && spacing != "linear") sw.error("spacing", "must be \"log\" or \"linear\"");
-      if (spacing == "log" && !(from > 0 && to > 0))
-        sw.error("from", "log spacing needs positive from and to");
-      for (long long i = 0; i < points; ++i) {
-        const double t = points == 1 ? 0.0 : static_cast<double>(i) / static_cast<double>(points - 1);
-        c.sweep.values.push_back(spacing == "log" ? from * std::pow(to / from, t) : from + (to - from) * t);
-      }
-    }
-    if (c.sweep.parameter.empty() || c.sweep.parameter.find('.') == std::string::npos)
-      sw.error("parameter", "name the swept key as \"section.key\", e.g. \"load.force\"");
-    if (c.sweep.values.empty()) sw.error("values", "give the values (or from, to, points)");
-  }
-  sw.finish();
+  read_sweep(sw, c);
 
   Section st(root, "stress", errors);
-  if (const toml::value* v = st.raw("post_analysis")) {
-    // false | true (= "consistent") | "paper" | "consistent" | a list of those.
-    const auto kind = [&](const toml::value& e) {
-      if (e.is_string() && (e.as_string() == "paper" || e.as_string() == "consistent")) {
-        const std::string k = e.as_string();
-        if (std::find(c.stress.post_analysis.begin(), c.stress.post_analysis.end(), k) ==
-            c.stress.post_analysis.end())
-          c.stress.post_analysis.push_back(k);
-      } else {
-        st.error("post_analysis",
-                 "must be false, true, \"paper\", \"consistent\" or a list of those" + where(e));
-      }
-    };
-    if (v->is_boolean()) {
-      if (v->as_boolean()) c.stress.post_analysis = {"consistent"};
-    } else if (v->is_array()) {
-      for (const auto& e : v->as_array()) kind(e);
-    } else {
-      kind(*v);
-    }
-  }
-  if (!c.stress.post_analysis.empty() && c.friction.law.kind != FrictionLawKind::Coulomb &&
-      c.friction.coefficient > 0)
-    st.error("post_analysis",
-             "adds Coulomb's traction mu_c p e_s to the frictionless solution: not defined for "
-             "friction.law = \"" +
-                 friction_law_type(c.friction.law.kind).name +
-                 "\" (the solve's own stresses are: stress.depths, fields.nc)");
-  c.stress.high_tension_fraction = st.number("high_tension_fraction", 0.9);
-  c.stress.profiles = st.boolean("profiles", true);
-  if (!(c.stress.high_tension_fraction > 0 && c.stress.high_tension_fraction <= 1))
-    st.error("high_tension_fraction", "must be in (0, 1]");
-  if (const toml::value* v = st.raw("depths")) {
-    if (!v->is_array()) {
-      st.error("depths", "must be an array of depths below the surface");
-    } else if (v->as_array().size() > kMaxStressDepths) {
-      st.error("depths", "at most " + std::to_string(kMaxStressDepths) + " depths, got " +
-                             std::to_string(v->as_array().size()));
-    } else {
-      for (const auto& e : v->as_array()) {
-        const double d = e.is_floating()  ? e.as_floating()
-                         : e.is_integer() ? static_cast<double>(e.as_integer())
-                                          : -1.0;
-        if (!(d >= 0) || !std::isfinite(d) || (!c.elastic.half_space() && d > c.elastic.thickness))
-          st.error("depths", "each depth must be a number in [0, thickness]" + where(e));
-        else
-          c.stress.depths.push_back(d);
-      }
-    }
-  }
-  st.finish();
+  read_stress(st, c);
 
   Section fl(root, "flow", errors);
-  if (fl.present()) {
-    c.flow.enabled = fl.boolean("enabled", true);
-    c.flow.tolerance = fl.number("tolerance", 1e-10);
-    if (!(c.flow.tolerance > 0 && c.flow.tolerance < 1)) fl.error("tolerance", "must be in (0, 1)");
-    const std::string solver = fl.string("solver", "auto");
-    if (!parse_flow_solver(solver, c.flow.solver))
-      fl.error("solver", "must be \"auto\", \"amg\" or \"boomeramg\", got \"" + solver + "\"");
-    // "x", "y", "both", or an angle in degrees (a number, or a string holding one).
-    const std::string expected = "must be \"x\", \"y\", \"both\" or an angle in degrees, got ";
-    const toml::value* dv = fl.raw("direction");
-    if (dv && (dv->is_floating() || dv->is_integer())) {
-      const double a = fl.number("direction", 0.0);
-      if (std::isfinite(a)) c.flow.angles = {a};
-    } else if (dv && !dv->is_string()) {
-      fl.error("direction", expected + Section::type_name(*dv));
-    } else {
-      const std::string dir = fl.string("direction", "both");
-      c.flow.angles = parse_flow_directions(dir);
-      if (c.flow.angles.empty()) fl.error("direction", expected + "\"" + dir + "\"");
-    }
-  }
-  fl.finish();
+  read_flow(fl, c);
 
   Section out(root, "output", errors);
-  c.output.fields = out.boolean("fields", true);
-  c.output.png = out.boolean("png", true);
-  c.output.analysis = out.boolean("analysis", true);
-  out.finish();
+  read_output(out, c);
 
   // Combinations.
   if (errors.empty()) {

@@ -196,4 +196,18 @@ struct GridKeysGiven {
 void read_indenter(Section& ind, Config& c, std::vector<std::string>& errors, const GridKeysGiven& given,
                    const std::string& base_dir);
 
+// The sections after [indenter] and [load], each read into c and checked key by key (Section::
+// error), the section finished (its unknown keys reported). Physics (src/case/config_physics.cpp):
+// [elastic] with a viscoelastic body's keys; [friction] (also friction.velocity, which needs the
+// body read first); [interaction] (its combinations with friction and the body). The run
+// (src/case/config_run.cpp): [solver], [sweep], [stress] (depths need the body), [flow], [output].
+void read_elastic(Section& el, Config& c);
+void read_friction(Section& fr, Config& c);
+void read_interaction(Section& ia, Config& c);
+void read_solver(Section& so, Config& c);
+void read_sweep(Section& sw, Config& c);
+void read_stress(Section& st, Config& c);
+void read_flow(Section& fl, Config& c);
+void read_output(Section& out, Config& c);
+
 }  // namespace gfmd::config_detail

@@ -1,0 +1,220 @@
+// The physics sections of a case file: [elastic] (with a viscoelastic body's keys),
+// [friction] and [interaction], each read into the Config and checked key by key (private to
+// the config part; src/case/config.cpp runs them in order).
+#include <cmath>
+#include <limits>
+#include <string>
+#include <toml.hpp>
+#include <vector>
+
+#include "config_section.hpp"
+#include "gfmd/contact/friction_law.hpp"
+#include "gfmd/core/error.hpp"
+
+namespace gfmd::config_detail {
+
+namespace {
+
+constexpr std::size_t kMaxPronyArms = 64;
+
+// A list of positive numbers at key (at most kMaxPronyArms), or an error naming the entry.
+std::vector<double> positive_list(Section& sec, const std::string& key) {
+  std::vector<double> out;
+  const toml::value* v = sec.raw(key);
+  if (!v) return out;
+  if (!v->is_array() || v->as_array().empty() || v->as_array().size() > kMaxPronyArms) {
+    sec.error(key, "must be a list of 1 to " + std::to_string(kMaxPronyArms) + " positive numbers");
+    return out;
+  }
+  for (const auto& e : v->as_array()) {
+    const double d = e.is_floating()  ? e.as_floating()
+                     : e.is_integer() ? static_cast<double>(e.as_integer())
+                                      : -1.0;
+    if (!(d > 0) || !std::isfinite(d)) {
+      sec.error(key, "each entry must be a positive finite number" + where(e));
+      return {};
+    }
+    out.push_back(d);
+  }
+  return out;
+}
+
+// elastic.viscoelastic and its keys (the relaxed modulus is elastic.contact_modulus).
+void read_viscoelastic(Section& el, ViscoelasticParams& v) {
+  using Model = ViscoelasticParams::Model;
+  const std::string model = el.string("viscoelastic", "none");
+  if (model == "sls")
+    v.model = Model::StandardLinearSolid;
+  else if (model == "prony")
+    v.model = Model::Prony;
+  else if (model != "none")
+    el.error("viscoelastic", "unknown model \"" + model + "\" (\"none\", \"sls\" or \"prony\")");
+  const bool einf = el.has("high_frequency_modulus"), tau = el.has("relaxation_time");
+  v.high_frequency_modulus = el.number("high_frequency_modulus", 0.0);
+  v.relaxation_time = el.number("relaxation_time", 0.0);
+  v.prony_moduli = positive_list(el, "prony_moduli");
+  v.prony_times = positive_list(el, "prony_times");
+  const auto needs = [&](const char* key, bool given, Model m) {
+    if (given && v.model != m)
+      el.error(key, std::string("belongs to elastic.viscoelastic = \"") + viscoelastic_model_name(m) + "\"");
+    else if (!given && v.model == m)
+      el.error(key,
+               std::string("is needed with elastic.viscoelastic = \"") + viscoelastic_model_name(m) + "\"");
+  };
+  needs("high_frequency_modulus", einf, Model::StandardLinearSolid);
+  needs("relaxation_time", tau, Model::StandardLinearSolid);
+  needs("prony_moduli", !v.prony_moduli.empty(), Model::Prony);
+  needs("prony_times", !v.prony_times.empty(), Model::Prony);
+}
+
+}  // namespace
+
+void read_elastic(Section& el, Config& c) {
+  c.elastic.contact_modulus = el.number("contact_modulus", 1.0);
+  c.elastic.poisson = el.number("poisson", 0.25);
+  c.elastic.thickness = el.number_or_inf("thickness", std::numeric_limits<double>::infinity());
+  c.elastic.coupling = el.boolean("coupling", true);
+  read_viscoelastic(el, c.visco);
+  el.finish();
+  try {
+    c.visco.validate(c.elastic.contact_modulus);  // its speed is [friction]'s, checked there
+  } catch (const ParameterError& e) {
+    el.error(e.where(), e.why());
+  }
+}
+
+void read_friction(Section& fr, Config& c) {
+  c.friction.coefficient = fr.number("coefficient", 0.0);
+  c.friction.direction_deg = fr.number("direction", 0.0);
+  c.friction.regularization = fr.number("regularization", 0.0);
+  // The sliding speed a viscoelastic body's modes are excited at (omega = -(q.e_s) v0).
+  c.visco.velocity = fr.number("velocity", 0.0);
+  c.visco.direction_deg = c.friction.direction_deg;
+  if (!(c.visco.velocity >= 0))
+    fr.error("velocity", "must be a non-negative speed (length per time unit of elastic.relaxation_time)");
+  else if (c.visco.velocity != 0 && !c.visco.enabled())
+    fr.error("velocity",
+             "a sliding speed needs a viscoelastic body (elastic.viscoelastic = \"sls\" or \"prony\"): an "
+             "elastic body's steady state does not depend on it");
+  if (!(c.friction.regularization >= 0 && c.friction.regularization < 1))
+    fr.error("regularization", "must be in [0, 1) (slip speed / v0 below which the traction is regularised)");
+  // Section::number has refused nan and inf already (they come back as the default).
+  if (!(c.friction.coefficient >= 0))
+    fr.error("coefficient", "must be a non-negative number");
+  else if (c.friction.coefficient > 0 && c.visco.enabled())
+    fr.error("coefficient",
+             "a viscoelastic body with Coulomb friction is not implemented yet: set it to 0 "
+             "(the hysteresis friction is computed without it)");
+  c.friction.creepage = fr.number("creepage", 1.0);
+  if (!(c.friction.creepage > 0))
+    fr.error("creepage", "must be a positive finite number (rigid slip speed / v0; 1 = sliding)");
+  else if (c.friction.creepage != 1.0 && !(c.friction.coefficient > 0))
+    fr.error("creepage", "rolling with creepage needs friction: set friction.coefficient > 0");
+  c.friction.lateral_creepage = fr.number("lateral_creepage", 0.0);
+  if (c.friction.lateral_creepage != 0.0 && !(c.friction.coefficient > 0))
+    fr.error("lateral_creepage", "rolling with creepage needs friction: set friction.coefficient > 0");
+  else if (std::abs(c.friction.lateral_creepage) > 1e6)
+    fr.error("lateral_creepage", "must be at most 1e6 in magnitude (rigid slip speed / v0)");
+  const std::string deriv = fr.string("slip_derivative", "auto");
+  if (deriv == "spectral")
+    c.friction.slip_derivative = SlipDerivative::Spectral;
+  else if (deriv == "upwind")
+    c.friction.slip_derivative = SlipDerivative::Upwind;
+  else if (deriv == "upwind2")
+    c.friction.slip_derivative = SlipDerivative::Upwind2;
+  else if (deriv != "auto")
+    fr.error(
+        "slip_derivative",
+        "unknown discretisation \"" + deriv +
+            "\"; one of auto (upwind2 for rolling and where sliding meets stick, else spectral), spectral, "
+            "upwind, upwind2");
+  c.friction.stick_step = fr.number("stick_step", 0.0);
+  if (!(c.friction.stick_step >= 0) || c.friction.stick_step > 1e6)
+    fr.error("stick_step", "must be 0 (automatic) or a positive step gamma/E* up to 1e6");
+  c.friction.stick_acceleration = static_cast<int>(fr.integer("stick_acceleration", 0, 0, 50));
+  if (c.friction.stick_acceleration > 0 && c.friction.slip_derivative == SlipDerivative::Spectral)
+    fr.error("stick_acceleration",
+             "needs an upwind slip derivative (friction.slip_derivative = \"auto\", \"upwind2\" or "
+             "\"upwind\"): with the spectral one its looser inner solves stall the friction iteration "
+             "(docs/solver.md)");
+  c.friction_reference = fr.boolean("reference", true);
+  const std::string law_name = fr.string("law", "coulomb");
+  std::vector<std::string> law_keys;  // an unknown law: the keys of every law, no second error
+  if (const FrictionLawType* law = find_friction_law(law_name)) {
+    c.friction.law.kind = law->kind;
+    for (const FrictionLawType::Key& k : law->keys)
+      c.friction.law.*k.member = fr.number(k.name, k.default_value);
+    if (law->check)
+      if (const auto [key, why] = law->check(c.friction.law, c.friction.coefficient); !key.empty())
+        fr.error(key, why);
+    if (!law->set_valued_stick && c.friction.coefficient > 0 && !c.friction.regularized())
+      fr.error("regularization", "must be positive with friction.law = \"" + law->name +
+                                     "\" (its stick is solved regularised: e.g. 0.01)");
+  } else {
+    std::vector<std::string> names;
+    for (const FrictionLawType* t : friction_law_types()) {
+      names.push_back(t->name);
+      for (const auto& k : t->keys) law_keys.push_back(k.name);
+    }
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    fr.error("law", "unknown friction law \"" + law_name + "\"" + did_you_mean(law_name, names) +
+                        "; one of " + list);
+  }
+  fr.finish(law_keys);
+}
+
+void read_interaction(Section& ia, Config& c) {
+  const std::string model = ia.string("model", "harmonic");
+  std::vector<std::string> adhesion_keys;
+  if (model == "harmonic") {
+    c.interaction.hard_wall = false;
+  } else if (model == "hardwall" || model == "hard_wall") {
+    c.interaction.hard_wall = true;
+  } else if (model == "adhesive") {
+    // The Maugis-Dugdale cohesive law on a repulsion (hard wall by default, as in the
+    // theories it is checked against).
+    adhesion_keys = {"work_of_adhesion", "range", "repulsion"};
+    // 0: the repulsion alone (the limit of vanishing adhesion, solved as without the model).
+    c.interaction.work_of_adhesion = ia.number("work_of_adhesion", 0.0);
+    if (!(c.interaction.work_of_adhesion >= 0) || !std::isfinite(c.interaction.work_of_adhesion))
+      ia.error("work_of_adhesion",
+               "must be zero or positive and finite (the work of adhesion, energy per area in E* x length "
+               "units)");
+    c.interaction.range = ia.number("range", 0.0);
+    if (!(c.interaction.range > 0) || !std::isfinite(c.interaction.range))
+      ia.error("range", "must be positive and finite (the range of the cohesive law, a length)");
+    const std::string rep = ia.string("repulsion", "hardwall");
+    if (rep == "hardwall" || rep == "hard_wall") {
+      c.interaction.hard_wall = true;
+    } else if (rep == "harmonic") {
+      c.interaction.hard_wall = false;
+    } else {
+      ia.error("repulsion", "unknown repulsion \"" + rep + "\"; one of hardwall, harmonic");
+    }
+  } else {
+    ia.error("model", "unknown model \"" + model + "\"; one of harmonic, hardwall, adhesive");
+  }
+  c.interaction.stiffness = ia.number("stiffness", 0.0);
+  if (!(c.interaction.stiffness >= 0))
+    ia.error("stiffness", "must be zero (the default, 2 E*/dx) or positive");
+  c.interaction.hardness = ia.number_or_inf("hardness", std::numeric_limits<double>::infinity());
+  if (!(c.interaction.hardness > 0))
+    ia.error("hardness", "must be positive (the largest local pressure, in units of E*) or \"inf\" (no cap)");
+  if (c.interaction.adhesive() && c.friction.coefficient > 0)
+    ia.error("model",
+             "adhesion with friction is not implemented yet: set friction.coefficient = 0 with "
+             "interaction.model = \"adhesive\"");
+  if (c.visco.enabled()) {
+    if (c.interaction.adhesive()) ia.error("model", "adhesion on a viscoelastic body is not implemented");
+    if (c.interaction.plastic())
+      ia.error("hardness", "plastic saturation on a viscoelastic body is not implemented");
+  }
+  if (c.interaction.adhesive() && c.interaction.plastic())
+    ia.error("hardness",
+             "adhesion with plastic saturation is not implemented: leave interaction.hardness out "
+             "with interaction.model = \"adhesive\"");
+  ia.finish(adhesion_keys);
+}
+
+}  // namespace gfmd::config_detail
