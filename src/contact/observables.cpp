@@ -52,6 +52,9 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
   const Grid& g = fft.grid();
   const double n = static_cast<double>(g.size());
   const double da = g.cell_area();
+  // The sliding direction e_s.
+  const double th = fric.direction_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(th), ey = std::sin(th);
   Observables o;
   o.relative_contact_area = grid_sum(g, [&](std::size_t i) { return f.in_contact(i) ? 1.0 : 0.0; }) / n;
   o.normal_force = grid_sum(g, [&](std::size_t i) { return f.pressure[i]; }) * da;
@@ -87,15 +90,14 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
   if (mu > 0) {
     RealField vx, vy, dh;
     slip_velocity(fft, fric, f.ux, f.uy, vx, vy);
-    const double th = fric.direction_deg * std::numbers::pi / 180.0;
-    directional_derivative(fft, std::cos(th), std::sin(th), topo.h, dh);
+    directional_derivative(fft, ex, ey, topo.h, dh);
     // One pass over the slip field with the solver's tractions tau (exact Coulomb with
     // stick: |tau| = mu_c p where the point slips, tau inside the disc where it sticks and
     // v = 0; regularised: mu_c p f(|v|) v/|v|): [0] dissipation sum tau.v, [1] sum |tau|
     // (= mu_c F_z when every point slips), [2] sum tau.e_s (the tangential force along the
     // sliding direction), [3] cells in contact slipping slower than eps (regularised law),
     // [4] cells that stick, [5] sum tau_x, [6] sum tau_y.
-    const double ex = std::cos(th), ey = std::sin(th), eps = fric.regularization;
+    const double eps = fric.regularization;
     const bool has_stick = f.stick.size() == g.local_size();
     const auto s = grid_sums<7>(g, [&](std::size_t i, std::array<double, 7>& acc) {
       const double p = f.pressure[i], tx = f.tx[i], ty = f.ty[i];
@@ -147,9 +149,8 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     o.min_slip_velocity = std::isfinite(vmin) ? vmin : 0.0;
   }
   if (info.viscoelastic_steps > 0) {
-    const double th = fric.direction_deg * std::numbers::pi / 180.0;
     RealField du;
-    directional_derivative(fft, std::cos(th), std::sin(th), f.uz, du);
+    directional_derivative(fft, ex, ey, f.uz, du);
     o.viscoelastic = true;
     o.hysteresis_force = da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * du[i]; });
     o.hysteresis_friction = o.normal_force > 0 ? o.hysteresis_force / o.normal_force : 0.0;
@@ -163,8 +164,6 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
   // Geometry relative to the highest point of the indenter (the first in row-major order).
   const std::size_t apex = grid_argmax(g, [&](std::size_t i) { return topo.h[i]; }).first;
   const int ax = static_cast<int>(apex % g.nx), ay = static_cast<int>(apex / g.nx);
-  const double th = fric.direction_deg * std::numbers::pi / 180.0;
-  const double ex = std::cos(th), ey = std::sin(th);
   // Longitudinal and transverse coordinates from the apex of the point with the global index
   // gi (the nearest periodic image).
   const auto rel = [&](std::size_t gi, double& l, double& t) {

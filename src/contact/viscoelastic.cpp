@@ -35,7 +35,7 @@ double ContactSolver::hysteresis_dissipation(const RealField& p) {
   // Nyquist lines), as in the response factors.
   fft_.forward(p.data(), s1_.data());
   const int nxh = grid_.nxh();
-  const double th = fric_.direction_deg * std::numbers::pi / 180.0;
+  const double th = body_.visco().direction_deg * std::numbers::pi / 180.0;  // the factors' direction
   const double ex = std::cos(th), ey = std::sin(th);
   std::vector<double> rows(static_cast<std::size_t>(grid_.rows()), 0.0);
   for_rows(grid_.rows(), [&](int row) {
@@ -66,9 +66,8 @@ ContactSolver::PKResult ContactSolver::solve_viscoelastic(const LoadParams& load
     info.hysteresis_dissipation = 0.0;
     return pk;
   }
-  for (RealField* fld : {&visco_.w, &visco_.image})
-    if (fld->size() != n) fld->assign(n, 0.0);
-  RealField &w = visco_.w, &image = visco_.image;
+  if (visco_.w.size() != n) visco_.w.assign(n, 0.0);
+  RealField& w = visco_.w;
   if (!visco_.mixer) visco_.mixer = std::make_unique<GuardedAnderson>(sp_.anderson, grid_);
   visco_.mixer->restart();
   // The iterate x is the pressure the rest's displacement is taken from; a warm start's
@@ -94,13 +93,12 @@ ContactSolver::PKResult ContactSolver::solve_viscoelastic(const LoadParams& load
     const auto sums = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
       acc[0] += std::abs(p[i] - x[i]);
       acc[1] += std::abs(p[i]);
-      image[i] = p[i];
     });
     change = relative_change(sums[0], sums[1]);
     info.status =
         outer_status(change, tol, pk.converged, inner_tol, used, step, sp_, "the viscoelastic pressure");
     if (!info.status.empty()) break;
-    visco_.mixer->advance(x, image, change, 0.0, inf);
+    visco_.mixer->advance(x, p, change, 0.0, inf);  // p is the step's image of x
   }
   info.converged = info.status == "converged";
   info.hysteresis_dissipation = hysteresis_dissipation(p);

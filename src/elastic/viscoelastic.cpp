@@ -23,22 +23,17 @@ const char* viscoelastic_model_name(ViscoelasticParams::Model m) {
   return "none";
 }
 
-std::vector<std::pair<double, double>> ViscoelasticParams::arms(double relaxed_modulus) const {
-  std::vector<std::pair<double, double>> a;
-  if (model == Model::StandardLinearSolid)
-    a.emplace_back(high_frequency_modulus - relaxed_modulus, relaxation_time);
-  if (model == Model::Prony)
-    for (std::size_t i = 0; i < prony_moduli.size() && i < prony_times.size(); ++i)
-      a.emplace_back(prony_moduli[i], prony_times[i]);
-  return a;
-}
-
 std::complex<double> ViscoelasticParams::modulus_ratio(double omega, double relaxed_modulus) const {
+  // Called once per mode and alias when a body is made: no allocation here.
   std::complex<double> e(relaxed_modulus, 0.0);
-  for (const auto& [ei, ti] : arms(relaxed_modulus)) {
+  const auto arm = [&](double ei, double ti) {
     const std::complex<double> iwt(0.0, omega * ti);
     e += ei * iwt / (1.0 + iwt);
-  }
+  };
+  if (model == Model::StandardLinearSolid) arm(high_frequency_modulus - relaxed_modulus, relaxation_time);
+  if (model == Model::Prony)
+    for (std::size_t i = 0; i < prony_moduli.size() && i < prony_times.size(); ++i)
+      arm(prony_moduli[i], prony_times[i]);
   return e / relaxed_modulus;
 }
 

@@ -50,12 +50,6 @@ std::string load_override(const std::string& parameter, double v) {
   return parameter + buf;
 }
 
-std::string point_name(std::size_t i) {
-  char name[32];
-  std::snprintf(name, sizeof name, "point_%03zu", i);
-  return name;
-}
-
 std::string csv_number(const nlohmann::json& v) {
   if (v.is_null()) return "";
   if (v.is_boolean()) return v.get<bool>() ? "1" : "0";
@@ -147,7 +141,7 @@ std::vector<nlohmann::json> finished_points(const std::string& case_path, const 
   sets.emplace_back();
   for (std::size_t i = 0; i < cfg.sweep.values.size(); ++i) {
     sets.back() = load_override(cfg.sweep.parameter, cfg.sweep.values[i]);
-    auto s = finished_summary((fs::path(pdir) / point_name(i)).string(), load_config(case_path, sets));
+    auto s = finished_summary((fs::path(pdir) / sweep_point_name(i)).string(), load_config(case_path, sets));
     if (!s) break;
     out.push_back(std::move(*s));
   }

@@ -207,11 +207,6 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   // With adhesion each point's state depends on the path before it (its branch): finished
   // points are reused only when every point is, else the whole path is solved again (a point
   // after a reused one would start cold and could land on the other branch).
-  const auto point_name = [](int i) {
-    char name[32];
-    std::snprintf(name, sizeof name, "point_%03d", i);
-    return std::string(name);
-  };
   const auto point_config = [&](int i) {
     std::vector<std::string> sets = opts.overrides;
     sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
@@ -221,17 +216,17 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   if (base.interaction.adhesive() && root)
     for (int i = 0; i < total && reuse; ++i) {
       const Config cfg = point_config(i);
-      reuse = finished_summary((fs::path(stage) / point_name(i)).string(), cfg).has_value() ||
-              finished_summary((fs::path(dir) / point_name(i)).string(), cfg).has_value();
+      const std::string name = sweep_point_name(static_cast<std::size_t>(i));
+      reuse = finished_summary((fs::path(stage) / name).string(), cfg).has_value() ||
+              finished_summary((fs::path(dir) / name).string(), cfg).has_value();
     }
   reuse = mpi::from_root(reuse ? 1 : 0) == 1;
   for (int i = 0; i < total; ++i) {
-    const std::string name_s = point_name(i);
-    const char* name = name_s.c_str();
+    const std::string name = sweep_point_name(static_cast<std::size_t>(i));
     // Stop requests are honoured between points too (points that need no iterations never
     // poll inside the solve).
     if (mpi::from_root(root && opts.stop_request && opts.stop_request() ? 1 : 0) == 1) {
-      const std::string why = std::string("interrupted before ") + name;
+      const std::string why = "interrupted before " + name;
       (void)stop_early("interrupted", why);
       throw Interrupted(why);
     }
@@ -250,7 +245,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       }
       check_column(i);
       have_warm = false;
-      if (opts.on_point) opts.on_point(i + 1, total, std::string(name) + " reused (finished earlier)");
+      if (opts.on_point) opts.on_point(i + 1, total, name + " reused (finished earlier)");
       continue;
     }
     RunOptions ro;
@@ -282,7 +277,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       } catch (const Interrupted& e) {
         on_root([&] {
           write_status(sdir, "interrupted", e.what());
-          (void)stop_early("interrupted", std::string(name) + ": " + e.what());
+          (void)stop_early("interrupted", name + ": " + e.what());
         });
         throw;
       }
@@ -293,7 +288,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       // Started from the previous point's solution, the friction fixed point can fall into
       // a limit cycle that a start from the frictionless solution avoids: try that once.
       if (opts.on_point)
-        opts.on_point(i, total, std::string(name) + ": " + r.info.status + "; retrying from a cold start");
+        opts.on_point(i, total, name + ": " + r.info.status + "; retrying from a cold start");
       ro.warm_start = nullptr;
       r = solve_point();
       retried = true;
@@ -301,8 +296,8 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     std::error_code ec;
     if (root) fs::remove(ro.checkpoint_path, ec);
     if (!r.info.converged) {
-      std::string why = std::string(name) + " (" + sw.parameter + " = " + format_number(sw.values[i]) +
-                        "): " + r.info.status;
+      std::string why =
+          name + " (" + sw.parameter + " = " + format_number(sw.values[i]) + "): " + r.info.status;
       on_root([&] {
         fs::remove_all(sdir, ec);  // no bare point directory is left behind
         const std::string what = stop_early("failed", why);
@@ -327,8 +322,9 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     have_warm = cfg.grid.size() == base.grid.size();
     if (opts.on_point) {
       char msg[160];
-      std::snprintf(msg, sizeof msg, "%s: %s = %.6g, %d iterations, %.2f s%s", name, sw.parameter.c_str(),
-                    sw.values[i], r.info.iterations, r.info.wall_time_s, retried ? " (cold start)" : "");
+      std::snprintf(msg, sizeof msg, "%s: %s = %.6g, %d iterations, %.2f s%s", name.c_str(),
+                    sw.parameter.c_str(), sw.values[i], r.info.iterations, r.info.wall_time_s,
+                    retried ? " (cold start)" : "");
       opts.on_point(i + 1, total, msg);
     }
   }
@@ -345,6 +341,12 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   nlohmann::json j;
   j["points"] = summaries.size();
   return j;
+}
+
+std::string sweep_point_name(std::size_t i) {
+  char name[32];
+  std::snprintf(name, sizeof name, "point_%03zu", i);
+  return name;
 }
 
 }  // namespace gfmd

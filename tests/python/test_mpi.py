@@ -141,6 +141,17 @@ def same_solution(serial, dist, ranks):
     return a, b
 
 
+def serial_and_distributed(tmp_path, text, ranks):
+    """The case `text` run serially and on `ranks` processes: both summaries, checked as one
+    solution (same_solution)."""
+    case = tmp_path / "case.toml"
+    case.write_text(text)
+    for out, np_ in (("serial", 0), ("mpi", ranks)):
+        p = run(case, tmp_path / out, np_)
+        assert p.returncode == 0, p.stderr
+    return same_solution(tmp_path / "serial", tmp_path / "mpi", ranks)
+
+
 @pytest.mark.parametrize("ranks", [1, 2, 3, 4])
 def test_hertz_frictionless_any_rank_count(tmp_path, ranks):
     case = tmp_path / "hertz.toml"
@@ -162,13 +173,7 @@ ADHESIVE = HERTZ.replace("force = 0.01", "approach = 0.002").replace(
 def test_adhesive_hertz_any_rank_count(tmp_path, ranks):
     # The adhesive steps (the cell law's spectral gradient, the traction's Anderson mixing summed by
     # grid row) give the serial bits on slabs, the adhesive figures and fields included.
-    case = tmp_path / "adh.toml"
-    case.write_text(ADHESIVE)
-    p = run(case, tmp_path / "serial")
-    assert p.returncode == 0, p.stderr
-    p = run(case, tmp_path / "mpi", ranks)
-    assert p.returncode == 0, p.stderr
-    a, b = same_solution(tmp_path / "serial", tmp_path / "mpi", ranks)
+    a, b = serial_and_distributed(tmp_path, ADHESIVE, ranks)
     assert a["adhesive_force"] > 0 and a["normal_force"] < a["repulsive_force"]
     for k in ("adhesive_force", "repulsive_force", "attraction_area_fraction", "cohesive_zone_fraction",
               "adhesion_steps", "energy"):
@@ -186,13 +191,7 @@ VISCO = HERTZ.replace("poisson = 0.3", "poisson = 0.3\nviscoelastic = \"sls\"\nh
 def test_viscoelastic_sliding_any_rank_count(tmp_path, ranks):
     # The response factors on each slab's rows of the spectrum (the y Nyquist row on one of them),
     # the splitting's mixing summed by grid row and the spectral dissipation: the serial bits.
-    case = tmp_path / "visco.toml"
-    case.write_text(VISCO)
-    p = run(case, tmp_path / "serial")
-    assert p.returncode == 0, p.stderr
-    p = run(case, tmp_path / "mpi", ranks)
-    assert p.returncode == 0, p.stderr
-    a, b = same_solution(tmp_path / "serial", tmp_path / "mpi", ranks)
+    a, b = serial_and_distributed(tmp_path, VISCO, ranks)
     assert a["hysteresis_friction"] > 0 and a["hysteresis_balance_error"] < 1e-9
     for k in ("hysteresis_force", "hysteresis_dissipation", "viscoelastic_steps", "centroid_shift"):
         assert b[k] == a[k], k
@@ -200,12 +199,7 @@ def test_viscoelastic_sliding_any_rank_count(tmp_path, ranks):
 
 @pytest.mark.parametrize("ranks", [2, 3])
 def test_thin_layer_sliding_with_stick(tmp_path, ranks):
-    case = tmp_path / "thin.toml"
-    case.write_text(THIN_STICK)
-    assert run(case, tmp_path / "serial").returncode == 0
-    p = run(case, tmp_path / "mpi", ranks)
-    assert p.returncode == 0, p.stderr
-    a, b = same_solution(tmp_path / "serial", tmp_path / "mpi", ranks)
+    a, b = serial_and_distributed(tmp_path, THIN_STICK, ranks)
     assert a["stick_fraction"] > 0  # points stick: the stick-slip (Douglas-Rachford) solve ran
     assert b["tangential_iterations"] == a["tangential_iterations"]
 
@@ -215,15 +209,10 @@ def test_rolling_with_the_upwind_derivative(tmp_path, ranks):
     """Kalker's small-creepage rolling (examples/rolling_sphere.toml on 64 x 62 cells, uneven
     slabs, with lateral creepage too): the upwind slip symbols read the global wave numbers on
     every slab."""
-    case = tmp_path / "roll.toml"
     text = open(os.path.join(ROOT, "examples", "rolling_sphere.toml")).read()
-    case.write_text(text.replace("nx = 128", "nx = 64\nny = 62\nly = 0.96875")
-                    .replace("[stress]", "[output]\npng = false\n\n[stress]")
-                    .replace("creepage = 1e-4", "creepage = 1e-4\nlateral_creepage = 3e-5"))
-    assert run(case, tmp_path / "serial").returncode == 0
-    p = run(case, tmp_path / "mpi", ranks)
-    assert p.returncode == 0, p.stderr
-    a, b = same_solution(tmp_path / "serial", tmp_path / "mpi", ranks)
+    a, b = serial_and_distributed(tmp_path, text.replace("nx = 128", "nx = 64\nny = 62\nly = 0.96875")
+                                  .replace("[stress]", "[output]\npng = false\n\n[stress]")
+                                  .replace("creepage = 1e-4", "creepage = 1e-4\nlateral_creepage = 3e-5"), ranks)
     assert a["stick_fraction"] > 0.9
     assert b["tangential_iterations"] == a["tangential_iterations"]
     assert b["numerical_dissipation"] == a["numerical_dissipation"]
@@ -236,12 +225,7 @@ def test_sliding_rough_with_leakage(tmp_path, ranks):
     across the slabs' edges (the same percolation flags; 128 rows over 3 processes: 43, 43, 42).
     The gap has one process's bits and the flow factors agree to the solvers' tolerance
     (1e-10 relative residual here, our AMG in one process)."""
-    case = tmp_path / "flow.toml"
-    case.write_text(ROUGH_FLOW)
-    assert run(case, tmp_path / "serial").returncode == 0
-    p = run(case, tmp_path / "mpi", ranks)
-    assert p.returncode == 0, p.stderr
-    same_solution(tmp_path / "serial", tmp_path / "mpi", ranks)
+    serial_and_distributed(tmp_path, ROUGH_FLOW, ranks)
     with open(tmp_path / "serial" / "flow.json") as f:
         fa = json.load(f)
     with open(tmp_path / "mpi" / "flow.json") as f:

@@ -33,8 +33,6 @@ struct ViscoelasticParams {
   double direction_deg = 0.0;
 
   [[nodiscard]] bool enabled() const { return model != Model::None; }
-  // The arms (E_i, tau_i) of the series, the standard linear solid's one included.
-  [[nodiscard]] std::vector<std::pair<double, double>> arms(double relaxed_modulus) const;
   // E(omega) / E0 for the relaxed contact modulus E0.
   [[nodiscard]] std::complex<double> modulus_ratio(double omega, double relaxed_modulus) const;
   // Throws ParameterError naming the key (high_frequency_modulus, relaxation_time,

@@ -41,4 +41,7 @@ Config sweep_config(const std::string& case_path, const std::vector<std::string>
 nlohmann::json run_sweep(const std::string& case_path, const Config& cfg, const std::string& dir,
                          const SweepOptions& opts);
 
+// The run directory of the sweep's point i inside its directory: point_000, point_001, ...
+std::string sweep_point_name(std::size_t i);
+
 }  // namespace gfmd
