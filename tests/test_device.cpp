@@ -3,6 +3,9 @@
 // elsewhere: CI has no GPU); and, everywhere, what "cuda" and "auto" do without one.
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
 
 #if GFMD_HAVE_CUDA
 #include <cuda_runtime_api.h>
@@ -283,6 +286,33 @@ TEST(Device, WithoutADeviceCudaIsAClearErrorAndAutoRunsOnTheCores) {
   EXPECT_EQ(o.code, 2) << o.output;
   EXPECT_NE(o.output.find("solver.backend"), std::string::npos) << o.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "out" / "summary.json"));
+}
+
+// The physics the device lacks (device_lacks): "auto" solves it on the cores, on any machine;
+// "cuda" is refused naming the key where a device is usable (without one it stops at
+// solver.backend, above).
+TEST(Device, AutoKeepsHostOnlyPhysicsOnTheCoresAndCudaNamesIt) {
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"elastic.viscoelastic=\"sls\"", "elastic.high_frequency_modulus=10", "elastic.relaxation_time=1",
+        "friction.velocity=0.02"},
+       "elastic.viscoelastic"},
+      {{"interaction.model=\"adhesive\"", "interaction.work_of_adhesion=1e-3", "interaction.range=0.02"},
+       "interaction.model"}};
+  const DeviceStatus dev = cuda_device();
+  for (const auto& [sets, key] : cases) {
+    std::vector<std::string> with = sets;
+    with.emplace_back("solver.backend=\"auto\"");
+    const CaseResult a = solve(kSmallHertz, with);
+    EXPECT_EQ(a.config.backend, "threads") << key;
+    if (!dev.available) continue;
+    with.back() = "solver.backend=\"cuda\"";
+    try {
+      (void)run_case(parse_config(kSmallHertz, "test.toml", with));
+      ADD_FAILURE() << key << ": accepted on the cuda backend";
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(Device, BackendNamesListCudaAndAuto) {

@@ -23,7 +23,6 @@
 
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/contact/device.hpp"
-#include "gfmd/contact/friction_law.hpp"
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
@@ -293,11 +292,9 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
   if (mpi::distributed() && cfg.backend == "auto") chosen = &threads_backend();
   // "auto" also means the cores for the physics the device does not have (the solver refuses
   // "cuda" for it by name).
-  const bool host_only =
-      cfg.interaction.adhesive() || cfg.interaction.plastic() || cfg.visco.enabled() ||
-      cfg.friction.stick_acceleration > 0 ||
-      (cfg.friction.coefficient > 0 && !friction_law_type(cfg.friction.law.kind).on_device);
-  if (host_only && cfg.backend == "auto") chosen = &threads_backend();
+  if (cfg.backend == "auto" &&
+      !device_lacks(cfg.interaction, cfg.friction, cfg.visco.enabled()).first.empty())
+    chosen = &threads_backend();
   if (chosen->name() == "cuda") {
     if (mpi::distributed())
       throw InputError("solver.backend", "\"cuda\" solves on one process; under mpirun use \"threads\"");

@@ -23,6 +23,21 @@ namespace gfmd {
 
 using namespace contact_detail;
 
+std::pair<std::string, std::string> device_lacks(const InteractionParams& inter, const FrictionParams& fric,
+                                                 bool viscoelastic) {
+  const std::string there =
+      " is not implemented on the cuda backend: use solver.backend = \"threads\" (or \"serial\")";
+  if (viscoelastic) return {"elastic.viscoelastic", "viscoelastic bodies" + there};
+  if (inter.adhesive()) return {"interaction.model", "adhesion" + there};
+  if (inter.plastic()) return {"interaction.hardness", "plastic saturation" + there};
+  const FrictionLawType& law = friction_law_type(fric.law.kind);
+  if (fric.coefficient > 0 && !law.on_device) return {"friction.law", "\"" + law.name + "\"" + there};
+  if (fric.stick_acceleration > 0)
+    return {"friction.stick_acceleration",
+            "is not implemented on the cuda backend: set it to 0 (plain splitting) there"};
+  return {};
+}
+
 ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, const InteractionParams& inter,
                              const FrictionParams& fric, const SolverParams& solver)
     : body_(body),
@@ -81,27 +96,13 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
     if (inter_.plastic())
       throw ParameterError("interaction.hardness",
                            "plastic saturation on a viscoelastic body is not implemented");
+    // The observables measure along the friction's direction, the body is excited along its own.
+    if (body.visco().direction_deg != fric_.direction_deg)
+      throw ParameterError("friction.direction", "must be the viscoelastic body's sliding direction");
   }
   if (backend().name() == "cuda") {
-    if (body.viscoelastic())
-      throw ParameterError("elastic.viscoelastic",
-                           "viscoelastic bodies are not implemented on the cuda backend: use "
-                           "solver.backend = \"threads\" (or \"serial\")");
-    if (inter_.adhesive())
-      throw ParameterError("interaction.model",
-                           "adhesion is not implemented on the cuda backend: use solver.backend = "
-                           "\"threads\" (or \"serial\")");
-    if (inter_.plastic())
-      throw ParameterError("interaction.hardness",
-                           "plastic saturation is not implemented on the cuda backend: use "
-                           "solver.backend = \"threads\" (or \"serial\")");
-    if (fric_.coefficient > 0 && !law.on_device)
-      throw ParameterError("friction.law", "\"" + law.name +
-                                               "\" is not implemented on the cuda backend: use "
-                                               "solver.backend = \"threads\" (or \"serial\")");
-    if (fric_.stick_acceleration > 0)
-      throw ParameterError("friction.stick_acceleration",
-                           "is not implemented on the cuda backend: set it to 0 (plain splitting) there");
+    if (const auto [key, why] = device_lacks(inter_, fric_, body.viscoelastic()); !key.empty())
+      throw ParameterError(key, why);
     // The fields live on the device; the host keeps only g0 (the final residual check).
     DeviceProblem pr;
     pr.body = &body_;

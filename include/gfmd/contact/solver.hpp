@@ -30,6 +30,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gfmd/contact/anderson.hpp"
@@ -118,6 +119,12 @@ struct SolverParams {
   double mixing = 0.5;                      // relaxation of the friction fixed point, in (0, 1]
   Planner fft_planner = Planner::Estimate;  // FFTW planner of the solver's transforms
 };
+
+// The first physics of this problem the cuda backend does not compute, as {key, why}
+// (ContactSolver refuses "cuda" with it; solver.backend = "auto" then chooses the cores);
+// {} where the device computes it all.
+std::pair<std::string, std::string> device_lacks(const InteractionParams& inter, const FrictionParams& fric,
+                                                 bool viscoelastic);
 
 struct SolveInfo {
   bool converged = false;
@@ -400,11 +407,11 @@ class ContactSolver {
   };
   AdhesionWork adh_;
   // A viscoelastic body's state (viscoelastic.cpp): the rest of the response per mode, minus
-  // (E0/E(omega) - storage factor) C_zz / N (its displacement enters the normal solve as w), work
-  // arrays and the pressure's mixer.
+  // (E0/E(omega) - |E0/E(omega)|) C_zz / N (its displacement enters the normal solve as w), and
+  // the pressure's mixer.
   struct ViscoWork {
     std::vector<cplx> rest_n;
-    RealField w, image;
+    RealField w;
     std::unique_ptr<GuardedAnderson> mixer;
   };
   ViscoWork visco_;
