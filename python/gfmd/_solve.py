@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import os
 import numbers
 import re
 import warnings
@@ -49,8 +50,10 @@ class ViscoelasticBody(ElasticBody):
     """A viscoelastic body in steady sliding (elastic.viscoelastic): contact_modulus is the relaxed
     (low-frequency) modulus E0. Either a standard linear solid, high_frequency_modulus (the glassy
     E_inf >= E0) and relaxation_time (tau), or a Prony series, prony_moduli E_i and prony_times
-    tau_i (E(omega) = E0 + sum E_i i omega tau_i / (1 + i omega tau_i)). Poisson's ratio is
-    constant. The sliding speed is the solve's velocity= (length per time unit of tau):
+    tau_i (E(omega) = E0 + sum E_i i omega tau_i / (1 + i omega tau_i)), or a measured
+    master_curve (a file of omega, E', E''; its first E' is E0) with an optional temperature shift
+    (shift = the [elastic] keys: temperature, reference_temperature, wlf_c1, wlf_c2 or
+    activation_temperature). Poisson's ratio is constant. The sliding speed is the solve's velocity= (length per time unit of tau):
 
         body = gfmd.ViscoelasticBody(poisson=0.5, high_frequency_modulus=10.0, relaxation_time=1.0)
         r = gfmd.solve(top, body, force=0.01, velocity=0.02)
@@ -61,17 +64,25 @@ class ViscoelasticBody(ElasticBody):
     relaxation_time: Optional[float] = None
     prony_moduli: tuple = ()
     prony_times: tuple = ()
+    master_curve: Optional[str] = None  # a file of omega, E', E'' (elastic.master_curve); sets contact_modulus
+    shift: Optional[dict] = None  # the master curve's temperature shift: the [elastic] keys, e.g.
+    # {"temperature": 30, "reference_temperature": 20, "wlf_c1": 8.86, "wlf_c2": 101.6}
 
     def __post_init__(self):
         super().__post_init__()
-        sls = self.high_frequency_modulus is not None or self.relaxation_time is not None
-        if sls == bool(self.prony_moduli or self.prony_times):
+        given = [self.high_frequency_modulus is not None or self.relaxation_time is not None,
+                 bool(self.prony_moduli or self.prony_times), self.master_curve is not None]
+        if sum(given) != 1:
             raise InputError("ViscoelasticBody: give high_frequency_modulus and relaxation_time (a standard linear "
-                             "solid) or prony_moduli and prony_times (a Prony series)")
+                             "solid), prony_moduli and prony_times (a Prony series) or master_curve (a file)")
+        if self.shift is not None and self.master_curve is None:
+            raise InputError("ViscoelasticBody.shift: belongs to a master_curve")
         # The values are checked as [elastic] is (InputError naming the key) when a solve reads them.
 
     @property
     def model(self) -> str:
+        if self.master_curve is not None:
+            return "master_curve"
         return "sls" if self.high_frequency_modulus is not None or self.relaxation_time is not None else "prony"
 
 
@@ -81,7 +92,13 @@ def _body_lines(body: ElasticBody) -> list:
              f"poisson = {_toml_value('poisson', body.poisson)}",
              f"thickness = {_toml_value('thickness', body.thickness)}",
              f"coupling = {_toml_value('coupling', body.coupling)}"]
-    if isinstance(body, ViscoelasticBody):
+    if isinstance(body, ViscoelasticBody) and body.model == "master_curve":
+        # The table sets the relaxed modulus: contact_modulus is left to it.
+        lines = [ln for ln in lines if not ln.startswith("contact_modulus")]
+        lines += ['viscoelastic = "master_curve"',
+                  f"master_curve = {_toml_value('master_curve', os.path.abspath(body.master_curve))}"]
+        lines += [f"{k} = {_toml_value(k, v)}" for k, v in (body.shift or {}).items()]
+    elif isinstance(body, ViscoelasticBody):
         lines.append(f'viscoelastic = "{body.model}"')
         for k in (("high_frequency_modulus", "relaxation_time") if body.model == "sls" else ("prony_moduli",
                                                                                                "prony_times")):

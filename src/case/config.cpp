@@ -124,7 +124,7 @@ Config build(const toml::value& root, const std::string& name, const std::string
   grid.finish();
 
   Section el(root, "elastic", errors);
-  read_elastic(el, c);
+  read_elastic(el, c, base_dir);
   try {
     c.elastic.validate();
   } catch (const ParameterError& e) {

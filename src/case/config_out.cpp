@@ -42,9 +42,12 @@ nlohmann::json Config::to_json() const {
     if (visco.model == ViscoelasticParams::Model::StandardLinearSolid) {
       j["elastic"]["high_frequency_modulus"] = visco.high_frequency_modulus;
       j["elastic"]["relaxation_time"] = visco.relaxation_time;
-    } else {
+    } else if (visco.model == ViscoelasticParams::Model::Prony) {
       j["elastic"]["prony_moduli"] = visco.prony_moduli;
       j["elastic"]["prony_times"] = visco.prony_times;
+    } else {
+      j["elastic"]["master_curve"] = visco.curve_file;
+      for (const auto& [k, v] : visco.shift_keys) j["elastic"][k] = v;
     }
   }
   j["indenter"] = config_detail::indenter_json(indenter);

@@ -2,6 +2,7 @@
 // [friction] and [interaction], each read into the Config and checked key by key (private to
 // the config part; src/case/config.cpp runs them in order).
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <string>
 #include <toml.hpp>
@@ -10,6 +11,7 @@
 #include "config_section.hpp"
 #include "gfmd/contact/friction_law.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
 
 namespace gfmd::config_detail {
 
@@ -39,16 +41,72 @@ std::vector<double> positive_list(Section& sec, const std::string& key) {
   return out;
 }
 
+// A master curve's file (elastic.master_curve, relative to the case file) and its temperature
+// shift: WLF (wlf_c1, wlf_c2) or Arrhenius (activation_temperature), from reference_temperature
+// to temperature.
+void read_master_curve(Section& el, ViscoelasticParams& v, const std::string& base_dir) {
+  const bool wlf = el.has("wlf_c1") || el.has("wlf_c2"), arr = el.has("activation_temperature");
+  const bool temp = el.has("temperature"), ref = el.has("reference_temperature");
+  const std::string path = el.string("master_curve", "");
+  const double t = el.number("temperature", 0.0), tr = el.number("reference_temperature", 0.0);
+  const double c1 = el.number("wlf_c1", 0.0), c2 = el.number("wlf_c2", 0.0);
+  const double a = el.number("activation_temperature", 0.0);
+  if (v.model != ViscoelasticParams::Model::MasterCurve) {
+    for (const char* k : {"master_curve", "temperature", "reference_temperature", "wlf_c1", "wlf_c2",
+                          "activation_temperature"})
+      if (el.has(k)) el.error(k, "belongs to elastic.viscoelastic = \"master_curve\"");
+    return;
+  }
+  if (path.empty()) {
+    el.error("master_curve",
+             "is needed with elastic.viscoelastic = \"master_curve\" (a file of omega, E', E'')");
+    return;
+  }
+  const std::string file = (std::filesystem::path(base_dir) / path).lexically_normal().string();
+  try {
+    parse_master_curve(read_regular_file(file, kMaxCaseFileBytes * 16, "master curve"), file, v);
+  } catch (const InputError& e) {
+    el.error("master_curve", e.what());
+    return;
+  }
+  if (wlf && arr)
+    el.error("activation_temperature", "give one shift: wlf_c1 and wlf_c2 (WLF) or this (Arrhenius)");
+  if ((wlf || arr) != (temp && ref) || (temp != ref)) {
+    el.error("temperature",
+             "a temperature shift needs temperature, reference_temperature and one shift law "
+             "(wlf_c1 and wlf_c2, or activation_temperature)");
+    return;
+  }
+  v.curve_file = file;
+  if (wlf) {
+    if (!(c2 + t - tr > 0))
+      el.error("wlf_c2", "c2 + temperature - reference_temperature must be positive");
+    else
+      v.shift_factor = wlf_shift(t, tr, c1, c2);
+    v.shift_keys = {{"temperature", t}, {"reference_temperature", tr}, {"wlf_c1", c1}, {"wlf_c2", c2}};
+  } else if (arr) {
+    if (!(t > 0 && tr > 0))
+      el.error("temperature", "Arrhenius's shift needs absolute temperatures (kelvin, > 0)");
+    else
+      v.shift_factor = arrhenius_shift(t, tr, a);
+    v.shift_keys = {{"temperature", t}, {"reference_temperature", tr}, {"activation_temperature", a}};
+  }
+}
+
 // elastic.viscoelastic and its keys (the relaxed modulus is elastic.contact_modulus).
-void read_viscoelastic(Section& el, ViscoelasticParams& v) {
+void read_viscoelastic(Section& el, ViscoelasticParams& v, const std::string& base_dir) {
   using Model = ViscoelasticParams::Model;
   const std::string model = el.string("viscoelastic", "none");
   if (model == "sls")
     v.model = Model::StandardLinearSolid;
   else if (model == "prony")
     v.model = Model::Prony;
+  else if (model == "master_curve")
+    v.model = Model::MasterCurve;
   else if (model != "none")
-    el.error("viscoelastic", "unknown model \"" + model + "\" (\"none\", \"sls\" or \"prony\")");
+    el.error("viscoelastic",
+             "unknown model \"" + model + "\" (\"none\", \"sls\", \"prony\" or \"master_curve\")");
+  read_master_curve(el, v, base_dir);
   const bool einf = el.has("high_frequency_modulus"), tau = el.has("relaxation_time");
   v.high_frequency_modulus = el.number("high_frequency_modulus", 0.0);
   v.relaxation_time = el.number("relaxation_time", 0.0);
@@ -69,12 +127,20 @@ void read_viscoelastic(Section& el, ViscoelasticParams& v) {
 
 }  // namespace
 
-void read_elastic(Section& el, Config& c) {
+void read_elastic(Section& el, Config& c, const std::string& base_dir) {
   c.elastic.contact_modulus = el.number("contact_modulus", 1.0);
   c.elastic.poisson = el.number("poisson", 0.25);
   c.elastic.thickness = el.number_or_inf("thickness", std::numeric_limits<double>::infinity());
   c.elastic.coupling = el.boolean("coupling", true);
-  read_viscoelastic(el, c.visco);
+  read_viscoelastic(el, c.visco, base_dir);
+  if (c.visco.model == ViscoelasticParams::Model::MasterCurve && c.visco.master_relaxed_modulus() > 0) {
+    // The table's relaxed modulus is the body's E0* (the unit of pressures).
+    const double e0 = c.visco.master_relaxed_modulus();
+    if (el.has("contact_modulus") && !(std::abs(c.elastic.contact_modulus - e0) <= 1e-12 * e0))
+      el.error("contact_modulus", "is set by the master curve (its first storage modulus, " +
+                                      format_number(e0) + "): leave it out");
+    c.elastic.contact_modulus = c.visco.master_relaxed_modulus();
+  }
   el.finish();
   try {
     c.visco.validate(c.elastic.contact_modulus);  // its speed is [friction]'s, checked there

@@ -201,7 +201,7 @@ void read_indenter(Section& ind, Config& c, std::vector<std::string>& errors, co
 // [elastic] with a viscoelastic body's keys; [friction] (also friction.velocity, which needs the
 // body read first); [interaction] (its combinations with friction and the body). The run
 // (src/case/config_run.cpp): [solver], [sweep], [stress] (depths need the body), [flow], [output].
-void read_elastic(Section& el, Config& c);
+void read_elastic(Section& el, Config& c, const std::string& base_dir);  // master curve files: base_dir
 void read_friction(Section& fr, Config& c);
 void read_interaction(Section& ia, Config& c);
 void read_solver(Section& so, Config& c);

@@ -39,3 +39,27 @@ def test_bad_viscoelastic_input_names_the_key():
     with pytest.raises(gfmd.InputError, match="friction.coefficient"):
         gfmd.solve(sphere(), gfmd.ViscoelasticBody(high_frequency_modulus=2.0, relaxation_time=1.0), force=0.01,
                    friction=0.3, velocity=1.0)
+
+
+def test_a_master_curve_file_is_the_body_it_tabulates(tmp_path):
+    # A standard linear solid tabulated at 20 rows per decade: the same friction to the
+    # interpolation's error; a WLF shift of the reference temperature is no shift.
+    path = tmp_path / "sls.csv"
+    rows = ["omega,storage,loss"]
+    for k in range(161):
+        w = 10.0 ** (-4 + k / 20)
+        e = 10 - 9 / (1 + 1j * w)
+        rows.append(f"{w!r},{e.real!r},{e.imag!r}")
+    path.write_text("\n".join(rows) + "\n")
+    sls = gfmd.ViscoelasticBody(poisson=0.5, high_frequency_modulus=10.0, relaxation_time=1.0)
+    table = gfmd.ViscoelasticBody(poisson=0.5, master_curve=str(path))
+    a = gfmd.solve(sphere(), sls, force=0.01, velocity=0.02).summary
+    b = gfmd.solve(sphere(), table, force=0.01, velocity=0.02).summary
+    assert b["hysteresis_friction"] == pytest.approx(a["hysteresis_friction"], rel=1e-3)
+    assert b["input"]["elastic"]["master_curve"] == str(path)
+    same = gfmd.ViscoelasticBody(poisson=0.5, master_curve=str(path),
+                                 shift={"temperature": 20, "reference_temperature": 20, "wlf_c1": 8.86, "wlf_c2": 101.6})
+    c = gfmd.solve(sphere(), same, force=0.01, velocity=0.02).summary
+    assert c["hysteresis_friction"] == b["hysteresis_friction"]
+    with pytest.raises(gfmd.InputError, match="master_curve"):
+        gfmd.ViscoelasticBody(master_curve=str(path), relaxation_time=1.0)
