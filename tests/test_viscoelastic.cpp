@@ -364,6 +364,9 @@ velocity = 0.1
       problem({"elastic.contact_modulus=2"}).find("elastic.contact_modulus: is set by the master curve"),
       std::string::npos);
   EXPECT_NE(problem({"elastic.temperature=30"}).find("elastic.temperature"), std::string::npos);
+  EXPECT_NE(problem({"elastic.wlf_c1=8.86", "elastic.temperature=30", "elastic.reference_temperature=20"})
+                .find("elastic.wlf_c2: the WLF shift needs both"),
+            std::string::npos);
   EXPECT_NE(problem({"elastic.wlf_c1=8.86", "elastic.wlf_c2=101.6", "elastic.temperature=30",
                      "elastic.reference_temperature=20", "elastic.activation_temperature=5000"})
                 .find("elastic.activation_temperature"),

@@ -53,7 +53,8 @@ class ViscoelasticBody(ElasticBody):
     tau_i (E(omega) = E0 + sum E_i i omega tau_i / (1 + i omega tau_i)), or a measured
     master_curve (a file of omega, E', E''; its first E' is E0) with an optional temperature shift
     (shift = the [elastic] keys: temperature, reference_temperature, wlf_c1, wlf_c2 or
-    activation_temperature). Poisson's ratio is constant. The sliding speed is the solve's velocity= (length per time unit of tau):
+    activation_temperature). Poisson's ratio is constant. The sliding speed is the solve's
+    velocity= (length per time unit of tau):
 
         body = gfmd.ViscoelasticBody(poisson=0.5, high_frequency_modulus=10.0, relaxation_time=1.0)
         r = gfmd.solve(top, body, force=0.01, velocity=0.02)

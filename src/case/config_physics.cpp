@@ -71,6 +71,10 @@ void read_master_curve(Section& el, ViscoelasticParams& v, const std::string& ba
   }
   if (wlf && arr)
     el.error("activation_temperature", "give one shift: wlf_c1 and wlf_c2 (WLF) or this (Arrhenius)");
+  if (wlf && !(el.has("wlf_c1") && el.has("wlf_c2"))) {
+    el.error(el.has("wlf_c1") ? "wlf_c2" : "wlf_c1", "the WLF shift needs both wlf_c1 and wlf_c2");
+    return;
+  }
   if ((wlf || arr) != (temp && ref) || (temp != ref)) {
     el.error("temperature",
              "a temperature shift needs temperature, reference_temperature and one shift law "
