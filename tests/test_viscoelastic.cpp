@@ -52,12 +52,14 @@ struct Solved {
   Observables o;
 };
 Solved solve_with(const Grid& g, const Topography& topo, const ElasticParams& ep,
-                  const ViscoelasticParams& ve, const LoadParams& load) {
+                  const ViscoelasticParams& ve, const LoadParams& load, double mu = 0.0) {
   const ElasticBody body(g, ep, ve);
   SolverParams sp;
   sp.tolerance = 1e-10;
   FrictionParams fr;
   fr.direction_deg = ve.direction_deg;
+  fr.coefficient = mu;
+  fr.regularization = mu > 0 ? 0.01 : 0.0;
   InteractionParams hard;
   hard.hard_wall = true;
   ContactSolver solver(body, topo, hard, fr, sp);
@@ -159,6 +161,39 @@ TEST(Viscoelastic, AWaveInFullContactHasTheClosedFormFriction) {
       EXPECT_LT(s.o.hysteresis_balance_error, 1e-9);
     }
   }
+}
+
+// Coulomb friction (regularised near rest) on a viscoelastic layer, a wave in full contact at the
+// loss peak: the driving work per speed, tau.e_s + the downhill force of p, goes into the
+// interface's slip and the body's hysteresis, now of the tangential tractions too (to 1e-6;
+// the wave is periodic, so the slopes are exact); the body's hysteresis from the fields and from
+// the spectrum agree (1e-9); at rest it is the elastic body's friction solve.
+TEST(Viscoelastic, FrictionOnAViscoelasticLayerBalancesItsWork) {
+  const double lx = 1.0, amp = 0.005, k = 2 * kPi / lx;
+  const Grid g{64, 4, lx, lx / 16};
+  const Topography topo = wave(g, amp);
+  ElasticParams ep;
+  ep.poisson = 0.3;
+  ep.thickness = 0.3;
+  const LoadParams load{LoadMode::Pressure, 0.2};
+  const Solved s = solve_with(g, topo, ep, sls(10.0, 1.0, 1.0 / k), load, 0.3);
+  ASSERT_TRUE(s.info.converged) << s.info.status;
+  ASSERT_EQ(s.o.relative_contact_area, 1.0);
+  EXPECT_GT(s.o.hysteresis_friction, 0.0);
+  EXPECT_LT(s.o.energy_balance_error_exact, 1e-6);
+  EXPECT_LT(s.o.hysteresis_balance_error, 1e-9);
+  EXPECT_NEAR(s.o.total_friction_coefficient, s.o.friction_coefficient + s.o.hysteresis_friction, 1e-6);
+  const Solved frictionless = solve_with(g, topo, ep, sls(10.0, 1.0, 1.0 / k), load);
+  EXPECT_GT(s.o.total_friction_coefficient, 0.3);
+  EXPECT_NE(s.o.hysteresis_friction, frictionless.o.hysteresis_friction);  // the tangential hysteresis
+  const Solved rest = solve_with(g, topo, ep, sls(10.0, 1.0, 0.0), load, 0.3);
+  const Solved elastic = solve_with(g, topo, ep, ViscoelasticParams{}, load, 0.3);
+  ASSERT_TRUE(rest.info.converged && elastic.info.converged);
+  double d = 0;
+  for (std::size_t i = 0; i < g.size(); ++i)
+    d = std::max(
+        {d, std::abs(rest.f.pressure[i] - elastic.f.pressure[i]), std::abs(rest.f.tx[i] - elastic.f.tx[i])});
+  EXPECT_LT(d, 1e-12);
 }
 
 // A sphere sliding over a standard linear solid: the pressure moves to the leading edge (the
@@ -413,7 +448,11 @@ velocity = 0.1
             std::string::npos);
   EXPECT_NE(problem({"elastic.viscoelastic=\"maxwell\""}).find("elastic.viscoelastic"), std::string::npos);
   EXPECT_NE(problem({"elastic.viscoelastic=\"prony\""}).find("elastic.prony_moduli"), std::string::npos);
-  EXPECT_NE(problem({"friction.coefficient=0.3"}).find("friction.coefficient"), std::string::npos);
+  EXPECT_NE(problem({"friction.coefficient=0.3"})
+                .find("friction.regularization: must be positive with friction on a "
+                      "viscoelastic body"),
+            std::string::npos);
+  EXPECT_EQ(problem({"friction.coefficient=0.3", "friction.regularization=0.01"}), "");
   EXPECT_NE(problem({"interaction.hardness=0.5"}).find("interaction.hardness"), std::string::npos);
   const std::string prony = R"(
 [grid]

@@ -116,6 +116,7 @@ nlohmann::json observables_json(const Observables& o) {
     j["hysteresis_friction"] = o.hysteresis_friction;
     j["hysteresis_dissipation"] = o.hysteresis_dissipation;
     j["hysteresis_balance_error"] = o.hysteresis_balance_error;
+    if (o.friction) j["total_friction_coefficient"] = o.total_friction_coefficient;
   }
   j["centroid_shift"] = o.centroid_shift;
   j["centroid_shift_transverse"] = o.centroid_shift_transverse;

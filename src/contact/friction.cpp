@@ -78,6 +78,7 @@ std::array<double, 4> ContactSolver::slip_tractions(const ContactFields& f, Real
   const SlipDerivative deriv = deriv_;
   body_.inplane_slope(s2_.data(), s3_.data(), s1_.data(), ex, ey, s1_.data(), s2_.data(), scale, -scale,
                       deriv, slip_symbols());
+  body_.apply_response(s1_.data(), s2_.data(), nullptr);  // a viscoelastic body's (identity otherwise)
   fft_.backward_unscaled_destroying(s1_.data(), r1_.data());
   fft_.backward_unscaled_destroying(s2_.data(), r2_.data());
   const double mu = fric_.coefficient;
@@ -313,6 +314,7 @@ void ContactSolver::friction_normal_displacement(const RealField& tx, const Real
   fft_.forward(ty.data(), s3_.data());
   body_.displacement(s2_.data(), s3_.data(), nullptr, nullptr, nullptr, s1_.data(),
                      1.0 / static_cast<double>(grid_.size()));
+  body_.apply_response(nullptr, nullptr, s1_.data());
   fft_.backward_unscaled_destroying(s1_.data(), w.data());
 }
 

@@ -86,6 +86,28 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     o.min_pressure = -grid_max(
         g, [&](std::size_t i) { return -f.pressure[i]; }, -1e300);
   }
+  if (info.viscoelastic_steps > 0) {
+    // The work the tractions t = (tau, -p) do on the body per sliding speed, -sum t.(e_s.grad u) dA:
+    // all of it the body's hysteresis in steady state (zero for an elastic body).
+    RealField du;
+    directional_derivative(fft, ex, ey, f.uz, du);
+    double work = grid_sum(g, [&](std::size_t i) { return f.pressure[i] * du[i]; });
+    if (fric.coefficient > 0) {
+      RealField dux, duy;
+      directional_derivative(fft, ex, ey, f.ux, dux);
+      directional_derivative(fft, ex, ey, f.uy, duy);
+      work -= grid_sum(g, [&](std::size_t i) { return f.tx[i] * dux[i] + f.ty[i] * duy[i]; });
+    }
+    o.viscoelastic = true;
+    o.hysteresis_force = da * work;
+    o.hysteresis_friction = o.normal_force > 0 ? o.hysteresis_force / o.normal_force : 0.0;
+    o.hysteresis_dissipation = info.hysteresis_dissipation;
+    // Relative to the larger of the two (an elastic response, v0 = 0: both vanish to round-off).
+    const double scale = std::max(
+        {std::abs(o.hysteresis_force), std::abs(o.hysteresis_dissipation), 1e-12 * std::abs(o.normal_force)});
+    o.hysteresis_balance_error =
+        scale > 0 ? std::abs(o.hysteresis_force - o.hysteresis_dissipation) / scale : 0.0;
+  }
   const double mu = fric.coefficient;
   if (mu > 0) {
     RealField vx, vy, dh;
@@ -135,8 +157,11 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     o.friction_coefficient = o.friction_force / o.normal_force;
     o.friction_coefficient_downhill = o.friction_force_downhill / o.normal_force;
     o.downhill_friction = o.downhill_force / o.normal_force;
-    o.energy_balance_error = std::abs(o.friction_force - o.friction_force_downhill) / o.friction_force;
-    o.energy_balance_error_exact = std::abs(o.friction_force - o.friction_force_drive) / o.friction_force;
+    // The driving work goes into the interface's slip and, on a viscoelastic body, its hysteresis.
+    const double dissipated = o.friction_force + o.hysteresis_force;
+    o.energy_balance_error = std::abs(dissipated - o.friction_force_downhill) / dissipated;
+    o.energy_balance_error_exact = std::abs(dissipated - o.friction_force_drive) / dissipated;
+    o.total_friction_coefficient = o.friction_force_drive / o.normal_force;
     o.numerical_dissipation_fraction = o.numerical_dissipation / o.friction_force;
     o.friction = true;
     o.mean_tangential_traction_x = s[5] / n;
@@ -147,19 +172,6 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     const double vmin = -grid_max(
         g, [&](std::size_t i) { return f.pressure[i] > 0 ? -std::hypot(vx[i], vy[i]) : -inf; }, -inf);
     o.min_slip_velocity = std::isfinite(vmin) ? vmin : 0.0;
-  }
-  if (info.viscoelastic_steps > 0) {
-    RealField du;
-    directional_derivative(fft, ex, ey, f.uz, du);
-    o.viscoelastic = true;
-    o.hysteresis_force = da * grid_sum(g, [&](std::size_t i) { return f.pressure[i] * du[i]; });
-    o.hysteresis_friction = o.normal_force > 0 ? o.hysteresis_force / o.normal_force : 0.0;
-    o.hysteresis_dissipation = info.hysteresis_dissipation;
-    // Relative to the larger of the two (an elastic response, v0 = 0: both vanish to round-off).
-    const double scale = std::max(
-        {std::abs(o.hysteresis_force), std::abs(o.hysteresis_dissipation), 1e-12 * std::abs(o.normal_force)});
-    o.hysteresis_balance_error =
-        scale > 0 ? std::abs(o.hysteresis_force - o.hysteresis_dissipation) / scale : 0.0;
   }
   // Geometry relative to the highest point of the indenter (the first in row-major order).
   const std::size_t apex = grid_argmax(g, [&](std::size_t i) { return topo.h[i]; }).first;

@@ -373,7 +373,12 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
         info.status = "not converged: iteration limit reached";
         break;
       }
-      pk = solve_normal(load, w, false, f.pressure, inner_tol, budget);
+      if (body_.viscoelastic()) {
+        std::string why;
+        pk = solve_normal_viscoelastic(load, &w, f.pressure, inner_tol, budget, info.viscoelastic_steps, why);
+      } else {
+        pk = solve_normal(load, w, false, f.pressure, inner_tol, budget);
+      }
       // One friction step costs 3 forward + 3 inverse FFTs: tau_x, tau_y and p forward,
       // w and the two slip derivatives back.
       // dn[2]: points outside the Anderson support where the iterate or its image is
@@ -566,6 +571,8 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
   for (auto* fld : {&f.ux, &f.uy, &f.uz, &f.gap}) fld->resize(n);
   update_displacements(f);
   check_final_state(info, f, pk.delta);
+  if (body_.viscoelastic() && mu > 0.0 && body_.visco().velocity != 0.0)
+    info.hysteresis_dissipation = hysteresis_dissipation(f, true);
   info.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
   info.transforms = fft_.transforms() - transforms0;
   info.fft_seconds = fft_.seconds() - fft_seconds0;

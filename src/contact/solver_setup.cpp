@@ -87,10 +87,13 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   if (body.viscoelastic()) {
     // Where the splitting has been derived and tested: frictionless, repulsive, elastic-plastic
     // free. Each refusal names the key that asks for more.
-    if (fric_.coefficient > 0)
-      throw ParameterError("friction.coefficient",
-                           "a viscoelastic body with Coulomb friction is not implemented yet: set it to 0 "
-                           "(the hysteresis friction is computed without it)");
+    // Friction on it in full slip (the regularised law near rest): the stick-slip iteration's
+    // resolvent is the elastic body's.
+    if (fric_.coefficient > 0 && !fric_.regularized())
+      throw ParameterError(
+          "friction.regularization",
+          "must be positive with friction on a viscoelastic body (e.g. 0.01): its stick is not "
+          "solved set-valued");
     if (inter_.adhesive())
       throw ParameterError("interaction.model", "adhesion on a viscoelastic body is not implemented");
     if (inter_.plastic())

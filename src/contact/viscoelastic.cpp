@@ -29,11 +29,16 @@ namespace gfmd {
 
 using namespace contact_detail;
 
-double ContactSolver::hysteresis_dissipation(const RealField& p) {
+double ContactSolver::hysteresis_dissipation(const ContactFields& f, bool friction) {
   // Parseval over the half spectrum: each mode off the kx = 0 and Nyquist columns stands for
-  // itself and its conjugate (weight 2). The wave numbers are the derivative's (0 on the
-  // Nyquist lines), as in the response factors.
-  fft_.forward(p.data(), s1_.data());
+  // itself and its conjugate (weight 2). Per mode the elastic response's Hermitian form t* C t
+  // of the tractions t = (tau_x, tau_y, -p) times (q.e_s) Im c. The wave numbers are the
+  // derivative's (0 on the Nyquist lines), as in the response factors.
+  fft_.forward(f.pressure.data(), s1_.data());
+  if (friction) {
+    fft_.forward(f.tx.data(), s2_.data());
+    fft_.forward(f.ty.data(), s3_.data());
+  }
   const int nxh = grid_.nxh();
   const double th = body_.visco().direction_deg * std::numbers::pi / 180.0;  // the factors' direction
   const double ex = std::cos(th), ey = std::sin(th);
@@ -44,8 +49,17 @@ double ContactSolver::hysteresis_dissipation(const RealField& p) {
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
       const double qs = grid_.qx_deriv(ikx) * ex + grid_.qy_deriv(iky) * ey;
+      if (qs == 0.0) continue;
+      double form = body_.mode(k).czz * std::norm(s1_[k]);
+      if (friction) {
+        const std::array<cplx, 9> c = body_.compliance(ikx, iky);
+        const std::array<cplx, 3> t{s2_[k], s3_[k], -s1_[k]};
+        form = 0.0;
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) form += (std::conj(t[a]) * c[3 * a + b] * t[b]).real();
+      }
       const bool self = ikx == 0 || (grid_.nx % 2 == 0 && ikx == grid_.nx / 2);
-      sum += (self ? 1.0 : 2.0) * qs * body_.response(k).imag() * body_.mode(k).czz * std::norm(s1_[k]);
+      sum += (self ? 1.0 : 2.0) * qs * body_.response(k).imag() * form;
     }
     rows[static_cast<std::size_t>(row)] = sum;
   });
@@ -53,17 +67,18 @@ double ContactSolver::hysteresis_dissipation(const RealField& p) {
   return add_rows(grid_, std::move(rows), 1)[0] * grid_.cell_area() / n;
 }
 
-ContactSolver::PKResult ContactSolver::solve_viscoelastic(const LoadParams& load, ContactFields& f,
-                                                          double tol, SolveInfo& info) {
+ContactSolver::PKResult ContactSolver::solve_normal_viscoelastic(const LoadParams& load,
+                                                                 const RealField* w_extra, RealField& p,
+                                                                 double tol, int max_it, int& steps,
+                                                                 std::string& status) {
   const std::size_t n = grid_.local_size();
-  RealField& p = f.pressure;
+  static const RealField none;
   if (body_.visco().velocity == 0.0) {
     // At rest every mode is relaxed: the elastic solve with E0, bit for bit.
-    info.viscoelastic_steps = 1;
-    const PKResult pk = solve_normal(load, visco_.w, true, p, tol, sp_.max_iterations);
-    info.converged = pk.converged;
-    info.status = pk.converged ? "converged" : "not converged: iteration limit reached";
-    info.hysteresis_dissipation = 0.0;
+    ++steps;
+    const PKResult pk = w_extra ? solve_normal(load, *w_extra, false, p, tol, max_it)
+                                : solve_normal(load, none, true, p, tol, max_it);
+    status = pk.converged ? "converged" : "not converged: iteration limit reached";
     return pk;
   }
   if (visco_.w.size() != n) visco_.w.assign(n, 0.0);
@@ -76,32 +91,45 @@ ContactSolver::PKResult ContactSolver::solve_viscoelastic(const LoadParams& load
   PKResult pk{0, 1.0, 0.0, false};
   int used = 0;
   double change = 1.0;
-  info.status = "";
   const double inf = std::numeric_limits<double>::infinity();
+  SolverParams within = sp_;
+  within.max_iterations = max_it;
   for (int step = 0;; ++step) {
-    ++info.viscoelastic_steps;
-    // w = -(c - m) C_zz x, one spectral pass with the complex table.
+    ++steps;
+    // w = -(c - m) C_zz x (+ the caller's offset: the friction's normal displacement), one
+    // spectral pass with the complex table.
     fft_.forward(x.data(), s1_.data());
     const auto ns = static_cast<std::ptrdiff_t>(s1_.size());
     parallel_for(ns, [&](std::ptrdiff_t k) { s1_[k] *= visco_.rest_n[k]; });
     fft_.backward_unscaled_destroying(s1_.data(), w.data());
+    if (w_extra)
+      parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t i) { w[i] += (*w_extra)[i]; });
     // Each symmetric solve to a tenth of the pressure's last change (no tighter than the
     // tolerance), from the last solution.
     const double inner_tol = std::max(tol, 0.1 * change);
-    pk = solve_normal(load, w, false, p, inner_tol, std::max(1, sp_.max_iterations - used));
+    pk = solve_normal(load, w, false, p, inner_tol, std::max(1, max_it - used));
     used += pk.iterations;
     const auto sums = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
       acc[0] += std::abs(p[i] - x[i]);
       acc[1] += std::abs(p[i]);
     });
     change = relative_change(sums[0], sums[1]);
-    info.status =
-        outer_status(change, tol, pk.converged, inner_tol, used, step, sp_, "the viscoelastic pressure");
-    if (!info.status.empty()) break;
+    status =
+        outer_status(change, tol, pk.converged, inner_tol, used, step, within, "the viscoelastic pressure");
+    if (!status.empty()) break;
     visco_.mixer->advance(x, p, change, 0.0, inf);  // p is the step's image of x
   }
+  pk.iterations = used;
+  pk.converged = status == "converged";
+  return pk;
+}
+
+ContactSolver::PKResult ContactSolver::solve_viscoelastic(const LoadParams& load, ContactFields& f,
+                                                          double tol, SolveInfo& info) {
+  const PKResult pk = solve_normal_viscoelastic(load, nullptr, f.pressure, tol, sp_.max_iterations,
+                                                info.viscoelastic_steps, info.status);
   info.converged = info.status == "converged";
-  info.hysteresis_dissipation = hysteresis_dissipation(p);
+  info.hysteresis_dissipation = body_.visco().velocity == 0.0 ? 0.0 : hysteresis_dissipation(f, false);
   return pk;
 }
 

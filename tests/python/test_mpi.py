@@ -187,11 +187,12 @@ VISCO = HERTZ.replace("poisson = 0.3", "poisson = 0.3\nviscoelastic = \"sls\"\nh
                       "relaxation_time = 1.0").replace("[solver]", "[friction]\nvelocity = 0.02\ndirection = 30\n[solver]")
 
 
-@pytest.mark.parametrize("ranks", [2, 3])
-def test_viscoelastic_sliding_any_rank_count(tmp_path, ranks):
+@pytest.mark.parametrize("ranks,friction", [(2, ""), (3, ""), (3, "coefficient = 0.3\nregularization = 0.01\n")])
+def test_viscoelastic_sliding_any_rank_count(tmp_path, ranks, friction):
     # The response factors on each slab's rows of the spectrum (the y Nyquist row on one of them),
-    # the splitting's mixing summed by grid row and the spectral dissipation: the serial bits.
-    a, b = serial_and_distributed(tmp_path, VISCO, ranks)
+    # the splitting's mixing summed by grid row and the spectral dissipation (with friction, of the
+    # tangential tractions too): the serial bits.
+    a, b = serial_and_distributed(tmp_path, VISCO.replace("[friction]\n", "[friction]\n" + friction), ranks)
     assert a["hysteresis_friction"] > 0 and a["hysteresis_balance_error"] < 1e-9
     for k in ("hysteresis_force", "hysteresis_dissipation", "viscoelastic_steps", "centroid_shift"):
         assert b[k] == a[k], k

@@ -36,7 +36,7 @@ def test_bad_viscoelastic_input_names_the_key():
         gfmd.solve(sphere(), gfmd.ViscoelasticBody(high_frequency_modulus=0.5, relaxation_time=1.0), force=0.01)
     with pytest.raises(gfmd.InputError, match="velocity"):
         gfmd.solve(sphere(), gfmd.ElasticBody(), force=0.01, velocity=1.0)
-    with pytest.raises(gfmd.InputError, match="friction.coefficient"):
+    with pytest.raises(gfmd.InputError, match="friction.regularization"):
         gfmd.solve(sphere(), gfmd.ViscoelasticBody(high_frequency_modulus=2.0, relaxation_time=1.0), force=0.01,
                    friction=0.3, velocity=1.0)
 
@@ -63,3 +63,15 @@ def test_a_master_curve_file_is_the_body_it_tabulates(tmp_path):
     assert c["hysteresis_friction"] == b["hysteresis_friction"]
     with pytest.raises(gfmd.InputError, match="master_curve"):
         gfmd.ViscoelasticBody(master_curve=str(path), relaxation_time=1.0)
+
+
+def test_friction_on_a_viscoelastic_body_adds_the_hysteresis():
+    # Coulomb friction (regularised near rest) with the body's hysteresis: the total friction is
+    # the interface's plus the hysteresis (the work balance), above mu_c.
+    body = gfmd.ViscoelasticBody(poisson=0.3, thickness=0.5, high_frequency_modulus=10.0, relaxation_time=1.0)
+    s = gfmd.solve(sphere(), body, force=0.01, velocity=0.02, friction=0.3, regularization=0.01).summary
+    assert s["converged"]
+    assert s["total_friction_coefficient"] == pytest.approx(s["friction_coefficient"] + s["hysteresis_friction"],
+                                                            rel=1e-3)
+    assert s["total_friction_coefficient"] > 0.3
+    assert s["hysteresis_balance_error"] < 1e-9

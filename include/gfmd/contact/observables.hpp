@@ -30,7 +30,12 @@ struct Observables {
   double downhill_friction = 0;
   double friction_coefficient = 0;
   double friction_coefficient_downhill = 0;
-  double energy_balance_error = 0;  // |F_diss - F_downhill| / F_diss
+  // |F_diss - F_downhill| / F_diss; on a viscoelastic body F_diss + F_h (the body's hysteresis)
+  // in place of F_diss in this and the exact balance.
+  double energy_balance_error = 0;
+  // The force that drives the sliding per normal force, F_drive / F_z: on a viscoelastic body the
+  // interface's friction_coefficient plus hysteresis_friction (to the balance's error).
+  double total_friction_coefficient = 0;
   // Work of the driving force per v0, xi sum tau.e_s dA + dF: equal to F_diss in steady state
   // (F_downhill replaces tau.e_s by |tau|, a second-order difference in the strains).
   double friction_force_drive = 0;
@@ -41,9 +46,9 @@ struct Observables {
   double numerical_dissipation = 0;
   double numerical_dissipation_fraction = 0;
   bool friction = false;  // the friction observables were computed (mu_c > 0)
-  // A viscoelastic body: the friction force of the pressure's asymmetry, F_h = sum p (e_s.grad
-  // u_z) dA (= -sum p (e_s.grad h) dA where the surfaces touch: the pressure's downhill force;
-  // with the body's displacement it holds for the harmonic interaction too), F_h / F_z, and the
+  // A viscoelastic body: the friction force of its hysteresis, F_h = -sum t.(e_s.grad u) dA with
+  // t = (tau_x, tau_y, -p) (frictionless: sum p (e_s.grad u_z) dA = -sum p (e_s.grad h) dA where
+  // the surfaces touch, the pressure's downhill force), F_h / F_z, and the
   // body's own dissipation per speed from the pressure's spectrum (SolveInfo::
   // hysteresis_dissipation) with its relative difference to F_h: the energy balance.
   bool viscoelastic = false;

@@ -147,9 +147,9 @@ struct SolveInfo {
   double elastic_energy = 0.0, adhesive_energy = 0.0, energy = 0.0;
   // A viscoelastic body (elastic.viscoelastic): the splitting steps (each a Polonsky-Keer solve
   // on the storage part of the response; viscoelastic.cpp) and the hysteresis force from the
-  // spectrum of the final pressure, sum over q of (q.e_s) Im(E0/E(omega)) C_zz(q) |p~(q)|^2 dA/N:
-  // the power the body dissipates per sliding speed (its balance with the friction force of the
-  // pressure's asymmetry is a test). 0 for an elastic body.
+  // spectrum of the final tractions t = (tau_x, tau_y, -p), sum over q of (q.e_s) Im(E0/E(omega))
+  // t~* C(q) t~ dA/N (C the elastic compliance): the power the body dissipates per sliding speed
+  // (its balance with the work the tractions do on the body is a test). 0 for an elastic body.
   int viscoelastic_steps = 0;
   double hysteresis_dissipation = 0.0;
   // The slip derivative the solution was computed with (FrictionParams::slip_derivative, or
@@ -342,8 +342,14 @@ class ContactSolver {
   // Polonsky-Keer solve takes and the rest, whose displacement from the last pressure is held
   // fixed (w) during that solve; Anderson-mixed over the pressure until it settles.
   PKResult solve_viscoelastic(const LoadParams& load, ContactFields& f, double tol, SolveInfo& info);
-  // The hysteresis force of SolveInfo::hysteresis_dissipation from the pressure p.
-  double hysteresis_dissipation(const RealField& p);
+  // The splitting itself, with an extra normal displacement w_extra held fixed (the friction's,
+  // C_z.tau; null: none), within max_it CG iterations: counts its steps into `steps`, sets
+  // `status` ("converged" or why not); the result's iterations are all its CG iterations.
+  PKResult solve_normal_viscoelastic(const LoadParams& load, const RealField* w_extra, RealField& p,
+                                     double tol, int max_it, int& steps, std::string& status);
+  // The hysteresis force of SolveInfo::hysteresis_dissipation from the tractions of f (the
+  // pressure alone unless `friction`).
+  double hysteresis_dissipation(const ContactFields& f, bool friction);
   // spread = |g_x| dx + |g_y| dy, the gap's range over each cell (gx: scratch).
   void gap_spread(const RealField& gap, RealField& gx, RealField& spread);
   PKResult solve_normal_capped_load(const LoadParams& load, const RealField& w, bool w_zero, RealField& p,
