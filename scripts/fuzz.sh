@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 secs="${1:-60}"
 CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGFMD_FUZZ=ON \
   -DGFMD_BUILD_TESTS=OFF > /dev/null
-cmake --build build-fuzz -j"$(nproc)" --target fuzz_config fuzz_topography_text fuzz_height_file fuzz_run
+cmake --build build-fuzz -j"$(nproc)" --target fuzz_config fuzz_topography_text fuzz_height_file fuzz_master_curve fuzz_run
 # A hostile NetCDF header makes libnetcdf ask calloc for exabytes: in production calloc
 # returns NULL and nc_open reports "Memory allocation failure" (an InputError here), so the
 # sanitizer's allocator must return NULL too instead of reporting. Our own oversized
@@ -16,13 +16,13 @@ cmake --build build-fuzz -j"$(nproc)" --target fuzz_config fuzz_topography_text 
 # crash the leak scan at exit).
 export ASAN_OPTIONS="allocator_may_return_null=1:intercept_tls_get_addr=0:${ASAN_OPTIONS:-}"
 # Inputs that once crashed must stay fixed.
-for t in config topography_text height_file; do
+for t in config topography_text height_file master_curve; do
   for f in fuzz/regressions/${t}_*; do
     [ -e "$f" ] || continue
     ./build-fuzz/fuzz_$t "$f" > /dev/null 2>&1 || { echo "regression $f fails"; exit 1; }
   done
 done
-for t in config topography_text height_file run; do
+for t in config topography_text height_file master_curve run; do
   work=$(mktemp -d)
   cp -r "fuzz/corpus/$t/." "$work/"
   echo "fuzz_$t: ${secs} s"

@@ -97,11 +97,11 @@ void parse_master_curve(const std::string& text, const std::string& name, Viscoe
           std::to_string(cols.size()));
     if (x.size() != 3) bad("'" + cols[x.size()] + "' is not a number");
     for (int k = 0; k < 3; ++k)
-      if (!(x[k] > 0) || !std::isfinite(x[k]))
+      if (!(x[k] >= kMinCurveValue && x[k] <= kMaxCurveValue))
         bad(std::string(k == 0   ? "omega"
                         : k == 1 ? "the storage modulus"
                                  : "the loss modulus") +
-            " must be a positive finite number");
+            " must be a positive number in [1e-100, 1e100]");
     if (!v.curve_omega.empty() && !(x[0] > v.curve_omega.back()))
       bad("omega must increase from row to row (a master curve is one value per frequency)");
     if (v.curve_omega.size() >= kMaxMasterCurveRows)

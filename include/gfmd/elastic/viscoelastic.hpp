@@ -64,8 +64,10 @@ struct ViscoelasticParams {
 // omega, E' and E'' (comma, semicolon, tab or space separated), '#' comments and blank lines
 // skipped, one header line allowed before the first row; at most kMaxMasterCurveRows rows.
 // Fills v.curve_*; throws InputError("<name>:<line>", why) at the first bad line (a missing
-// column, a value that is not a positive number, omega not increasing).
+// column, a value that is not a number in [kMinCurveValue, kMaxCurveValue], omega not increasing).
 inline constexpr std::size_t kMaxMasterCurveRows = 100000;
+// Every value of the table in [kMinCurveValue, kMaxCurveValue]: ratios of them stay finite.
+inline constexpr double kMinCurveValue = 1e-100, kMaxCurveValue = 1e100;
 void parse_master_curve(const std::string& text, const std::string& name, ViscoelasticParams& v);
 // The WLF shift factor, log10 a_T = -c1 (T - Tr)/(c2 + T - Tr), and Arrhenius's,
 // ln a_T = A (1/T - 1/Tr) with A the activation energy over the gas constant (kelvin).
