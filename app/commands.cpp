@@ -125,7 +125,7 @@ int cmd_green(const std::vector<double>& nus, double from, double to, int points
     throw gfmd::InputError("gfmd green", "need 0 < --from < --to and --points >= 2");
   for (double nu : nus) {
     try {
-      gfmd::ElasticParams{1.0, nu, 1.0, true}.validate();
+      gfmd::homogeneous_body(1.0, nu, 1.0, true).validate();
     } catch (const gfmd::ParameterError& e) {
       throw gfmd::InputError("gfmd green --poisson", e.why());
     }

@@ -94,7 +94,7 @@ void BM_Compliance(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   gfmd::set_threads(0);
   const gfmd::Grid g{n, n, 1.0, 1.0};
-  gfmd::ElasticBody body(g, gfmd::ElasticParams{1.0, 0.25, 0.1, true});
+  gfmd::ElasticBody body(g, gfmd::homogeneous_body(1.0, 0.25, 0.1, true));
   gfmd::SpecField a(g.spectral_size(), 1.0), b(g.spectral_size()), c(g.spectral_size()), d(g.spectral_size());
   for (auto _ : state) {
     body.displacement(a.data(), a.data(), a.data(), b.data(), c.data(), d.data());

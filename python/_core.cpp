@@ -8,12 +8,14 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -336,14 +338,17 @@ PYBIND11_MODULE(_core, m) {
         "returns '' or what went wrong.");
   m.def(
       "check_elastic",
-      [](double contact_modulus, double poisson, double thickness) {
-        gfmd::ElasticParams e;
-        e.contact_modulus = contact_modulus;
-        e.poisson = poisson;
-        e.thickness = thickness;
+      [](double contact_modulus, double poisson, double thickness, double substrate_contact_modulus,
+         double substrate_poisson, const std::vector<std::array<double, 3>>& layers) {
+        gfmd::ElasticParams e = gfmd::homogeneous_body(contact_modulus, poisson, thickness);
+        e.substrate_contact_modulus = substrate_contact_modulus;
+        e.substrate_poisson = substrate_poisson;
+        for (const auto& l : layers) e.layers.push_back({l[0], l[1], l[2]});
         e.validate();  // a ParameterError naming the argument: InputError in Python
       },
       py::arg("contact_modulus"), py::arg("poisson"), py::arg("thickness"),
+      py::arg("substrate_contact_modulus") = std::numeric_limits<double>::infinity(),
+      py::arg("substrate_poisson") = 0.25, py::arg("layers") = std::vector<std::array<double, 3>>{},
       "Check an elastic body's parameters as the case files' [elastic] are checked.");
   m.def(
       "run",

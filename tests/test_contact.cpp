@@ -97,7 +97,7 @@ TEST(Contact, WestergaardSinusoid) {
   for (int iy = 0; iy < g.ny; ++iy)
     for (int ix = 0; ix < g.nx; ++ix)
       topo.h[iy * g.nx + ix] = h0 * std::cos(2 * std::numbers::pi * ix / g.nx);
-  ElasticBody body(g, ElasticParams{1.0, 0.3, std::numeric_limits<double>::infinity(), true});
+  ElasticBody body(g, homogeneous_body(1.0, 0.3, std::numeric_limits<double>::infinity(), true));
   ContactSolver solver(body, topo, InteractionParams{}, FrictionParams{}, SolverParams{1e-10, 20000, 10});
   for (double frac : {0.1, 0.3, 0.6, 0.9}) {
     ContactFields f;

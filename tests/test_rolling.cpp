@@ -175,7 +175,7 @@ TEST(Elastic, UpwindSlipSymbols) {
 // resolvent the numbers they compute without it, to the bit.
 TEST(Elastic, SlipSymbolTableGivesTheSameNumbers) {
   const Grid g{24, 18, 2.0, 1.5};
-  const ElasticBody body(g, ElasticParams{1.0, 0.3, 0.2, true});
+  const ElasticBody body(g, homogeneous_body(1.0, 0.3, 0.2, true));
   const double th = 0.4, ex = std::cos(th), ey = std::sin(th);
   std::vector<cplx> a(g.spectral_size()), b(a.size()), c(a.size());
   Rng rng(3);

@@ -24,23 +24,42 @@ class ElasticBody:
     contact_modulus: E* = E / (1 - nu^2), the unit of pressures and stresses. poisson: nu in
     (-1, 0.5] (0.5 only for a half-space); checked on construction (InputError). coupling = False drops the normal/in-plane coupling
     (the usual uncoupled approximation) for comparison.
+
+    A coating (a layer of finite thickness) on an elastic substrate: substrate_contact_modulus and
+    substrate_poisson (the half-space it is bonded to; inf: a rigid base). layers: further bonded
+    layers beneath the top one, top to bottom, as (contact_modulus, poisson, thickness) tuples:
+
+        body = gfmd.ElasticBody(contact_modulus=10.0, poisson=0.2, thickness=0.05,
+                                substrate_contact_modulus=1.0, substrate_poisson=0.3)
     """
 
     contact_modulus: float = 1.0
     poisson: float = 0.25
     thickness: float = math.inf
     coupling: bool = True
+    substrate_contact_modulus: float = math.inf
+    substrate_poisson: float = 0.25
+    layers: tuple = ()
 
     def __post_init__(self):
         # Checked here, as [elastic] is in a case file, not only when a solve uses the body.
-        for name in ("contact_modulus", "poisson", "thickness"):
+        for name in ("contact_modulus", "poisson", "thickness", "substrate_contact_modulus", "substrate_poisson"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, numbers.Real):
                 raise InputError(f"ElasticBody.{name}: must be a number, got {v!r}")
         if not isinstance(self.coupling, bool):
             raise InputError(f"ElasticBody.coupling: must be True or False, got {self.coupling!r}")
+        layers = []
+        for i, layer in enumerate(self.layers):
+            if (not isinstance(layer, (tuple, list)) or len(layer) != 3
+                    or any(isinstance(v, bool) or not isinstance(v, numbers.Real) for v in layer)):
+                raise InputError(f"ElasticBody.layers[{i}]: must be (contact_modulus, poisson, thickness), "
+                                 f"got {layer!r}")
+            layers.append(tuple(float(v) for v in layer))
+        object.__setattr__(self, "layers", tuple(layers))
         try:
-            _core.check_elastic(float(self.contact_modulus), float(self.poisson), float(self.thickness))
+            _core.check_elastic(float(self.contact_modulus), float(self.poisson), float(self.thickness),
+                                float(self.substrate_contact_modulus), float(self.substrate_poisson), layers)
         except InputError as e:
             raise InputError(f"ElasticBody.{e}") from None
 
@@ -93,6 +112,12 @@ def _body_lines(body: ElasticBody) -> list:
              f"poisson = {_toml_value('poisson', body.poisson)}",
              f"thickness = {_toml_value('thickness', body.thickness)}",
              f"coupling = {_toml_value('coupling', body.coupling)}"]
+    if math.isfinite(body.substrate_contact_modulus):
+        lines += [f"substrate_contact_modulus = {_toml_value('substrate_contact_modulus', body.substrate_contact_modulus)}",
+                  f"substrate_poisson = {_toml_value('substrate_poisson', body.substrate_poisson)}"]
+    if body.layers:
+        tables = ", ".join(f"{{contact_modulus = {e!r}, poisson = {nu!r}, thickness = {h!r}}}" for e, nu, h in body.layers)
+        lines.append(f"layers = [{tables}]")
     if isinstance(body, ViscoelasticBody) and body.model == "master_curve":
         # The table sets the relaxed modulus: contact_modulus is left to it.
         lines = [ln for ln in lines if not ln.startswith("contact_modulus")]
@@ -220,12 +245,20 @@ class ContactSolver:
 
     def __init__(self, topography: Topography, body: Optional[ElasticBody] = None, *, friction: float = 0.0,
                  direction: float = 0.0, interaction="harmonic", hardness: float = math.inf,
-                 stress_depths: Iterable[float] = (), **options):
+                 stress_depths: Iterable[float] = (), indenter_body: Optional[ElasticBody] = None, **options):
         if not isinstance(topography, Topography):
             raise InputError(f"topography: must be a gfmd.Topography (got {type(topography).__name__})")
         body = ElasticBody() if body is None else body
         if not isinstance(body, ElasticBody):
             raise InputError(f"body: must be a gfmd.ElasticBody (got {type(body).__name__})")
+        indenter = []  # an elastic indenter: [indenter] contact_modulus, poisson, thickness
+        if indenter_body is not None:
+            if (type(indenter_body) is not ElasticBody or indenter_body.layers
+                    or math.isfinite(indenter_body.substrate_contact_modulus)):
+                raise InputError("indenter_body: must be a gfmd.ElasticBody of one material (a half-space or a "
+                                 "layer on a rigid base)")
+            indenter = [f"{k} = {_toml_value(k, getattr(indenter_body, k))}"
+                        for k in ("contact_modulus", "poisson", "thickness")]
         unknown = sorted(set(options) - _SOLVER_KEYS - _FRICTION_KEYS)
         if unknown:
             raise InputError(f"{unknown[0]}: unknown keyword argument of gfmd.solve (solver options: "
@@ -234,7 +267,7 @@ class ContactSolver:
         # The load is set by each solve; approach = 0 stands in while the case is read.
         lines = ["[grid]", f"nx = {topography.nx}", f"ny = {topography.ny}", f"lx = {topography.lx!r}",
                  f"ly = {topography.ly!r}"] + _body_lines(body) + [
-                 "[indenter]", 'type = "array"', "[load]", "approach = 0.0",
+                 "[indenter]", 'type = "array"'] + indenter + ["[load]", "approach = 0.0",
                  "[friction]", f"coefficient = {_toml_value('friction', friction)}",
                  f"direction = {_toml_value('direction', direction)}"]
         lines += [f"{k} = {_toml_value(k, v)}" for k, v in options.items() if k in _FRICTION_KEYS]
@@ -315,13 +348,15 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
           force: Optional[float] = None, approach: Optional[float] = None, friction: float = 0.0,
           direction: float = 0.0, interaction="harmonic", hardness: float = math.inf,
           stress_depths: Iterable[float] = (), progress: Optional[Callable[[int, int, float], None]] = None,
-          **options) -> Result:
+          indenter_body: Optional[ElasticBody] = None, **options) -> Result:
     """Presses (and, with friction > 0, slides) the topography on the body; returns a Result.
 
     Exactly one of pressure (mean, E*), force (E* L^2) or approach (L). friction: the local
     Coulomb coefficient mu_c; direction: sliding direction in degrees from x. interaction:
     "harmonic" (default), "hardwall" or gfmd.Adhesive(work_of_adhesion, range). hardness: the
-    plastic cap H of the local pressure (interaction.hardness; inf: none). options: the
+    plastic cap H of the local pressure (interaction.hardness; inf: none). indenter_body: an
+    elastic indenter (a gfmd.ElasticBody of one material; two deformable bodies; sliding only; its
+    stresses in summary["indenter_stress"]), rigid when None. options: the
     [solver] keys (tolerance, max_iterations, max_outer, max_tangential, anderson, mixing,
     threads, fft_planner, backend) and the [friction] keys (regularization, creepage,
     lateral_creepage, slip_derivative, stick_step, stick_acceleration, reference, law and the
@@ -337,7 +372,7 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
     _one_load("gfmd.solve", pressure, force, approach)
     _progress_arg(progress if progress is not True else None)
     solver = ContactSolver(topography, body, friction=friction, direction=direction, interaction=interaction,
-                           hardness=hardness, stress_depths=stress_depths, **options)
+                           hardness=hardness, stress_depths=stress_depths, indenter_body=indenter_body, **options)
     result = solver._solve_quiet(pressure, force, approach, progress, True)
     solver._warn_once(result, stacklevel=2)
     return result

@@ -131,12 +131,68 @@ void read_viscoelastic(Section& el, ViscoelasticParams& v, const std::string& ba
 
 }  // namespace
 
+namespace {
+// elastic.layers: an array of tables {contact_modulus, poisson, thickness}, top to bottom,
+// bonded beneath the top layer.
+void read_layers(Section& el, ElasticParams& e) {
+  const toml::value* v = el.raw("layers");
+  if (!v) return;
+  if (!v->is_array()) {
+    el.error("layers", "must be an array of tables {contact_modulus, poisson, thickness}, top to bottom");
+    return;
+  }
+  if (v->as_array().size() > kMaxLayers) {
+    el.error("layers", "at most " + std::to_string(kMaxLayers) + " layers, got " +
+                           std::to_string(v->as_array().size()));
+    return;
+  }
+  std::size_t i = 0;
+  for (const auto& t : v->as_array()) {
+    const std::string name = "layers[" + std::to_string(i++) + "]";
+    if (!t.is_table()) {
+      el.error(name, "must be a table {contact_modulus, poisson, thickness}" + where(t));
+      return;
+    }
+    ElasticLayer l;
+    bool given[3] = {false, false, false};
+    for (const auto& [key, x] : t.as_table()) {
+      const int k = key == "contact_modulus" ? 0 : key == "poisson" ? 1 : key == "thickness" ? 2 : -1;
+      if (k < 0) {
+        el.error(name + "." + key,
+                 "unknown key" + did_you_mean(key, {"contact_modulus", "poisson", "thickness"}) + where(x));
+        return;
+      }
+      if (!x.is_floating() && !x.is_integer()) {
+        el.error(name + "." + key, "must be a number, got " + Section::type_name(x) + where(x));
+        return;
+      }
+      const double d = x.is_floating() ? x.as_floating() : static_cast<double>(x.as_integer());
+      (k == 0 ? l.contact_modulus : k == 1 ? l.poisson : l.thickness) = d;
+      given[k] = true;
+    }
+    if (!given[0] || !given[2]) {
+      el.error(name, std::string("needs ") + (given[0] ? "thickness" : "contact_modulus") + where(t));
+      return;
+    }
+    e.layers.push_back(l);
+  }
+}
+}  // namespace
+
 void read_elastic(Section& el, Config& c, const std::string& base_dir) {
   c.elastic.contact_modulus = el.number("contact_modulus", 1.0);
   c.elastic.poisson = el.number("poisson", 0.25);
   c.elastic.thickness = el.number_or_inf("thickness", std::numeric_limits<double>::infinity());
   c.elastic.coupling = el.boolean("coupling", true);
+  c.elastic.substrate_contact_modulus =
+      el.number_or_inf("substrate_contact_modulus", std::numeric_limits<double>::infinity());
+  c.elastic.substrate_poisson = el.number("substrate_poisson", 0.25);
+  if (el.has("substrate_poisson") && !el.has("substrate_contact_modulus"))
+    el.error("substrate_poisson", "belongs to an elastic substrate: set elastic.substrate_contact_modulus");
+  read_layers(el, c.elastic);
   read_viscoelastic(el, c.visco, base_dir);
+  if (c.visco.enabled() && c.elastic.layered())
+    el.error("viscoelastic", "a layered or coated viscoelastic body is not implemented");
   if (c.visco.model == ViscoelasticParams::Model::MasterCurve && c.visco.master_relaxed_modulus() > 0) {
     // The table's relaxed modulus is the body's E0* (the unit of pressures).
     const double e0 = c.visco.master_relaxed_modulus();
@@ -231,6 +287,10 @@ void read_friction(Section& fr, Config& c) {
     fr.error("law", "unknown friction law \"" + law_name + "\"" + did_you_mean(law_name, names) +
                         "; one of " + list);
   }
+  if (c.indenter.body && c.friction.rolling() && c.friction.coefficient > 0)
+    fr.error(c.friction.creepage != 1.0 ? "creepage" : "lateral_creepage",
+             "rolling with an elastic indenter is not implemented (its material would pass through the "
+             "contact too): an elastic indenter slides (creepage 1)");
   fr.finish(law_keys);
 }
 

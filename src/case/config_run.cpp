@@ -128,8 +128,13 @@ void read_stress(Section& st, Config& c) {
         const double d = e.is_floating()  ? e.as_floating()
                          : e.is_integer() ? static_cast<double>(e.as_integer())
                                           : -1.0;
-        if (!(d >= 0) || !std::isfinite(d) || (!c.elastic.half_space() && d > c.elastic.thickness))
-          st.error("depths", "each depth must be a number in [0, thickness]" + where(e));
+        double bottom = c.elastic.thickness;  // a rigid base's depth
+        for (const ElasticLayer& l : c.elastic.layers) bottom += l.thickness;
+        if (!(d >= 0) || !std::isfinite(d) || (!c.elastic.on_substrate() && d > bottom))
+          st.error("depths",
+                   "each depth must be a number in [0, " +
+                       std::string(c.elastic.layers.empty() ? "thickness" : "the layers' total thickness") +
+                       "]" + where(e));
         else
           c.stress.depths.push_back(d);
       }

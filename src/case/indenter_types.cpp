@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <toml.hpp>
 
 #include "gfmd/core/error.hpp"
@@ -16,6 +17,9 @@ const std::vector<const IndenterType*>& indenter_registry() {
   static const std::vector<const IndenterType*> table = {
       &hertz_indenter(),       //
       &flatpunch_indenter(),   //
+      &powerlaw_indenter(),    //
+      &sphere_indenter(),      //
+      &cylinder_indenter(),    //
       &eggcrate_indenter(),    //
       &selfaffine_indenter(),  //
       &file_indenter(),        //
@@ -67,17 +71,51 @@ void read_indenter(Section& ind, Config& c, std::vector<std::string>& errors, co
     std::vector<std::string> every_key;  // no second error for keys of the type meant
     for (const IndenterType* t : indenter_registry())
       every_key.insert(every_key.end(), t->keys.begin(), t->keys.end());
+    every_key.insert(every_key.end(), {"contact_modulus", "poisson", "thickness"});
     ind.finish(every_key);
     return;
   }
   IndenterRead r{c, errors, given, base_dir};
   type->read(ind, r);
+  read_indenter_body(ind, c);
   ind.finish();
+}
+
+// An elastic indenter's body (any indenter type): indenter.contact_modulus ("inf" or absent:
+// rigid), poisson, thickness ("inf": a half-space).
+void read_indenter_body(Section& ind, Config& c) {
+  const double es = ind.number_or_inf("contact_modulus", std::numeric_limits<double>::infinity());
+  const double nu = ind.number("poisson", 0.25);
+  const double h = ind.number_or_inf("thickness", std::numeric_limits<double>::infinity());
+  if (es == std::numeric_limits<double>::infinity()) {
+    for (const char* k : {"poisson", "thickness"})
+      if (ind.has(k))
+        ind.error(k, "belongs to an elastic indenter: set indenter.contact_modulus (its E*; absent: rigid)");
+    return;
+  }
+  ElasticParams b = homogeneous_body(es, nu, h, c.elastic.coupling);
+  try {
+    b.validate();
+  } catch (const ParameterError& e) {
+    ind.error(e.where(), e.why());
+    return;
+  }
+  if (c.visco.enabled())
+    ind.error("contact_modulus", "an elastic indenter on a viscoelastic body is not implemented");
+  c.indenter.body = b;
 }
 
 nlohmann::json indenter_json(const IndenterConfig& in) {
   nlohmann::json out = {{"type", in.type}};
   if (const IndenterType* t = find_indenter_type(in.type)) t->write(in, out);
+  if (in.body) {  // absent: rigid (as before the keys)
+    out["contact_modulus"] = in.body->contact_modulus;
+    out["poisson"] = in.body->poisson;
+    if (in.body->half_space())
+      out["thickness"] = "inf";
+    else
+      out["thickness"] = in.body->thickness;
+  }
   return out;
 }
 

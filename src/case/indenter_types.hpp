@@ -57,6 +57,9 @@ struct IndenterType {
 // The parts, one file each.
 const IndenterType& hertz_indenter();
 const IndenterType& flatpunch_indenter();
+const IndenterType& powerlaw_indenter();
+const IndenterType& sphere_indenter();
+const IndenterType& cylinder_indenter();
 const IndenterType& eggcrate_indenter();
 const IndenterType& selfaffine_indenter();
 const IndenterType& file_indenter();
@@ -71,6 +74,8 @@ std::vector<std::string> case_indenter_names();
 std::string indenter_names_text();
 // The indenter's keys as summary.json's "input" records them (type first).
 nlohmann::json indenter_json(const IndenterConfig& in);
+// indenter.contact_modulus, poisson, thickness: an elastic indenter's body (c.indenter.body).
+void read_indenter_body(Section& ind, Config& c);
 // Whether the analysis treats a topography of this kind (Topography::kind) as rough.
 bool rough_indenter(const std::string& type);
 // The plausibility warning's subject and the keys to check, for the case's type.

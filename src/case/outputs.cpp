@@ -243,6 +243,15 @@ nlohmann::json summary_json(const CaseResult& r) {
       j["subsurface"].push_back(e);
     }
   }
+  if (r.indenter_stress_summary) {  // an elastic indenter's own stresses
+    j["indenter_stress"] = stress_json(*r.indenter_stress_summary);
+    j["indenter_stress"]["subsurface"] = nlohmann::json::array();
+    for (const auto& ss : r.indenter_subsurface) {
+      nlohmann::json e = stress_json(ss.summary);
+      e["depth"] = ss.depth;
+      j["indenter_stress"]["subsurface"].push_back(e);
+    }
+  }
   if (cmp.delta_mu_over_mu_c) j["delta_mu_over_mu_c"] = *cmp.delta_mu_over_mu_c;
   if (cmp.delta_mu_over_mu_c_downhill) j["delta_mu_over_mu_c_downhill"] = *cmp.delta_mu_over_mu_c_downhill;
   if (r.reference) {

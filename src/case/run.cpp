@@ -36,6 +36,9 @@ namespace gfmd {
 
 namespace fs = std::filesystem;
 using run_detail::compute_stresses;
+using run_detail::deformed_indenter;
+using run_detail::indenter_fields;
+using run_detail::indenter_stresses;
 using run_detail::line_profiles;
 
 bool outputs_need_stress_fields(const Config& cfg) { return cfg.output.fields || cfg.output.png; }
@@ -118,12 +121,20 @@ void after_solve_here(const Config& cfg, const RunOptions& opts, const Grid& gri
   // turns to upwind2 where the solve met stick).
   FrictionParams fric = cfg.friction;
   fric.slip_derivative = r.info.slip_derivative;
-  r.observables = compute_observables(fft, topo, fric, r.fields, r.info);
+  // An elastic indenter: the downhill force acts on its deformed face.
+  std::optional<ContactFields> own;
+  RealField face;
+  if (cfg.indenter.body) {
+    own = indenter_fields(fft, *cfg.indenter.body, r.fields);
+    face = deformed_indenter(topo, *own);
+  }
+  r.observables = compute_observables(fft, topo, fric, r.fields, r.info, own ? &face : nullptr);
   if (fric.coefficient > 0) r.derived = derived_fields(fft, fric, r.fields);
   if (cfg.interaction.plastic()) plastic_saturation(cfg, grid, topo, r);
   if (r.info.converged) {
     const auto t0 = std::chrono::steady_clock::now();
     compute_stresses(r, fft, topo, opts.keep_stress_fields);
+    if (own) indenter_stresses(r, fft, *own);
     r.stress_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   const bool padded = cfg.indenter.type == "file" && cfg.indenter.periodize == "pad";
@@ -293,7 +304,8 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
   // "auto" also means the cores for the physics the device does not have (the solver refuses
   // "cuda" for it by name).
   if (cfg.backend == "auto" &&
-      !device_lacks(cfg.interaction, cfg.friction, cfg.visco.enabled()).first.empty())
+      !device_lacks(cfg.interaction, cfg.friction, cfg.visco.enabled(), cfg.indenter.body.has_value())
+           .first.empty())
     chosen = &threads_backend();
   if (chosen->name() == "cuda") {
     if (mpi::distributed())
@@ -338,7 +350,8 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
   r.topography_stats = statistics(topo);
   // The body and the solvers live only as long as the solves: the stage after them
   // (stresses, flow) gets the memory back.
-  auto body = std::make_unique<ElasticBody>(slab, cfg.elastic, cfg.visco);
+  auto body = std::make_unique<ElasticBody>(slab, cfg.elastic, cfg.visco,
+                                            cfg.indenter.body ? &*cfg.indenter.body : nullptr);
   // A distributed run starts warm when rank 0 has a warm start: the others get its rows.
   bool warm = opts.warm_start && opts.warm_start->pressure.size() == cfg.grid.size();
   if (distributed) {

@@ -13,4 +13,12 @@ LineProfiles line_profiles(const Grid& g, const CaseResult& r);
 // The stresses the case asks for, on the device where the backend has one, else here.
 void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, bool keep_fields);
 
+// An elastic indenter (run_indenter.cpp), on the fields held here: its own tractions and
+// surface displacement in its frame (z' = -z: the traction (-tx, -ty, -p));
+ContactFields indenter_fields(const FFT& fft, const ElasticParams& indenter, const ContactFields& f);
+// its deformed face as rigid heights (the downhill force acts on it);
+RealField deformed_indenter(const Topography& topo, const ContactFields& own);
+// its stresses: the surface's summary and those of the planes of stress.depths inside it.
+void indenter_stresses(CaseResult& r, const FFT& fft, const ContactFields& own);
+
 }  // namespace gfmd::run_detail

@@ -166,7 +166,7 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
       rf.ux = r.fields.ux;
       rf.uy = r.fields.uy;
     }
-    const ElasticBody body(g, cfg.elastic);
+    const ElasticBody body(g, cfg.elastic, {}, cfg.indenter.body ? &*cfg.indenter.body : nullptr);
     if (!r.reference && cfg.friction.coefficient > 0) {
       FrictionParams none = cfg.friction;
       none.coefficient = 0.0;

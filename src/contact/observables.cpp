@@ -48,7 +48,7 @@ void slip_velocity(const FFT& fft, const FrictionParams& fric, const RealField& 
 }
 
 Observables compute_observables(const FFT& fft, const Topography& topo, const FrictionParams& fric,
-                                const ContactFields& f, const SolveInfo& info) {
+                                const ContactFields& f, const SolveInfo& info, const RealField* face) {
   const Grid& g = fft.grid();
   const double n = static_cast<double>(g.size());
   const double da = g.cell_area();
@@ -112,7 +112,7 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
   if (mu > 0) {
     RealField vx, vy, dh;
     slip_velocity(fft, fric, f.ux, f.uy, vx, vy);
-    directional_derivative(fft, ex, ey, topo.h, dh);
+    directional_derivative(fft, ex, ey, face ? *face : topo.h, dh);
     // One pass over the slip field with the solver's tractions tau (exact Coulomb with
     // stick: |tau| = mu_c p where the point slips, tau inside the disc where it sticks and
     // v = 0; regularised: mu_c p f(|v|) v/|v|): [0] dissipation sum tau.v, [1] sum |tau|

@@ -24,10 +24,13 @@ namespace gfmd {
 using namespace contact_detail;
 
 std::pair<std::string, std::string> device_lacks(const InteractionParams& inter, const FrictionParams& fric,
-                                                 bool viscoelastic) {
+                                                 bool viscoelastic, bool elastic_indenter) {
   const std::string there =
       " is not implemented on the cuda backend: use solver.backend = \"threads\" (or \"serial\")";
   if (viscoelastic) return {"elastic.viscoelastic", "viscoelastic bodies" + there};
+  // The device's slip reads the pair's compliance table; sliding needs the body's own.
+  if (elastic_indenter && fric.coefficient > 0)
+    return {"indenter.contact_modulus", "friction under an elastic indenter" + there};
   if (inter.adhesive()) return {"interaction.model", "adhesion" + there};
   if (inter.plastic()) return {"interaction.hardness", "plastic saturation" + there};
   const FrictionLawType& law = friction_law_type(fric.law.kind);
@@ -104,7 +107,8 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
       throw ParameterError("friction.direction", "must be the viscoelastic body's sliding direction");
   }
   if (backend().name() == "cuda") {
-    if (const auto [key, why] = device_lacks(inter_, fric_, body.viscoelastic()); !key.empty())
+    if (const auto [key, why] = device_lacks(inter_, fric_, body.viscoelastic(), body.elastic_indenter());
+        !key.empty())
       throw ParameterError(key, why);
     // The fields live on the device; the host keeps only g0 (the final residual check).
     DeviceProblem pr;

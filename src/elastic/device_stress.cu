@@ -470,7 +470,7 @@ std::optional<DeviceStressResult> device_subsurface_stress(const Grid& g, const 
                                                            const DeviceStressRequest& req) {
   el.validate();
   stress_detail::check_depth(el, depth);
-  if (!usable(g)) return std::nullopt;
+  if (!usable(g) || el.layered()) return std::nullopt;  // a layered body's planes: the host's
   if (f.pressure.size() != g.size() || (!f.tx.empty() && f.tx.size() != g.size()) ||
       (!f.ty.empty() && f.ty.size() != g.size()))
     return std::nullopt;  // the host's checks say what is wrong

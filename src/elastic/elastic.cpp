@@ -8,6 +8,7 @@
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/mpi.hpp"
+#include "gfmd/elastic/layered.hpp"
 
 namespace gfmd {
 
@@ -21,10 +22,34 @@ void ElasticParams::validate() const {
   }
   if (!(thickness > 0.0) || std::isnan(thickness))
     throw ParameterError("thickness", "must be \"inf\" or a positive number");
-  if (poisson == 0.5 && !half_space())
+  if (poisson == 0.5 && !half_space() && !on_substrate())
     throw ParameterError("poisson",
                          "nu = 0.5 with a finite thickness is singular (an incompressible confined layer "
                          "cannot be compressed); use e.g. 0.49");
+  if (!layered()) return;
+  if (half_space())
+    throw ParameterError("thickness", layers.empty()
+                                          ? "must be finite on a substrate (the coating's thickness)"
+                                          : "must be finite with layers beneath it");
+  for (std::size_t i = 0; i < layers.size(); ++i) {
+    const ElasticLayer& l = layers[i];
+    const std::string key = "layers[" + std::to_string(i) + "].";
+    if (!(l.contact_modulus > 0.0) || !std::isfinite(l.contact_modulus))
+      throw ParameterError(key + "contact_modulus", "must be a positive finite number");
+    if (!(l.poisson > -1.0 && l.poisson < 0.5))
+      throw ParameterError(key + "poisson", "must be in (-1, 0.5) for a layer beneath the top one");
+    if (!(l.thickness > 0.0) || !std::isfinite(l.thickness))
+      throw ParameterError(key + "thickness", "must be a positive finite number");
+  }
+  if (on_substrate()) {
+    if (!(substrate_contact_modulus > 0.0) || std::isnan(substrate_contact_modulus))
+      throw ParameterError("substrate_contact_modulus", "must be a positive number (\"inf\": a rigid base)");
+    if (!(substrate_poisson > -1.0 && substrate_poisson <= 0.5)) {
+      std::ostringstream os;
+      os << "Poisson's ratio " << substrate_poisson << " is outside (-1, 0.5]";
+      throw ParameterError("substrate_poisson", os.str());
+    }
+  }
 }
 
 namespace {
@@ -78,14 +103,49 @@ PhiRotated phi_rotated(double x, double nu) {
   return r;
 }
 
-ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const ViscoelasticParams& visco)
+namespace {
+// The rotated compliance of the body `p` at |q| = q > 0: the closed form of SPEC §2 for a
+// homogeneous body, the transfer matrices for a layered one.
+RotatedCompliance rotated_compliance(double q, const ElasticParams& p) {
+  if (p.layered()) return layered_compliance(q, p);
+  const double es = p.contact_modulus;
+  const PhiRotated f =
+      phi_rotated(p.half_space() ? std::numeric_limits<double>::infinity() : q * p.thickness, p.poisson);
+  const double det = f.p11 * f.p33 - f.p13 * f.p13;
+  return {f.p33 / (det * q * es), 1.0 / (f.p22 * q * es), f.p11 / (det * q * es), -f.p13 / (det * q * es)};
+}
+
+// The q = 0 compliances (normal, in-plane) of the body `p`: zero on a half-space.
+std::pair<double, double> mean_compliances(const ElasticParams& p) {
+  if (p.layered()) return {layered_mean_normal_compliance(p), layered_mean_inplane_compliance(p)};
+  if (p.half_space()) return {0.0, 0.0};
+  const double nu = p.poisson, om = 1.0 - nu;
+  return {p.thickness * (1.0 - 2.0 * nu) / (om * om * p.contact_modulus), p.thickness / p.shear_modulus()};
+}
+
+// The pair's relative compliance u_body - u_indenter: the indenter's surface faces the other
+// way (its z and its traction reversed), so its direct terms add and its coupling subtracts.
+RotatedCompliance relative(const RotatedCompliance& body, const RotatedCompliance& indenter) {
+  return {body.c11 + indenter.c11, body.c22 + indenter.c22, body.c33 + indenter.c33, body.c13 - indenter.c13};
+}
+}  // namespace
+
+ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const ViscoelasticParams& visco,
+                         const ElasticParams* indenter)
     : grid_(grid), params_(params), modes_(grid.spectral_size()), visco_(visco) {
   params_.validate();
   visco_.validate(params_.contact_modulus);
+  if (visco_.enabled() && params_.layered())
+    throw ParameterError("viscoelastic", "a layered or coated viscoelastic body is not implemented");
+  if (indenter) {
+    indenter->validate();
+    if (visco_.enabled())
+      throw ParameterError("viscoelastic",
+                           "a viscoelastic body under an elastic indenter is not implemented");
+    indenter_ = *indenter;
+    own_.resize(modes_.size());
+  }
   const double es = params_.contact_modulus;
-  const double nu = params_.poisson;
-  const double h = params_.thickness;
-  const bool half = params_.half_space();
   const int nxh = grid.nxh();
   // The rows of the half spectrum held here (all of them unless the grid is a slab).
   for_rows(grid.rows(), [&](int row) {
@@ -96,37 +156,51 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
       const double q = std::hypot(qx, qy);
       if (q == 0.0) {
         modes_[k] = ComplianceMode{0, 0, 0, 0, 0, 0};
+        if (indenter) own_[k] = modes_[k];
         continue;
       }
-      const PhiRotated p = phi_rotated(half ? std::numeric_limits<double>::infinity() : q * h, nu);
-      const double det = p.p11 * p.p33 - p.p13 * p.p13;
-      const double c11 = p.p33 / (det * q * es);
-      const double c33 = p.p11 / (det * q * es);
-      // Uncoupled reference: the cross-compliance is dropped, the direct ones are kept,
-      // so a frictionless solve is the same with and without coupling.
-      const double c13 = params_.coupling ? -p.p13 / (det * q * es) : 0.0;  // C'13 = i * c13
-      const double c22 = 1.0 / (p.p22 * q * es);
       const double c = qx / q, s = qy / q;
       // On the Nyquist lines the odd parts (xy, xz, yz) have no consistent sign
       // (q and -q are the same mode there), so they are dropped like derivatives.
-      const bool nyq = (grid.nx % 2 == 0 && ikx == grid.nx / 2) || (grid.ny % 2 == 0 && iky == grid.ny / 2);
-      ComplianceMode& m = modes_[k];
-      m.cxx = c * c * c11 + s * s * c22;
-      m.cyy = s * s * c11 + c * c * c22;
-      m.czz = c33;
-      m.cxy = nyq ? 0.0 : c * s * (c11 - c22);
-      m.cxz = (nyq && ikx == grid.nx / 2 && grid.nx % 2 == 0) ? 0.0 : c * c13;
-      m.cyz = (nyq && iky == grid.ny / 2 && grid.ny % 2 == 0) ? 0.0 : s * c13;
+      const bool nyq_x = grid.nx % 2 == 0 && ikx == grid.nx / 2,
+                 nyq_y = grid.ny % 2 == 0 && iky == grid.ny / 2;
+      const auto lab = [&](const RotatedCompliance& r) {
+        // Uncoupled reference: the cross-compliance is dropped, the direct ones are kept,
+        // so a frictionless solve is the same with and without coupling.
+        const double c13 = params_.coupling ? r.c13 : 0.0;  // C'13 = i * c13
+        ComplianceMode m;
+        m.cxx = c * c * r.c11 + s * s * r.c22;
+        m.cyy = s * s * r.c11 + c * c * r.c22;
+        m.czz = r.c33;
+        m.cxy = (nyq_x || nyq_y) ? 0.0 : c * s * (r.c11 - r.c22);
+        m.cxz = nyq_x ? 0.0 : c * c13;
+        m.cyz = nyq_y ? 0.0 : s * c13;
+        return m;
+      };
+      const RotatedCompliance own = rotated_compliance(q, params_);
+      if (indenter) {
+        own_[k] = lab(own);
+        modes_[k] = lab(relative(own, rotated_compliance(q, *indenter)));
+      } else {
+        modes_[k] = lab(own);
+      }
     }
   });
-  if (!half) {
-    const double om = 1.0 - nu;
-    c0_zz_ = h * (1.0 - 2.0 * nu) / (om * om * es);
-    c0_t_ = h / params_.shear_modulus();
+  const auto [own_zz, own_t] = mean_compliances(params_);
+  c0_zz_ = own_zz;
+  c0_t_ = own_t;
+  if (indenter) {
+    const auto [ind_zz, ind_t] = mean_compliances(*indenter);
+    c0_zz_ += ind_zz;
+    c0_t_ += ind_t;
   }
   if (grid.y0 == 0 && grid.rows() > 0) {  // the q = 0 mode
     modes_[0].czz = c0_zz_;
     modes_[0].cxx = modes_[0].cyy = c0_t_;
+    if (indenter) {
+      own_[0].czz = own_zz;
+      own_[0].cxx = own_[0].cyy = own_t;
+    }
   }
   if (visco_.enabled()) response_ = viscoelastic_factors(grid, visco_, es);
 }
@@ -154,15 +228,22 @@ std::array<cplx, 9> ElasticBody::stiffness(int ikx, int iky) const {
   const double q = std::hypot(qx, qy);
   std::array<cplx, 9> k{};
   if (q == 0.0) {
-    if (!params_.half_space()) {
+    if (c0_t_ > 0.0) {
       k[0] = k[4] = 1.0 / c0_t_;
       k[8] = 1.0 / c0_zz_;
     }
     return k;
   }
-  PhiRotated p =
-      phi_rotated(params_.half_space() ? std::numeric_limits<double>::infinity() : q * params_.thickness,
-                  params_.poisson);
+  PhiRotated p{};
+  if (params_.layered() || indenter_) {  // the inverse of the (relative) compliance, in units of q E*
+    RotatedCompliance r = rotated_compliance(q, params_);
+    if (indenter_) r = relative(r, rotated_compliance(q, *indenter_));
+    const double f = q * params_.contact_modulus, det = r.c11 * r.c33 - r.c13 * r.c13;
+    p = PhiRotated{r.c33 / (det * f), 1.0 / (r.c22 * f), r.c11 / (det * f), -r.c13 / (det * f)};
+  } else {
+    p = phi_rotated(params_.half_space() ? std::numeric_limits<double>::infinity() : q * params_.thickness,
+                    params_.poisson);
+  }
   if (!params_.coupling) {
     // Inverse of the uncoupled compliance (direct terms of the coupled body kept).
     const double det = p.p11 * p.p33 - p.p13 * p.p13;
@@ -190,15 +271,27 @@ inline std::array<cplx, 2> inplane(const ComplianceMode& m, cplx x, cplx y, cplx
 }
 }  // namespace
 
+void ElasticBody::own_normal_displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* uz,
+                                          double scale, double scale_z) const {
+  const std::vector<ComplianceMode>& own = slip_modes();
+  parallel_for(static_cast<std::ptrdiff_t>(own.size()), [&](std::ptrdiff_t k) {
+    const ComplianceMode& m = own[k];
+    const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
+               z = tz ? scale_z * tz[k] : cplx(0.0);
+    uz[k] = m.czz * z - times_i(m.cxz, x) - times_i(m.cyz, y);
+  });
+}
+
 void ElasticBody::displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
                                double scale, double scale_z) const {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(modes_.size());
+  const std::vector<ComplianceMode>& slip = slip_modes();
   parallel_for(n, [&](std::ptrdiff_t k) {
     const ComplianceMode& m = modes_[k];
     const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
                z = tz ? scale_z * tz[k] : cplx(0.0);
     if (ux || uy) {
-      const auto u = inplane(m, x, y, z);
+      const auto u = inplane(slip[k], x, y, z);
       if (ux) ux[k] = u[0];
       if (uy) uy[k] = u[1];
     }
@@ -306,14 +399,15 @@ void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, 
     return inplane(m, x, y, z);
   };
   if (deriv == SlipDerivative::Spectral) {
-    for_each_slope_mode(grid_, modes_, ex, ey, [&](int, std::size_t k, const ComplianceMode& m, double d) {
-      const auto u = load(k, m);
-      dux[k] = times_i(d, u[0]);
-      duy[k] = times_i(d, u[1]);
-    });
+    for_each_slope_mode(grid_, slip_modes(), ex, ey,
+                        [&](int, std::size_t k, const ComplianceMode& m, double d) {
+                          const auto u = load(k, m);
+                          dux[k] = times_i(d, u[0]);
+                          duy[k] = times_i(d, u[1]);
+                        });
     return;
   }
-  for_each_upwind_mode(grid_, modes_, ex, ey, deriv, symbols,
+  for_each_upwind_mode(grid_, slip_modes(), ex, ey, deriv, symbols,
                        [&](int, std::size_t k, const ComplianceMode& m, cplx d) {
                          const auto u = load(k, m);
                          dux[k] = d * u[0];
@@ -330,12 +424,12 @@ double ElasticBody::slip_operator_norm(double ex, double ey, SlipDerivative deri
     r = std::max(r, absd * (tr + std::sqrt(df * df + m.cxy * m.cxy)));
   };
   if (deriv == SlipDerivative::Spectral)
-    for_each_slope_mode(grid_, modes_, ex, ey, [&](int row, std::size_t, const ComplianceMode& m, double d) {
-      take(row, m, std::abs(d));
-    });
+    for_each_slope_mode(
+        grid_, slip_modes(), ex, ey,
+        [&](int row, std::size_t, const ComplianceMode& m, double d) { take(row, m, std::abs(d)); });
   else
     for_each_upwind_mode(
-        grid_, modes_, ex, ey, deriv, nullptr,
+        grid_, slip_modes(), ex, ey, deriv, nullptr,
         [&](int row, std::size_t, const ComplianceMode& m, cplx d) { take(row, m, std::abs(d)); });
   const double mine = rows.empty() ? 0.0 : *std::max_element(rows.begin(), rows.end());
   return mpi::max_all(grid_, mine);
@@ -346,26 +440,27 @@ void ElasticBody::slip_resolvent(cplx* x, cplx* y, double ex, double ey, double 
   if (deriv == SlipDerivative::Spectral) {
     // M = I - i g d C with C = [[cxx, cxy], [cxy, cyy]] real symmetric and g d real: M is
     // complex symmetric, det M = 1 - i g d (cxx + cyy) - (g d)^2 (cxx cyy - cxy^2), never 0.
-    for_each_slope_mode(grid_, modes_, ex, ey, [&](int, std::size_t k, const ComplianceMode& m, double d) {
-      const double gd = gamma * d;
-      const cplx a = scale * x[k], b = scale * y[k];
-      if (gd == 0.0) {
-        x[k] = a;
-        y[k] = b;
-        return;
-      }
-      const cplx det(1.0 - gd * gd * (m.cxx * m.cyy - m.cxy * m.cxy), -gd * (m.cxx + m.cyy));
-      const cplx inv = 1.0 / det;
-      // M^-1 = [[1 - i gd cyy, i gd cxy], [i gd cxy, 1 - i gd cxx]] / det
-      const cplx m11(1.0, -gd * m.cyy), m22(1.0, -gd * m.cxx), m12(0.0, gd * m.cxy);
-      x[k] = inv * (m11 * a + m12 * b);
-      y[k] = inv * (m12 * a + m22 * b);
-    });
+    for_each_slope_mode(
+        grid_, slip_modes(), ex, ey, [&](int, std::size_t k, const ComplianceMode& m, double d) {
+          const double gd = gamma * d;
+          const cplx a = scale * x[k], b = scale * y[k];
+          if (gd == 0.0) {
+            x[k] = a;
+            y[k] = b;
+            return;
+          }
+          const cplx det(1.0 - gd * gd * (m.cxx * m.cyy - m.cxy * m.cxy), -gd * (m.cxx + m.cyy));
+          const cplx inv = 1.0 / det;
+          // M^-1 = [[1 - i gd cyy, i gd cxy], [i gd cxy, 1 - i gd cxx]] / det
+          const cplx m11(1.0, -gd * m.cyy), m22(1.0, -gd * m.cxx), m12(0.0, gd * m.cxy);
+          x[k] = inv * (m11 * a + m12 * b);
+          y[k] = inv * (m12 * a + m22 * b);
+        });
     return;
   }
   // M = I - g D C with Re D <= 0: M's Hermitian part I - g Re(D) C >= I, so det M != 0.
   for_each_upwind_mode(
-      grid_, modes_, ex, ey, deriv, symbols, [&](int, std::size_t k, const ComplianceMode& m, cplx d) {
+      grid_, slip_modes(), ex, ey, deriv, symbols, [&](int, std::size_t k, const ComplianceMode& m, cplx d) {
         const cplx gd = gamma * d;
         const cplx a = scale * x[k], b = scale * y[k];
         const cplx m11 = 1.0 - gd * m.cyy, m22 = 1.0 - gd * m.cxx, m12 = gd * m.cxy;  // adjugate of M

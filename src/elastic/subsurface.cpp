@@ -10,6 +10,7 @@
 
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/elastic/layered.hpp"
 #include "gfmd/elastic/stress.hpp"
 #include "stress_detail.hpp"
 #include "subsurface_mode.hpp"
@@ -104,6 +105,7 @@ void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFi
 }  // namespace
 
 ModeResponse mode_response(double q, double depth, const ElasticParams& el) {
+  if (el.layered()) return layered_mode_response(q, depth, el);
   const double nu = el.poisson, es = el.contact_modulus, om = 1.0 - nu;
   const double G = el.shear_modulus();
   const bool half = el.half_space();

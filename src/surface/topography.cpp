@@ -137,6 +137,62 @@ Topography make_hertz(const Grid& grid, double rx, double ry) {
   return t;
 }
 
+Topography make_powerlaw(const Grid& grid, double rx, double ry, double exponent) {
+  validate_grid(grid);
+  if (!positive_finite(rx)) throw ParameterError("radius_x", "must be > 0 (got " + num(rx) + ")");
+  if (!positive_finite(ry)) throw ParameterError("radius_y", "must be > 0 (got " + num(ry) + ")");
+  if (!(exponent >= 1.0 && exponent <= 20.0))
+    throw ParameterError("exponent",
+                         "must be in [1, 20] (1: a cone, 2: the paraboloid), got " + num(exponent));
+  Topography t{grid, RealField(grid.local_size()), "powerlaw"};
+  const int cx = grid.nx / 2, cy = grid.ny / 2;
+  const double dx = grid.dx(), dy = grid.dy(), r = std::sqrt(rx * ry);
+  const double scale = 1.0 / (exponent * std::pow(r, exponent - 1.0));
+  for_rows(grid.rows(), [&](int row) {
+    const double y = (grid.y0 + row - cy) * dy;
+    for (int ix = 0; ix < grid.nx; ++ix) {
+      const double x = (ix - cx) * dx;
+      const double re2 = r * (x * x / rx + y * y / ry);
+      t.h[static_cast<std::size_t>(row) * grid.nx + ix] = -scale * std::pow(re2, 0.5 * exponent);
+    }
+  });
+  return t;
+}
+
+Topography make_sphere(const Grid& grid, double radius) {
+  validate_grid(grid);
+  if (!positive_finite(radius)) throw ParameterError("radius", "must be > 0 (got " + num(radius) + ")");
+  Topography t{grid, RealField(grid.local_size()), "sphere"};
+  const int cx = grid.nx / 2, cy = grid.ny / 2;
+  const double dx = grid.dx(), dy = grid.dy(), r2 = radius * radius;
+  for_rows(grid.rows(), [&](int row) {
+    const double y = (grid.y0 + row - cy) * dy;
+    for (int ix = 0; ix < grid.nx; ++ix) {
+      const double x = (ix - cx) * dx, d2 = x * x + y * y;
+      t.h[static_cast<std::size_t>(row) * grid.nx + ix] =
+          d2 < r2 ? -d2 / (radius + std::sqrt(r2 - d2)) : -radius;
+    }
+  });
+  return t;
+}
+
+Topography make_cylinder(const Grid& grid, double radius, char axis) {
+  validate_grid(grid);
+  if (!positive_finite(radius)) throw ParameterError("radius", "must be > 0 (got " + num(radius) + ")");
+  if (axis != 'x' && axis != 'y') throw ParameterError("axis", "must be \"x\" or \"y\"");
+  Topography t{grid, RealField(grid.local_size()), "cylinder"};
+  const int cx = grid.nx / 2, cy = grid.ny / 2;
+  const double dx = grid.dx(), dy = grid.dy();
+  for_rows(grid.rows(), [&](int row) {
+    const double y = (grid.y0 + row - cy) * dy;
+    for (int ix = 0; ix < grid.nx; ++ix) {
+      const double x = (ix - cx) * dx, d = axis == 'y' ? x : y;
+      t.h[static_cast<std::size_t>(row) * grid.nx + ix] = -(d * d) / (2.0 * radius);
+    }
+  });
+  return t;
+}
+
 void check_flatpunch(const Grid& grid, double radius, double depth) {
   if (!positive_finite(radius)) throw ParameterError("radius", "must be > 0 (got " + num(radius) + ")");
   if (!positive_finite(depth)) throw ParameterError("depth", "must be > 0 (got " + num(depth) + ")");

@@ -198,6 +198,33 @@ def test_viscoelastic_sliding_any_rank_count(tmp_path, ranks, friction):
         assert b[k] == a[k], k
 
 
+COATED = HERTZ.replace("poisson = 0.3", "poisson = 0.3\nthickness = 0.05\nsubstrate_contact_modulus = 0.2\n"
+                       "layers = [{contact_modulus = 3.0, poisson = 0.2, thickness = 0.02}]").replace(
+    "[solver]", "[friction]\ncoefficient = 0.4\ndirection = 30\n[stress]\ndepths = [0.05, 0.2]\n[solver]")
+
+
+@pytest.mark.parametrize("ranks", [2, 3])
+def test_coated_sliding_any_rank_count(tmp_path, ranks):
+    # A coating and an interlayer on a substrate: each slab's rows of the layered compliance and of
+    # the planes below the surface (one on the interface, one in the substrate) give the serial bits.
+    a, b = serial_and_distributed(tmp_path, COATED, ranks)
+    assert len(a["subsurface"]) == 2 and a["subsurface"][0]["max_von_mises"] > 0
+
+
+TWO_BODIES = HERTZ.replace("[load]", "contact_modulus = 0.5\npoisson = 0.45\nthickness = 0.3\n[load]").replace(
+    "[solver]", "[friction]\ncoefficient = 0.4\ndirection = 30\n[stress]\ndepths = [0.05]\n[solver]")
+
+
+@pytest.mark.parametrize("ranks", [2, 3])
+def test_elastic_indenter_sliding_any_rank_count(tmp_path, ranks):
+    # Two deformable bodies: the pair's compliance and the body's own on each slab, the indenter's
+    # deformed face in the downhill force and its stresses give the serial bits.
+    a, b = serial_and_distributed(tmp_path, TWO_BODIES, ranks)
+    assert a["indenter_stress"]["max_von_mises"] > 0 and a["energy_balance_error_exact"] < 1e-3
+    assert b["indenter_stress"] == a["indenter_stress"]
+    assert b["downhill_friction"] == a["downhill_friction"]
+
+
 @pytest.mark.parametrize("ranks", [2, 3])
 def test_thin_layer_sliding_with_stick(tmp_path, ranks):
     a, b = serial_and_distributed(tmp_path, THIN_STICK, ranks)

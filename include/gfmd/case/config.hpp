@@ -3,6 +3,7 @@
 
 #include <array>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -21,6 +22,7 @@ namespace gfmd {
 inline constexpr long long kMaxThreads = 1024;                  // solver.threads
 inline constexpr long long kMaxSweepPoints = 10000;             // [sweep] points or values; any TOML array
 inline constexpr std::size_t kMaxStressDepths = 64;             // stress.depths
+inline constexpr std::size_t kMaxLayers = 64;                   // elastic.layers
 inline constexpr int kMaxTomlNesting = 64;                      // arrays, inline tables and dotted keys
 inline constexpr std::size_t kMaxCaseFileBytes = 1u << 20;      // and arrays of <= kMaxSweepPoints
 inline constexpr double kMinLength = 1e-30, kMaxLength = 1e30;  // grid.lx, grid.ly
@@ -35,6 +37,8 @@ struct IndenterConfig {
   std::string type = "hertz";
   double radius = 0.0, radius_x = 0.0, radius_y = 0.0;  // hertz; flatpunch: radius
   double depth = 0.0;                                   // flatpunch: the drop of its side
+  double exponent = 2.0;                                // powerlaw: n
+  char axis = 'y';                                      // cylinder: the direction it lies along
   double wavelength = 0.0, amplitude = 0.0;
   SelfAffineParams selfaffine;
   std::string path;  // file: resolved against the case file's folder
@@ -44,6 +48,9 @@ struct IndenterConfig {
   std::string detrend = "none";               // none | mean | plane
   std::string periodize = "none";             // none | mirror | pad
   std::array<long long, 4> crop{0, 0, 0, 0};  // ix0, iy0, nx, ny (nx = 0: no crop)
+  // An elastic indenter (indenter.contact_modulus, poisson, thickness; two deformable bodies,
+  // ElasticBody's `indenter`): its body. Rigid when absent (contact_modulus not given or "inf").
+  std::optional<ElasticParams> body;
 };
 
 struct OutputConfig {

@@ -100,6 +100,10 @@ struct CaseResult {
     RealField von_mises, s1;
   };
   std::vector<Subsurface> subsurface;
+  // An elastic indenter's stresses (indenter.contact_modulus): its surface's summary and the
+  // planes of stress.depths inside it (summaries only).
+  std::optional<StressSummary> indenter_stress_summary;
+  std::vector<Subsurface> indenter_subsurface;
   std::optional<LeakageResult> leakage;  // [flow], after a converged solve
   // Processes the solve ran on (mpirun; core/mpi.hpp). In a distributed run only rank 0 holds
   // whole fields (run_case says which); every rank holds `info`, the observables, the stress

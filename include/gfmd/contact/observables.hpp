@@ -107,7 +107,10 @@ DerivedFields derived_fields(const FFT& fft, const FrictionParams& fric, const C
 void slip_velocity(const FFT& fft, const FrictionParams& fric, const RealField& ux, const RealField& uy,
                    RealField& vx, RealField& vy);
 
+// face: the heights whose slope the pressure pushes on in the downhill force, an elastic
+// indenter's deformed face (null: topo.h, a rigid indenter's).
 Observables compute_observables(const FFT& fft, const Topography& topo, const FrictionParams& fric,
-                                const ContactFields& f, const SolveInfo& info);
+                                const ContactFields& f, const SolveInfo& info,
+                                const RealField* face = nullptr);
 
 }  // namespace gfmd

@@ -124,7 +124,7 @@ struct SolverParams {
 // (ContactSolver refuses "cuda" with it; solver.backend = "auto" then chooses the cores);
 // {} where the device computes it all.
 std::pair<std::string, std::string> device_lacks(const InteractionParams& inter, const FrictionParams& fric,
-                                                 bool viscoelastic);
+                                                 bool viscoelastic, bool elastic_indenter = false);
 
 struct SolveInfo {
   bool converged = false;

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "gfmd/core/fft.hpp"
@@ -15,6 +16,13 @@
 #include "gfmd/elastic/viscoelastic.hpp"
 
 namespace gfmd {
+
+// A layer bonded below the top one (a layered body, layered.hpp).
+struct ElasticLayer {
+  double contact_modulus = 1.0;  // E* of the layer
+  double poisson = 0.25;
+  double thickness = 1.0;
+};
 
 struct ElasticParams {
   double contact_modulus = 1.0;                                // E* = E/(1-nu^2)
@@ -24,12 +32,36 @@ struct ElasticParams {
   // tangential traction and in-plane displacement from pressure) is dropped; the direct
   // compliances stay those of the real body, so frictionless results do not change.
   bool coupling = true;
+  // Beneath the top layer (finite thickness): further bonded layers, top to bottom, and what
+  // the lowest one is bonded to: a rigid base (substrate_contact_modulus = inf, the default)
+  // or an elastic half-space (a coating on a substrate).
+  std::vector<ElasticLayer> layers;
+  double substrate_contact_modulus = std::numeric_limits<double>::infinity();
+  double substrate_poisson = 0.25;
 
   [[nodiscard]] bool half_space() const { return thickness == std::numeric_limits<double>::infinity(); }
+  [[nodiscard]] bool on_substrate() const {
+    return substrate_contact_modulus != std::numeric_limits<double>::infinity();
+  }
+  // More than one material, or a layer on an elastic substrate (layered.hpp).
+  [[nodiscard]] bool layered() const { return on_substrate() || !layers.empty(); }
   [[nodiscard]] double shear_modulus() const { return contact_modulus * (1.0 - poisson) / 2.0; }
-  // Throws ParameterError naming poisson / thickness / contact_modulus.
+  // Throws ParameterError naming poisson / thickness / contact_modulus, the substrate's keys
+  // or layers[i].<key>.
   void validate() const;
 };
+
+// A homogeneous body (a half-space or a layer on a rigid base) from its four numbers.
+inline ElasticParams homogeneous_body(double contact_modulus, double poisson,
+                                      double thickness = std::numeric_limits<double>::infinity(),
+                                      bool coupling = true) {
+  ElasticParams e;
+  e.contact_modulus = contact_modulus;
+  e.poisson = poisson;
+  e.thickness = thickness;
+  e.coupling = coupling;
+  return e;
+}
 
 // Dimensionless Phi in the frame where q points along axis 1 (SPEC §2):
 // Phi'11 = p11, Phi'22 = p22, Phi'33 = p33, Phi'13 = i*p13, Phi'31 = -i*p13.
@@ -68,10 +100,20 @@ class ElasticBody {
   // With `visco` enabled a viscoelastic body in steady sliding (viscoelastic.hpp):
   // params.contact_modulus is then its relaxed modulus E0. Throws ParameterError naming the
   // key (ElasticParams::validate, ViscoelasticParams::validate).
-  ElasticBody(const Grid& grid, const ElasticParams& params, const ViscoelasticParams& visco = {});
+  //
+  // With `indenter` the indenter is elastic too (two deformable bodies; either may be a layer
+  // or layered). The gap sees the relative displacement u_body - u_indenter: modes(), the mean
+  // compliances, compliance(), stiffness() and displacement()'s uz are the pair's, the two
+  // bodies' compliances added with the indenter's coupling subtracted (its surface faces the
+  // other way: Dundurs' beta is their difference). The slip of steady sliding is the body's own
+  // surface velocity, since the indenter's material rests in the contact: displacement()'s
+  // ux, uy, inplane_slope, slip_resolvent and slip_operator_norm are the body's own.
+  ElasticBody(const Grid& grid, const ElasticParams& params, const ViscoelasticParams& visco = {},
+              const ElasticParams* indenter = nullptr);
 
   [[nodiscard]] const Grid& grid() const { return grid_; }
   [[nodiscard]] const ElasticParams& params() const { return params_; }
+  [[nodiscard]] bool elastic_indenter() const { return indenter_.has_value(); }
   [[nodiscard]] const ComplianceMode& mode(std::size_t k) const { return modes_[k]; }
   [[nodiscard]] const std::vector<ComplianceMode>& modes() const { return modes_; }
 
@@ -106,6 +148,10 @@ class ElasticBody {
   // spectrum of a pressure p into that of t_z = -p without a pass over the grid.
   void displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
                     double scale, double scale_z) const;
+  // The body's own normal displacement (its compliance alone: without an elastic indenter's
+  // share), as displacement()'s uz. For one body the same numbers.
+  void own_normal_displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* uz, double scale,
+                               double scale_z) const;
   // The symbols D(q) of an upwind (e.grad) along (ex, ey) on every mode held here (r2c
   // half-spectrum order), for the calls below: their trigonometry otherwise costs more than
   // the rest of a spectral pass. 16 bytes per mode.
@@ -131,7 +177,12 @@ class ElasticBody {
  private:
   Grid grid_;
   ElasticParams params_;
+  // The compliance the slip sees: the body's own (own_) under an elastic indenter.
+  [[nodiscard]] const std::vector<ComplianceMode>& slip_modes() const { return own_.empty() ? modes_ : own_; }
+
   std::vector<ComplianceMode> modes_;
+  std::vector<ComplianceMode> own_;  // the body's own modes under an elastic indenter; else empty
+  std::optional<ElasticParams> indenter_;
   ViscoelasticParams visco_;
   std::vector<cplx> response_;  // E0/E(omega) per mode held here; empty: elastic
   double c0_zz_ = 0.0, c0_t_ = 0.0;

@@ -38,6 +38,20 @@ struct TopographyStats {
 // Throws ParameterError("radius_x"/"radius_y", ...) and ("grid", ...).
 Topography make_hertz(const Grid& grid, double rx, double ry);
 
+// Axisymmetric power law with elliptic contours, apex on the node (nx/2, ny/2) as make_hertz's:
+// h = -r_e^n / (n R^(n-1)), r_e^2 = R ((x-xc)^2/rx + (y-yc)^2/ry), R = sqrt(rx ry): its slope is
+// (r_e/R)^(n-1), so n = 2 is the paraboloid of make_hertz (to round-off) and R is where the slope
+// reaches 1. Throws ParameterError("radius_x"/"radius_y", ...), ("exponent", ...) outside [1, 20].
+Topography make_powerlaw(const Grid& grid, double rx, double ry, double exponent);
+
+// A sphere of radius R, not its paraboloid: h = sqrt(R^2 - r^2) - R for r < R and -R outside
+// (the equator's drop), apex on the node (nx/2, ny/2). Throws ParameterError("radius", ...).
+Topography make_sphere(const Grid& grid, double radius);
+
+// A cylinder of radius R lying along y (axis 'y') or x ('x') through the cell's centre line: the
+// parabolic h = -(x-xc)^2/(2R) (a line contact, periodic along the axis). ParameterError("radius").
+Topography make_cylinder(const Grid& grid, double radius, char axis);
+
 // Flat cylindrical punch of radius a, face on the node (nx/2, ny/2): h = 0 where
 // (x-xc)^2 + (y-yc)^2 <= a^2 (offsets as make_hertz's), h = -depth elsewhere (the punch's
 // side drops by depth, so the body meets only the face while its deflection outside stays

@@ -1,0 +1,39 @@
+// A layered body: the top layer (ElasticParams' contact_modulus, poisson, thickness) over
+// further bonded layers, all on a rigid base or on an elastic half-space (a coating on a
+// substrate). Its surface compliance per mode by transfer matrices (docs/solver.md,
+// "Layered bodies"): the state (u1, u3, sigma13, sigma33) of a mode exp(i q x1) obeys
+// d/dz s = q M s with M constant in each layer; exp(M x) is written with the projectors on
+// the eigenvalues +1 and -1 of M (each twice, a Jordan block), so no matrix function and no
+// overflow is needed for any q h.
+#pragma once
+
+#include "gfmd/elastic/elastic.hpp"
+#include "gfmd/elastic/stress.hpp"
+
+namespace gfmd {
+
+// The rotated compliance of one mode |q| > 0 (the frame of elastic.hpp's PhiRotated):
+// u1 = c11 t1 + i c13 t3, u2 = c22 t2, u3 = -i c13 t1 + c33 t3.
+struct RotatedCompliance {
+  double c11, c22, c33, c13;
+};
+
+// The compliance at |q| = q of the body `el` describes (layered or not), exact for every q.
+// For a homogeneous body it equals ElasticBody's (tests compare them); ElasticBody uses it for
+// layered bodies only, so a homogeneous body keeps its closed form's bits.
+[[nodiscard]] RotatedCompliance layered_compliance(double q, const ElasticParams& el);
+
+// The response at a depth below the surface of a layered body to one surface-traction mode
+// (stress.hpp's ModeResponse, the same frame and meaning; the real coupled body whatever
+// el.coupling says): the states the body below the depth admits, lifted to the surface, fixed by
+// the traction there. A depth on an interface is taken in the layer above it (its side of the
+// in-plane stresses, which jump there). At depth 0 the displacement is layered_compliance.
+[[nodiscard]] ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el);
+
+// The q = 0 compliances of a layered body: zero on a half-space substrate (its mean
+// displacement is pinned as a half-space's is), else the sums over the layers of
+// h (1-2nu)/((1-nu)^2 E*) (normal) and h/G (in-plane).
+[[nodiscard]] double layered_mean_normal_compliance(const ElasticParams& el);
+[[nodiscard]] double layered_mean_inplane_compliance(const ElasticParams& el);
+
+}  // namespace gfmd

@@ -1,0 +1,322 @@
+#include "gfmd/elastic/layered.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace gfmd {
+
+namespace {
+
+using Mat4 = std::array<std::array<double, 4>, 4>;
+using Cols = std::array<std::array<double, 2>, 4>;  // a 4x2 matrix: two state vectors side by side
+
+Mat4 mul(const Mat4& a, const Mat4& b) {
+  Mat4 c{};
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 4; ++k)
+      for (int j = 0; j < 4; ++j) c[i][j] += a[i][k] * b[k][j];
+  return c;
+}
+
+Mat4 add_identity(Mat4 m, double diag, double scale = 1.0) {  // scale m + diag I
+  for (int i = 0; i < 4; ++i) {
+    for (double& v : m[i]) v *= scale;
+    m[i][i] += diag;
+  }
+  return m;
+}
+
+Cols times(const Mat4& a, const Cols& w) {
+  Cols r{};
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 4; ++k)
+      for (int j = 0; j < 2; ++j) r[i][j] += a[i][k] * w[k][j];
+  return r;
+}
+
+// One layer's plane-strain system in x = q z with the state s = (U1, U3, S13/q, S33/q), where
+// u1 = i U1, u3 = U3, sigma13 = i S13, sigma33 = S33 (real for a real mode):
+//   dU1 = -U3 + s13/G,  dU3 = a U1 + b s33/G,  ds13 = 2G/(1-nu) U1 - a s33,  ds33 = s13,
+// with a = nu/(1-nu), b = (1-2nu)/(2(1-nu)). M's eigenvalues are +1 and -1, each twice with
+// one eigenvector: (M^2 - I)^2 = 0, so
+//   exp(M x) = e^x P+ (I + x (M - I)) + e^-x P- (I + x (M + I)),
+// P+ = (2I - M)(M + I)^2/4 and P- = (2I + M)(M - I)^2/4 the projectors (partial fractions
+// of 1/((s-1)^2 (s+1)^2)). The antiplane system (U2, S23/q) has d = [[0, 1/G], [G, 0]].
+struct Material {
+  Mat4 grow, grow_n, decay, decay_n;   // P+, P+(M - I), P-, P-(M + I)
+  double g = 0.0, nu = 0.0, es = 0.0;  // shear modulus, Poisson ratio, E*
+};
+
+Material material(double contact_modulus, double nu) {
+  const double g = contact_modulus * (1.0 - nu) / 2.0;
+  const double a = nu / (1.0 - nu), b = (1.0 - 2.0 * nu) / (2.0 * (1.0 - nu));
+  const Mat4 m = {{{0.0, -1.0, 1.0 / g, 0.0},
+                   {a, 0.0, 0.0, b / g},
+                   {2.0 * g / (1.0 - nu), 0.0, 0.0, -a},
+                   {0.0, 0.0, 1.0, 0.0}}};
+  const Mat4 mp = add_identity(m, 1.0), mm = add_identity(m, -1.0);
+  Mat4 pp = mul(add_identity(m, 2.0, -1.0), mul(mp, mp));
+  Mat4 pm = mul(add_identity(m, 2.0), mul(mm, mm));
+  for (Mat4* p : {&pp, &pm})
+    for (auto& row : *p)
+      for (double& v : row) v *= 0.25;
+  return {pp, mul(pp, mm), pm, mul(pm, mp), g, nu, contact_modulus};
+}
+
+// The states of a half-space of this material (those that decay with depth, i.e. grow with
+// z: the range of P+), spanned by P+ applied to unit surface displacements.
+Cols half_space_states(const Material& mat) {
+  Cols w{};
+  for (int i = 0; i < 4; ++i) {
+    w[i][0] = mat.grow[i][0];
+    w[i][1] = mat.grow[i][1];
+  }
+  return w;
+}
+
+// Beyond this q h a layer hides what is below it to e^{-2 q h} < 1e-34.
+constexpr double kOpaque = 40.0;
+
+// The states at the top of a layer of thickness x (in units of 1/q) whose bottom states are
+// w, up to a factor (only their span matters): e^-x exp(M x) w, scaled to order one.
+Cols through_layer(const Material& mat, double x, const Cols& w) {
+  if (x > kOpaque) return half_space_states(mat);
+  const double e2 = std::exp(-2.0 * x);
+  Mat4 t{};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      t[i][j] = mat.grow[i][j] + x * mat.grow_n[i][j] + e2 * (mat.decay[i][j] + x * mat.decay_n[i][j]);
+  Cols r = times(t, w);
+  double big = 0.0;
+  for (const auto& row : r) big = std::max({big, std::abs(row[0]), std::abs(row[1])});
+  if (big > 0.0)
+    for (auto& row : r) {
+      row[0] /= big;
+      row[1] /= big;
+    }
+  return r;
+}
+
+// The states at the top of a layer of thickness x (units of 1/q) whose bottom states are w,
+// exactly: exp(M x) w = e^log_scale r, with r returned scaled to order one and log_scale
+// increased by x plus the log of that scale (no shortcut: the states themselves, not their
+// span, are wanted).
+Cols lift(const Material& mat, double x, const Cols& w, double& log_scale) {
+  const double e2 = std::exp(-2.0 * x);
+  Mat4 t{};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      t[i][j] = mat.grow[i][j] + x * mat.grow_n[i][j] + e2 * (mat.decay[i][j] + x * mat.decay_n[i][j]);
+  Cols r = times(t, w);
+  double big = 0.0;
+  for (const auto& row : r) big = std::max({big, std::abs(row[0]), std::abs(row[1])});
+  for (auto& row : r) {
+    row[0] /= big;
+    row[1] /= big;
+  }
+  log_scale += x + std::log(big);
+  return r;
+}
+
+struct Stack {
+  std::vector<Material> mats;  // top first
+  std::vector<double> thick;   // top first
+  bool substrate = false;
+  Material base;  // the substrate's material when substrate
+};
+
+Stack stack_of(const ElasticParams& el) {
+  Stack s;
+  s.mats.push_back(material(el.contact_modulus, el.poisson));
+  s.thick.push_back(el.thickness);
+  for (const ElasticLayer& l : el.layers) {
+    s.mats.push_back(material(l.contact_modulus, l.poisson));
+    s.thick.push_back(l.thickness);
+  }
+  s.substrate = el.on_substrate();
+  if (s.substrate) s.base = material(el.substrate_contact_modulus, el.substrate_poisson);
+  return s;
+}
+
+}  // namespace
+
+namespace {
+
+// Where a depth lies: in layer `layer` (mats.size(): the substrate), below_top beneath its top.
+// A depth on an interface belongs to the layer above it.
+struct Place {
+  std::size_t layer;
+  double below_top;
+};
+
+Place place_of(const Stack& s, double depth) {
+  double top = 0.0;
+  for (std::size_t i = 0; i < s.mats.size(); ++i) {
+    if (depth <= top + s.thick[i] || (i + 1 == s.mats.size() && !s.substrate))
+      return {i, std::min(depth - top, s.thick[i])};
+    top += s.thick[i];
+  }
+  return {s.mats.size(), depth - top};
+}
+
+const Material& material_at(const Stack& s, std::size_t layer) {
+  return layer < s.mats.size() ? s.mats[layer] : s.base;
+}
+
+// The plane-strain states at a place that the body below it admits (their span), from the base up.
+Cols states_at(const Stack& s, double q, Place p) {
+  if (p.layer == s.mats.size()) return half_space_states(s.base);  // any depth of the substrate
+  Cols w{};
+  if (s.substrate) {
+    w = half_space_states(s.base);
+  } else {  // a rigid base: no displacement, any traction
+    w[2][0] = 1.0;
+    w[3][1] = 1.0;
+  }
+  for (std::size_t i = s.mats.size(); i-- > p.layer + 1;) w = through_layer(s.mats[i], q * s.thick[i], w);
+  const double h = s.thick[p.layer];
+  if (h == std::numeric_limits<double>::infinity()) return half_space_states(s.mats[p.layer]);
+  return through_layer(s.mats[p.layer], q * (h - p.below_top), w);
+}
+
+// Antiplane states (U2, S23/q): d/dx = [[0, 1/G], [G, 0]], exp = [[ch, sh/G], [G sh, ch]].
+using Pair = std::array<double, 2>;
+
+Pair anti_step(double g, double x, Pair w, double* log_scale) {
+  if (!log_scale && x > kOpaque) return {1.0, g};  // the span only: a half-space of this material
+  const double e2 = std::exp(-2.0 * x), ch = 0.5 * (1.0 + e2), sh = 0.5 * (1.0 - e2);  // e^-x cosh, sinh
+  const Pair r = {ch * w[0] + sh * w[1] / g, g * sh * w[0] + ch * w[1]};
+  const double big = std::max(std::abs(r[0]), std::abs(r[1]));
+  if (log_scale) *log_scale += x + std::log(big);
+  return {r[0] / big, r[1] / big};
+}
+
+Pair anti_states_at(const Stack& s, double q, Place p) {
+  if (p.layer == s.mats.size()) return {1.0, s.base.g};
+  Pair w = s.substrate ? Pair{1.0, s.base.g} : Pair{0.0, 1.0};
+  for (std::size_t i = s.mats.size(); i-- > p.layer + 1;)
+    w = anti_step(s.mats[i].g, q * s.thick[i], w, nullptr);
+  const double h = s.thick[p.layer];
+  if (h == std::numeric_limits<double>::infinity()) return {1.0, s.mats[p.layer].g};
+  return anti_step(s.mats[p.layer].g, q * (h - p.below_top), w, nullptr);
+}
+
+}  // namespace
+
+RotatedCompliance layered_compliance(double q, const ElasticParams& el) {
+  const Stack s = stack_of(el);
+  // U = C S: with X the displacement rows of w and Y its traction rows (S/q), C = X Y^-1 / q.
+  const Cols w = states_at(s, q, {0, 0.0});
+  const double det = w[2][0] * w[3][1] - w[2][1] * w[3][0];
+  const double y00 = w[3][1] / det, y01 = -w[2][1] / det, y10 = -w[3][0] / det, y11 = w[2][0] / det;
+  RotatedCompliance c{};
+  c.c11 = (w[0][0] * y00 + w[0][1] * y10) / q;
+  c.c13 = (w[0][0] * y01 + w[0][1] * y11) / q;  // = (X Y^-1)_{10}: the matrix is symmetric
+  c.c33 = (w[1][0] * y01 + w[1][1] * y11) / q;
+  const Pair a = anti_states_at(s, q, {0, 0.0});  // c22 = U2 / (q s23)
+  c.c22 = a[0] / (a[1] * q);
+  return c;
+}
+
+ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el) {
+  const Stack s = stack_of(el);
+  const Place p = place_of(s, depth);
+  const Material& mat = material_at(s, p.layer);
+  const double nu = mat.nu, g = mat.g;
+  ModeResponse r;
+  if (q == 0.0) {
+    // Uniform traction: uniform sigma_13, sigma_23, sigma_33 and uniaxial strain in each layer
+    // (sigma_11 = sigma_22 = nu/(1-nu) sigma_33 with its own nu). The displacement is zero at
+    // the surface on a substrate (as ElasticBody pins it) and on the base of a rigid one: the
+    // strain integrated from there, t/G in-plane and (1-2nu)/((1-nu)^2 E*) t3 normal per length.
+    r.stress[0][2] = r.stress[1][2] = nu / (1.0 - nu);
+    r.stress[2][2] = 1.0;
+    r.stress[4][0] = 1.0;
+    r.stress[5][1] = 1.0;
+    double t_per = 0.0, n_per = 0.0, top = 0.0;
+    const auto add = [&](const Material& m, double len, double sign) {
+      t_per += sign * len / m.g;
+      n_per += sign * len * (1.0 - 2.0 * m.nu) / ((1.0 - m.nu) * (1.0 - m.nu) * m.es);
+    };
+    for (std::size_t i = 0; i < s.mats.size(); ++i) {
+      const double h = s.thick[i];
+      if (s.substrate)  // -(the part of the layer above the depth)
+        add(s.mats[i], std::clamp(depth - top, 0.0, h), -1.0);
+      else  // the part of the layer below the depth
+        add(s.mats[i], std::clamp(top + h - depth, 0.0, h), 1.0);
+      top += h;
+    }
+    if (s.substrate && depth > top) add(s.base, depth - top, -1.0);
+    r.disp[0][0] = r.disp[1][1] = t_per;
+    r.disp[2][2] = n_per;
+    return r;
+  }
+  // Plane strain: the states at the depth (span w) lifted to the surface (v = exp(..) w up to
+  // e^log_scale); the surface traction fixes the combination, s(d) = w (v_S)^-1 S_top.
+  const Cols w = states_at(s, q, p);
+  double log_scale = 0.0;
+  Cols v = lift(mat, q * p.below_top, w, log_scale);
+  for (std::size_t i = std::min(p.layer, s.mats.size()); i-- > 0;)
+    v = lift(s.mats[i], q * s.thick[i], v, log_scale);
+  const double det = v[2][0] * v[3][1] - v[2][1] * v[3][0];
+  const double f = std::exp(-log_scale);
+  const double i00 = v[3][1] / det, i01 = -v[2][1] / det, i10 = -v[3][0] / det, i11 = v[2][0] / det;
+  double R[4][2];  // s(d) = R (S_top / q)
+  for (int i = 0; i < 4; ++i) {
+    R[i][0] = f * (w[i][0] * i00 + w[i][1] * i10);
+    R[i][1] = f * (w[i][0] * i01 + w[i][1] * i11);
+  }
+  const cplx I(0.0, 1.0);
+  const double kk = 2.0 * g / (1.0 - nu), nn = nu / (1.0 - nu);
+  // t1 = 1 (S13 = -i): u1 = R00/q, u3 = -i R10/q, sigma13 = R20, sigma33 = -i R30,
+  // sigma11 = i (kk R00 - nn R30); t3 = 1 (S33 = 1): u1 = i R01/q, u3 = R11/q,
+  // sigma13 = i R21, sigma33 = R31, sigma11 = -kk R01 + nn R31. Plane strain: s22 = nu (s11 + s33).
+  const cplx s11[2] = {I * (kk * R[0][0] - nn * R[3][0]), -kk * R[0][1] + nn * R[3][1]};
+  const cplx s33[2] = {-I * R[3][0], R[3][1]};
+  for (int k = 0; k < 2; ++k) {
+    const int col = k == 0 ? 0 : 2;
+    r.stress[0][col] = s11[k];
+    r.stress[2][col] = s33[k];
+    r.stress[1][col] = nu * (s11[k] + s33[k]);
+  }
+  r.stress[4][0] = R[2][0];
+  r.stress[4][2] = I * R[2][1];
+  r.disp[0][0] = R[0][0] / q;
+  r.disp[0][2] = I * R[0][1] / q;
+  r.disp[2][0] = -I * R[1][0] / q;
+  r.disp[2][2] = R[1][1] / q;
+  // Antiplane (t2 = 1): u2 = U2, sigma23 = S23, sigma12 = i q G u2.
+  const Pair a = anti_states_at(s, q, p);
+  double alog = 0.0;
+  Pair b = anti_step(mat.g, q * p.below_top, a, &alog);
+  for (std::size_t i = std::min(p.layer, s.mats.size()); i-- > 0;)
+    b = anti_step(s.mats[i].g, q * s.thick[i], b, &alog);
+  const double fa = std::exp(-alog) / b[1];  // s(d) = a (S23_top/q) / b[1] up to e^-alog
+  r.disp[1][1] = fa * a[0] / q;
+  r.stress[5][1] = fa * a[1];
+  r.stress[3][1] = I * g * fa * a[0];
+  return r;
+}
+
+double layered_mean_normal_compliance(const ElasticParams& el) {
+  if (el.on_substrate()) return 0.0;
+  const auto one = [](double es, double nu, double h) {
+    return h * (1.0 - 2.0 * nu) / ((1.0 - nu) * (1.0 - nu) * es);
+  };
+  double c = one(el.contact_modulus, el.poisson, el.thickness);
+  for (const ElasticLayer& l : el.layers) c += one(l.contact_modulus, l.poisson, l.thickness);
+  return c;
+}
+
+double layered_mean_inplane_compliance(const ElasticParams& el) {
+  if (el.on_substrate()) return 0.0;
+  const auto one = [](double es, double nu, double h) { return 2.0 * h / (es * (1.0 - nu)); };
+  double c = one(el.contact_modulus, el.poisson, el.thickness);
+  for (const ElasticLayer& l : el.layers) c += one(l.contact_modulus, l.poisson, l.thickness);
+  return c;
+}
+
+}  // namespace gfmd

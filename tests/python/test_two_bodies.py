@@ -1,0 +1,40 @@
+"""Two deformable bodies from Python: gfmd.solve(..., indenter_body=gfmd.ElasticBody(...))."""
+import math
+
+import pytest
+
+import gfmd
+
+
+def sphere(nx=64):
+    return gfmd.Topography.hertz(nx=nx, lx=2.0, radius=1.0)
+
+
+def test_an_elastic_indenter_of_the_bodys_material_halves_the_contact_modulus():
+    # Frictionless Hertz: two equal half-spaces press as one of E*/2 (contact radius 2^(1/3) times
+    # the rigid one's, within the grid's resolution), and both bodies carry the same surface stress.
+    rigid = gfmd.solve(sphere(), gfmd.ElasticBody(), force=0.01, interaction="hardwall")
+    pair = gfmd.solve(sphere(), gfmd.ElasticBody(), force=0.01, interaction="hardwall",
+                      indenter_body=gfmd.ElasticBody())
+    ratio = math.sqrt(pair.summary["relative_contact_area"] / rigid.summary["relative_contact_area"])
+    assert ratio == pytest.approx(2 ** (1 / 3), rel=0.05)
+    ind = pair.summary["indenter_stress"]
+    assert ind["max_von_mises"] == pytest.approx(pair.summary["max_von_mises"], rel=1e-9)
+    assert "indenter_stress" not in rigid.summary
+    assert pair.summary["input"]["indenter"]["contact_modulus"] == 1.0
+
+
+def test_sliding_under_an_elastic_indenter_balances_its_work():
+    r = gfmd.solve(sphere(), gfmd.ElasticBody(poisson=0.25), force=0.01, friction=0.5,
+                   indenter_body=gfmd.ElasticBody(contact_modulus=2.0, poisson=0.4, thickness=0.5))
+    s = r.summary
+    assert s["converged"]
+    assert s["friction_coefficient"] < 0.5  # the body's compressed surface passes the contact
+    assert s["energy_balance_error_exact"] < 1e-3
+
+
+def test_bad_indenter_bodies_are_named():
+    with pytest.raises(gfmd.InputError, match="indenter_body"):
+        gfmd.solve(sphere(), force=0.01, indenter_body=gfmd.ElasticBody(thickness=0.1, substrate_contact_modulus=2.0))
+    with pytest.raises(gfmd.InputError, match="friction.creepage"):
+        gfmd.solve(sphere(), force=0.01, friction=0.5, creepage=0.01, indenter_body=gfmd.ElasticBody())

@@ -1,0 +1,126 @@
+// Indenter shapes with closed-form frictionless contacts on a half-space: the power law (Galin's
+// load-area law), the exact sphere (its load against contact radius beyond Hertz's paraboloid) and
+// the cylinder's line contact (Hertz in plane strain).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/core/error.hpp"
+#include "gfmd/surface/topography.hpp"
+#include "test_util.hpp"
+
+using namespace gfmd;
+using gfmd::testing::solve;
+
+namespace {
+const char* kCase = R"(
+[grid]
+nx = 256
+lx = 2.0
+[elastic]
+poisson = 0.3
+[indenter]
+type = "powerlaw"
+radius = 1.0
+[load]
+force = 0.01
+[interaction]
+model = "hardwall"
+[solver]
+tolerance = 1e-10
+[output]
+analysis = false
+)";
+
+std::string set(const char* key, double v) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%s=%.17g", key, v);
+  return buf;
+}
+
+// The radius of a disc with the contact's area.
+double contact_radius(const CaseResult& r) {
+  return std::sqrt(r.observables.relative_contact_area * r.config.grid.lx * r.config.grid.ly /
+                   std::numbers::pi);
+}
+
+// Galin (1946): a punch z = A r^n pressed to contact radius a carries
+// P = 2 E* A a^(n+1) n/(n+1) sqrt(pi) Gamma(n/2 + 1)/Gamma(n/2 + 1/2) (n = 2: Hertz's 4 E* a^3/(3R)).
+double galin_load(double a, double A, double n) {
+  return 2 * A * std::pow(a, n + 1) * n / (n + 1) * std::sqrt(std::numbers::pi) * std::tgamma(n / 2 + 1) /
+         std::tgamma(n / 2 + 0.5);
+}
+}  // namespace
+
+TEST(Shapes, ThePowerLawOfExponentTwoIsHertzsParaboloid) {
+  const Grid g(64, 48, 2.0, 1.5);
+  const Topography p = make_powerlaw(g, 0.7, 1.3, 2.0), h = make_hertz(g, 0.7, 1.3);
+  for (std::size_t i = 0; i < p.h.size(); ++i) EXPECT_NEAR(p.h[i], h.h[i], 1e-14 * (1 + std::abs(h.h[i])));
+}
+
+TEST(Shapes, PowerLawsFollowGalinsLoadAreaLaw) {
+  // Loads of Galin's contact radius a = 0.3 (38 cells): the grid's radius within 1 %
+  // (measured +0.14 % for n = 1.5, +0.22 % for n = 4); Hertz's radius at those loads differs by
+  // +25 % and -58 %.
+  for (double n : {1.5, 4.0}) {
+    const double A = 1.0 / n, a = 0.3, load = galin_load(a, A, n);  // R = 1: A = 1/(n R^(n-1))
+    const CaseResult r = solve(kCase, {set("indenter.exponent", n), set("load.force", load)});
+    ASSERT_TRUE(r.info.converged) << n;
+    EXPECT_NEAR(contact_radius(r) / a, 1.0, 0.01) << "n = " << n;
+    EXPECT_GT(std::abs(std::cbrt(3 * load / 4) / a - 1), n == 4.0 ? 0.2 : 0.05) << "differs from Hertz";
+  }
+}
+
+TEST(Shapes, TheExactSphereCarriesMoreThanItsParaboloid) {
+  // Frictionless sphere (R = 1) to a = R/2 (32 cells): P = E*/2 [(a^2 + R^2) ln((R+a)/(R-a)) - 2aR]
+  // (the linear theory for the exact profile, Sneddon's integral; Hertz's 4a^3/3 is 11 % less):
+  // measured +0.37 %, where Hertz's radius at this load is 3.8 % larger.
+  const double a = 0.5, load = 0.5 * ((a * a + 1) * std::log((1 + a) / (1 - a)) - 2 * a);
+  const CaseResult r = solve(kCase, {"indenter.type=\"sphere\"", "grid.lx=4.0", set("load.force", load)});
+  ASSERT_TRUE(r.info.converged);
+  EXPECT_NEAR(contact_radius(r) / a, 1.0, 0.01);
+  EXPECT_GT(std::cbrt(3 * load / 4) / a - 1, 0.03);  // Hertz's radius at this load
+}
+
+TEST(Shapes, ACylinderMakesHertzsLineContact) {
+  // Plane strain (Johnson §4.2): half-width b = sqrt(4 P' R/(pi E*)), p0 = 2 P'/(pi b), P' the load
+  // per length along the axis; b = 0.1 here (26 cells), within 1.5 % (measured b -0.39 %, p0 +0.8 %).
+  const double b = 0.1, per_length = std::numbers::pi * b * b / 4;
+  for (const char* axis : {"y", "x"}) {
+    const bool along_y = std::string(axis) == "y";
+    const double lx = 1.0, ly = 0.125, length = along_y ? ly : lx;
+    const CaseResult r =
+        solve(kCase, {"indenter.type=\"cylinder\"", std::string("indenter.axis=\"") + axis + "\"",
+                      "grid.nx=256", "grid.ny=" + std::string(along_y ? "32" : "256"), "grid.lx=1.0",
+                      set("grid.ly", along_y ? ly : 1.0), set("load.force", per_length * length)});
+    ASSERT_TRUE(r.info.converged) << axis;
+    const double width = r.observables.relative_contact_area * (along_y ? lx : 1.0) / 2;
+    EXPECT_NEAR(width / b, 1.0, 0.015) << axis;
+    EXPECT_NEAR(r.observables.max_pressure / (2 * per_length / (std::numbers::pi * b)), 1.0, 0.02) << axis;
+  }
+}
+
+TEST(Shapes, KeysAreChecked) {
+  const auto problem = [](const std::vector<std::string>& sets) {
+    try {
+      (void)parse_config(kCase, "t.toml", sets);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(problem({"indenter.exponent=0.5"}).find("indenter.exponent"), std::string::npos);
+  EXPECT_NE(problem({"indenter.type=\"cylinder\"", "indenter.axis=\"z\""}).find("indenter.axis"),
+            std::string::npos);
+  EXPECT_NE(problem({"indenter.type=\"sphere\"", "indenter.radius=-1"}).find("indenter.radius"),
+            std::string::npos);
+  EXPECT_NE(problem({"indenter.type=\"sphere\"", "indenter.exponent=2"}).find("unknown key"),
+            std::string::npos);
+  const Config c = parse_config(kCase, "t.toml", {"indenter.exponent=3"});
+  EXPECT_EQ(c.to_json()["indenter"]["exponent"], 3.0);
+}
