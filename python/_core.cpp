@@ -488,9 +488,10 @@ PYBIND11_MODULE(_core, m) {
       "make_selfaffine",
       [](int nx, int ny, double lx, double ly, double hurst, double lambda_long, double lambda_short,
          double rms_height, double rms_gradient, double lambda_rolloff, std::uint64_t seed,
-         const std::string& generator) {
+         const std::string& generator, double peklenik) {
         gfmd::SelfAffineParams p;
         p.generator = generator;
+        p.peklenik = peklenik;
         p.hurst = hurst;
         p.lambda_long = lambda_long;
         p.lambda_short = lambda_short;
@@ -508,7 +509,7 @@ PYBIND11_MODULE(_core, m) {
       },
       py::arg("nx"), py::arg("ny"), py::arg("lx"), py::arg("ly"), py::arg("hurst"), py::arg("lambda_long"),
       py::arg("lambda_short"), py::arg("rms_height"), py::arg("rms_gradient"), py::arg("lambda_rolloff"),
-      py::arg("seed"), py::arg("generator") = "gfmd");
+      py::arg("seed"), py::arg("generator") = "gfmd", py::arg("peklenik") = 1.0);
   m.def(
       "read_height_file",
       [](const std::string& path) {

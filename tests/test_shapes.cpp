@@ -4,13 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gfmd/case/config.hpp"
 #include "gfmd/case/run.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/core/fft.hpp"
 #include "gfmd/surface/topography.hpp"
 #include "test_util.hpp"
 
@@ -123,4 +126,65 @@ TEST(Shapes, KeysAreChecked) {
             std::string::npos);
   const Config c = parse_config(kCase, "t.toml", {"indenter.exponent=3"});
   EXPECT_EQ(c.to_json()["indenter"]["exponent"], 3.0);
+  const std::string rough =
+      "[grid]\nnx = 128\nlx = 1.0\n[indenter]\ntype = \"selfaffine\"\nrms_height = 0.01\n"
+      "lambda_long = 0.25\nlambda_short = 0.05\n[load]\npressure = 0.01\n";
+  const auto rough_problem = [&rough](const std::string& set) {
+    try {
+      (void)parse_config(rough, "t.toml", {set});
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(rough_problem("indenter.peklenik=-1").find("indenter.peklenik"), std::string::npos);
+  // lambda_long sqrt(gamma) = 2.5 lx; lambda_short / sqrt(gamma) under two cells.
+  EXPECT_NE(rough_problem("indenter.peklenik=100").find("indenter.lambda_long"), std::string::npos);
+  EXPECT_NE(rough_problem("indenter.peklenik=0.02").find("indenter.lambda_"), std::string::npos);
+  EXPECT_EQ(parse_config(rough, "t.toml", {"indenter.peklenik=2"}).to_json()["indenter"]["peklenik"], 2.0);
+  EXPECT_FALSE(parse_config(rough, "t.toml").to_json()["indenter"].contains("peklenik"));
+}
+
+TEST(Shapes, APeklenikNumberStretchesTheSurfaceAlongX) {
+  // gamma = 4: the spectrum of q_e = sqrt(gamma qx^2 + qy^2/gamma) is isotropic in (qx sqrt(gamma),
+  // qy / sqrt(gamma)), so the rms slope along x is 1/gamma times that along y (continuum value;
+  // the grid's modes give 1.0104/gamma, for gamma = 1/4 too with x and y exchanged). The slopes
+  // come from |h~|^2, the amplitudes alone: an isotropic spectrum has equal ones to round-off.
+  // gamma = 1 is the isotropic surface bit for bit.
+  const Grid g(256, 256, 1.0, 1.0);
+  SelfAffineParams p;
+  p.hurst = 0.8;
+  p.lambda_long = 0.25;
+  p.lambda_short = 0.025;
+  p.rms_height = 0.01;
+  p.seed = 3;
+  const auto slopes = [&g](const Topography& t) {  // rms of d/dx and d/dy from the spectrum
+    const FFT fft(g);
+    SpecField s = fft.spec_field();
+    RealField h = t.h;
+    fft.forward(h.data(), s.data());
+    double sx = 0, sy = 0;
+    for (int iky = 0; iky < g.ny; ++iky)
+      for (int ikx = 0; ikx < g.nxh(); ++ikx) {
+        const double w = (ikx == 0 || 2 * ikx == g.nx) ? 1.0 : 2.0;  // the r2c half spectrum
+        const double a = std::norm(s[static_cast<std::size_t>(iky) * g.nxh() + ikx]);
+        sx += w * g.qx(ikx) * g.qx(ikx) * a;
+        sy += w * g.qy(iky) * g.qy(iky) * a;
+      }
+    return std::pair<double, double>{std::sqrt(sx), std::sqrt(sy)};
+  };
+  const Topography iso = make_selfaffine(g, p);
+  p.peklenik = 1.0;
+  EXPECT_EQ(make_selfaffine(g, p).h, iso.h);
+  const auto [ix, iy] = slopes(iso);
+  EXPECT_NEAR(ix / iy, 1.0, 1e-12);
+  p.peklenik = 4.0;
+  const auto [ax, ay] = slopes(make_selfaffine(g, p));
+  EXPECT_NEAR((ax / ay) * 4.0, 1.0, 0.02);
+  p.peklenik = 0.25;
+  const auto [bx, by] = slopes(make_selfaffine(g, p));
+  EXPECT_NEAR((by / bx) * 4.0, 1.0, 0.02);
+  // The directional limits: lambda_long sqrt(gamma) must fit lx.
+  p.peklenik = 25.0;
+  EXPECT_THROW(make_selfaffine(g, p), ParameterError);
 }

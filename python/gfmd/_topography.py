@@ -83,13 +83,16 @@ class Topography:
     def self_affine(cls, nx: int, lx: float, *, hurst: float = 0.8, lambda_long: Optional[float] = None,
                     lambda_short: Optional[float] = None, rms_height: Optional[float] = None,
                     rms_gradient: Optional[float] = None, lambda_rolloff: Optional[float] = None, seed: int = 0,
-                    ny: Optional[int] = None, ly: Optional[float] = None, generator: str = "gfmd") -> "Topography":
+                    ny: Optional[int] = None, ly: Optional[float] = None, generator: str = "gfmd",
+                    peklenik: float = 1.0) -> "Topography":
         """Random self-affine surface, spectrum C q^(-2-2 hurst) between 2 pi/lambda_long and 2 pi/lambda_short.
 
         Give exactly one of rms_height and rms_gradient (the realised value is exact). Defaults:
         lambda_long = lx/2, lambda_short = lambda_long/128. The same seed gives the same bits everywhere.
         generator="contmech" draws the surface of the paper authors' code for their seed (randSeed;
         the paper's is 4711): the same phases on the same wave vectors (case key indenter.generator).
+        peklenik (gamma): anisotropy, wavelengths along x sqrt(gamma) times and along y 1/sqrt(gamma)
+        times the isotropic ones (indenter.peklenik; 1: isotropic).
         """
         nx, ny, lx, ly = cls._grid(nx, lx, ny, ly)
         if (rms_height is None) == (rms_gradient is None):
@@ -101,7 +104,8 @@ class Topography:
         h = _core.make_selfaffine(
             nx, ny, lx, ly, float(hurst), ll, ls, 0.0 if rms_height is None else _positive("rms_height", rms_height),
             0.0 if rms_gradient is None else _positive("rms_gradient", rms_gradient),
-            0.0 if lambda_rolloff is None else _positive("lambda_rolloff", lambda_rolloff), int(seed), str(generator))
+            0.0 if lambda_rolloff is None else _positive("lambda_rolloff", lambda_rolloff), int(seed), str(generator),
+            _positive("peklenik", peklenik))
         return _warn_implausible(cls(h, lx, ly, "selfaffine"),
                                  "rms_height against lx" if rms_gradient is None else "rms_gradient (asked for)")
 

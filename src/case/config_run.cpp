@@ -128,9 +128,7 @@ void read_stress(Section& st, Config& c) {
         const double d = e.is_floating()  ? e.as_floating()
                          : e.is_integer() ? static_cast<double>(e.as_integer())
                                           : -1.0;
-        double bottom = c.elastic.thickness;  // a rigid base's depth
-        for (const ElasticLayer& l : c.elastic.layers) bottom += l.thickness;
-        if (!(d >= 0) || !std::isfinite(d) || (!c.elastic.on_substrate() && d > bottom))
+        if (!(d >= 0) || !std::isfinite(d) || d > c.elastic.depth_of_base())
           st.error("depths",
                    "each depth must be a number in [0, " +
                        std::string(c.elastic.layers.empty() ? "thickness" : "the layers' total thickness") +

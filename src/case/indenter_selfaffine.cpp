@@ -18,6 +18,7 @@ void read(Section& ind, IndenterRead& r) {
   s.rms_height = ind.number("rms_height", 0.0);
   s.rms_gradient = ind.number("rms_gradient", 0.0);
   s.lambda_rolloff = ind.number("lambda_rolloff", 0.0);
+  s.peklenik = ind.number("peklenik", 1.0);
   s.seed = static_cast<std::uint64_t>(ind.integer("seed", 0, 0, std::numeric_limits<long long>::max()));
   s.generator = ind.string("generator", "gfmd");
   if ((s.rms_height > 0) == (s.rms_gradient > 0)) {
@@ -40,6 +41,7 @@ void write(const IndenterConfig& in, nlohmann::json& out) {
   if (s.rms_height > 0) out["rms_height"] = s.rms_height;
   if (s.rms_gradient > 0) out["rms_gradient"] = s.rms_gradient;
   if (s.lambda_rolloff > 0) out["lambda_rolloff"] = s.lambda_rolloff;
+  if (s.peklenik != 1.0) out["peklenik"] = s.peklenik;  // absent: isotropic (as before the key)
   out["seed"] = s.seed;
   if (s.generator != "gfmd") out["generator"] = s.generator;  // absent: ours (as before the key)
 }
@@ -61,7 +63,7 @@ const IndenterType& selfaffine_indenter() {
       .purpose =
           "random self-affine surface: hurst, lambda_long, lambda_short, rms_height or rms_gradient, seed",
       .keys = {"hurst", "lambda_long", "lambda_short", "rms_height", "rms_gradient", "seed", "lambda_rolloff",
-               "generator"},
+               "generator", "peklenik"},
       .rough = true,
       .read = read,
       .write = write,

@@ -35,10 +35,7 @@ inline StressField make_stress(std::size_t n) {
 inline void check_depth(const ElasticParams& el, double depth) {
   if (!(depth >= 0.0) || !std::isfinite(depth))
     throw ParameterError("depth", "must be a finite number >= 0 (depth below the surface)");
-  double bottom = el.thickness;  // a rigid base's depth (inf: none)
-  for (const ElasticLayer& l : el.layers) bottom += l.thickness;
-  if (el.on_substrate()) bottom = std::numeric_limits<double>::infinity();
-  if (depth > bottom * (1.0 + 1e-12))
+  if (depth > el.depth_of_base() * (1.0 + 1e-12))
     throw ParameterError("depth", "is below the rigid base of the layer (depth > thickness)");
 }
 

@@ -262,18 +262,27 @@ Topography make_eggcrate(const Grid& grid, double wavelength, double amplitude) 
 void check_selfaffine(const Grid& g, const SelfAffineParams& p) {
   if (!(p.hurst > 0.0 && p.hurst < 1.0))
     throw ParameterError("hurst", "the Hurst exponent must satisfy 0 < H < 1 (got " + num(p.hurst) + ")");
-  const double lmin = std::min(g.lx, g.ly), lmax = std::max(g.lx, g.ly);
+  if (!(p.peklenik >= 1e-3 && p.peklenik <= 1e3))
+    throw ParameterError(
+        "peklenik", "the Peklenik number must be in [1e-3, 1e3] (1: isotropic; got " + num(p.peklenik) + ")");
+  // With a Peklenik number the wavelengths along x are sqrt(gamma) times the isotropic ones and
+  // along y 1/sqrt(gamma) times: the cell and the grid must hold them in their own direction.
+  const double sx = std::sqrt(p.peklenik), sy = 1.0 / sx;
+  const double lmin = std::min(g.lx / sx, g.ly / sy), lmax = std::max(g.lx, g.ly);
   if (!positive_finite(p.lambda_long))
     throw ParameterError("lambda_long", "must be > 0 (got " + num(p.lambda_long) + ")");
   if (p.lambda_long > lmin * (1.0 + 1e-12))
-    throw ParameterError("lambda_long", "must not exceed the cell size min(lx, ly) = " + num(lmin) +
-                                            " (got " + num(p.lambda_long) + ")");
+    throw ParameterError(
+        "lambda_long",
+        "must not exceed the cell size min(lx, ly) = " + num(lmin) +
+            (p.peklenik != 1.0 ? " (with the Peklenik number: min(lx/sqrt(gamma), ly sqrt(gamma)))" : "") +
+            " (got " + num(p.lambda_long) + ")");
   if (!positive_finite(p.lambda_short))
     throw ParameterError("lambda_short", "must be > 0 (got " + num(p.lambda_short) + ")");
   if (!(p.lambda_short < p.lambda_long))
     throw ParameterError("lambda_short", "must be smaller than lambda_long = " + num(p.lambda_long) +
                                              " (got " + num(p.lambda_short) + ")");
-  const double spacing = std::max(g.dx(), g.dy());
+  const double spacing = std::max(g.dx() / sx, g.dy() / sy);
   if (p.lambda_short < 2.0 * spacing * (1.0 - 1e-12))
     throw ParameterError(
         "lambda_short",
@@ -292,6 +301,9 @@ void check_selfaffine(const Grid& g, const SelfAffineParams& p) {
   if (p.generator != "gfmd" && p.generator != "contmech")
     throw ParameterError("generator", "unknown generator \"" + p.generator +
                                           "\"; one of gfmd (ours), contmech (the paper authors' code)");
+  if (p.generator == "contmech" && p.peklenik != 1.0)
+    throw ParameterError("peklenik",
+                         "the contmech generator (the paper's surfaces) is isotropic; leave peklenik out");
   if (p.generator == "contmech" && rolloff)
     throw ParameterError(
         "lambda_rolloff",
@@ -321,9 +333,11 @@ Topography make_selfaffine(const Grid& g, const SelfAffineParams& p) {
   const double q_r = rolloff ? kTwoPi / p.lambda_rolloff : q_l;
   const double band_lo = q_l * (1.0 - 1e-12), band_hi = q_s * (1.0 + 1e-12), roll_lo = q_r * (1.0 - 1e-12);
   const double plateau = std::pow(q_l, expo);
+  const double gamma = p.peklenik;
   auto amplitude = [&](int ikx, int iky) {
     const double qx = g.qx(ikx), qy = g.qy(iky);
-    const double q = std::sqrt(qx * qx + qy * qy);
+    const double q =
+        gamma == 1.0 ? std::sqrt(qx * qx + qy * qy) : std::sqrt(gamma * qx * qx + qy * qy / gamma);
     if (q >= band_lo && q <= band_hi) return std::pow(q, expo);
     if (rolloff && q >= roll_lo && q < band_lo) return plateau;
     return 0.0;

@@ -18,3 +18,17 @@ def test_the_new_shapes_are_registered_and_made():
     assert np.all(c.heights == c.heights[:, :1])  # constant along x
     with pytest.raises(gfmd.InputError, match="indenter.exponent"):
         gfmd.Topography.indenter("powerlaw", 64, 2.0, radius=1.0, exponent=0.2)
+
+
+def test_an_anisotropic_surface_from_python():
+    iso = gfmd.Topography.self_affine(128, 1.0, lambda_long=0.25, lambda_short=0.05, rms_height=0.01, seed=1)
+    same = gfmd.Topography.self_affine(128, 1.0, lambda_long=0.25, lambda_short=0.05, rms_height=0.01, seed=1,
+                                       peklenik=1.0)
+    assert np.array_equal(iso.heights, same.heights)
+    ani = gfmd.Topography.self_affine(128, 1.0, lambda_long=0.25, lambda_short=0.05, rms_height=0.01, seed=1,
+                                      peklenik=4.0)
+    gx = np.diff(ani.heights, axis=1).std()
+    gy = np.diff(ani.heights, axis=0).std()
+    assert gx < 0.5 * gy  # stretched along x: flatter along x
+    with pytest.raises(gfmd.InputError, match="peklenik"):
+        gfmd.Topography.self_affine(128, 1.0, lambda_long=0.25, lambda_short=0.05, rms_height=0.01, peklenik=0.0)

@@ -45,6 +45,14 @@ struct ElasticParams {
   }
   // More than one material, or a layer on an elastic substrate (layered.hpp).
   [[nodiscard]] bool layered() const { return on_substrate() || !layers.empty(); }
+  // How deep the body reaches: the layers' total thickness above a rigid base, inf on a substrate
+  // or for a half-space.
+  [[nodiscard]] double depth_of_base() const {
+    if (on_substrate()) return std::numeric_limits<double>::infinity();
+    double d = thickness;
+    for (const ElasticLayer& l : layers) d += l.thickness;
+    return d;
+  }
   [[nodiscard]] double shear_modulus() const { return contact_modulus * (1.0 - poisson) / 2.0; }
   // Throws ParameterError naming poisson / thickness / contact_modulus, the substrate's keys
   // or layers[i].<key>.

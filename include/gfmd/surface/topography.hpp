@@ -75,14 +75,19 @@ struct SelfAffineParams {
   double rms_height = 0.0;    // exactly one of rms_height / rms_gradient must be > 0
   double rms_gradient = 0.0;
   double lambda_rolloff = 0.0;  // 0: none; else > lambda_long and <= max(lx, ly)
+  // Peklenik number gamma (anisotropy): the spectrum of q_e = sqrt(gamma qx^2 + qy^2/gamma), so
+  // that wavelengths along x are sqrt(gamma) times, along y 1/sqrt(gamma) times the isotropic
+  // ones: gamma > 1 stretches the asperities along x (ratio of correlation lengths gamma, of
+  // rms slopes along x and y 1/gamma). 1: isotropic (the same surface as without the key).
+  double peklenik = 1.0;
   std::uint64_t seed = 0;
   // "gfmd" (ours, below) or "contmech": the paper authors' code's surface for their seed
   // (surface/contmech.hpp; no roll-off, seed <= 2^31 - 1).
   std::string generator = "gfmd";
 };
 
-// Spectrum: |h~(q)|^2 = C q^(-2-2H) for q_l <= |q| <= q_s (q_l = 2 pi/lambda_long,
-// q_s = 2 pi/lambda_short); with a roll-off (lambda_rolloff > 0, q_r = 2 pi/lambda_rolloff)
+// Spectrum: |h~(q)|^2 = C q^(-2-2H) for q_l <= |q| <= q_s (|q| read as q_e with a Peklenik number) (q_l = 2
+// pi/lambda_long, q_s = 2 pi/lambda_short); with a roll-off (lambda_rolloff > 0, q_r = 2 pi/lambda_rolloff)
 // the modes with q_r <= |q| < q_l get the plateau value C q_l^(-2-2H); every other mode,
 // q = 0 included, is zero. Band edges are inclusive with a relative tolerance of 1e-12
 // (so that modes exactly on a cut-off are kept independently of rounding).
