@@ -131,7 +131,7 @@ TEST(Layered, CoatingLimits) {
 }
 
 TEST(Layered, TheBodyIsPositiveAndItsStiffnessInvertsIt) {
-  const Grid g(32, 32, 1.0, 1.0);
+  const Grid g{32, 32, 1.0, 1.0};
   ElasticParams el = coating(1.0, 0.3, 0.05, 0.2, 0.45);
   el.layers = {ElasticLayer{5.0, 0.2, 0.02}};
   const ElasticBody body(g, el);

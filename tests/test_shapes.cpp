@@ -61,7 +61,7 @@ double galin_load(double a, double A, double n) {
 }  // namespace
 
 TEST(Shapes, ThePowerLawOfExponentTwoIsHertzsParaboloid) {
-  const Grid g(64, 48, 2.0, 1.5);
+  const Grid g{64, 48, 2.0, 1.5};
   const Topography p = make_powerlaw(g, 0.7, 1.3, 2.0), h = make_hertz(g, 0.7, 1.3);
   for (std::size_t i = 0; i < p.h.size(); ++i) EXPECT_NEAR(p.h[i], h.h[i], 1e-14 * (1 + std::abs(h.h[i])));
 }
@@ -151,7 +151,7 @@ TEST(Shapes, APeklenikNumberStretchesTheSurfaceAlongX) {
   // the grid's modes give 1.0104/gamma, for gamma = 1/4 too with x and y exchanged). The slopes
   // come from |h~|^2, the amplitudes alone: an isotropic spectrum has equal ones to round-off.
   // gamma = 1 is the isotropic surface bit for bit.
-  const Grid g(256, 256, 1.0, 1.0);
+  const Grid g{256, 256, 1.0, 1.0};
   SelfAffineParams p;
   p.hurst = 0.8;
   p.lambda_long = 0.25;
@@ -187,4 +187,53 @@ TEST(Shapes, APeklenikNumberStretchesTheSurfaceAlongX) {
   // The directional limits: lambda_long sqrt(gamma) must fit lx.
   p.peklenik = 25.0;
   EXPECT_THROW(make_selfaffine(g, p), ParameterError);
+}
+
+TEST(Shapes, AWavinessAddsToAnySurface) {
+  // a cos(2 pi x/lambda) on a nearly flat cylinder (R = 1e6): Westergaard's wave presses flat at
+  // p* = pi E* a/lambda (Johnson §13.2): full contact at 1.05 p* with the pressure p + p* cos(...)
+  // (its maximum p + p* to the flat base's share, 1e-3), a gap left at 0.9 p*.
+  const double a = 1e-3, lambda = 0.25, pstar = std::numbers::pi * a / lambda;
+  const std::vector<std::string> wave = {"indenter.type=\"cylinder\"",
+                                         "indenter.radius=1e6",
+                                         "grid.nx=64",
+                                         "grid.lx=1.0",
+                                         set("indenter.waviness_amplitude", a),
+                                         set("indenter.waviness_wavelength", lambda)};
+  auto full = wave;
+  full.push_back(set("load.force", 1.05 * pstar));
+  const CaseResult f = solve(kCase, full);
+  ASSERT_TRUE(f.info.converged);
+  EXPECT_EQ(f.observables.relative_contact_area, 1.0);
+  EXPECT_NEAR(f.observables.max_pressure / (2.05 * pstar), 1.0, 1e-3);
+  auto part = wave;
+  part.push_back(set("load.force", 0.9 * pstar));
+  const CaseResult p = solve(kCase, part);
+  ASSERT_TRUE(p.info.converged);
+  EXPECT_LT(p.observables.relative_contact_area, 0.99);
+  // The heights are the base's plus the wave, exactly periodic, crest on the centre node.
+  const Grid g{64, 8, 1.0, 0.125};
+  Topography t = make_cylinder(g, 1e6, 'y');
+  const Topography base = t;
+  add_waviness(t, a, lambda, 'x');
+  for (int ix = 0; ix < g.nx; ++ix)
+    EXPECT_NEAR(t.h[ix] - base.h[ix], a * std::cos(2 * std::numbers::pi * (ix - 32) / 64.0 * 4), 1e-15);
+  EXPECT_THROW(add_waviness(t, a, 0.3, 'x'), ParameterError);  // does not divide lx
+  const auto problem = [](const std::vector<std::string>& sets) {
+    try {
+      (void)parse_config(kCase, "t.toml", sets);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(problem({"indenter.waviness_amplitude=0.001"}).find("indenter.waviness_wavelength"),
+            std::string::npos);
+  EXPECT_NE(problem({"indenter.waviness_amplitude=0.001", "indenter.waviness_wavelength=0.3"})
+                .find("indenter.waviness_wavelength"),
+            std::string::npos);
+  EXPECT_EQ(
+      parse_config(kCase, "t.toml", {"indenter.waviness_amplitude=0.001", "indenter.waviness_wavelength=0.5"})
+          .to_json()["indenter"]["waviness_wavelength"],
+      0.5);
 }

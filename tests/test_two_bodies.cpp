@@ -61,7 +61,7 @@ double max_pressure(const CaseResult& r) {
 TEST(TwoBodies, ThePairsCouplingIsDundursBeta) {
   // Two half-spaces: the relative compliance's C13/C33 is -beta at every mode, to round-off;
   // two of one material (beta = 0) have none, and the slip sees the body's own compliance.
-  const Grid g(16, 16, 1.0, 1.0);
+  const Grid g{16, 16, 1.0, 1.0};
   struct Pair {
     double e1, nu1, e2, nu2;
   };

@@ -71,13 +71,15 @@ void read_indenter(Section& ind, Config& c, std::vector<std::string>& errors, co
     std::vector<std::string> every_key;  // no second error for keys of the type meant
     for (const IndenterType* t : indenter_registry())
       every_key.insert(every_key.end(), t->keys.begin(), t->keys.end());
-    every_key.insert(every_key.end(), {"contact_modulus", "poisson", "thickness"});
+    every_key.insert(every_key.end(), {"contact_modulus", "poisson", "thickness", "waviness_amplitude",
+                                       "waviness_wavelength", "waviness_axis"});
     ind.finish(every_key);
     return;
   }
   IndenterRead r{c, errors, given, base_dir};
   type->read(ind, r);
   read_indenter_body(ind, c);
+  read_waviness(ind, c);
   ind.finish();
 }
 
@@ -105,9 +107,47 @@ void read_indenter_body(Section& ind, Config& c) {
   c.indenter.body = b;
 }
 
+// A single-wavelength roughness on any type: indenter.waviness_amplitude, waviness_wavelength,
+// waviness_axis ("x" or "y").
+void read_waviness(Section& ind, Config& c) {
+  IndenterConfig& in = c.indenter;
+  in.waviness_amplitude = ind.number("waviness_amplitude", 0.0);
+  in.waviness_wavelength = ind.number("waviness_wavelength", 0.0);
+  const std::string axis = ind.string("waviness_axis", "x");
+  if (axis != "x" && axis != "y") {
+    ind.error("waviness_axis",
+              "must be \"x\" or \"y\" (the direction the wave runs along), got \"" + axis + "\"");
+    return;
+  }
+  in.waviness_axis = axis[0];
+  const bool any =
+      ind.has("waviness_amplitude") || ind.has("waviness_wavelength") || ind.has("waviness_axis");
+  if (!any) return;
+  if (!ind.has("waviness_amplitude") || !ind.has("waviness_wavelength")) {
+    ind.error(ind.has("waviness_amplitude") ? "waviness_wavelength" : "waviness_amplitude",
+              "a waviness needs both waviness_amplitude and waviness_wavelength");
+    return;
+  }
+  const Grid& g = c.grid;
+  if (g.nx >= 2 && g.ny >= 2 && g.lx > 0 && g.ly > 0)
+    try {  // its checks on a one-row surface of the cell (the periodicity, the resolution)
+      Topography probe{Grid{g.nx, 1, g.lx, g.ly}, RealField(static_cast<std::size_t>(g.nx), 0.0), ""};
+      if (in.waviness_axis == 'y')
+        probe = Topography{Grid{1, g.ny, g.lx, g.ly}, RealField(static_cast<std::size_t>(g.ny), 0.0), ""};
+      add_waviness(probe, in.waviness_amplitude, in.waviness_wavelength, in.waviness_axis);
+    } catch (const ParameterError& e) {
+      ind.error(e.where(), e.why());
+    }
+}
+
 nlohmann::json indenter_json(const IndenterConfig& in) {
   nlohmann::json out = {{"type", in.type}};
   if (const IndenterType* t = find_indenter_type(in.type)) t->write(in, out);
+  if (in.waviness_amplitude > 0) {  // absent: none (as before the keys)
+    out["waviness_amplitude"] = in.waviness_amplitude;
+    out["waviness_wavelength"] = in.waviness_wavelength;
+    out["waviness_axis"] = std::string(1, in.waviness_axis);
+  }
   if (in.body) {  // absent: rigid (as before the keys)
     out["contact_modulus"] = in.body->contact_modulus;
     out["poisson"] = in.body->poisson;
@@ -144,7 +184,13 @@ Topography make_topography(const Config& c, MapReport* report) {
   if (t == nullptr)
     throw InputError("indenter.type",
                      "unknown indenter type \"" + c.indenter.type + "\"; one of " + indenter_names_text());
-  return in_section("indenter", [&] { return t->make(c, report); });
+  return in_section("indenter", [&] {
+    Topography topo = t->make(c, report);
+    const IndenterConfig& in = c.indenter;
+    if (in.waviness_amplitude > 0)
+      add_waviness(topo, in.waviness_amplitude, in.waviness_wavelength, in.waviness_axis);
+    return topo;
+  });
 }
 
 std::vector<IndenterTypeInfo> indenter_types() {

@@ -76,6 +76,9 @@ std::string indenter_names_text();
 nlohmann::json indenter_json(const IndenterConfig& in);
 // indenter.contact_modulus, poisson, thickness: an elastic indenter's body (c.indenter.body).
 void read_indenter_body(Section& ind, Config& c);
+// indenter.waviness_amplitude, waviness_wavelength, waviness_axis: a single-wavelength roughness
+// added to any type's heights.
+void read_waviness(Section& ind, Config& c);
 // Whether the analysis treats a topography of this kind (Topography::kind) as rough.
 bool rough_indenter(const std::string& type);
 // The plausibility warning's subject and the keys to check, for the case's type.

@@ -193,6 +193,36 @@ Topography make_cylinder(const Grid& grid, double radius, char axis) {
   return t;
 }
 
+void add_waviness(Topography& t, double amplitude, double wavelength, char axis) {
+  const Grid& g = t.grid;
+  if (!positive_finite(amplitude))
+    throw ParameterError("waviness_amplitude", "must be > 0 (got " + num(amplitude) + ")");
+  if (!positive_finite(wavelength))
+    throw ParameterError("waviness_wavelength", "must be > 0 (got " + num(wavelength) + ")");
+  const bool along_x = axis == 'x';
+  const double l = along_x ? g.lx : g.ly;
+  const int n = along_x ? g.nx : g.ny;
+  const double r = l / wavelength, m = std::round(r);
+  if (m < 1.0 || std::abs(r - m) > 1e-9 * r)
+    throw ParameterError("waviness_wavelength", "the wavelength " + num(wavelength) +
+                                                    " must divide the cell size " + (along_x ? "lx" : "ly") +
+                                                    " = " + num(l) + " so that the surface stays periodic");
+  if (wavelength < 2.0 * l / n * (1.0 - 1e-12))
+    throw ParameterError("waviness_wavelength", "is shorter than two grid spacings");
+  // cos(2 pi i m / n) with i the offset from the centre node, reduced modulo n in integers.
+  const long long periods = static_cast<long long>(m);
+  std::vector<double> wave(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const long long k = ((static_cast<long long>(i - n / 2) * periods) % n + n) % n;
+    wave[static_cast<std::size_t>(i)] = amplitude * std::cos(kTwoPi * static_cast<double>(k) / n);
+  }
+  for_rows(g.rows(), [&](int row) {
+    for (int ix = 0; ix < g.nx; ++ix)
+      t.h[static_cast<std::size_t>(row) * g.nx + ix] +=
+          wave[static_cast<std::size_t>(along_x ? ix : g.y0 + row)];
+  });
+}
+
 void check_flatpunch(const Grid& grid, double radius, double depth) {
   if (!positive_finite(radius)) throw ParameterError("radius", "must be > 0 (got " + num(radius) + ")");
   if (!positive_finite(depth)) throw ParameterError("depth", "must be > 0 (got " + num(depth) + ")");

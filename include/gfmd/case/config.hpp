@@ -39,6 +39,10 @@ struct IndenterConfig {
   double depth = 0.0;                                   // flatpunch: the drop of its side
   double exponent = 2.0;                                // powerlaw: n
   char axis = 'y';                                      // cylinder: the direction it lies along
+  // Any type: a single-wavelength roughness a cos(2 pi x/lambda) (along x or y) added to the
+  // heights (amplitude 0: none).
+  double waviness_amplitude = 0.0, waviness_wavelength = 0.0;
+  char waviness_axis = 'x';
   double wavelength = 0.0, amplitude = 0.0;
   SelfAffineParams selfaffine;
   std::string path;  // file: resolved against the case file's folder

@@ -52,6 +52,12 @@ Topography make_sphere(const Grid& grid, double radius);
 // parabolic h = -(x-xc)^2/(2R) (a line contact, periodic along the axis). ParameterError("radius").
 Topography make_cylinder(const Grid& grid, double radius, char axis);
 
+// Adds a single-wavelength roughness a cos(2 pi d / lambda) to any surface, d = x - xc (axis 'x')
+// or y - yc ('y') from the cell's centre node (so that a surface's apex there stays on a crest).
+// lambda must divide the cell along the axis (relative tolerance 1e-9): ParameterError
+// ("waviness_wavelength", ...); a > 0: ("waviness_amplitude", ...).
+void add_waviness(Topography& t, double amplitude, double wavelength, char axis);
+
 // Flat cylindrical punch of radius a, face on the node (nx/2, ny/2): h = 0 where
 // (x-xc)^2 + (y-yc)^2 <= a^2 (offsets as make_hertz's), h = -depth elsewhere (the punch's
 // side drops by depth, so the body meets only the face while its deflection outside stays
