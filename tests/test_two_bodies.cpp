@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
@@ -23,7 +22,6 @@ using namespace gfmd;
 using gfmd::testing::solve;
 
 namespace {
-const double kInf = std::numeric_limits<double>::infinity();
 
 // Dundurs' beta of two half-spaces (Johnson, Contact Mechanics, eq. 5.4b): body 1 below.
 double dundurs_beta(double g1, double nu1, double g2, double nu2) {
