@@ -242,12 +242,7 @@ TEST(Layered, ACoatedSlidingSolveLimits) {
 
 TEST(Layered, CaseKeysAreChecked) {
   const auto problem = [](const std::vector<std::string>& sets) {
-    try {
-      (void)parse_config(kSliding, "t.toml", sets);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string();
+    return gfmd::testing::config_problem(kSliding, sets);
   };
   EXPECT_NE(problem({"elastic.substrate_contact_modulus=2"}).find("elastic.thickness"), std::string::npos);
   EXPECT_NE(problem({"elastic.substrate_poisson=0.3"}).find("elastic.substrate_poisson"), std::string::npos);

@@ -53,12 +53,7 @@ double max_pressure(const CaseResult& r) {
 }
 
 std::string problem(const std::vector<std::string>& sets) {
-  try {
-    (void)parse_config(kHertz, "t.toml", sets);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return gfmd::testing::config_problem(kHertz, sets);
 }
 
 }  // namespace

@@ -152,12 +152,7 @@ TEST(TwoBodies, DissimilarBodiesShiftThePressureWithBeta) {
 
 TEST(TwoBodies, KeysAreCheckedAndTheDeviceSaysWhatItLacks) {
   const auto problem = [](const std::vector<std::string>& sets) {
-    try {
-      (void)parse_config(kSliding, "t.toml", sets);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string();
+    return gfmd::testing::config_problem(kSliding, sets);
   };
   EXPECT_NE(problem({"indenter.poisson=0.3"}).find("indenter.poisson"), std::string::npos);
   EXPECT_NE(problem({"indenter.contact_modulus=-1"}).find("indenter.contact_modulus"), std::string::npos);

@@ -32,6 +32,17 @@ inline CaseResult solve(const std::string& toml, const std::vector<std::string>&
   return r;
 }
 
+// What is wrong with a case given as TOML text with overrides: InputError's message, or "".
+inline std::string config_problem(const std::string& toml, const std::vector<std::string>& sets = {},
+                                  const std::string& base_dir = ".") {
+  try {
+    (void)parse_config(toml, "t.toml", sets, base_dir);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 // A fresh, empty scratch directory <tmp>/gfmd_<suite>_<pid>/<name>.
 inline std::filesystem::path scratch_dir(const std::string& suite, const std::string& name) {
   const std::filesystem::path d =

@@ -371,13 +371,8 @@ force = 0.01
 [friction]
 velocity = 0.1
 )";
-  const auto problem = [&](const std::vector<std::string>& sets) -> std::string {
-    try {
-      (void)parse_config(base, "t.toml", sets, dir.string());
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
+  const auto problem = [&](const std::vector<std::string>& sets) {
+    return gfmd::testing::config_problem(base, sets, dir.string());
   };
   EXPECT_EQ(problem({}), "");
   {
@@ -430,15 +425,10 @@ force = 0.01
 [friction]
 velocity = 0.1
 )";
-  const auto problem_in = [](const std::string& text, const std::vector<std::string>& sets) -> std::string {
-    try {
-      (void)parse_config(text, "t.toml", sets);
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
+
+  const auto problem = [&](const std::vector<std::string>& sets) {
+    return gfmd::testing::config_problem(base, sets);
   };
-  const auto problem = [&](const std::vector<std::string>& sets) { return problem_in(base, sets); };
   EXPECT_EQ(problem({}), "");
   EXPECT_NE(problem({"elastic.high_frequency_modulus=0.5"}).find("elastic.high_frequency_modulus"),
             std::string::npos);
@@ -468,7 +458,7 @@ radius = 1.0
 [load]
 force = 0.01
 )";
-  EXPECT_NE(problem_in(prony, {}).find("elastic.prony_times"), std::string::npos);
+  EXPECT_NE(gfmd::testing::config_problem(prony, {}).find("elastic.prony_times"), std::string::npos);
   // A speed with an elastic body.
   const std::string elastic = R"(
 [grid]
@@ -482,6 +472,7 @@ force = 0.01
 [friction]
 velocity = 1.0
 )";
-  EXPECT_NE(problem_in(elastic, {}).find("friction.velocity: a sliding speed needs a viscoelastic body"),
+  EXPECT_NE(gfmd::testing::config_problem(elastic, {})
+                .find("friction.velocity: a sliding speed needs a viscoelastic body"),
             std::string::npos);
 }

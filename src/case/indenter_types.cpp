@@ -130,10 +130,10 @@ void read_waviness(Section& ind, Config& c) {
   }
   const Grid& g = c.grid;
   if (g.nx >= 2 && g.ny >= 2 && g.lx > 0 && g.ly > 0)
-    try {  // its checks on a one-row surface of the cell (the periodicity, the resolution)
-      Topography probe{Grid{g.nx, 1, g.lx, g.ly}, RealField(static_cast<std::size_t>(g.nx), 0.0), ""};
-      if (in.waviness_axis == 'y')
-        probe = Topography{Grid{1, g.ny, g.lx, g.ly}, RealField(static_cast<std::size_t>(g.ny), 0.0), ""};
+    try {  // its checks on one line of the cell along the wave (the periodicity, the resolution)
+      const bool along_y = in.waviness_axis == 'y';
+      const Grid line{along_y ? 1 : g.nx, along_y ? g.ny : 1, g.lx, g.ly};
+      Topography probe{line, RealField(line.size(), 0.0), ""};
       add_waviness(probe, in.waviness_amplitude, in.waviness_wavelength, in.waviness_axis);
     } catch (const ParameterError& e) {
       ind.error(e.where(), e.why());

@@ -80,11 +80,13 @@ Cols half_space_states(const Material& mat) {
 // Beyond this q h a layer hides what is below it to e^{-2 q h} < 1e-34.
 constexpr double kOpaque = 40.0;
 
-// The states at the top of a layer of thickness x (in units of 1/q) whose bottom states are
-// w, up to a factor (only their span matters): e^-x exp(M x) w, scaled to order one.
-Cols through_layer(const Material& mat, double x, const Cols& w) {
-  if (x > kOpaque) return half_space_states(mat);
-  const double e2 = std::exp(-2.0 * x);
+// The states at the top of a layer of thickness x (in units of 1/q) whose bottom states are w,
+// scaled to order one: with log_scale, exactly exp(M x) w = e^log_scale r (log_scale increased
+// by x and the log of the scale); without, up to a factor (only their span matters), and a
+// layer beyond kOpaque leaves the span of its own half-space.
+Cols layer_step(const Material& mat, double x, const Cols& w, double* log_scale) {
+  if (!log_scale && x > kOpaque) return half_space_states(mat);
+  const double e2 = std::exp(-2.0 * x);  // exp(M x) = e^x (P+ (I + x (M - I)) + e^-2x P- (...))
   Mat4 t{};
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j)
@@ -97,27 +99,7 @@ Cols through_layer(const Material& mat, double x, const Cols& w) {
       row[0] /= big;
       row[1] /= big;
     }
-  return r;
-}
-
-// The states at the top of a layer of thickness x (units of 1/q) whose bottom states are w,
-// exactly: exp(M x) w = e^log_scale r, with r returned scaled to order one and log_scale
-// increased by x plus the log of that scale (no shortcut: the states themselves, not their
-// span, are wanted).
-Cols lift(const Material& mat, double x, const Cols& w, double& log_scale) {
-  const double e2 = std::exp(-2.0 * x);
-  Mat4 t{};
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j)
-      t[i][j] = mat.grow[i][j] + x * mat.grow_n[i][j] + e2 * (mat.decay[i][j] + x * mat.decay_n[i][j]);
-  Cols r = times(t, w);
-  double big = 0.0;
-  for (const auto& row : r) big = std::max({big, std::abs(row[0]), std::abs(row[1])});
-  for (auto& row : r) {
-    row[0] /= big;
-    row[1] /= big;
-  }
-  log_scale += x + std::log(big);
+  if (log_scale) *log_scale += x + std::log(big);
   return r;
 }
 
@@ -176,10 +158,11 @@ Cols states_at(const Stack& s, double q, Place p) {
     w[2][0] = 1.0;
     w[3][1] = 1.0;
   }
-  for (std::size_t i = s.mats.size(); i-- > p.layer + 1;) w = through_layer(s.mats[i], q * s.thick[i], w);
+  for (std::size_t i = s.mats.size(); i-- > p.layer + 1;)
+    w = layer_step(s.mats[i], q * s.thick[i], w, nullptr);
   const double h = s.thick[p.layer];
   if (h == std::numeric_limits<double>::infinity()) return half_space_states(s.mats[p.layer]);
-  return through_layer(s.mats[p.layer], q * (h - p.below_top), w);
+  return layer_step(s.mats[p.layer], q * (h - p.below_top), w, nullptr);
 }
 
 // Antiplane states (U2, S23/q): d/dx = [[0, 1/G], [G, 0]], exp = [[ch, sh/G], [G sh, ch]].
@@ -258,9 +241,9 @@ ModeResponse layered_mode_response(double q, double depth, const ElasticParams& 
   // e^log_scale); the surface traction fixes the combination, s(d) = w (v_S)^-1 S_top.
   const Cols w = states_at(s, q, p);
   double log_scale = 0.0;
-  Cols v = lift(mat, q * p.below_top, w, log_scale);
+  Cols v = layer_step(mat, q * p.below_top, w, &log_scale);
   for (std::size_t i = std::min(p.layer, s.mats.size()); i-- > 0;)
-    v = lift(s.mats[i], q * s.thick[i], v, log_scale);
+    v = layer_step(s.mats[i], q * s.thick[i], v, &log_scale);
   const double det = v[2][0] * v[3][1] - v[2][1] * v[3][0];
   const double f = std::exp(-log_scale);
   const double i00 = v[3][1] / det, i01 = -v[2][1] / det, i10 = -v[3][0] / det, i11 = v[2][0] / det;
