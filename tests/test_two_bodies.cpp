@@ -150,6 +150,61 @@ TEST(TwoBodies, DissimilarBodiesShiftThePressureWithBeta) {
   }
 }
 
+TEST(TwoBodies, ACoatedIndenterPressesAsTheCoatedBodyItMirrors) {
+  // Frictionless, the gap sees the sum of the two bodies' normal compliances only: a coated
+  // indenter (layer E* = 3, nu = 0.3, h = 0.1 on a substrate E* = 0.5, nu = 0.2) on a half-space
+  // (E* = 2, nu = 0.3) presses exactly as that half-space on the coated body; dropping the
+  // indenter's substrate changes the pressure by far more than the round-off compared.
+  const std::vector<std::string> frictionless = {"friction.coefficient=0", "grid.nx=128"};
+  const auto with = [&frictionless](std::vector<std::string> sets) {
+    sets.insert(sets.end(), frictionless.begin(), frictionless.end());
+    return sets;
+  };
+  const CaseResult coated_indenter =
+      solve(kSliding, with({"elastic.contact_modulus=2", "elastic.poisson=0.3", "indenter.contact_modulus=3",
+                            "indenter.poisson=0.3", "indenter.thickness=0.1",
+                            "indenter.substrate_contact_modulus=0.5", "indenter.substrate_poisson=0.2"}));
+  const CaseResult coated_body =
+      solve(kSliding, with({"elastic.contact_modulus=3", "elastic.poisson=0.3", "elastic.thickness=0.1",
+                            "elastic.substrate_contact_modulus=0.5", "elastic.substrate_poisson=0.2",
+                            "indenter.contact_modulus=2", "indenter.poisson=0.3"}));
+  const CaseResult on_rigid_base =
+      solve(kSliding, with({"elastic.contact_modulus=2", "elastic.poisson=0.3", "indenter.contact_modulus=3",
+                            "indenter.poisson=0.3", "indenter.thickness=0.1"}));
+  ASSERT_TRUE(coated_indenter.info.converged && coated_body.info.converged && on_rigid_base.info.converged);
+  const double p0 = max_pressure(coated_body);
+  double diff = 0.0, base = 0.0;
+  for (std::size_t i = 0; i < coated_body.fields.pressure.size(); ++i) {
+    diff = std::max(diff, std::abs(coated_indenter.fields.pressure[i] - coated_body.fields.pressure[i]));
+    base = std::max(base, std::abs(on_rigid_base.fields.pressure[i] - coated_body.fields.pressure[i]));
+  }
+  EXPECT_LT(diff, 1e-8 * p0);
+  EXPECT_GT(base, 0.05 * p0) << "the indenter's substrate matters";
+  EXPECT_EQ(coated_indenter.observables.relative_contact_area, coated_body.observables.relative_contact_area);
+  // Its keys as summary.json's input records them, read back the same.
+  const nlohmann::json in = coated_indenter.config.to_json()["indenter"];
+  EXPECT_EQ(in["substrate_contact_modulus"], 0.5);
+  EXPECT_EQ(in["substrate_poisson"], 0.2);
+  const Config again = parse_config(coated_indenter.config.to_toml(), "again.toml");
+  ASSERT_TRUE(again.indenter.body.has_value());
+  EXPECT_EQ(again.indenter.body->substrate_contact_modulus, 0.5);
+  // Layers under an indenter, and the keys' errors.
+  const Config layered =
+      parse_config(kSliding, "t.toml",
+                   {"indenter.contact_modulus=3", "indenter.thickness=0.1",
+                    "indenter.layers=[{contact_modulus = 1.5, poisson = 0.4, thickness = 0.2}]"});
+  ASSERT_EQ(layered.indenter.body->layers.size(), 1u);
+  EXPECT_EQ(layered.indenter.body->layers[0].poisson, 0.4);
+  EXPECT_EQ(layered.to_json()["indenter"]["layers"][0]["thickness"], 0.2);
+  EXPECT_NE(gfmd::testing::config_problem(kSliding, {"indenter.substrate_contact_modulus=1"})
+                .find("indenter.substrate_contact_modulus: belongs to an elastic indenter"),
+            std::string::npos);
+  EXPECT_NE(gfmd::testing::config_problem(kSliding, {"indenter.contact_modulus=3", "indenter.thickness=0.1",
+                                                     "indenter.layers=[{poisson = 0.4, thickness = 0.2}]"})
+                .find("indenter.layers[0]: needs contact_modulus"),
+            std::string::npos);
+}
+
 TEST(TwoBodies, KeysAreCheckedAndTheDeviceSaysWhatItLacks) {
   const auto problem = [](const std::vector<std::string>& sets) {
     return gfmd::testing::config_problem(kSliding, sets);

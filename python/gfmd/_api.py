@@ -18,7 +18,7 @@ from ._topography import Topography
 
 def friction_laws() -> list:
     """The friction laws (friction.law; gfmd.solve(..., law=..., and its keys)): [{'name', 'purpose',
-    'keys', 'set_valued_stick', 'on_device'}]; set_valued_stick False: the law needs regularization > 0."""
+    'keys', 'set_valued_stick', 'on_device'}]; set_valued_stick False: the law needs regularization > 0 (none of today's)."""
     return _core.friction_laws()
 
 

@@ -106,18 +106,24 @@ class ViscoelasticBody(ElasticBody):
         return "sls" if self.high_frequency_modulus is not None or self.relaxation_time is not None else "prony"
 
 
-def _body_lines(body: ElasticBody) -> list:
-    """The [elastic] lines of a gfmd.ElasticBody or gfmd.ViscoelasticBody."""
-    lines = ["[elastic]", f"contact_modulus = {_toml_value('contact_modulus', body.contact_modulus)}",
+def _material_lines(body: ElasticBody) -> list:
+    """A body's material keys, [elastic]'s and an elastic indenter's alike: its top layer, then
+    the substrate and layers beneath it."""
+    lines = [f"contact_modulus = {_toml_value('contact_modulus', body.contact_modulus)}",
              f"poisson = {_toml_value('poisson', body.poisson)}",
-             f"thickness = {_toml_value('thickness', body.thickness)}",
-             f"coupling = {_toml_value('coupling', body.coupling)}"]
+             f"thickness = {_toml_value('thickness', body.thickness)}"]
     if math.isfinite(body.substrate_contact_modulus):
         lines += [f"substrate_contact_modulus = {_toml_value('substrate_contact_modulus', body.substrate_contact_modulus)}",
                   f"substrate_poisson = {_toml_value('substrate_poisson', body.substrate_poisson)}"]
     if body.layers:
         tables = ", ".join(f"{{contact_modulus = {e!r}, poisson = {nu!r}, thickness = {h!r}}}" for e, nu, h in body.layers)
         lines.append(f"layers = [{tables}]")
+    return lines
+
+
+def _body_lines(body: ElasticBody) -> list:
+    """The [elastic] lines of a gfmd.ElasticBody or gfmd.ViscoelasticBody."""
+    lines = ["[elastic]"] + _material_lines(body) + [f"coupling = {_toml_value('coupling', body.coupling)}"]
     if isinstance(body, ViscoelasticBody) and body.model == "master_curve":
         # The table sets the relaxed modulus: contact_modulus is left to it.
         lines = [ln for ln in lines if not ln.startswith("contact_modulus")]
@@ -251,14 +257,15 @@ class ContactSolver:
         body = ElasticBody() if body is None else body
         if not isinstance(body, ElasticBody):
             raise InputError(f"body: must be a gfmd.ElasticBody (got {type(body).__name__})")
-        indenter = []  # an elastic indenter: [indenter] contact_modulus, poisson, thickness
+        indenter = []  # an elastic indenter: [indenter] contact_modulus, poisson, thickness, substrate, layers
         if indenter_body is not None:
-            if (type(indenter_body) is not ElasticBody or indenter_body.layers
-                    or math.isfinite(indenter_body.substrate_contact_modulus)):
-                raise InputError("indenter_body: must be a gfmd.ElasticBody of one material (a half-space or a "
-                                 "layer on a rigid base)")
-            indenter = [f"{k} = {_toml_value(k, getattr(indenter_body, k))}"
-                        for k in ("contact_modulus", "poisson", "thickness")]
+            if type(indenter_body) is not ElasticBody:
+                raise InputError("indenter_body: must be a gfmd.ElasticBody (an elastic indenter; got "
+                                 f"{type(indenter_body).__name__})")
+            if indenter_body.coupling != body.coupling:
+                raise InputError("indenter_body.coupling: the pair has one coupling, the body's "
+                                 f"({body.coupling}); give both the same")
+            indenter = _material_lines(indenter_body)
         unknown = sorted(set(options) - _SOLVER_KEYS - _FRICTION_KEYS)
         if unknown:
             raise InputError(f"{unknown[0]}: unknown keyword argument of gfmd.solve (solver options: "
@@ -355,7 +362,7 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
     Coulomb coefficient mu_c; direction: sliding direction in degrees from x. interaction:
     "harmonic" (default), "hardwall" or gfmd.Adhesive(work_of_adhesion, range). hardness: the
     plastic cap H of the local pressure (interaction.hardness; inf: none). indenter_body: an
-    elastic indenter (a gfmd.ElasticBody of one material; two deformable bodies; sliding only; its
+    elastic indenter (a gfmd.ElasticBody, coated or layered too; two deformable bodies; sliding only; its
     stresses in summary["indenter_stress"]), rigid when None. options: the
     [solver] keys (tolerance, max_iterations, max_outer, max_tangential, anderson, mixing,
     threads, fft_planner, backend) and the [friction] keys (regularization, creepage,

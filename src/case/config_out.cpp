@@ -16,6 +16,7 @@
 #include <toml.hpp>
 
 #include "config_detail.hpp"
+#include "config_section.hpp"
 #include "gfmd/case/config.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
@@ -37,13 +38,7 @@ nlohmann::json Config::to_json() const {
     j["elastic"]["thickness"] = "inf";
   else
     j["elastic"]["thickness"] = elastic.thickness;
-  if (elastic.on_substrate()) {  // absent: a rigid base (as before the keys)
-    j["elastic"]["substrate_contact_modulus"] = elastic.substrate_contact_modulus;
-    j["elastic"]["substrate_poisson"] = elastic.substrate_poisson;
-  }
-  for (const ElasticLayer& l : elastic.layers)
-    j["elastic"]["layers"].push_back(
-        {{"contact_modulus", l.contact_modulus}, {"poisson", l.poisson}, {"thickness", l.thickness}});
+  config_detail::write_body_stack(elastic, j["elastic"]);
   if (visco.enabled()) {  // absent: elastic (as before the key)
     j["elastic"]["viscoelastic"] = viscoelastic_model_name(visco.model);
     if (visco.model == ViscoelasticParams::Model::StandardLinearSolid) {

@@ -132,7 +132,7 @@ void read_viscoelastic(Section& el, ViscoelasticParams& v, const std::string& ba
 }  // namespace
 
 namespace {
-// elastic.layers: an array of tables {contact_modulus, poisson, thickness}, top to bottom,
+// <section>.layers: an array of tables {contact_modulus, poisson, thickness}, top to bottom,
 // bonded beneath the top layer.
 void read_layers(Section& el, ElasticParams& e) {
   const toml::value* v = el.raw("layers");
@@ -179,17 +179,31 @@ void read_layers(Section& el, ElasticParams& e) {
 }
 }  // namespace
 
+void read_body_stack(Section& s, ElasticParams& e) {
+  e.substrate_contact_modulus =
+      s.number_or_inf("substrate_contact_modulus", std::numeric_limits<double>::infinity());
+  e.substrate_poisson = s.number("substrate_poisson", 0.25);
+  if (s.has("substrate_poisson") && !s.has("substrate_contact_modulus"))
+    s.error("substrate_poisson", "belongs to an elastic substrate: set substrate_contact_modulus too");
+  read_layers(s, e);
+}
+
+void write_body_stack(const ElasticParams& e, nlohmann::json& out) {
+  if (e.on_substrate()) {  // absent: a rigid base (as before the keys)
+    out["substrate_contact_modulus"] = e.substrate_contact_modulus;
+    out["substrate_poisson"] = e.substrate_poisson;
+  }
+  for (const ElasticLayer& l : e.layers)
+    out["layers"].push_back(
+        {{"contact_modulus", l.contact_modulus}, {"poisson", l.poisson}, {"thickness", l.thickness}});
+}
+
 void read_elastic(Section& el, Config& c, const std::string& base_dir) {
   c.elastic.contact_modulus = el.number("contact_modulus", 1.0);
   c.elastic.poisson = el.number("poisson", 0.25);
   c.elastic.thickness = el.number_or_inf("thickness", std::numeric_limits<double>::infinity());
   c.elastic.coupling = el.boolean("coupling", true);
-  c.elastic.substrate_contact_modulus =
-      el.number_or_inf("substrate_contact_modulus", std::numeric_limits<double>::infinity());
-  c.elastic.substrate_poisson = el.number("substrate_poisson", 0.25);
-  if (el.has("substrate_poisson") && !el.has("substrate_contact_modulus"))
-    el.error("substrate_poisson", "belongs to an elastic substrate: set elastic.substrate_contact_modulus");
-  read_layers(el, c.elastic);
+  read_body_stack(el, c.elastic);
   read_viscoelastic(el, c.visco, base_dir);
   if (c.visco.enabled() && c.elastic.layered())
     el.error("viscoelastic", "a layered or coated viscoelastic body is not implemented");

@@ -202,6 +202,12 @@ void read_indenter(Section& ind, Config& c, std::vector<std::string>& errors, co
 // body read first); [interaction] (its combinations with friction and the body). The run
 // (src/case/config_run.cpp): [solver], [sweep], [stress] (depths need the body), [flow], [output].
 void read_elastic(Section& el, Config& c, const std::string& base_dir);  // master curve files: base_dir
+// What lies beneath a body's top layer, in [elastic] and [indenter] alike: substrate_contact_modulus
+// ("inf" or absent: a rigid base), substrate_poisson and layers = [{contact_modulus, poisson,
+// thickness}, ...] (bonded beneath the top layer, top to bottom); and their JSON (absent keys for a
+// single layer on a rigid base, as before the keys).
+void read_body_stack(Section& s, ElasticParams& e);
+void write_body_stack(const ElasticParams& e, nlohmann::json& out);
 void read_friction(Section& fr, Config& c);
 void read_interaction(Section& ia, Config& c);
 void read_solver(Section& so, Config& c);

@@ -20,6 +20,7 @@ const std::vector<const IndenterType*>& indenter_registry() {
       &powerlaw_indenter(),    //
       &sphere_indenter(),      //
       &cylinder_indenter(),    //
+      &step_indenter(),        //
       &eggcrate_indenter(),    //
       &selfaffine_indenter(),  //
       &file_indenter(),        //
@@ -71,7 +72,8 @@ void read_indenter(Section& ind, Config& c, std::vector<std::string>& errors, co
     std::vector<std::string> every_key;  // no second error for keys of the type meant
     for (const IndenterType* t : indenter_registry())
       every_key.insert(every_key.end(), t->keys.begin(), t->keys.end());
-    every_key.insert(every_key.end(), {"contact_modulus", "poisson", "thickness", "waviness_amplitude",
+    every_key.insert(every_key.end(), {"contact_modulus", "poisson", "thickness", "substrate_contact_modulus",
+                                       "substrate_poisson", "layers", "waviness_amplitude",
                                        "waviness_wavelength", "waviness_axis"});
     ind.finish(every_key);
     return;
@@ -84,18 +86,20 @@ void read_indenter(Section& ind, Config& c, std::vector<std::string>& errors, co
 }
 
 // An elastic indenter's body (any indenter type): indenter.contact_modulus ("inf" or absent:
-// rigid), poisson, thickness ("inf": a half-space).
+// rigid), poisson, thickness ("inf": a half-space), and beneath it, as in [elastic], the
+// substrate and layers (a coated indenter).
 void read_indenter_body(Section& ind, Config& c) {
   const double es = ind.number_or_inf("contact_modulus", std::numeric_limits<double>::infinity());
   const double nu = ind.number("poisson", 0.25);
   const double h = ind.number_or_inf("thickness", std::numeric_limits<double>::infinity());
   if (es == std::numeric_limits<double>::infinity()) {
-    for (const char* k : {"poisson", "thickness"})
+    for (const char* k : {"poisson", "thickness", "substrate_contact_modulus", "substrate_poisson", "layers"})
       if (ind.has(k))
         ind.error(k, "belongs to an elastic indenter: set indenter.contact_modulus (its E*; absent: rigid)");
     return;
   }
   ElasticParams b = homogeneous_body(es, nu, h, c.elastic.coupling);
+  read_body_stack(ind, b);
   try {
     b.validate();
   } catch (const ParameterError& e) {
@@ -155,6 +159,7 @@ nlohmann::json indenter_json(const IndenterConfig& in) {
       out["thickness"] = "inf";
     else
       out["thickness"] = in.body->thickness;
+    write_body_stack(*in.body, out);
   }
   return out;
 }

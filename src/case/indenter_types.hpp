@@ -60,6 +60,7 @@ const IndenterType& flatpunch_indenter();
 const IndenterType& powerlaw_indenter();
 const IndenterType& sphere_indenter();
 const IndenterType& cylinder_indenter();
+const IndenterType& step_indenter();
 const IndenterType& eggcrate_indenter();
 const IndenterType& selfaffine_indenter();
 const IndenterType& file_indenter();

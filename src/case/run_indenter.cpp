@@ -63,7 +63,7 @@ void indenter_stresses(CaseResult& r, const FFT& fft, const ContactFields& own) 
       summarize(g, principal(surface_stress(fft, el, own), PrincipalParts::SummaryOnly), frac);
   r.indenter_subsurface.clear();
   for (double d : cfg.stress.depths) {
-    if (!el.half_space() && d > el.thickness) continue;  // below the indenter's own base
+    if (d > el.depth_of_base()) continue;  // below the indenter's own base
     const PrincipalField pf = principal(subsurface_stress(fft, el, own, d), PrincipalParts::SummaryOnly);
     r.indenter_subsurface.push_back({d, summarize(g, pf, frac), {}, {}});
   }

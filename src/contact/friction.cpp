@@ -146,6 +146,18 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
   const double rx = rigid[0], ry = rigid[1];  // plain names: lambdas may capture them
   const SlipDerivative deriv = deriv_;
   const double mu = fric_.coefficient;
+  // A bound that falls with the speed (the velocity law's static peak): the step stays above its
+  // steepest fall at the largest pressure, so that the resolvent is continuous at the disc's edge
+  // (friction_law.hpp); raised with headroom (a pressure that creeps up need not restart z), and
+  // a raised step starts z afresh.
+  if (const double fall = fric_.law.steepest_fall(mu, 1.0); fall > 0) {
+    const double need = fall * grid_max(
+                                   grid_, [&](std::size_t i) { return p[i]; }, 0.0);
+    if (kFallingStepMargin * need > gamma_) {
+      gamma_ = kFallingStepHeadroom * need;
+      have_z_ = false;
+    }
+  }
   const double gamma = gamma_;
   const double scale = 1.0 / static_cast<double>(grid_.size());
   const bool has_q0 = grid_.y0 == 0 && grid_.rows() > 0;  // the q = 0 mode is held here

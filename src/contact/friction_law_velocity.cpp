@@ -1,6 +1,8 @@
 // friction.law = "velocity": a coefficient that falls (or rises) with the slip speed,
 // mu(|v|) = mu_k + (mu_s - mu_k) exp(-|v|/v_c), mu_k = friction.coefficient (as in the paper
-// authors' code: a static peak and a velocity threshold). Solved with the regularised law.
+// authors' code: a static peak and a velocity threshold). Its stick is set-valued: a point
+// sticks while |tau| <= mu_s p, and it is solved as Coulomb's with the law's resolvent in the
+// splitting (FrictionLaw::resolvent), or with the regularised law.
 #include <cmath>
 
 #include "gfmd/contact/friction_law.hpp"
@@ -29,11 +31,11 @@ const FrictionLawType& velocity_friction_law() {
       .keys = {{"static_coefficient", &FrictionLaw::static_coefficient, 0.0, "mu_s, the coefficient at rest"},
                {"velocity_scale", &FrictionLaw::velocity_scale, 0.0,
                 "v_c / v0, the slip speed of the decay"}},
-      // A coefficient that varies with the slip speed has no set-valued stick of the Coulomb
-      // kind here: near rest the regularised traction mu(|v|) p v / eps is used.
-      .set_valued_stick = false,
+      // The resolvent is single-valued outside the disc for either sign of mu_s - mu_k
+      // (contact/friction_law.hpp); inside it stick is chosen.
+      .set_valued_stick = true,
       .on_device = false,
-      .traction = "mu(|v|) p v/max(|v|, eps), mu(|v|) = mu_k + (mu_s - mu_k) exp(-|v|/v_c)",
+      .traction = "mu(|v|) p v/|v|, mu(|v|) = mu_k + (mu_s - mu_k) exp(-|v|/v_c)",
       .check = check};
   return t;
 }

@@ -193,6 +193,36 @@ Topography make_cylinder(const Grid& grid, double radius, char axis) {
   return t;
 }
 
+void check_step(const Grid& grid, double width, double depth, char axis) {
+  if (axis != 'x' && axis != 'y') throw ParameterError("axis", "must be \"x\" or \"y\"");
+  if (!positive_finite(width)) throw ParameterError("width", "must be > 0 (got " + num(width) + ")");
+  if (!positive_finite(depth)) throw ParameterError("depth", "must be > 0 (got " + num(depth) + ")");
+  const double d = axis == 'y' ? grid.dx() : grid.dy(), l = axis == 'y' ? grid.lx : grid.ly;
+  if (width < 2 * d)
+    throw ParameterError("width", "the strip's width " + num(width) + " spans fewer than 2 grid spacings (" +
+                                      num(d) + "); refine the grid");
+  if (width > l - 2 * d)
+    throw ParameterError("width", "the strip (width " + num(width) +
+                                      ") leaves less than 2 grid spacings of the " +
+                                      "lower terrace in the cell (" + num(l) + ")");
+}
+
+Topography make_step(const Grid& grid, double width, double depth, char axis) {
+  validate_grid(grid);
+  check_step(grid, width, depth, axis);
+  Topography t{grid, RealField(grid.local_size()), "step"};
+  const int cx = grid.nx / 2, cy = grid.ny / 2;
+  const double dx = grid.dx(), dy = grid.dy(), half = 0.5 * width;
+  for_rows(grid.rows(), [&](int row) {
+    const double y = (grid.y0 + row - cy) * dy;
+    for (int ix = 0; ix < grid.nx; ++ix) {
+      const double d = axis == 'y' ? (ix - cx) * dx : y;
+      t.h[static_cast<std::size_t>(row) * grid.nx + ix] = std::abs(d) <= half ? 0.0 : -depth;
+    }
+  });
+  return t;
+}
+
 void add_waviness(Topography& t, double amplitude, double wavelength, char axis) {
   const Grid& g = t.grid;
   if (!positive_finite(amplitude))

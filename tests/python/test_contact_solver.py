@@ -113,7 +113,7 @@ def test_friction_laws_from_python():
     assert laws["velocity"]["keys"] == ["static_coefficient", "velocity_scale"]
     assert laws["tresca"]["keys"] == ["shear_strength"] and laws["tresca"]["set_valued_stick"]
     assert laws["rate"]["keys"] == ["rate_coefficient", "velocity_scale"] and laws["rate"]["set_valued_stick"]
-    assert not laws["velocity"]["set_valued_stick"] and not laws["velocity"]["on_device"]
+    assert laws["velocity"]["set_valued_stick"] and not laws["velocity"]["on_device"]
     t = gfmd.Topography.hertz(64, 1.6, radius=1.0)
     base = dict(force=0.01, friction=0.4, regularization=0.01, tolerance=1e-10)
     c = gfmd.solve(t, **base)
@@ -125,8 +125,14 @@ def test_friction_laws_from_python():
     capped = gfmd.solve(t, **base, law="tresca", shear_strength=0.005)
     assert capped.summary["friction_law"] == "tresca" and capped.summary["friction_coefficient"] < 0.4
     assert np.max(np.hypot(capped["traction_x"], capped["traction_y"])) <= 0.005 * (1 + 1e-12)
-    with pytest.raises(gfmd.InputError, match="friction.regularization: must be positive with friction.law"):
-        gfmd.solve(t, force=0.01, friction=0.4, law="velocity", static_coefficient=0.8, velocity_scale=0.5)
+    # The exact law with stick (rolling): stuck points carry up to mu_s p, more than mu_k p.
+    rolled = gfmd.solve(t, force=0.01, friction=0.4, creepage=0.002, law="velocity", static_coefficient=0.6,
+                        velocity_scale=0.01, tolerance=1e-10)
+    assert 0 < rolled.summary["stick_fraction"] < 1
+    ratio = np.hypot(rolled["traction_x"], rolled["traction_y"])[rolled.pressure > 0] / rolled.pressure[rolled.pressure > 0]
+    assert 0.45 < ratio.max() <= 0.6 * (1 + 1e-12)
+    with pytest.raises(gfmd.InputError, match="friction.velocity_scale: must be a positive number"):
+        gfmd.solve(t, force=0.01, friction=0.4, law="velocity", static_coefficient=0.8)
     with pytest.raises(gfmd.InputError, match="did you mean 'velocity'"):
         gfmd.solve(t, **base, law="velocty")
 

@@ -34,7 +34,26 @@ def test_sliding_under_an_elastic_indenter_balances_its_work():
 
 
 def test_bad_indenter_bodies_are_named():
-    with pytest.raises(gfmd.InputError, match="indenter_body"):
-        gfmd.solve(sphere(), force=0.01, indenter_body=gfmd.ElasticBody(thickness=0.1, substrate_contact_modulus=2.0))
+    with pytest.raises(gfmd.InputError, match="indenter_body: must be a gfmd.ElasticBody"):
+        gfmd.solve(sphere(), force=0.01, indenter_body=gfmd.ViscoelasticBody(high_frequency_modulus=10.0,
+                                                                             relaxation_time=1.0))
+    with pytest.raises(gfmd.InputError, match="indenter_body.coupling"):
+        gfmd.solve(sphere(), force=0.01, indenter_body=gfmd.ElasticBody(coupling=False))
     with pytest.raises(gfmd.InputError, match="friction.creepage"):
         gfmd.solve(sphere(), force=0.01, friction=0.5, creepage=0.01, indenter_body=gfmd.ElasticBody())
+
+
+def test_a_coated_indenter_mirrors_the_coated_body():
+    # Frictionless, only the sum of the normal compliances matters: a coated indenter on a
+    # half-space presses as that half-space indenting the coated body (to the solve's tolerance).
+    coat = gfmd.ElasticBody(contact_modulus=3.0, poisson=0.3, thickness=0.1, substrate_contact_modulus=0.5,
+                            substrate_poisson=0.2)
+    half = gfmd.ElasticBody(contact_modulus=2.0, poisson=0.3)
+    a = gfmd.solve(sphere(), half, force=0.01, interaction="hardwall", indenter_body=coat, tolerance=1e-10)
+    b = gfmd.solve(sphere(), coat, force=0.01, interaction="hardwall", indenter_body=half, tolerance=1e-10)
+    assert a.summary["max_pressure"] == pytest.approx(b.summary["max_pressure"], rel=1e-8)
+    assert a.summary["relative_contact_area"] == b.summary["relative_contact_area"]
+    assert a.summary["input"]["indenter"]["substrate_contact_modulus"] == 0.5
+    rigid_base = gfmd.solve(sphere(), half, force=0.01, interaction="hardwall", tolerance=1e-10,
+                            indenter_body=gfmd.ElasticBody(contact_modulus=3.0, poisson=0.3, thickness=0.1))
+    assert rigid_base.summary["max_pressure"] > 1.05 * a.summary["max_pressure"]

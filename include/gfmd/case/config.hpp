@@ -33,12 +33,14 @@ inline constexpr double kMaxPressureOverModulus = 1e3;
 
 struct IndenterConfig {
   // One of the registered types (src/case/indenter_types.cpp; indenter_types() below):
-  // hertz | flatpunch | eggcrate | selfaffine | file, and array for a program's heights.
+  // hertz | flatpunch | powerlaw | sphere | cylinder | step | eggcrate | selfaffine | file, and
+  // array for a program's heights.
   std::string type = "hertz";
   double radius = 0.0, radius_x = 0.0, radius_y = 0.0;  // hertz; flatpunch: radius
-  double depth = 0.0;                                   // flatpunch: the drop of its side
+  double depth = 0.0;                                   // flatpunch, step: the drop of its side
+  double width = 0.0;                                   // step: the raised strip's width
   double exponent = 2.0;                                // powerlaw: n
-  char axis = 'y';                                      // cylinder: the direction it lies along
+  char axis = 'y';                                      // cylinder, step: the direction it lies along
   // Any type: a single-wavelength roughness a cos(2 pi x/lambda) (along x or y) added to the
   // heights (amplitude 0: none).
   double waviness_amplitude = 0.0, waviness_wavelength = 0.0;

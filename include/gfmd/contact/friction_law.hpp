@@ -29,7 +29,8 @@ struct FrictionLaw {
   double rate_coefficient = 0.0;    // rate: a, mu(|v|) = mu_c + a ln(1 + |v|/v_c)
   // The traction magnitude |tau| where a point with pressure p > 0 slips at the speed
   // |v_slip| / v0 = speed; for a law with a set-valued stick (FrictionLawType::set_valued_stick)
-  // bound(mu_k, p, 0) is also the radius of the disc |tau| <= ... where it sticks:
+  // bound(mu_k, p, 0) is also the radius of the disc |tau| <= ... where it sticks (mu_s p for
+  // the velocity law):
   //   coulomb:  mu_k p;
   //   velocity: (mu_k + (mu_s - mu_k) exp(-speed / v_c)) p   (mu_s at rest, mu_k sliding fast);
   //   tresca:   min(mu_k p, tau_0)                             (Coulomb capped at the shear strength);
@@ -46,31 +47,51 @@ struct FrictionLaw {
   [[nodiscard]] GFMD_HD bool speed_dependent() const {
     return kind == FrictionLawKind::Velocity || (kind == FrictionLawKind::Rate && rate_coefficient != 0.0);
   }
+  // d bound / d speed, the law's slope in the slip speed (0 for a speed-independent law).
+  [[nodiscard]] GFMD_HD double bound_slope(double mu_k, double p, double speed) const {
+    if (kind == FrictionLawKind::Velocity)
+      return -(static_coefficient - mu_k) / velocity_scale * std::exp(-speed / velocity_scale) * p;
+    if (kind == FrictionLawKind::Rate) return rate_coefficient * p / (velocity_scale + speed);
+    return 0.0;
+  }
+  // The steepest fall of the bound with the speed, max over s of -d bound/ds, at the pressure p:
+  // (mu_s - mu_k) p / v_c for a velocity law with a static peak, 0 for a bound that never falls.
+  // The splitting's step gamma must exceed it for the resolvent below to be continuous at the
+  // disc's edge (otherwise f first falls, and the slip speed jumps from 0 to a finite root).
+  [[nodiscard]] GFMD_HD double steepest_fall(double mu_k, double p) const {
+    return std::fmax(0.0, -bound_slope(mu_k, p, 0.0));
+  }
   // The stick-slip splitting's resolvent, radially: the splitting variable z = tau + gamma v at
   // a point has the magnitude zm; returns |tau|. Inside the disc (zm <= bound at rest) the point
   // sticks, tau = z; outside it slips at the speed s with bound(s) + gamma s = zm, |tau| =
-  // bound(s). For a speed-independent bound that is the projection onto the disc; for a bound
-  // that grows with the speed (rate) the root of that increasing function (Newton from the
-  // left, bracketed): a law whose bound falls with the speed has no such resolvent (its
-  // FrictionLawType has no set-valued stick).
+  // bound(s). For a speed-independent bound that is the projection onto the disc. Otherwise
+  // f(s) = bound(s) + gamma s - zm has f(0) < 0 outside the disc and exactly one root: it
+  // increases where the bound grows with the speed (rate; velocity with mu_s < mu_k), and it is
+  // convex where the bound falls exponentially (velocity with mu_s > mu_k: a convex function
+  // that starts negative crosses zero once). Newton from the left, kept inside the bracket
+  // [0, (zm - least bound)/gamma] by bisection. Inside the disc a falling bound may also admit
+  // slip roots (when gamma < steepest_fall): the resolvent then selects stick, the static
+  // friction's choice; the solve keeps gamma above steepest_fall at the largest pressure
+  // (ContactSolver::solve_tangential; docs/solver.md, "Other friction laws").
   [[nodiscard]] GFMD_HD double resolvent(double mu_k, double p, double zm, double gamma) const {
     const double rest = bound(mu_k, p, 0.0);
     if (zm <= rest) return zm;
-    if (kind != FrictionLawKind::Rate) return rest;  // the projection
-    double lo = 0.0, hi = (zm - rest) / gamma;       // bound(s) + gamma s - zm: < 0 at lo, >= 0 at hi
+    if (!speed_dependent()) return rest;  // the projection
+    // The least bound over all speeds: mu_k p for a falling velocity law, the rest value else.
+    const double least = kind == FrictionLawKind::Velocity ? std::fmin(rest, mu_k * p) : rest;
+    double lo = 0.0, hi = (zm - least) / gamma;  // f < 0 at lo, f >= 0 at hi
     double s = lo;
-    for (int k = 0; k < 60; ++k) {
+    for (int k = 0; k < 100; ++k) {
       const double f = bound(mu_k, p, s) + gamma * s - zm;
       if (f < 0) {
         lo = s;
       } else {
         hi = s;
       }
-      // d bound / ds for the rate law: a p / (v_c + s)
-      const double df = rate_coefficient * p / (velocity_scale + s) + gamma;
-      double next = s - f / df;
-      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-      if (std::fabs(next - s) <= 1e-15 * (1.0 + s)) {
+      const double df = bound_slope(mu_k, p, s) + gamma;
+      double next = df > 0 ? s - f / df : 0.5 * (lo + hi);  // df <= 0 only left of the root
+      if (!(next >= lo && next <= hi)) next = 0.5 * (lo + hi);
+      if (std::fabs(next - s) <= 1e-15 * s) {
         s = next;
         break;
       }

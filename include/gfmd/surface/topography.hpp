@@ -52,6 +52,16 @@ Topography make_sphere(const Grid& grid, double radius);
 // parabolic h = -(x-xc)^2/(2R) (a line contact, periodic along the axis). ParameterError("radius").
 Topography make_cylinder(const Grid& grid, double radius, char axis);
 
+// A straight step up and back down (a terrace): the strip |d| <= width/2 about the cell's centre
+// node (d = x - xc for axis 'y', the strip lying along y; y - yc for 'x') has h = 0, the rest of
+// the cell h = -depth. A periodic cell holds the two steps of the strip's edges; pressed onto a
+// flat body, the strip is a periodic two-dimensional flat punch (Sadowsky's problem). Throws
+// ParameterError("width", ...) when the strip or the lower terrace spans fewer than two grid
+// spacings, ("depth", ...) for depth <= 0, ("axis", ...).
+Topography make_step(const Grid& grid, double width, double depth, char axis);
+// The checks of make_step on the parameters alone (the grid's size and spacing).
+void check_step(const Grid& grid, double width, double depth, char axis);
+
 // Adds a single-wavelength roughness a cos(2 pi d / lambda) to any surface, d = x - xc (axis 'x')
 // or y - yc ('y') from the cell's centre node (so that a surface's apex there stays on a crest).
 // lambda must divide the cell along the axis (relative tolerance 1e-9): ParameterError
