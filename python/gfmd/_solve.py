@@ -362,8 +362,8 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
     Coulomb coefficient mu_c; direction: sliding direction in degrees from x. interaction:
     "harmonic" (default), "hardwall" or gfmd.Adhesive(work_of_adhesion, range). hardness: the
     plastic cap H of the local pressure (interaction.hardness; inf: none). indenter_body: an
-    elastic indenter (a gfmd.ElasticBody, coated or layered too; two deformable bodies; sliding only; its
-    stresses in summary["indenter_stress"]), rigid when None. options: the
+    elastic indenter (a gfmd.ElasticBody, coated or layered too; two deformable bodies, sliding
+    or rolling; its stresses in summary["indenter_stress"]), rigid when None. options: the
     [solver] keys (tolerance, max_iterations, max_outer, max_tangential, anderson, mixing,
     threads, fft_planner, backend) and the [friction] keys (regularization, creepage,
     lateral_creepage, slip_derivative, stick_step, stick_acceleration, reference, law and the

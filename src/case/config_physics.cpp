@@ -301,10 +301,6 @@ void read_friction(Section& fr, Config& c) {
     fr.error("law", "unknown friction law \"" + law_name + "\"" + did_you_mean(law_name, names) +
                         "; one of " + list);
   }
-  if (c.indenter.body && c.friction.rolling() && c.friction.coefficient > 0)
-    fr.error(c.friction.creepage != 1.0 ? "creepage" : "lateral_creepage",
-             "rolling with an elastic indenter is not implemented (its material would pass through the "
-             "contact too): an elastic indenter slides (creepage 1)");
   fr.finish(law_keys);
 }
 

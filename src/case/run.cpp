@@ -352,6 +352,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
   // (stresses, flow) gets the memory back.
   auto body = std::make_unique<ElasticBody>(slab, cfg.elastic, cfg.visco,
                                             cfg.indenter.body ? &*cfg.indenter.body : nullptr);
+  body->roll_both(cfg.friction.rolling());  // two bodies: both pass through the contact
   // A distributed run starts warm when rank 0 has a warm start: the others get its rows.
   bool warm = opts.warm_start && opts.warm_start->pressure.size() == cfg.grid.size();
   if (distributed) {

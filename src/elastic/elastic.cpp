@@ -271,17 +271,6 @@ inline std::array<cplx, 2> inplane(const ComplianceMode& m, cplx x, cplx y, cplx
 }
 }  // namespace
 
-void ElasticBody::own_normal_displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* uz,
-                                          double scale, double scale_z) const {
-  const std::vector<ComplianceMode>& own = slip_modes();
-  parallel_for(static_cast<std::ptrdiff_t>(own.size()), [&](std::ptrdiff_t k) {
-    const ComplianceMode& m = own[k];
-    const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
-               z = tz ? scale_z * tz[k] : cplx(0.0);
-    uz[k] = m.czz * z - times_i(m.cxz, x) - times_i(m.cyz, y);
-  });
-}
-
 void ElasticBody::displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
                                double scale, double scale_z) const {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(modes_.size());

@@ -39,8 +39,6 @@ def test_bad_indenter_bodies_are_named():
                                                                              relaxation_time=1.0))
     with pytest.raises(gfmd.InputError, match="indenter_body.coupling"):
         gfmd.solve(sphere(), force=0.01, indenter_body=gfmd.ElasticBody(coupling=False))
-    with pytest.raises(gfmd.InputError, match="friction.creepage"):
-        gfmd.solve(sphere(), force=0.01, friction=0.5, creepage=0.01, indenter_body=gfmd.ElasticBody())
 
 
 def test_a_coated_indenter_mirrors_the_coated_body():
@@ -57,3 +55,15 @@ def test_a_coated_indenter_mirrors_the_coated_body():
     rigid_base = gfmd.solve(sphere(), half, force=0.01, interaction="hardwall", tolerance=1e-10,
                             indenter_body=gfmd.ElasticBody(contact_modulus=3.0, poisson=0.3, thickness=0.1))
     assert rigid_base.summary["max_pressure"] > 1.05 * a.summary["max_pressure"]
+
+
+def test_two_bodies_roll():
+    # Tractive rolling of a sphere of the body's material: quasi-identical bodies, most of the
+    # contact sticks and the creep force follows the creepage (twice the creepage, twice the force
+    # in Kalker's linear range).
+    one = gfmd.solve(sphere(), gfmd.ElasticBody(poisson=0.5), force=0.005, friction=0.3, creepage=1e-4,
+                     indenter_body=gfmd.ElasticBody(poisson=0.5), reference=False)
+    two = gfmd.solve(sphere(), gfmd.ElasticBody(poisson=0.5), force=0.005, friction=0.3, creepage=2e-4,
+                     indenter_body=gfmd.ElasticBody(poisson=0.5), reference=False)
+    assert one.summary["stick_fraction"] > 0.9
+    assert two.summary["tangential_force_x"] / one.summary["tangential_force_x"] == pytest.approx(2.0, rel=0.02)

@@ -115,13 +115,20 @@ class ElasticBody {
   // bodies' compliances added with the indenter's coupling subtracted (its surface faces the
   // other way: Dundurs' beta is their difference). The slip of steady sliding is the body's own
   // surface velocity, since the indenter's material rests in the contact: displacement()'s
-  // ux, uy, inplane_slope, slip_resolvent and slip_operator_norm are the body's own.
+  // ux, uy, inplane_slope, slip_resolvent and slip_operator_norm are the body's own; in rolling
+  // (roll_both) they are the pair's.
   ElasticBody(const Grid& grid, const ElasticParams& params, const ViscoelasticParams& visco = {},
               const ElasticParams* indenter = nullptr);
 
   [[nodiscard]] const Grid& grid() const { return grid_; }
   [[nodiscard]] const ElasticParams& params() const { return params_; }
   [[nodiscard]] bool elastic_indenter() const { return indenter_.has_value(); }
+  // Two bodies rolling (friction.creepage): the material of both passes through the contact, so
+  // the slip is their relative surface velocity, and displacement()'s ux, uy and the slip's
+  // operators use the pair's compliance (the in-plane terms of both added; Kalker's combined
+  // modulus) instead of the body's own. No effect under a rigid indenter. Call before a solver
+  // is built on the body.
+  void roll_both(bool both) { roll_both_ = both; }
   [[nodiscard]] const ComplianceMode& mode(std::size_t k) const { return modes_[k]; }
   [[nodiscard]] const std::vector<ComplianceMode>& modes() const { return modes_; }
 
@@ -156,10 +163,6 @@ class ElasticBody {
   // spectrum of a pressure p into that of t_z = -p without a pass over the grid.
   void displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* ux, cplx* uy, cplx* uz,
                     double scale, double scale_z) const;
-  // The body's own normal displacement (its compliance alone: without an elastic indenter's
-  // share), as displacement()'s uz. For one body the same numbers.
-  void own_normal_displacement(const cplx* tx, const cplx* ty, const cplx* tz, cplx* uz, double scale,
-                               double scale_z) const;
   // The symbols D(q) of an upwind (e.grad) along (ex, ey) on every mode held here (r2c
   // half-spectrum order), for the calls below: their trigonometry otherwise costs more than
   // the rest of a spectral pass. 16 bytes per mode.
@@ -185,8 +188,11 @@ class ElasticBody {
  private:
   Grid grid_;
   ElasticParams params_;
-  // The compliance the slip sees: the body's own (own_) under an elastic indenter.
-  [[nodiscard]] const std::vector<ComplianceMode>& slip_modes() const { return own_.empty() ? modes_ : own_; }
+  // The compliance the slip sees: the body's own (own_) under a sliding elastic indenter.
+  [[nodiscard]] const std::vector<ComplianceMode>& slip_modes() const {
+    return own_.empty() || roll_both_ ? modes_ : own_;
+  }
+  bool roll_both_ = false;
 
   std::vector<ComplianceMode> modes_;
   std::vector<ComplianceMode> own_;  // the body's own modes under an elastic indenter; else empty
