@@ -225,6 +225,19 @@ def test_elastic_indenter_sliding_any_rank_count(tmp_path, ranks):
     assert b["downhill_friction"] == a["downhill_friction"]
 
 
+@pytest.mark.parametrize("ranks", [3])
+def test_two_bodies_rolling_with_a_static_peak(tmp_path, ranks):
+    """examples/rolling_static_peak.toml under a coated elastic indenter, on uneven slabs: the pair's
+    slip operators (both bodies roll), the velocity law's resolvent and its step raised from the
+    largest pressure over all slabs give the serial bits."""
+    text = open(os.path.join(ROOT, "examples", "rolling_static_peak.toml")).read()
+    text = text.replace("nx = 64", "nx = 64\nny = 62\nly = 1.55").replace(
+        "[load]", "contact_modulus = 2.0\npoisson = 0.3\nthickness = 0.2\nsubstrate_contact_modulus = 1.5\n[load]")
+    a, b = serial_and_distributed(tmp_path, text + "\n[output]\npng = false\n", ranks)
+    assert 0 < a["stick_fraction"] < 1
+    assert b["tangential_iterations"] == a["tangential_iterations"]
+
+
 @pytest.mark.parametrize("ranks", [2, 3])
 def test_thin_layer_sliding_with_stick(tmp_path, ranks):
     a, b = serial_and_distributed(tmp_path, THIN_STICK, ranks)

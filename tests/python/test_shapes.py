@@ -20,6 +20,17 @@ def test_the_new_shapes_are_registered_and_made():
         gfmd.Topography.indenter("powerlaw", 64, 2.0, radius=1.0, exponent=0.2)
 
 
+def test_a_step_from_python():
+    # The raised strip: 2 m + 1 nodes at height 0 about the centre column, the rest depth below.
+    t = gfmd.Topography.indenter("step", 64, 1.0, width=0.25, depth=0.05)
+    assert np.count_nonzero(t.heights[0] == 0.0) == 17 and t.heights.min() == pytest.approx(-0.05)
+    assert np.all(t.heights == t.heights[:1, :])  # the strip lies along y
+    r = gfmd.solve(t, pressure=0.01, interaction="hardwall")
+    assert r.summary["relative_contact_area"] == pytest.approx(17 / 64, abs=1e-12)
+    with pytest.raises(gfmd.InputError, match="indenter.width"):
+        gfmd.Topography.indenter("step", 64, 1.0, width=0.01)
+
+
 def test_an_anisotropic_surface_from_python():
     iso = gfmd.Topography.self_affine(128, 1.0, lambda_long=0.25, lambda_short=0.05, rms_height=0.01, seed=1)
     same = gfmd.Topography.self_affine(128, 1.0, lambda_long=0.25, lambda_short=0.05, rms_height=0.01, seed=1,
