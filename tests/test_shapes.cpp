@@ -8,8 +8,6 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <numbers>
 #include <string>
 #include <utility>
@@ -173,9 +171,8 @@ TEST(Shapes, AStepPressesAsAPeriodicFlatPunch) {
   EXPECT_LT(fine, 0.015);
   EXPECT_LT(fine, 0.7 * coarse) << "converges under refinement";
   // examples/step.toml, as a user runs it: only its strip (65 of 256 nodes) touches.
-  std::ifstream in(std::string(GFMD_SOURCE_DIR) + "/examples/step.toml");
-  ASSERT_TRUE(in) << "examples/step.toml";
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string text = gfmd::testing::read_file(std::string(GFMD_SOURCE_DIR) + "/examples/step.toml");
+  ASSERT_FALSE(text.empty()) << "examples/step.toml";
   const CaseResult ex = solve(text, {"output.analysis=false"});
   EXPECT_NEAR(ex.observables.relative_contact_area, 65.0 / 256, 1e-12);
 }

@@ -216,11 +216,7 @@ void read_elastic(Section& el, Config& c, const std::string& base_dir) {
     c.elastic.contact_modulus = c.visco.master_relaxed_modulus();
   }
   el.finish();
-  try {
-    c.visco.validate(c.elastic.contact_modulus);  // its speed is [friction]'s, checked there
-  } catch (const ParameterError& e) {
-    el.error(e.where(), e.why());
-  }
+  el.check([&] { c.visco.validate(c.elastic.contact_modulus); });  // its speed is [friction]'s, checked there
 }
 
 void read_friction(Section& fr, Config& c) {

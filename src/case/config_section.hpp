@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "gfmd/case/config.hpp"
+#include "gfmd/core/error.hpp"
 
 namespace gfmd::config_detail {
 
@@ -136,6 +137,19 @@ class Section {
     const std::string loc = at(key);
     const bool placed = loc.empty() || why.find(loc.substr(0, loc.rfind(':') + 1)) != std::string::npos;
     errors_.push_back(name_ + "." + key + ": " + why + (placed ? "" : loc));
+  }
+  // Runs a part's own check, which throws ParameterError naming its key, and reports what it
+  // throws as this section's problem with that key (so that the message names the line); false
+  // when it reported one.
+  template <class Check>
+  bool check(Check&& part_check) {
+    try {
+      part_check();
+    } catch (const ParameterError& e) {
+      error(e.where(), e.why());
+      return false;
+    }
+    return true;
   }
   // Keys in the file that no getter asked for.
   void finish(const std::vector<std::string>& also_allowed = {}) {

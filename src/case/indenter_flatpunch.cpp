@@ -17,11 +17,8 @@ void read(Section& ind, IndenterRead& r) {
   if (!(in.depth > 0)) ind.error("depth", "must be positive (how far the punch's side drops)");
   const Grid& g = r.c.grid;
   if (in.depth > 0 && g.nx >= 2 && g.ny >= 2 && g.lx > 0 && g.ly > 0)
-    try {  // the punch's own checks (resolution, size against the cell), naming the line
-      check_flatpunch(r.c.grid, in.radius, in.depth);
-    } catch (const ParameterError& e) {
-      ind.error(e.where(), e.why());
-    }
+    // the punch's own checks (resolution, size against the cell), naming the line
+    ind.check([&] { check_flatpunch(r.c.grid, in.radius, in.depth); });
 }
 
 void write(const IndenterConfig& in, nlohmann::json& out) {

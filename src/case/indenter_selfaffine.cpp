@@ -25,11 +25,7 @@ void read(Section& ind, IndenterRead& r) {
     ind.error("rms_height", "give exactly one of rms_height and rms_gradient (positive)");
   } else {
     // The surface's own checks (band, resolution), here so that they name the line.
-    try {
-      check_selfaffine(g, s);
-    } catch (const ParameterError& e) {
-      ind.error(e.where(), e.why());
-    }
+    ind.check([&] { check_selfaffine(g, s); });
   }
 }
 

@@ -24,11 +24,8 @@ void read(Section& ind, IndenterRead& r) {
   if (!(in.depth > 0)) ind.error("depth", "must be positive (how far the step drops)");
   const Grid& g = r.c.grid;
   if (in.depth > 0 && g.nx >= 2 && g.ny >= 2 && g.lx > 0 && g.ly > 0)
-    try {  // the step's own checks (resolution, room for the lower terrace), naming the line
-      check_step(g, in.width, in.depth, in.axis);
-    } catch (const ParameterError& e) {
-      ind.error(e.where(), e.why());
-    }
+    // the step's own checks (resolution, room for the lower terrace), naming the line
+    ind.check([&] { check_step(g, in.width, in.depth, in.axis); });
 }
 
 void write(const IndenterConfig& in, nlohmann::json& out) {

@@ -100,12 +100,7 @@ void read_indenter_body(Section& ind, Config& c) {
   }
   ElasticParams b = homogeneous_body(es, nu, h, c.elastic.coupling);
   read_body_stack(ind, b);
-  try {
-    b.validate();
-  } catch (const ParameterError& e) {
-    ind.error(e.where(), e.why());
-    return;
-  }
+  if (!ind.check([&] { b.validate(); })) return;
   if (c.visco.enabled())
     ind.error("contact_modulus", "an elastic indenter on a viscoelastic body is not implemented");
   c.indenter.body = b;
@@ -134,14 +129,12 @@ void read_waviness(Section& ind, Config& c) {
   }
   const Grid& g = c.grid;
   if (g.nx >= 2 && g.ny >= 2 && g.lx > 0 && g.ly > 0)
-    try {  // its checks on one line of the cell along the wave (the periodicity, the resolution)
+    ind.check([&] {  // its checks on one line of the cell along the wave (the periodicity, the resolution)
       const bool along_y = in.waviness_axis == 'y';
       const Grid line{along_y ? 1 : g.nx, along_y ? g.ny : 1, g.lx, g.ly};
       Topography probe{line, RealField(line.size(), 0.0), ""};
       add_waviness(probe, in.waviness_amplitude, in.waviness_wavelength, in.waviness_axis);
-    } catch (const ParameterError& e) {
-      ind.error(e.where(), e.why());
-    }
+    });
 }
 
 nlohmann::json indenter_json(const IndenterConfig& in) {
