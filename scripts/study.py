@@ -15,6 +15,7 @@ or a sweep series stopped early (its finished points are drawn), 1 anything else
 import argparse
 import csv
 import json
+import math
 import os
 import signal
 import subprocess
@@ -115,7 +116,7 @@ def run(cmd, tolerate_not_converged=False, what=""):
     stopped and waited for, then Interrupted is raised. Exit status 2 of the run is bad
     input (a setting of the study or of --set): BadInput naming `what` and the run's reason."""
     check_stop()
-    if FORCE and len(cmd) > 1 and cmd[1] in ("run", "sweep", "percolation"):
+    if FORCE and len(cmd) > 1 and cmd[1] in ("run", "sweep", "percolation", "curve"):
         cmd = cmd + ["--force"]
     _child["waiting"] = True
     try:
@@ -199,6 +200,11 @@ def run_series(study, mode_sets, out, quick, incomplete):
             os.makedirs(d, exist_ok=True)
             run([GFMD, "green", "--poisson", ",".join(str(v) for v in s["poisson"]), "-o", csvp], what=what)
             res = read_table(csvp)
+        elif study.get("kind") == "pull_off":
+            res, why = run_pull_off_series(study, case, d, args, what)
+            if why:
+                incomplete.append({"series": s["label"], "reason": why})
+                s = dict(s, label=s["label"] + " (some paths stopped: not converged)")
         elif study.get("kind", "sweep") == "sweep" and "seeds" in s:
             # One sweep per seed (indenter.seed last, after every other setting); drawn as the
             # mean with bands, every seed in the table.
@@ -243,6 +249,54 @@ def run_sweep(case, d, study, args, what, label):
             fail(f"study: series '{label}' failed with no finished point: {why}", NOT_CONVERGED)
         log(f"study: series '{label}' stopped early: {why}")
     return read_table(table), why
+
+
+# The columns a pull_off study's rows hold (besides its x), from each path's curve.json and the
+# summary of its most tensile point.
+PULL_OFF_COLUMNS = ("pull_off_force", "pull_off_approach", "jump_off_approach", "pull_off_contact_radius",
+                    "pull_off_extent_longitudinal", "pull_off_extent_transverse", "pull_off_tangential_force")
+
+
+def run_pull_off_series(study, case, d, args, what):
+    """One unloading path per value of study["x"] (gfmd curve --approaches, warm-started point to
+    point): a row per value with the path's pull-off (its most tensile force), the approach there,
+    the jump-off, and at that point the equivalent contact radius sqrt(A/pi), the contact's extents
+    along and across sliding and the tangential force. A path that stops at a point that does not
+    converge leaves its row empty; returns (rows, the reasons or None)."""
+    rows, stopped = [], []
+    for k, v in enumerate(study["values"]):
+        check_stop()
+        pd = os.path.join(d, f"value_{k:02d}")
+        cj = os.path.join(pd, "curve.json")
+        row = {study["x"]: repr(float(v))}
+        for c in PULL_OFF_COLUMNS:
+            row[c] = ""
+        rows.append(row)
+        # gfmd curve reuses the finished points of the same path itself (and solves them again where
+        # the case or a setting changed).
+        p = run([GFMD, "curve", case, "--approaches", study["approaches"], "-o", pd, "-q"] + args
+                + ["--set", f"{study['x']}={v!r}"], tolerate_not_converged=True, what=f"{what} {study['x']} = {v!r}")
+        if p.returncode != 0:
+            why = (p.stderr.strip().splitlines() or ["not converged"])[-1]
+            stopped.append(f"{study['x']} = {v!r}: {why}")
+            log(f"study: {what}: {study['x']} = {v!r} stopped: {why}")
+            continue
+        curve = json.load(open(cj))
+        for c in ("pull_off_force", "pull_off_approach", "jump_off_approach"):
+            if curve.get(c) is not None:
+                row[c] = repr(float(curve[c]))
+        points = sorted(p for p in os.listdir(os.path.join(pd, "points")) if p.startswith("point_"))
+        summaries = [json.load(open(os.path.join(pd, "points", p, "summary.json"))) for p in points]
+        if curve.get("pull_off_force") is not None and summaries:
+            s = min(summaries, key=lambda x: x["normal_force"])
+            grid = s["input"]["grid"]
+            row["pull_off_contact_radius"] = repr(math.sqrt(s["relative_contact_area"] * grid["lx"] * grid["ly"]
+                                                            / math.pi))
+            row["pull_off_extent_longitudinal"] = repr(s["contact_extent_longitudinal"])
+            row["pull_off_extent_transverse"] = repr(s["contact_extent_transverse"])
+            row["pull_off_tangential_force"] = repr(s.get("tangential_force", 0.0))
+        info(f"  {what}: {study['x']} = {v!r} ({k + 1}/{len(study['values'])}): pull-off {row['pull_off_force']}")
+    return rows, "; ".join(stopped) or None
 
 
 def run_percolation_series(s, sets, d, what):
@@ -333,7 +387,7 @@ def run_study(study, args, name, mode, out):
         plots.plot_percolation(study, results, out, fig_base)
     elif study.get("kind") == "green":
         plots.plot_green(study, results, fig_base)
-    elif study.get("kind", "sweep") == "sweep":
+    elif study.get("kind", "sweep") in ("sweep", "pull_off"):
         plots.plot_sweeps(study, results, fig_base)
     else:
         import study_figures  # noqa: E402  (field maps and profiles; needs python3-netcdf4)

@@ -12,7 +12,7 @@ class BadInput(Exception):
 # Top-level tables of a case file (src/case/config.cpp: kSections).
 CASE_SECTIONS = ("grid", "elastic", "indenter", "load", "friction", "interaction", "solver", "output",
                  "sweep", "stress", "flow")
-KINDS = ("sweep", "runs", "percolation", "green")
+KINDS = ("sweep", "runs", "percolation", "green", "pull_off")
 FIGURES = ("maps", "cross_section", "profiles")
 
 
@@ -139,6 +139,33 @@ def load_study(path, case_root):
             _string(pub, "divide_by", "published.", required=True)
             for key in ("xlabel", "ylabel", "title", "caption"):
                 _string(pub, key, "published.")
+        if "second" in study:
+            sec = study["second"]
+            if not isinstance(sec, dict):
+                raise BadInput(f"second: must be a table ([second]), got {_type_name(sec)}")
+            _string(sec, "y", "second.", required=True)
+            for key in ("ylabel", "title"):
+                _string(sec, key, "second.")
+    elif kind == "pull_off":
+        # One unloading path (gfmd curve) per value of x; its pull-off and the contact there.
+        _string(study, "x", "", required=True)
+        vals = study.get("values")
+        if not isinstance(vals, list) or not vals or not all(_is_number(v) for v in vals):
+            raise BadInput("values: must be a non-empty list of numbers (the values of x, one path each)")
+        _string(study, "approaches", "", required=True)
+        parts = study["approaches"].split(":")
+        try:
+            ok = len(parts) == 3 and int(parts[2]) >= 2 and all(float(v) == float(v) for v in parts[:2])
+        except ValueError:
+            ok = False
+        if not ok:
+            raise BadInput(f"approaches: must be FROM:TO:N (N >= 2 points), got {study['approaches']!r}")
+        study.setdefault("y", "pull_off_force")
+        _string(study, "y", "")
+        for key in ("xlabel", "ylabel", "xscale", "yscale"):
+            _string(study, key, "")
+        for key in ("x_scale", "y_scale"):
+            _number(study, key, "")
         if "second" in study:
             sec = study["second"]
             if not isinstance(sec, dict):

@@ -337,19 +337,11 @@ void read_interaction(Section& ia, Config& c) {
   c.interaction.hardness = ia.number_or_inf("hardness", std::numeric_limits<double>::infinity());
   if (!(c.interaction.hardness > 0))
     ia.error("hardness", "must be positive (the largest local pressure, in units of E*) or \"inf\" (no cap)");
-  if (c.interaction.adhesive() && c.friction.coefficient > 0)
-    ia.error("model",
-             "adhesion with friction is not implemented yet: set friction.coefficient = 0 with "
-             "interaction.model = \"adhesive\"");
   if (c.visco.enabled()) {
     if (c.interaction.adhesive()) ia.error("model", "adhesion on a viscoelastic body is not implemented");
     if (c.interaction.plastic())
       ia.error("hardness", "plastic saturation on a viscoelastic body is not implemented");
   }
-  if (c.interaction.adhesive() && c.interaction.plastic())
-    ia.error("hardness",
-             "adhesion with plastic saturation is not implemented: leave interaction.hardness out "
-             "with interaction.model = \"adhesive\"");
   ia.finish(adhesion_keys);
 }
 

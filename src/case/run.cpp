@@ -83,7 +83,8 @@ void compare_with_references(const Config& cfg, CaseResult& r) {
   }
 }
 
-// Plastic saturation's figures (interaction.hardness): where the pressure is at the cap, the
+// Plastic saturation's figures (interaction.hardness): where the repulsive pressure (with adhesion
+// the net pressure plus the adhesive traction) is at the cap, the
 // indenter overlaps the undeformed surface by delta + u_z - g0 (g0 = max h - h), of which p/k
 // is elastic (harmonic interaction; none for the hard wall). A collective on a slab.
 void plastic_saturation(const Config& cfg, const Grid& grid, const Topography& topo, CaseResult& r) {
@@ -96,7 +97,7 @@ void plastic_saturation(const Config& cfg, const Grid& grid, const Topography& t
   pd.assign(grid.local_size(), 0.0);
   const double delta = r.info.approach;
   const auto s = grid_sums<2>(grid, [&](std::size_t i, std::array<double, 2>& acc) {
-    if (!(r.fields.pressure[i] >= H)) return;
+    if (!(r.fields.repulsion(i) >= H)) return;  // the repulsion is capped (with adhesion p + a)
     const double g0 = hmax - topo.h[i];
     pd[i] = std::max(0.0, delta + r.fields.uz[i] - g0 - elastic);
     acc[0] += 1.0;

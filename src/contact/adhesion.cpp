@@ -39,8 +39,9 @@ using namespace contact_detail;
 
 void ContactSolver::gap_spread(const RealField& gap, RealField& gx, RealField& spread) {
   // |g_x| dx + |g_y| dy by one forward and two inverse transforms (s2_, s3_ are free outside
-  // the friction steps, and adhesion runs without friction). The spectral derivative's symbols
-  // are i q_x and i q_y (0 on the Nyquist lines), tabulated once with 1/N folded in.
+  // the normal solve; the friction loop transforms its tractions again after this). The
+  // spectral derivative's symbols are i q_x and i q_y (0 on the Nyquist lines), tabulated once
+  // with 1/N folded in.
   const int nxh = grid_.nxh();
   const std::size_t ns = s2_.size();
   if (adh_.qx.size() != ns) {
@@ -92,7 +93,12 @@ double adhesive_potential(double gap, double spread, double range) {
 }
 
 ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, ContactFields& f, double tol,
-                                                      SolveInfo& info) {
+                                                      SolveInfo& info, const RealField* w_extra, int max_it) {
+  // The capped load solve brackets a positive approach whose repulsion carries the load; with a
+  // pull it may need any approach and may have none (H <= sigma0 over the attracted area): not
+  // solved (case/config.cpp refuses it by key).
+  if (inter_.plastic() && load.mode != LoadMode::Approach)
+    throw ParameterError("load", "adhesion with plastic saturation is solved under approach control only");
   const std::size_t n = grid_.local_size();
   const auto nl = static_cast<std::ptrdiff_t>(n);
   const double s0 = inter_.adhesive_stress();
@@ -106,9 +112,11 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
   // start has no pull to hold it. The state at first touch (approach 0) is made first.
   if (load.mode != LoadMode::Approach && !(load.value > 0) &&
       !(grid_sum(grid_, [&](std::size_t i) { return a[i]; }) > 0)) {
-    const PKResult pre = solve_adhesive(LoadParams{LoadMode::Approach, 0.0}, f, tol, info);
+    const PKResult pre = solve_adhesive(LoadParams{LoadMode::Approach, 0.0}, f, tol, info, w_extra, max_it);
     if (!info.converged) return pre;
   }
+  SolverParams within = sp_;  // the budget: all of solver.max_iterations, or the caller's
+  if (max_it >= 0) within.max_iterations = max_it;
   for (RealField* fld : {&adh_.w, &adh_.d, &adh_.gap, &adh_.spread})
     if (fld->size() != n) fld->assign(n, 0.0);
   RealField &w = adh_.w, &d = adh_.d, &gap = adh_.gap;
@@ -122,6 +130,8 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
   for (int step = 0;; ++step) {
     ++info.adhesion_steps;
     apply_compliance(a, w);  // the normal displacement the adhesive traction causes (C_zz a)
+    if (w_extra)             // and the friction's (C_z.tau)
+      parallel_for(nl, [&](std::ptrdiff_t i) { w[i] += (*w_extra)[i]; });
     LoadParams inner = load;
     if (load.mode != LoadMode::Approach) {
       // The repulsion carries the load plus the adhesive pull.
@@ -138,13 +148,15 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
     // Each repulsive solve to a tenth of the traction's last change (no tighter than the
     // tolerance): early steps are far from the answer anyway.
     const double inner_tol = std::max(tol, 0.1 * change);
-    pk = solve_normal(inner, w, false, p, inner_tol, std::max(1, sp_.max_iterations - used));
+    pk = solve_normal(inner, w, false, p, inner_tol, std::max(1, within.max_iterations - used));
     used += pk.iterations;
-    // The gap of this step's state, C_zz (p - a) + p/k + g0 - delta, and the law on it.
+    // The gap of this step's state, C_zz (p - a) - C_z.tau + p/k + g0 - delta, and the law on it.
     parallel_for(nl, [&](std::ptrdiff_t i) { d[i] = p[i] - a[i]; });
     apply_compliance(d, gap);
+    if (w_extra) parallel_for(nl, [&](std::ptrdiff_t i) { gap[i] -= (*w_extra)[i]; });
     // In one pass with the gap: the elastic energy 1/2 sum (p - a) C_zz (p - a) dA of this step's
-    // state (gap holds C_zz (p - a) until it is completed here) and the harmonic repulsion's
+    // state (gap holds C_zz (p - a) until it is completed here; with friction the tractions'
+    // share is added by solve() from the displacements) and the harmonic repulsion's
     // 1/2 sum p^2 / k dA.
     const double ik = inv_k_, delta = pk.delta;
     const auto en = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
@@ -168,7 +180,7 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
     info.energy = info.elastic_energy + info.adhesive_energy + repulsion_energy;
     change = relative_change(sums[0], sums[1]);
     info.status =
-        outer_status(change, tol, pk.converged, inner_tol, used, step, sp_, "the adhesive traction");
+        outer_status(change, tol, pk.converged, inner_tol, used, step, within, "the adhesive traction");
     if (!info.status.empty()) break;
     // The safeguard (GuardedAnderson): near an instability (the jump-off) an unguarded
     // extrapolation throws the state over the barrier onto the other branch (out of contact
@@ -192,6 +204,8 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
     }
   }
   parallel_for(nl, [&](std::ptrdiff_t i) { p[i] -= a[i]; });
+  pk.iterations = used;
+  pk.converged = info.converged;
   return pk;
 }
 

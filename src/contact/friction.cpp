@@ -89,8 +89,10 @@ std::array<double, 4> ContactSolver::slip_tractions(const ContactFields& f, Real
   // Outside the contact set the new traction is zero; outside the Anderson support the
   // traction and its previous image are zero too (see solve), so nothing there is read.
   constexpr double slow2 = kNearStickSpeed * kNearStickSpeed;
+  // The law reads the repulsion (with adhesion the net pressure plus the adhesive traction: the
+  // compressive part; else the pressure itself); the coupling above, the net pressure.
   return grid_sums<4>(grid_, [&](std::size_t i, std::array<double, 4>& acc) {
-    const double p = f.pressure[i];
+    const double p = f.repulsion(i);
     if (p > 0) {
       const double vx = rx + r1_[i], vy = ry + r2_[i];
       const double v2 = vx * vx + vy * vy;
@@ -131,8 +133,9 @@ void ContactSolver::use_derivative(SlipDerivative deriv) {
   if (!fric_.regularized()) gamma_ = stick_step(deriv);
 }
 
-ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField& p, RealField& tx,
-                                                                RealField& ty, double tol, int max_it) {
+ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField& p, const RealField* adhesion,
+                                                                RealField& tx, RealField& ty, double tol,
+                                                                int max_it) {
   // Douglas-Rachford on 0 in -v(tau) + N_K(tau), v(tau) = b + A tau with b = xi e_s + b' (b'
   // the slip the pressure causes through the coupling) and A = (e_s.grad) C_tt skew:
   //   tau = P_K(z);  y = (I - gamma A)^-1 (2 tau - z + gamma b);  z <- z + y - tau.
@@ -146,13 +149,15 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
   const double rx = rigid[0], ry = rigid[1];  // plain names: lambdas may capture them
   const SlipDerivative deriv = deriv_;
   const double mu = fric_.coefficient;
+  // The pressure the law's bound reads: the repulsion p + a with adhesion, p itself otherwise.
+  const double* const adh = adhesion && adhesion->size() == n ? adhesion->data() : nullptr;
+  const auto law_p = [&](std::size_t i) { return adh ? p[i] + adh[i] : p[i]; };
   // A bound that falls with the speed (the velocity law's static peak): the step stays above its
   // steepest fall at the largest pressure, so that the resolvent is continuous at the disc's edge
   // (friction_law.hpp); raised with headroom (a pressure that creeps up need not restart z), and
   // a raised step starts z afresh.
   if (const double fall = fric_.law.steepest_fall(mu, 1.0); fall > 0) {
-    const double need = fall * grid_max(
-                                   grid_, [&](std::size_t i) { return p[i]; }, 0.0);
+    const double need = fall * grid_max(grid_, law_p, 0.0);
     if (kFallingStepMargin * need > gamma_) {
       gamma_ = kFallingStepHeadroom * need;
       have_z_ = false;
@@ -192,7 +197,8 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
   const FrictionLaw law = fric_.law;
   const bool speed_law = law.speed_dependent();
   const auto project = [&](std::size_t i, double zx, double zy, double& x, double& y) {
-    const double r = law.bound(mu, p[i], 0.0);
+    const double pi = law_p(i);
+    const double r = law.bound(mu, pi, 0.0);
     if (!(r > 0)) {
       x = y = 0.0;
       return;
@@ -203,7 +209,7 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
       y = zy;
     } else {
       const double zm = std::sqrt(m2);
-      const double f = (speed_law ? law.resolvent(mu, p[i], zm, gamma) : r) / zm;
+      const double f = (speed_law ? law.resolvent(mu, pi, zm, gamma) : r) / zm;
       x = f * zx;
       y = f * zy;
     }
@@ -321,9 +327,13 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
   return res;
 }
 
-void ContactSolver::friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w) {
+void ContactSolver::transform_tractions(const RealField& tx, const RealField& ty) {
   fft_.forward(tx.data(), s2_.data());
   fft_.forward(ty.data(), s3_.data());
+}
+
+void ContactSolver::friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w) {
+  transform_tractions(tx, ty);
   body_.displacement(s2_.data(), s3_.data(), nullptr, nullptr, nullptr, s1_.data(),
                      1.0 / static_cast<double>(grid_.size()));
   body_.apply_response(nullptr, nullptr, s1_.data());

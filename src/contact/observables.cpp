@@ -122,11 +122,11 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     const double eps = fric.regularization;
     const bool has_stick = f.stick.size() == g.local_size();
     const auto s = grid_sums<7>(g, [&](std::size_t i, std::array<double, 7>& acc) {
-      const double p = f.pressure[i], tx = f.tx[i], ty = f.ty[i];
+      const double tx = f.tx[i], ty = f.ty[i];
       acc[0] += tx * vx[i] + ty * vy[i];
       acc[1] += std::hypot(tx, ty);
       acc[2] += tx * ex + ty * ey;
-      acc[3] += (p > 0 && std::hypot(vx[i], vy[i]) < eps) ? 1.0 : 0.0;
+      acc[3] += (f.in_contact(i) && std::hypot(vx[i], vy[i]) < eps) ? 1.0 : 0.0;
       acc[4] += (has_stick && f.stick[i]) ? 1.0 : 0.0;
       acc[5] += tx;
       acc[6] += ty;
@@ -168,9 +168,9 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     o.mean_tangential_traction_y = s[6] / n;
     const double inf = std::numeric_limits<double>::infinity();
     o.max_slip_velocity = grid_max(
-        g, [&](std::size_t i) { return f.pressure[i] > 0 ? std::hypot(vx[i], vy[i]) : 0.0; }, 0.0);
+        g, [&](std::size_t i) { return f.in_contact(i) ? std::hypot(vx[i], vy[i]) : 0.0; }, 0.0);
     const double vmin = -grid_max(
-        g, [&](std::size_t i) { return f.pressure[i] > 0 ? -std::hypot(vx[i], vy[i]) : -inf; }, -inf);
+        g, [&](std::size_t i) { return f.in_contact(i) ? -std::hypot(vx[i], vy[i]) : -inf; }, -inf);
     o.min_slip_velocity = std::isfinite(vmin) ? vmin : 0.0;
   }
   // Geometry relative to the highest point of the indenter (the first in row-major order).

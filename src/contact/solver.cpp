@@ -217,7 +217,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
                         !fric_.slip_derivative && deriv_ == SlipDerivative::Spectral);
     // Stick: the splitting variable inside the friction disc (there z = tau, v = 0).
     const auto sticks = [&](std::size_t i) {
-      const double r = fric_.law.bound(mu, f.pressure[i], 0.0);  // the friction disc's radius
+      const double r = fric_.law.bound(mu, f.repulsion(i), 0.0);  // the friction disc's radius
       return r > 0 && zx_[i] * zx_[i] + zy_[i] * zy_[i] < r * r;
     };
     double stick_now = 0.0;                    // contact points that stick in the last stick-slip solve
@@ -376,6 +376,20 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       if (body_.viscoelastic()) {
         std::string why;
         pk = solve_normal_viscoelastic(load, &w, f.pressure, inner_tol, budget, info.viscoelastic_steps, why);
+      } else if (inter_.adhesive()) {
+        // The adhesive normal problem under the friction's normal displacement; its traction
+        // f.adhesion is kept from step to step (the warm start of the next).
+        SolveInfo step_info;
+        pk = solve_adhesive(load, f, inner_tol, step_info, &w, budget);
+        info.adhesion_steps += step_info.adhesion_steps;
+        info.elastic_energy = step_info.elastic_energy;
+        info.adhesive_energy = step_info.adhesive_energy;
+        info.energy = step_info.energy;
+        if (step_info.status.find("pull-off") != std::string::npos) {
+          info.status = step_info.status;
+          break;
+        }
+        if (!steps.stick_mode()) transform_tractions(f.tx, f.ty);  // the gap spread used s2_/s3_
       } else {
         pk = solve_normal(load, w, false, f.pressure, inner_tol, budget);
       }
@@ -396,7 +410,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
         const double ttol = std::max(
             0.1 * tol,
             std::min(1e-3, (accelerated ? kAcceleratedTangentialTolFactor : kTangentialTolFactor) * err));
-        const auto tr = solve_tangential(f.pressure, tx, ty, ttol, sp_.max_tangential);
+        const auto tr = solve_tangential(f.pressure, &f.adhesion, tx, ty, ttol, sp_.max_tangential);
         info.tangential_iterations += tr.iterations;
         tangential_ok = tr.converged && ttol <= 0.1 * tol;
         const auto c = grid_sums<4>(grid_, [&](std::size_t i, std::array<double, 4>& acc) {
@@ -523,6 +537,13 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
     }
     if (!info.converged && info.status.rfind("not converged: iteration limit", 0) != 0)
       info.status += "; " + friction_history_evidence(hist_change, hist_force);
+    if (!info.converged && fric_.law.kind == FrictionLawKind::Tresca && mu > kTrescaSteepCoefficient)
+      info.status +=
+          "; friction.law = \"tresca\" with a large friction.coefficient switches the shear strength on and "
+          "off "
+          "at the contact's edge, whose cells the coupling moves: lower friction.coefficient (e.g. 10), so "
+          "that "
+          "the shear rises continuously there (docs/solver.md, \"Adhesion with friction\")";
     if (!info.converged && have_slip && fric_.regularized()) {
       // Near stick the slip direction of the exact Coulomb law is ill-conditioned (the
       // usual cause of a friction fixed point that does not settle): say so. r1_/r2_ hold
@@ -533,7 +554,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       std::size_t nslow = 0;
       double vmin = std::numeric_limits<double>::infinity();
       for (std::size_t i = 0; i < n; ++i)
-        if (f.pressure[i] > 0) {
+        if (f.in_contact(i)) {
           const double v = std::hypot(ex + r1_[i], ey + r2_[i]);
           vmin = std::min(vmin, v);
           if (v < slow) ++nslow;
@@ -570,6 +591,15 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
   info.approach = pk.delta;
   for (auto* fld : {&f.ux, &f.uy, &f.uz, &f.gap}) fld->resize(n);
   update_displacements(f);
+  if (inter_.adhesive() && mu > 0.0) {
+    // The elastic energy with the tractions' share: 1/2 sum (tau.u_t - p u_z) dA (the adhesive
+    // steps counted the normal part alone).
+    const double e = 0.5 * grid_.cell_area() * grid_sum(grid_, [&](std::size_t i) {
+                       return f.tx[i] * f.ux[i] + f.ty[i] * f.uy[i] - f.pressure[i] * f.uz[i];
+                     });
+    info.energy += e - info.elastic_energy;
+    info.elastic_energy = e;
+  }
   check_final_state(info, f, pk.delta);
   if (body_.viscoelastic() && mu > 0.0 && body_.visco().velocity != 0.0)
     info.hysteresis_dissipation = hysteresis_dissipation(f, true);

@@ -164,6 +164,10 @@ class FrictionSteps {
 inline double relative_change(double diff, double size) {
   return size > 0 ? diff / size : (diff > 0 ? 1.0 : 0.0);
 }
+// Above this friction.coefficient the tresca law's cap acts as a switch at the contact's edge: a
+// failure says so (docs/solver.md, "Adhesion with friction").
+constexpr double kTrescaSteepCoefficient = 30.0;
+
 inline std::string outer_status(double change, double tol, bool inner_ok, double inner_tol, int used,
                                 int step, const SolverParams& sp, const char* what) {
   if (change <= tol && inner_ok && inner_tol <= tol) return "converged";

@@ -79,13 +79,6 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   if (inter_.adhesive()) {
     if (!(inter_.range > 0) || !std::isfinite(inter_.range) || !std::isfinite(inter_.work_of_adhesion))
       throw ParameterError("interaction.range", "must be positive and finite with adhesion");
-    if (fric_.coefficient > 0)
-      throw ParameterError(
-          "friction.coefficient",
-          "adhesion with friction is not implemented yet: set it to 0 with interaction.model = "
-          "\"adhesive\"");
-    if (inter_.plastic())
-      throw ParameterError("interaction.hardness", "adhesion with plastic saturation is not implemented");
   }
   if (body.viscoelastic()) {
     // Where the splitting has been derived and tested: frictionless, repulsive, elastic-plastic

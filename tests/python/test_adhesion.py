@@ -56,9 +56,27 @@ def test_bad_adhesion_is_refused(args, message):
         gfmd.Adhesive(*args)
 
 
-def test_adhesion_with_friction_is_refused_naming_the_key():
-    with pytest.raises(gfmd.InputError, match="interaction.model: adhesion with friction is not implemented"):
-        gfmd.ContactSolver(sphere(64), interaction=gfmd.Adhesive(W, RANGE), friction=0.3)
+def test_sliding_adhesive_sphere_with_a_uniform_shear_keeps_its_frictionless_contact():
+    # Menga, Carbone & Dini: a uniform shear tau0 over the contact of an incompressible half-space
+    # leaves the adhesive contact as it was (nothing couples it to the normal problem): the net force
+    # and the contact of the frictionless solve (to the tolerance), the shear summed over the contact.
+    # With Coulomb's law the traction is bounded by mu_c times the repulsion (the compressive part).
+    body = gfmd.ElasticBody(poisson=0.5)
+    still = gfmd.solve(sphere(64), body, approach=0.0, interaction=gfmd.Adhesive(W, RANGE))
+    slid = gfmd.solve(sphere(64), body, approach=0.0, interaction=gfmd.Adhesive(W, RANGE), friction=1e3,
+                      law="tresca", shear_strength=0.02)
+    assert slid.summary["converged"], slid.summary["status"]
+    assert slid.summary["normal_force"] == pytest.approx(still.summary["normal_force"], rel=1e-6)
+    assert slid.summary["relative_contact_area"] == still.summary["relative_contact_area"]
+    assert slid.summary["normal_force"] < 0
+    area = slid.summary["relative_contact_area"] * 1.5 ** 2
+    assert slid.summary["tangential_force"] == pytest.approx(0.02 * area, rel=0.1)
+    coulomb = gfmd.solve(sphere(64), gfmd.ElasticBody(poisson=0.3), approach=0.0,
+                         interaction=gfmd.Adhesive(W, RANGE), friction=0.3)
+    s = coulomb.summary
+    assert s["converged"], s["status"]
+    sum_abs_tau = s["friction_force_downhill"] - s["downhill_force"]
+    assert sum_abs_tau == pytest.approx(0.3 * s["repulsive_force"], rel=1e-9)
     with pytest.raises(gfmd.InputError, match="interaction: "):
         gfmd.ContactSolver(sphere(64), interaction=3)
 

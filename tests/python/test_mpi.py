@@ -169,14 +169,19 @@ ADHESIVE = HERTZ.replace("force = 0.01", "approach = 0.002").replace(
     "[solver]", "[interaction]\nmodel = \"adhesive\"\nwork_of_adhesion = 2e-3\nrange = 0.02\n[solver]")
 
 
-@pytest.mark.parametrize("ranks", [2, 3])
-def test_adhesive_hertz_any_rank_count(tmp_path, ranks):
+@pytest.mark.parametrize("ranks,friction", [(2, ""), (3, ""), (3, "[friction]\ncoefficient = 0.3\n")])
+def test_adhesive_hertz_any_rank_count(tmp_path, ranks, friction):
     # The adhesive steps (the cell law's spectral gradient, the traction's Anderson mixing summed by
-    # grid row) give the serial bits on slabs, the adhesive figures and fields included.
-    a, b = serial_and_distributed(tmp_path, ADHESIVE, ranks)
+    # grid row) give the serial bits on slabs, the adhesive figures and fields included; sliding too
+    # (the friction loop around the adhesive solve, its law reading the repulsion).
+    a, b = serial_and_distributed(tmp_path, ADHESIVE.replace("[solver]", friction + "[solver]"), ranks)
     assert a["adhesive_force"] > 0 and a["normal_force"] < a["repulsive_force"]
-    for k in ("adhesive_force", "repulsive_force", "attraction_area_fraction", "cohesive_zone_fraction",
-              "adhesion_steps", "energy"):
+    keys = ["adhesive_force", "repulsive_force", "attraction_area_fraction", "cohesive_zone_fraction",
+            "adhesion_steps", "energy"]
+    if friction:
+        assert a["converged"] and a["tangential_force"] > 0
+        keys += ["tangential_force", "friction_force", "outer_iterations"]
+    for k in keys:
         assert b[k] == a[k], k
     import netCDF4
     with netCDF4.Dataset(tmp_path / "serial" / "fields.nc") as x, netCDF4.Dataset(tmp_path / "mpi" / "fields.nc") as y:

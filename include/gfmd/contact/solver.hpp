@@ -336,7 +336,11 @@ class ContactSolver {
   // repulsive problem (w = C_zz a) is convex; a is then rebuilt from the new gap by the cell
   // integral of the cohesive law (adhesive_fraction), Anderson-mixed, until it settles.
   // f.pressure holds the net pressure (repulsion minus adhesion), f.adhesion the traction.
-  PKResult solve_adhesive(const LoadParams& load, ContactFields& f, double tol, SolveInfo& info);
+  // In the friction loop: w_extra, the friction's normal displacement C_z.tau, held fixed, and
+  // a budget of max_it CG iterations (-1: solver.max_iterations). The result's `converged` is
+  // the whole adhesive solve's (info.converged, info.status).
+  PKResult solve_adhesive(const LoadParams& load, ContactFields& f, double tol, SolveInfo& info,
+                          const RealField* w_extra = nullptr, int max_it = -1);
   // A viscoelastic body (viscoelastic.cpp): the response C_zz E0/E(omega) split into a
   // symmetric part (czz_n_, each mode's elastic compliance at its storage modulus) that the
   // Polonsky-Keer solve takes and the rest, whose displacement from the last pressure is held
@@ -377,8 +381,15 @@ class ContactSolver {
   [[nodiscard]] double stick_step(SlipDerivative deriv) const;
   // Makes `deriv` the solve's slip derivative: its symbol table and its splitting step.
   void use_derivative(SlipDerivative deriv);
-  TangentialResult solve_tangential(const RealField& p, RealField& tx, RealField& ty, double tol, int max_it);
+  // p is the net pressure (its slip through the coupling); the law's bound reads the repulsion,
+  // p + adhesion where an adhesive traction is given (the compressive part; else p itself).
+  TangentialResult solve_tangential(const RealField& p, const RealField* adhesion, RealField& tx,
+                                    RealField& ty, double tol, int max_it);
+  // w = C_z.tau, the normal displacement of the tangential tractions; leaves their spectra in
+  // s2_/s3_ (slip_tractions reads them; transform_tractions puts them back after a pass that
+  // used s2_/s3_, the adhesive solve's gap spread).
   void friction_normal_displacement(const RealField& tx, const RealField& ty, RealField& w);
+  void transform_tractions(const RealField& tx, const RealField& ty);
   double residual(const ContactFields& f, double delta);
   // The gap of the final state (from u_z), its independent residual and the verdict on it.
   void check_final_state(SolveInfo& info, ContactFields& f, double delta);
