@@ -5,10 +5,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include "gfmd/case/config.hpp"
 #include "gfmd/case/run.hpp"
@@ -127,4 +129,71 @@ TEST(Resume, ThinLayerWithStickGoesOnWhereItStopped) {
   EXPECT_GT(x.fresh.info.tangential_iterations, 0);
   EXPECT_GT(x.fresh.info.stick_points, 0u);
   expect_same_solve(x);
+}
+
+namespace {
+// examples/adhesive_sliding_sphere.toml on 64^2: a sphere sliding with adhesion under a uniform
+// shear (tresca), the frictionless adhesive reference first.
+Config adhesive_sliding(const std::vector<std::string>& sets = {}) {
+  std::vector<std::string> all = {"grid.nx=64"};
+  all.insert(all.end(), sets.begin(), sets.end());
+  const std::string path = std::string(GFMD_SOURCE_DIR) + "/examples/adhesive_sliding_sphere.toml";
+  std::ifstream in(path);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parse_config(text, path, all);
+}
+}  // namespace
+
+// Adhesion with friction: the restart point holds the adhesive traction at the start of the
+// friction step (each step's adhesive solve starts from it with a fresh mixer), and the
+// reference's traction goes with its pressure: the uninterrupted solve's bits.
+TEST(Resume, AdhesiveSlidingGoesOnWhereItStopped) {
+  const Config cfg = adhesive_sliding();
+  const Resumed x = stop_and_resume(cfg, 12, "adhesive");
+  ASSERT_TRUE(x.before.state && x.before.state->adhesive);
+  EXPECT_GE(x.fresh.info.outer_iterations, 18);
+  expect_same_solve(x);
+  EXPECT_TRUE(x.resumed.fields.adhesion == x.fresh.fields.adhesion);
+  EXPECT_EQ(x.resumed.observables.adhesive_force, x.fresh.observables.adhesive_force);
+}
+
+// A frictionless adhesive solve stopped inside its steps: the checkpoint holds the net pressure
+// and the adhesive traction (not the repulsive pressure the steps work on), and the resumed
+// solve goes on along its branch from there. Its traction's mixing history is not kept, so it
+// ends within the tolerance of the uninterrupted solve, not on its bits. Without the traction a
+// warm start from a tensile state has nothing to hold it.
+TEST(Resume, FrictionlessAdhesiveSolveResumesOnItsBranch) {
+  const Config cfg = adhesive_sliding({"friction.coefficient=0", "load.approach=-0.004"});
+  const CaseResult fresh = run_case(cfg);
+  ASSERT_TRUE(fresh.info.converged) << fresh.info.status;
+  ASSERT_LT(fresh.observables.normal_force, 0.0);
+  const fs::path dir = fs::temp_directory_path() / ("gfmd_resume_adh" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string ck = (dir / "checkpoint.bin").string();
+  RunOptions o;
+  int it = 0;
+  o.progress = [&it](const Progress& p) { it = std::max(it, p.iteration); };
+  o.stop_request = [&it, &fresh] { return it >= fresh.info.iterations / 2; };
+  o.checkpoint_path = ck;
+  EXPECT_THROW(run_case(cfg, o), Interrupted);
+  ContactFields warm;
+  CheckpointProgress before;
+  ASSERT_TRUE(read_checkpoint(ck, cfg, warm, &before));
+  ASSERT_TRUE(before.state && before.state->adhesive);
+  EXPECT_EQ(before.state->adhesion.size(), cfg.grid.size());
+  double pull = 0;
+  for (const double a : before.state->adhesion) pull += a;
+  EXPECT_GT(pull, 0.0) << "the traction of the interrupted steps";
+  // Net, not repulsive: tensile where the cohesive zone pulls.
+  EXPECT_LT(*std::min_element(warm.pressure.begin(), warm.pressure.end()), 0.0);
+  RunOptions r;
+  r.warm_start = &warm;
+  r.resumed = before;
+  const CaseResult resumed = run_case(cfg, r);
+  fs::remove_all(dir);
+  ASSERT_TRUE(resumed.info.converged) << resumed.info.status;
+  EXPECT_NEAR(resumed.observables.normal_force, fresh.observables.normal_force,
+              1e-6 * std::abs(fresh.observables.normal_force));
+  EXPECT_EQ(resumed.observables.relative_contact_area, fresh.observables.relative_contact_area);
+  EXPECT_LT(resumed.info.adhesion_steps, fresh.info.adhesion_steps) << "it went on, not from the start";
 }

@@ -371,25 +371,25 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     const SolveResume* whole = mpi::root() ? resume : nullptr;
     const auto numbers_of = [](const SolveResume& st) {
       return encode_resume_numbers(st.reference ? &st.reference->info : nullptr,
-                                   st.friction ? &*st.friction : nullptr);
+                                   st.friction ? &*st.friction : nullptr, st.adhesive);
     };
     const std::string numbers = mpi::from_root(whole ? numbers_of(*whole) : std::string());
     resume = nullptr;
     if (!numbers.empty()) {
       if (!decode_resume_numbers(numbers, resume_rows))
         throw std::runtime_error("run_case: a damaged resume state");
-      const auto mine = resume_fields(resume_rows.reference ? &resume_rows.reference->pressure : nullptr,
-                                      resume_rows.friction ? &*resume_rows.friction : nullptr);
+      const auto mine = resume_fields(resume_rows);
       std::vector<const RealField*> theirs;
-      if (whole)
-        theirs = resume_fields(whole->reference ? &whole->reference->pressure : nullptr,
-                               whole->friction ? &*whole->friction : nullptr);
+      if (whole) theirs = resume_fields(*whole);
       for (std::size_t k = 0; k < mine.size(); ++k)
         *mine[k] = mpi::scatter(slab, k < theirs.size() ? *theirs[k] : RealField{});
       resume = &resume_rows;
     }
   }
   const FrictionRestart* restart = resume && resume->friction ? &*resume->friction : nullptr;
+  // With adhesion the adhesive traction goes with the warm start's net pressure.
+  if (resume && resume->adhesive && resume->adhesion.size() == slab.local_size())
+    r.fields.adhesion = resume->adhesion;
   // Work counted into checkpoints: earlier sessions, the finished reference solve and the
   // solver running now (less what its restart point had done: counted before).
   const auto t_start = std::chrono::steady_clock::now();
@@ -407,11 +407,11 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
   // Checkpoints hold the whole pressure and tractions, so that a run resumes on any number
   // of processes: a distributed run gathers them on rank 0 a field at a time (below). Every
   // process takes part when rank 0 has a checkpoint path.
-  // An adhesive solve writes none: a checkpoint holds the pressure and tractions, not the
-  // adhesive traction, and a solve resumed without it could settle on another branch.
+  // With adhesion the adhesive traction goes too (the state's fields), so that a resumed solve
+  // goes on along its branch.
   const bool checkpoints =
-      !cfg.interaction.adhesive() && (distributed ? mpi::from_root(opts.checkpoint_path.empty() ? 0 : 1) == 1
-                                                  : !opts.checkpoint_path.empty());
+      distributed ? mpi::from_root(opts.checkpoint_path.empty() ? 0 : 1) == 1 : !opts.checkpoint_path.empty();
+  const bool adhesive = cfg.interaction.adhesive();
   const auto save = [&](const ContactFields& f) {
     if (!checkpoints) return;
     // The friction solve's restart point where it has one: its fields (the pressure at the
@@ -419,8 +419,28 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     const ContactSolver::RestartPoint* rp = running ? running->restart_point() : nullptr;
     const ContactFields& now = rp ? rp->fields : f;
     const FrictionRestart* fr = rp ? &rp->state : nullptr;
-    std::vector<const RealField*> fields = {&now.pressure, &now.tx, &now.ty};
-    for (const RealField* fld : resume_fields(ref_kept ? &ref_kept->pressure : nullptr, fr))
+    // An adhesive solve stopped inside its steps holds the repulsive pressure p + a: the file
+    // takes the net one, p - a (a missing traction: zeros).
+    RealField net, none;
+    const RealField* adhesion = nullptr;
+    if (adhesive) {
+      if (now.adhesion.size() == now.pressure.size()) {
+        adhesion = &now.adhesion;
+      } else {
+        none.assign(now.pressure.size(), 0.0);
+        adhesion = &none;
+      }
+    }
+    const RealField* pressure = &now.pressure;
+    if (adhesive && !rp && running && running->pressure_is_repulsive()) {
+      net.resize(now.pressure.size());
+      for (std::size_t i = 0; i < net.size(); ++i) net[i] = now.pressure[i] - (*adhesion)[i];
+      pressure = &net;
+    }
+    std::vector<const RealField*> fields = {pressure, &now.tx, &now.ty};
+    for (const RealField* fld :
+         resume_fields(ref_kept ? &ref_kept->pressure : nullptr,
+                       ref_kept && adhesive ? &ref_kept->adhesion : nullptr, adhesion, fr))
       fields.push_back(fld);
     // Rank 0 writes the file a field at a time as it gathers them (8 bytes per point of the
     // cell at once). A checkpoint it could not write stops every process (none may wait for
@@ -434,7 +454,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
       }
     for (std::size_t k = 0; k < fields.size(); ++k) {
       if (k == 3 && file && !failure) try {
-          file->add_state(ref_kept ? &ref_kept->info : nullptr, fr);
+          file->add_state(ref_kept ? &ref_kept->info : nullptr, fr, adhesive);
         } catch (...) {
           failure = std::current_exception();
         }
@@ -473,6 +493,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     bool ref_taken = false;
     if (resume && resume->reference) {
       rf.pressure = resume->reference->pressure;
+      if (resume->adhesive) rf.adhesion = resume->reference->adhesion;
       ref_info = resume->reference->info;
       ref_taken = ref.finish(rf, ref_info);
       if (!ref_taken) rf.pressure = resume->reference->pressure;
@@ -494,7 +515,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
       if (distributed) r.topography = surface_on_root(cfg, slab, slab_topo, true);
       return r;
     }
-    if (checkpoints) ref_kept = SolveResume::Reference{rf.pressure, ref_info};
+    if (checkpoints) ref_kept = SolveResume::Reference{rf.pressure, ref_info, rf.adhesion};
     CaseResult::Reference& rr = r.reference.emplace();
     rr.info = ref_info;
     // Its time was counted by the session that solved it.
@@ -512,6 +533,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     // checkpoint of it (one of the reference solve itself holds no reference).
     if (!warm || (resume && !resume->reference && !restart)) {
       r.fields.pressure = std::move(rf.pressure);
+      r.fields.adhesion = std::move(rf.adhesion);  // with adhesion: its traction goes with it
       r.fields.tx.clear();
       r.fields.ty.clear();
     }

@@ -84,8 +84,9 @@ bool derivative_from(std::int32_t v, SlipDerivative& d) {
 
 // The kinds of the state's fields in order (resume_fields): F whole, S the support (whole;
 // says which points the C fields are stored at), C on the support only.
-std::string field_kinds(bool reference, const FrictionRestart* fr) {
+std::string field_kinds(bool reference, bool adhesive, const FrictionRestart* fr) {
   std::string k = reference ? "F" : "";
+  if (adhesive) k += reference ? "FF" : "F";
   if (!fr) return k;
   k += 'S';
   if (fr->have_z) k += "FF";
@@ -94,9 +95,12 @@ std::string field_kinds(bool reference, const FrictionRestart* fr) {
 }
 
 template <class Field, class Restart>
-std::vector<Field*> fields_of(Field* reference_pressure, Restart* fr) {
+std::vector<Field*> fields_of(Field* reference_pressure, Field* reference_adhesion, Field* adhesion,
+                              Restart* fr) {
   std::vector<Field*> out;
   if (reference_pressure) out.push_back(reference_pressure);
+  if (reference_pressure && reference_adhesion) out.push_back(reference_adhesion);
+  if (adhesion) out.push_back(adhesion);
   if (!fr) return out;
   out.push_back(&fr->support);
   if (fr->have_z) {
@@ -115,16 +119,29 @@ std::vector<Field*> fields_of(Field* reference_pressure, Restart* fr) {
 }  // namespace
 
 std::vector<const RealField*> resume_fields(const RealField* reference_pressure,
+                                            const RealField* reference_adhesion, const RealField* adhesion,
                                             const FrictionRestart* friction) {
-  return fields_of<const RealField>(reference_pressure, friction);
+  return fields_of<const RealField>(reference_pressure, reference_adhesion, adhesion, friction);
 }
-std::vector<RealField*> resume_fields(RealField* reference_pressure, FrictionRestart* friction) {
-  return fields_of<RealField>(reference_pressure, friction);
+std::vector<RealField*> resume_fields(RealField* reference_pressure, RealField* reference_adhesion,
+                                      RealField* adhesion, FrictionRestart* friction) {
+  return fields_of<RealField>(reference_pressure, reference_adhesion, adhesion, friction);
 }
+namespace {
+template <class State>
+auto fields_of_state(State& st) {
+  auto* ref = st.reference ? &*st.reference : nullptr;
+  return resume_fields(ref ? &ref->pressure : nullptr, ref && st.adhesive ? &ref->adhesion : nullptr,
+                       st.adhesive ? &st.adhesion : nullptr, st.friction ? &*st.friction : nullptr);
+}
+}  // namespace
+std::vector<RealField*> resume_fields(SolveResume& st) { return fields_of_state(st); }
+std::vector<const RealField*> resume_fields(const SolveResume& st) { return fields_of_state(st); }
 
-std::string encode_resume_numbers(const SolveInfo* ref, const FrictionRestart* fr) {
+std::string encode_resume_numbers(const SolveInfo* ref, const FrictionRestart* fr, bool adhesive) {
   Bytes b;
-  b.put(static_cast<std::uint32_t>((ref ? 1u : 0u) | (fr ? 2u : 0u)));
+  // Flags: 1 a reference, 2 a friction restart, 4 adhesive tractions among the fields.
+  b.put(static_cast<std::uint32_t>((ref ? 1u : 0u) | (fr ? 2u : 0u) | (adhesive ? 4u : 0u)));
   if (ref) {
     b.put(static_cast<std::int32_t>(ref->iterations));
     b.put(static_cast<std::int32_t>(ref->outer_iterations));
@@ -164,8 +181,9 @@ std::string encode_resume_numbers(const SolveInfo* ref, const FrictionRestart* f
 bool decode_resume_numbers(const std::string& bytes, SolveResume& state) {
   Unbytes u{bytes};
   std::uint32_t flags = 0;
-  if (!u.get(flags) || flags > 3) return false;
+  if (!u.get(flags) || flags > 7) return false;
   state = SolveResume{};
+  state.adhesive = (flags & 4u) != 0;
   if (flags & 1u) {
     SolveInfo& i = state.reference.emplace().info;
     std::int32_t it = 0, outer = 0, tang = 0, deriv = 0;
@@ -265,15 +283,16 @@ void CheckpointStream::add(const RealField& field) {
   file_.append_bytes(packed.data(), packed.size() * sizeof(double));
 }
 
-void CheckpointStream::add_state(const SolveInfo* reference_info, const FrictionRestart* friction) {
+void CheckpointStream::add_state(const SolveInfo* reference_info, const FrictionRestart* friction,
+                                 bool adhesive) {
   if (added_ != 3 || state_)
     throw std::logic_error("CheckpointStream: the state goes after the three fields");
   state_ = true;
-  const std::string numbers = encode_resume_numbers(reference_info, friction);
+  const std::string numbers = encode_resume_numbers(reference_info, friction, adhesive);
   const std::uint64_t len = numbers.size();
   file_.append_bytes(&len, 8);
   file_.append_bytes(numbers.data(), numbers.size());
-  kinds_ = field_kinds(reference_info != nullptr, friction);
+  kinds_ = field_kinds(reference_info != nullptr, adhesive, friction);
 }
 
 void CheckpointStream::commit() {
@@ -290,10 +309,9 @@ void write_checkpoint(const std::string& path, const Config& cfg, const ContactF
   for (const RealField* fld : {&f.pressure, &f.tx, &f.ty}) s.add(*fld);
   if (progress.state) {
     const SolveResume& st = *progress.state;
-    const FrictionRestart* fr = st.friction ? &*st.friction : nullptr;
-    s.add_state(st.reference ? &st.reference->info : nullptr, fr);
-    for (const RealField* fld : resume_fields(st.reference ? &st.reference->pressure : nullptr, fr))
-      s.add(*fld);
+    s.add_state(st.reference ? &st.reference->info : nullptr, st.friction ? &*st.friction : nullptr,
+                st.adhesive);
+    for (const RealField* fld : resume_fields(st)) s.add(*fld);
   }
   s.commit();
 }
@@ -347,9 +365,8 @@ bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& 
     if (m * m != g || !history_depth_fits(cfg.solver.anderson, static_cast<int>(m))) return false;
   }
   FrictionRestart* fr = state->friction ? &*state->friction : nullptr;
-  const std::vector<RealField*> fields =
-      resume_fields(state->reference ? &state->reference->pressure : nullptr, fr);
-  const std::string kinds = field_kinds(state->reference.has_value(), fr);
+  const std::vector<RealField*> fields = resume_fields(*state);
+  const std::string kinds = field_kinds(state->reference.has_value(), state->adhesive, fr);
   if (kinds.size() != fields.size()) return false;
   std::vector<std::size_t> support;
   for (std::size_t k = 0; k < fields.size(); ++k) {
@@ -384,7 +401,7 @@ bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& 
   f.tx = std::move(read.tx);
   f.ty = std::move(read.ty);
   if (progress) {
-    if (state->reference || state->friction) done.state = std::move(state);
+    if (state->reference || state->friction || state->adhesive) done.state = std::move(state);
     *progress = std::move(done);
   }
   return true;

@@ -106,8 +106,6 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
   RealField& a = f.adhesion;
   RealField& p = f.pressure;  // the repulsive pressure during the steps, the net one at the end
   if (a.size() != n) a.assign(n, 0.0);
-  // A warm start holds the net pressure: its repulsive part is p + a.
-  parallel_for(nl, [&](std::ptrdiff_t i) { p[i] = std::max(0.0, p[i] + a[i]); });
   // A tensile (or zero) load under load control needs an adhesive state to start from: a cold
   // start has no pull to hold it. The state at first touch (approach 0) is made first.
   if (load.mode != LoadMode::Approach && !(load.value > 0) &&
@@ -115,6 +113,10 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
     const PKResult pre = solve_adhesive(LoadParams{LoadMode::Approach, 0.0}, f, tol, info, w_extra, max_it);
     if (!info.converged) return pre;
   }
+  // A warm start holds the net pressure: its repulsive part is p + a (held in the fields until
+  // the end; pressure_is_repulsive says so to a checkpoint).
+  parallel_for(nl, [&](std::ptrdiff_t i) { p[i] = std::max(0.0, p[i] + a[i]); });
+  adh_.repulsive = true;
   SolverParams within = sp_;  // the budget: all of solver.max_iterations, or the caller's
   if (max_it >= 0) within.max_iterations = max_it;
   for (RealField* fld : {&adh_.w, &adh_.d, &adh_.gap, &adh_.spread})
@@ -204,6 +206,7 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
     }
   }
   parallel_for(nl, [&](std::ptrdiff_t i) { p[i] -= a[i]; });
+  adh_.repulsive = false;
   pk.iterations = used;
   pk.converged = info.converged;
   return pk;

@@ -70,6 +70,7 @@ std::string restart_mismatch(const FrictionRestart& r, std::size_t n, int depth,
 
 SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const FrictionRestart* resume) {
   restart_.reset();
+  adh_.repulsive = false;
   // The device solve resumes from the fields alone (a warm start).
   if (device_) return solve_on_device(load, f);
   const auto t0 = Clock::now();
@@ -266,7 +267,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       PKResult pk;
       std::size_t hist;
     } top{};
-    RealField p_top, zx_top, zy_top;
+    RealField p_top, a_top, zx_top, zy_top;
     const bool keep_top = static_cast<bool>(stop_) || static_cast<bool>(checkpoint_);
     restart_maker_ = [&] {
       auto rp = std::make_unique<RestartPoint>();
@@ -292,6 +293,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
                               hist_change.begin() + static_cast<std::ptrdiff_t>(top.hist));
       s.history_force.assign(hist_force.begin(), hist_force.begin() + static_cast<std::ptrdiff_t>(top.hist));
       rp->fields.pressure = p_top;
+      rp->fields.adhesion = a_top;
       rp->fields.tx = f.tx;
       rp->fields.ty = f.ty;
       if (top.have_z) {
@@ -356,6 +358,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
                 hist_change.size()};
       if (keep_top) {
         p_top = f.pressure;
+        a_top = f.adhesion;  // with adhesion: the traction that goes with the net pressure
         if (have_z_) {
           zx_top = zx_;
           zy_top = zy_;
@@ -541,7 +544,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       info.status +=
           "; friction.law = \"tresca\" with a large friction.coefficient switches the shear strength on and "
           "off "
-          "at the contact's edge, whose cells the coupling moves: lower friction.coefficient (e.g. 10), so "
+          "at the contact's edge, whose cells the coupling moves: lower friction.coefficient (e.g. 5), so "
           "that "
           "the shear rises continuously there (docs/solver.md, \"Adhesion with friction\")";
     if (!info.converged && have_slip && fric_.regularized()) {

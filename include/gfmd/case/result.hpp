@@ -25,9 +25,14 @@ struct SolveResume {
   struct Reference {
     RealField pressure;  // tx = ty = 0
     SolveInfo info;      // its counts, approach and times (the residual is checked again)
+    RealField adhesion;  // with adhesion: its adhesive traction
   };
   std::optional<Reference> reference;
   std::optional<FrictionRestart> friction;
+  // Adhesion (interaction.model = "adhesive"): the adhesive traction that goes with the fields'
+  // net pressure (the warm start of the adhesive steps), and the reference's.
+  bool adhesive = false;
+  RealField adhesion;
 };
 
 // Work done before a checkpoint: a resumed run reports cumulative counts.

@@ -33,8 +33,9 @@ class CheckpointStream {
   CheckpointStream(const std::string& path, const Config& cfg, const CheckpointProgress& progress);
   void add(const RealField& field);
   // reference_info: the converged reference's (its pressure is the first state field);
-  // friction: the restart point's numbers (its fields follow). Either may be null.
-  void add_state(const SolveInfo* reference_info, const FrictionRestart* friction);
+  // friction: the restart point's numbers (its fields follow). Either may be null. adhesive:
+  // adhesive tractions follow (resume_fields).
+  void add_state(const SolveInfo* reference_info, const FrictionRestart* friction, bool adhesive = false);
   void commit();
 
  private:
@@ -46,15 +47,23 @@ class CheckpointStream {
   std::vector<unsigned char> on_support_;  // the support's points (from its field)
   std::size_t support_points_ = 0;
 };
-// A checkpoint state's per-point fields in file order: the reference's pressure (if any),
-// then the friction restart's support, splitting variable (have_z), the mixer's last iterate
-// and residual and each slot's df and dx (with a mixer). Fields as they are (not resized).
+// A checkpoint state's per-point fields in file order: the reference's pressure (if any) and,
+// with adhesion, its adhesive traction; with adhesion the fields' adhesive traction; then the
+// friction restart's support, splitting variable (have_z), the mixer's last iterate and
+// residual and each slot's df and dx (with a mixer). Fields as they are (not resized). The
+// adhesive tractions are listed where given (non-null).
 std::vector<const RealField*> resume_fields(const RealField* reference_pressure,
+                                            const RealField* reference_adhesion, const RealField* adhesion,
                                             const FrictionRestart* friction);
-std::vector<RealField*> resume_fields(RealField* reference_pressure, FrictionRestart* friction);
+std::vector<RealField*> resume_fields(RealField* reference_pressure, RealField* reference_adhesion,
+                                      RealField* adhesion, FrictionRestart* friction);
+// Those of a state, as read (the adhesive tractions where state.adhesive).
+std::vector<RealField*> resume_fields(SolveResume& state);
+std::vector<const RealField*> resume_fields(const SolveResume& state);
 // The state's numbers (the same on every process) as bytes and back (a distributed run
 // hands rank 0's to the others); decode returns false on damaged bytes.
-std::string encode_resume_numbers(const SolveInfo* reference_info, const FrictionRestart* friction);
+std::string encode_resume_numbers(const SolveInfo* reference_info, const FrictionRestart* friction,
+                                  bool adhesive = false);
 bool decode_resume_numbers(const std::string& bytes, SolveResume& state);
 
 // The summary.json in dir if it holds a converged solve of exactly this input.

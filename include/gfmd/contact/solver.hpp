@@ -315,6 +315,9 @@ class ContactSolver {
   [[nodiscard]] double sliding_angle() const { return fric_.direction_deg; }
   // True when the solves run on a CUDA device.
   [[nodiscard]] bool on_device() const { return device_ != nullptr; }
+  // Adhesion: whether the fields' pressure is now the repulsive one, p + a (during the adhesive
+  // steps, and after an interruption in them), not the net pressure.
+  [[nodiscard]] bool pressure_is_repulsive() const { return adh_.repulsive; }
 
  private:
   struct PKResult {
@@ -418,6 +421,9 @@ class ContactSolver {
   // each cell in the last step (the residual reads it), work arrays, the traction's mixer and
   // its row grouping, the spectral gradient's factors i q_x, i q_y per half-spectrum mode.
   struct AdhesionWork {
+    // True while the adhesive steps hold the repulsive pressure p + a in the fields (a
+    // checkpoint or an interruption then stores p - a, the net pressure a warm start expects).
+    bool repulsive = false;
     RealField spread, w, d, gap;
     std::unique_ptr<GuardedAnderson> mixer;
     std::vector<double> qx, qy;
