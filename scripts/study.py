@@ -23,7 +23,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from study_file import BadInput, load_study, seed_dir, series_dir  # noqa: E402
+from study_file import PULL_OFF_COLUMNS, BadInput, load_study, seed_dir, series_dir  # noqa: E402
 
 
 # The plotting modules (matplotlib, numpy) are loaded when a figure is drawn: `--runs-only`
@@ -249,12 +249,6 @@ def run_sweep(case, d, study, args, what, label):
             fail(f"study: series '{label}' failed with no finished point: {why}", NOT_CONVERGED)
         log(f"study: series '{label}' stopped early: {why}")
     return read_table(table), why
-
-
-# The columns a pull_off study's rows hold (besides its x), from each path's curve.json and the
-# summary of its most tensile point.
-PULL_OFF_COLUMNS = ("pull_off_force", "pull_off_approach", "jump_off_approach", "pull_off_contact_radius",
-                    "pull_off_extent_longitudinal", "pull_off_extent_transverse", "pull_off_tangential_force")
 
 
 def run_pull_off_series(study, case, d, args, what):

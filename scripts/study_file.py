@@ -1,6 +1,7 @@
 """The study file (studies/*.toml), checked before anything runs: load_study returns it as a
 dict or raises BadInput naming the key that is wrong (study.py: exit status 2, one line
 `gfmd study: FILE: reason`). Also where a study writes its series (series_dir)."""
+import math
 import os
 import tomllib
 
@@ -14,6 +15,10 @@ CASE_SECTIONS = ("grid", "elastic", "indenter", "load", "friction", "interaction
                  "sweep", "stress", "flow")
 KINDS = ("sweep", "runs", "percolation", "green", "pull_off")
 FIGURES = ("maps", "cross_section", "profiles")
+# The columns a pull_off study's rows hold besides its x (scripts/study.py fills them from each
+# unloading path's curve.json and the summary of its most tensile point).
+PULL_OFF_COLUMNS = ("pull_off_force", "pull_off_approach", "jump_off_approach", "pull_off_contact_radius",
+                    "pull_off_extent_longitudinal", "pull_off_extent_transverse", "pull_off_tangential_force")
 
 
 def _type_name(v):
@@ -125,10 +130,7 @@ def load_study(path, case_root):
     if kind == "sweep":
         _string(study, "x", "", required=True)
         _string(study, "y", "", required=True)
-        for key in ("xlabel", "ylabel", "xscale", "yscale"):
-            _string(study, key, "")
-        for key in ("x_scale", "y_scale"):
-            _number(study, key, "")
+        _axes(study)
         cols = study.get("table_columns", [])
         if not isinstance(cols, list) or not all(isinstance(c, str) for c in cols):
             raise BadInput("table_columns: must be a list of strings")
@@ -139,13 +141,7 @@ def load_study(path, case_root):
             _string(pub, "divide_by", "published.", required=True)
             for key in ("xlabel", "ylabel", "title", "caption"):
                 _string(pub, key, "published.")
-        if "second" in study:
-            sec = study["second"]
-            if not isinstance(sec, dict):
-                raise BadInput(f"second: must be a table ([second]), got {_type_name(sec)}")
-            _string(sec, "y", "second.", required=True)
-            for key in ("ylabel", "title"):
-                _string(sec, key, "second.")
+        _second(study)
     elif kind == "pull_off":
         # One unloading path (gfmd curve) per value of x; its pull-off and the contact there.
         _string(study, "x", "", required=True)
@@ -155,24 +151,24 @@ def load_study(path, case_root):
         _string(study, "approaches", "", required=True)
         parts = study["approaches"].split(":")
         try:
-            ok = len(parts) == 3 and int(parts[2]) >= 2 and all(float(v) == float(v) for v in parts[:2])
+            ok = (len(parts) == 3 and int(parts[2]) >= 2 and all(math.isfinite(float(v)) for v in parts[:2])
+                  and float(parts[0]) > float(parts[1]))
         except ValueError:
             ok = False
         if not ok:
-            raise BadInput(f"approaches: must be FROM:TO:N (N >= 2 points), got {study['approaches']!r}")
+            raise BadInput(f"approaches: must be FROM:TO:N, an unloading path (FROM > TO, finite; N >= 2 "
+                           f"points), got {study['approaches']!r}")
         study.setdefault("y", "pull_off_force")
         _string(study, "y", "")
-        for key in ("xlabel", "ylabel", "xscale", "yscale"):
-            _string(study, key, "")
-        for key in ("x_scale", "y_scale"):
-            _number(study, key, "")
-        if "second" in study:
-            sec = study["second"]
-            if not isinstance(sec, dict):
-                raise BadInput(f"second: must be a table ([second]), got {_type_name(sec)}")
-            _string(sec, "y", "second.", required=True)
-            for key in ("ylabel", "title"):
-                _string(sec, key, "second.")
+        _axes(study)
+        _second(study)
+        known = (study["x"],) + PULL_OFF_COLUMNS
+        for key, name in (("y", study["y"]), ("second.y", study.get("second", {}).get("y"))):
+            if name is not None and name not in known:
+                raise BadInput(f"{key}: {name!r} is not a column of a pull_off study (one of {', '.join(known)})")
+        for key in ("published", "table_columns", "reference"):
+            if key in study:
+                raise BadInput(f"{key}: belongs to a sweep study, not to kind = \"pull_off\"")
     elif kind == "runs":
         _string(study, "figure", "")
         figure = study.get("figure", "maps")
@@ -230,6 +226,25 @@ def load_study(path, case_root):
         if not os.path.isfile(case):
             raise BadInput(f"{where}case: {s['case']}: no such file (case paths are relative to {case_root})")
     return study
+
+
+def _axes(study):
+    """The axis keys a sweep or pull_off study may give."""
+    for key in ("xlabel", "ylabel", "xscale", "yscale"):
+        _string(study, key, "")
+    for key in ("x_scale", "y_scale"):
+        _number(study, key, "")
+
+
+def _second(study):
+    """A [second] panel: its quantity y (required) and labels."""
+    if "second" in study:
+        sec = study["second"]
+        if not isinstance(sec, dict):
+            raise BadInput(f"second: must be a table ([second]), got {_type_name(sec)}")
+        _string(sec, "y", "second.", required=True)
+        for key in ("ylabel", "title"):
+            _string(sec, key, "second.")
 
 
 def series_dir(out, i):

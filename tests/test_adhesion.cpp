@@ -293,6 +293,13 @@ approach = -0.01
                 .find("load.force: adhesion with plastic saturation (interaction.hardness) is solved under "
                       "approach control only"),
             std::string::npos);
+  // Sliding with adhesion: the post-analysis (Coulomb's traction on the frictionless pressure) is
+  // not defined (the law reads the repulsion): refused by key.
+  EXPECT_NE(
+      problem({"friction.coefficient=0.3", "stress.post_analysis=true"})
+          .find("stress.post_analysis: adds Coulomb's traction mu_c p e_s to the frictionless solution: not "
+                "defined with adhesion"),
+      std::string::npos);
   // Adhesion on a viscoelastic body is not implemented: refused by key.
   const std::string visco = problem(
       {"elastic.viscoelastic=\"sls\"", "elastic.high_frequency_modulus=10", "elastic.relaxation_time=1"});

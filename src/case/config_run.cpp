@@ -113,6 +113,12 @@ void read_stress(Section& st, Config& c) {
              "friction.law = \"" +
                  friction_law_type(c.friction.law.kind).name +
                  "\" (the solve's own stresses are: stress.depths, fields.nc)");
+  if (!c.stress.post_analysis.empty() && c.interaction.adhesive() && c.friction.coefficient > 0)
+    st.error(
+        "post_analysis",
+        "adds Coulomb's traction mu_c p e_s to the frictionless solution: not defined with adhesion (the law "
+        "reads the repulsion, the pressure is tensile in the cohesive zone; the solve's own stresses are: "
+        "stress.depths, fields.nc)");
   c.stress.high_tension_fraction = st.number("high_tension_fraction", 0.9);
   c.stress.profiles = st.boolean("profiles", true);
   if (!(c.stress.high_tension_fraction > 0 && c.stress.high_tension_fraction <= 1))

@@ -142,7 +142,7 @@ void after_solve_here(const Config& cfg, const RunOptions& opts, const Grid& gri
   if (r.info.converged && padded) {
     // The padding (every cell outside the map's corner quarter) must carry no load.
     const auto s = grid_sums<2>(grid, [&](std::size_t i, std::array<double, 2>& acc) {
-      const double p = r.fields.pressure[i];
+      const double p = r.fields.repulsion(i);  // the pressure itself without adhesion
       const int ix = static_cast<int>(i % grid.nx), iy = grid.y0 + static_cast<int>(i / grid.nx);
       acc[0] += p;
       if (ix >= grid.nx / 2 || iy >= grid.ny / 2) acc[1] += p;

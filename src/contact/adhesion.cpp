@@ -108,17 +108,20 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
   if (a.size() != n) a.assign(n, 0.0);
   // A tensile (or zero) load under load control needs an adhesive state to start from: a cold
   // start has no pull to hold it. The state at first touch (approach 0) is made first.
+  PKResult pre{0, 0.0, 0.0, true};
   if (load.mode != LoadMode::Approach && !(load.value > 0) &&
       !(grid_sum(grid_, [&](std::size_t i) { return a[i]; }) > 0)) {
-    const PKResult pre = solve_adhesive(LoadParams{LoadMode::Approach, 0.0}, f, tol, info, w_extra, max_it);
+    pre = solve_adhesive(LoadParams{LoadMode::Approach, 0.0}, f, tol, info, w_extra, max_it);
     if (!info.converged) return pre;
   }
   // A warm start holds the net pressure: its repulsive part is p + a (held in the fields until
   // the end; pressure_is_repulsive says so to a checkpoint).
   parallel_for(nl, [&](std::ptrdiff_t i) { p[i] = std::max(0.0, p[i] + a[i]); });
   adh_.repulsive = true;
-  SolverParams within = sp_;  // the budget: all of solver.max_iterations, or the caller's
+  // The budget: all of solver.max_iterations, or the caller's, less what the pre-solve took.
+  SolverParams within = sp_;
   if (max_it >= 0) within.max_iterations = max_it;
+  within.max_iterations = std::max(1, within.max_iterations - pre.iterations);
   for (RealField* fld : {&adh_.w, &adh_.d, &adh_.gap, &adh_.spread})
     if (fld->size() != n) fld->assign(n, 0.0);
   RealField &w = adh_.w, &d = adh_.d, &gap = adh_.gap;
@@ -157,9 +160,9 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
     apply_compliance(d, gap);
     if (w_extra) parallel_for(nl, [&](std::ptrdiff_t i) { gap[i] -= (*w_extra)[i]; });
     // In one pass with the gap: the elastic energy 1/2 sum (p - a) C_zz (p - a) dA of this step's
-    // state (gap holds C_zz (p - a) until it is completed here; with friction the tractions'
-    // share is added by solve() from the displacements) and the harmonic repulsion's
-    // 1/2 sum p^2 / k dA.
+    // state (gap holds C_zz (p - a), less the friction's displacement, until it is completed
+    // here; with friction solve() makes the elastic energy again from the displacements) and
+    // the harmonic repulsion's 1/2 sum p^2 / k dA.
     const double ik = inv_k_, delta = pk.delta;
     const auto en = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
       acc[0] += d[i] * gap[i];
@@ -207,7 +210,7 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
   }
   parallel_for(nl, [&](std::ptrdiff_t i) { p[i] -= a[i]; });
   adh_.repulsive = false;
-  pk.iterations = used;
+  pk.iterations = used + pre.iterations;
   pk.converged = info.converged;
   return pk;
 }

@@ -189,8 +189,10 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
     t = -x * ey + y * ex;
   };
   const std::size_t first = static_cast<std::size_t>(g.y0) * g.nx;
+  // Weighted by the repulsion (the pressure itself without adhesion): with adhesion the net
+  // pressure may be tensile over all of a small contact near the pull-off.
   const auto m = grid_sums<3>(g, [&](std::size_t i, std::array<double, 3>& acc) {
-    const double p = f.pressure[i];
+    const double p = f.repulsion(i);
     if (!(p > 0)) return;
     double l, t;
     rel(first + i, l, t);

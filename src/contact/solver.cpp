@@ -339,6 +339,8 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       ~ClearMaker() { maker = nullptr; }
     } clear_maker{restart_maker_};
     info.status = "not converged: friction fixed point did not settle";
+    SolveInfo adhesive_step;  // with adhesion: the last friction step's adhesive solve
+    bool pulled_off = false;  // it found the load beyond what the adhesion holds
     for (int outer = first_outer; outer < sp_.max_outer; ++outer) {
       info.outer_iterations = outer + 1;
       top = Top{outer,
@@ -382,7 +384,8 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       } else if (inter_.adhesive()) {
         // The adhesive normal problem under the friction's normal displacement; its traction
         // f.adhesion is kept from step to step (the warm start of the next).
-        SolveInfo step_info;
+        SolveInfo& step_info = adhesive_step;
+        step_info = SolveInfo{};
         pk = solve_adhesive(load, f, inner_tol, step_info, &w, budget);
         info.adhesion_steps += step_info.adhesion_steps;
         info.elastic_energy = step_info.elastic_energy;
@@ -390,6 +393,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
         info.energy = step_info.energy;
         if (step_info.status.find("pull-off") != std::string::npos) {
           info.status = step_info.status;
+          pulled_off = true;
           break;
         }
         if (!steps.stick_mode()) transform_tractions(f.tx, f.ty);  // the gap spread used s2_/s3_
@@ -397,7 +401,8 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
         pk = solve_normal(load, w, false, f.pressure, inner_tol, budget);
       }
       // One friction step costs 3 forward + 3 inverse FFTs: tau_x, tau_y and p forward,
-      // w and the two slip derivatives back.
+      // w and the two slip derivatives back (with adhesion two more forward: the tractions
+      // again after the adhesive steps' gap spread).
       // dn[2]: points outside the Anderson support where the iterate or its image is
       // non-zero (they join the support below).
       std::array<double, 4> dn{};
@@ -538,9 +543,13 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
           [&](std::size_t e, double v) { (e % 2 == 0 ? f.tx : f.ty)[supp[e / 2]] = v; });
       follow();
     }
-    if (!info.converged && info.status.rfind("not converged: iteration limit", 0) != 0)
+    if (!info.converged && !pulled_off && info.status.rfind("not converged: iteration limit", 0) != 0)
       info.status += "; " + friction_history_evidence(hist_change, hist_force);
-    if (!info.converged && fric_.law.kind == FrictionLawKind::Tresca && mu > kTrescaSteepCoefficient)
+    // The last adhesive solve's own failure (e.g. cohesive zones too narrow for the grid).
+    if (!info.converged && !pulled_off && !adhesive_step.converged && !adhesive_step.status.empty())
+      info.status += "; the last adhesive solve: " + adhesive_step.status;
+    if (!info.converged && !pulled_off && fric_.law.kind == FrictionLawKind::Tresca &&
+        mu > kTrescaSteepCoefficient)
       info.status +=
           "; friction.law = \"tresca\" with a large friction.coefficient switches the shear strength on and "
           "off "

@@ -248,6 +248,15 @@ bool ContactSolver::finish(ContactFields& f, SolveInfo& info) {
   if (fric_.coefficient == 0.0) f.stick.clear();
   for (auto* fld : {&f.ux, &f.uy, &f.uz, &f.gap}) fld->resize(n);
   update_displacements(f);
+  if (inter_.adhesive() && f.adhesion.size() == n) {
+    // The residual's cell law reads the gap's spread over each cell, which a solve leaves from its
+    // last step: made here from the given state (the law's gap, g0 - delta - u_z + p_rep/k).
+    for (RealField* fld : {&adh_.gap, &adh_.d, &adh_.spread})
+      if (fld->size() != n) fld->assign(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+      adh_.gap[i] = g0_[i] - info.approach - f.uz[i] + inv_k_ * f.repulsion(i);
+    gap_spread(adh_.gap, adh_.d, adh_.spread);
+  }
   check_final_state(info, f, info.approach);
   return true;
 }

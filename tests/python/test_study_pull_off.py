@@ -64,9 +64,16 @@ def test_pull_off_rows_per_value_and_the_uncoupled_shear_changes_nothing(tmp_pat
 @pytest.mark.parametrize("kw,says", [({"values": "[]"}, "values: must be a non-empty list of numbers"),
                                      ({"values": '["a"]'}, "values: must be a non-empty list of numbers"),
                                      ({"approaches": '"0.01:-0.01"'}, "approaches: must be FROM:TO:N"),
-                                     ({"approaches": '"0.01:x:5"'}, "approaches: must be FROM:TO:N")])
+                                     ({"approaches": '"0.01:x:5"'}, "approaches: must be FROM:TO:N"),
+                                     ({"approaches": '"inf:-0.01:5"'}, "approaches: must be FROM:TO:N"),
+                                     ({"approaches": '"-0.01:0.01:5"'}, "approaches: must be FROM:TO:N, an unloading"),
+                                     ({"extra": 'y = "pull_of_force"\n'}, "y: 'pull_of_force' is not a column"),
+                                     ({"extra": '[published]\ndivide_by = "x"\n'}, "published: belongs to a sweep")])
 def test_bad_pull_off_study_exits_2_naming_the_key(tmp_path, kw, says):
-    path, p = run(tmp_path, study_text(**kw))
+    text = study_text(**{k: v for k, v in kw.items() if k != "extra"})
+    if "extra" in kw:
+        text = kw["extra"] + text if kw["extra"].startswith("y") else text + kw["extra"]
+    path, p = run(tmp_path, text)
     assert p.returncode == 2, p.stderr
     assert p.stderr.startswith(f"gfmd study: {path}: {says}"), p.stderr
     assert not (tmp_path / "out").exists()
