@@ -183,8 +183,8 @@ TEST(AdhesionFriction, ASteepTrescaCapUnderCouplingSaysWhatToChange) {
   // compressible half-space the shear moves the edge: the fixed point may not settle (measured
   // through the pipeline, tau0 = 0.02, 0.05, 0.06 E* at approach 0.01 and 0.008 R, lambda = 1,
   // nu = 0.25, 128^2: mu_c = 3 and 5 settle in all six, 10 in five, 30 and 100 in four, 300 in
-  // two, 1000 in three; the example's mu_c is 5). The failure says what to change, and the change
-  // works.
+  // two, 1000 in three; at 256^2 mu_c = 5 fails where 3 settles: the example's mu_c is 3). The failure says
+  // what to change, and the change works.
   const std::string text =
       gfmd::testing::read_file(std::string(GFMD_SOURCE_DIR) + "/examples/adhesive_sliding_sphere.toml");
   const std::vector<std::string> sets = {"friction.shear_strength=0.05", "load.approach=0.01"};

@@ -553,7 +553,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       info.status +=
           "; friction.law = \"tresca\" with a large friction.coefficient switches the shear strength on and "
           "off "
-          "at the contact's edge, whose cells the coupling moves: lower friction.coefficient (e.g. 5), so "
+          "at the contact's edge, whose cells the coupling moves: lower friction.coefficient (e.g. 3), so "
           "that "
           "the shear rises continuously there (docs/solver.md, \"Adhesion with friction\")";
     if (!info.converged && have_slip && fric_.regularized()) {

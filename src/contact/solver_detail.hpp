@@ -166,7 +166,7 @@ inline double relative_change(double diff, double size) {
 }
 // Above this friction.coefficient the tresca law's cap acts as a switch at the contact's edge: a
 // failure says so (docs/solver.md, "Adhesion with friction").
-constexpr double kTrescaSteepCoefficient = 5.0;
+constexpr double kTrescaSteepCoefficient = 3.0;
 
 inline std::string outer_status(double change, double tol, bool inner_ok, double inner_tol, int used,
                                 int step, const SolverParams& sp, const char* what) {
