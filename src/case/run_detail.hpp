@@ -3,10 +3,19 @@
 #pragma once
 
 #include "gfmd/case/result.hpp"
+#include "gfmd/case/run.hpp"
 #include "gfmd/core/fft.hpp"
 #include "gfmd/surface/topography.hpp"
 
 namespace gfmd::run_detail {
+
+// The stage after the solve (run_after.cpp). On the fields where they are (every process of a
+// distributed run calls it: collectives; grid is the fields' grid): observables, derived fields,
+// plastic figures, stresses, the padded map's check, the leakage and the comparisons.
+void after_solve_here(const Config& cfg, const RunOptions& opts, const Grid& grid, const Topography& topo,
+                      CaseResult& r);
+// On the whole cell in one process (rank 0): the run's analysis.
+void after_solve_whole(const Config& cfg, CaseResult& r);
 
 // Line profiles through the pressure maximum along and across the sliding direction.
 LineProfiles line_profiles(const Grid& g, const CaseResult& r);

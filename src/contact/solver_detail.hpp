@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -164,6 +165,11 @@ class FrictionSteps {
 inline double relative_change(double diff, double size) {
   return size > 0 ? diff / size : (diff > 0 ? 1.0 : 0.0);
 }
+// Why a restart point does not fit this solve ("" when it does): n points held here, the
+// Anderson depth and the configured slip derivative (solver_restart.cpp).
+std::string restart_mismatch(const FrictionRestart& r, std::size_t n, int depth,
+                             const std::optional<SlipDerivative>& fixed);
+
 // Above this friction.coefficient the tresca law's cap acts as a switch at the contact's edge: a
 // failure says so (docs/solver.md, "Adhesion with friction").
 constexpr double kTrescaSteepCoefficient = 3.0;

@@ -1,0 +1,91 @@
+"""Checkpoints of distributed runs: whole fields gathered on rank 0, a run stopped under one
+process count resumed under another (the helpers and cases are test_mpi.py's)."""
+import json
+import os
+import signal
+import subprocess
+import time
+
+import pytest
+
+from test_mpi import ENV, GFMD, MPIRUN, ROOT, THIN_STICK, pytestmark, run, summary  # noqa: F401
+
+
+def interrupt_after_first_checkpoint(case, out, ranks=2):
+    """Runs the case under mpirun with checkpoints every 0.1 s, stops it (SIGTERM, which mpirun
+    passes on to every rank) once the first checkpoint is there; returns its standard error."""
+    cmd = [MPIRUN, "-np", str(ranks), "--oversubscribe", "--bind-to", "none", GFMD, "run", str(case), "-o", str(out),
+           "-q", "--checkpoint-interval", "0.1"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+    for _ in range(3000):
+        if (out / "checkpoint.bin").exists() or proc.poll() is not None:
+            break
+        time.sleep(0.02)
+    proc.send_signal(signal.SIGTERM)
+    return proc.communicate(timeout=120)[1]
+
+
+def test_interrupted_run_resumes_on_another_process_count(tmp_path):
+    """A distributed run writes whole-field checkpoints (gathered on rank 0): stopped under
+    -np 2, it resumes under -np 3 and ends where an uninterrupted serial run ends (the
+    tolerances of tests/test_robustness.cpp's serial resume: mu to 1e-7, area to 1e-12)."""
+    case = tmp_path / "thin.toml"
+    # Stick with the upwind2 derivative: the same checkpoints, a fifth of the spectral one's time.
+    case.write_text(THIN_STICK.replace("nx = 128", "nx = 256").replace("ny = 126", "ny = 250")
+                    .replace("ly = 1.96875", "ly = 1.953125").replace("[stress]\ndepths = [0.01]\n", "")
+                    .replace("coefficient = 1.0", "coefficient = 1.0\nslip_derivative = \"upwind2\""))
+    out = tmp_path / "mpi"
+    err = interrupt_after_first_checkpoint(case, out)
+    assert (out / "status.json").exists(), err
+    if (out / "summary.json").exists():
+        pytest.skip("the run finished before it could be interrupted")
+    with open(out / "status.json") as f:
+        assert json.load(f)["status"] == "interrupted"
+    assert err.count("continue with --resume") == 1  # rank 0 alone reports
+    assert (out / "checkpoint.bin").exists()
+    p = run(case, out, 3, ["--resume"])
+    assert p.returncode == 0, p.stderr
+    assert not (out / "checkpoint.bin").exists()
+    assert run(case, tmp_path / "serial").returncode == 0
+    a, b = summary(tmp_path / "serial"), summary(out)
+    assert b["mpi_ranks"] == 3 and b["resumed"]["iterations_before"] > 0
+    assert b["friction_coefficient"] == pytest.approx(a["friction_coefficient"], abs=1e-7)
+    assert b["relative_contact_area"] == pytest.approx(a["relative_contact_area"], abs=1e-12)
+    if b["resumed"]["iterations_before"] > a["frictionless"]["iterations"]:
+        # Stopped in the sliding solve: resumed from its restart point (the mixing history, the
+        # step control, the splitting variable, on any number of processes), it takes the serial
+        # run's steps and ends with its bits (issue 41).
+        assert b["outer_iterations"] == a["outer_iterations"]
+        assert b["tangential_iterations"] == a["tangential_iterations"]
+        assert b["iterations"] <= 1.2 * a["iterations"]
+        assert b["friction_coefficient"] == a["friction_coefficient"]
+        assert b["relative_contact_area"] == a["relative_contact_area"]
+    # Once solved, --resume under mpirun has nothing to do: success, one message.
+    p = run(case, out, 2, ["--resume"], quiet=False)
+    assert p.returncode == 0 and p.stdout.count("nothing to do") == 1
+
+
+def test_adhesive_sliding_interrupted_resumes_on_another_process_count(tmp_path):
+    """An adhesive sliding run (examples/adhesive_sliding_sphere.toml, 256 x 250) stopped under
+    -np 2 writes the adhesive tractions with its checkpoint (gathered on rank 0) and resumes under
+    -np 3 along its branch; stopped in the sliding solve it ends with the serial run's bits."""
+    text = open(os.path.join(ROOT, "examples", "adhesive_sliding_sphere.toml")).read()
+    case = tmp_path / "adh.toml"
+    case.write_text(text.replace("nx = 128", "nx = 256\nny = 250").replace("lx = 1.5", "lx = 1.5\nly = 1.46484375")
+                    + "\n[solver]\nthreads = 1\n")
+    out = tmp_path / "mpi"
+    err = interrupt_after_first_checkpoint(case, out)
+    if (out / "summary.json").exists():
+        pytest.skip("the run finished before it could be interrupted")
+    assert (out / "checkpoint.bin").exists(), err
+    p = run(case, out, 3, ["--resume"])
+    assert p.returncode == 0, p.stderr
+    assert run(case, tmp_path / "serial").returncode == 0
+    a, b = summary(tmp_path / "serial"), summary(out)
+    assert b["resumed"]["iterations_before"] > 0
+    assert b["normal_force"] == pytest.approx(a["normal_force"], rel=1e-6)
+    assert b["adhesive_force"] == pytest.approx(a["adhesive_force"], rel=1e-6)
+    if b["resumed"]["iterations_before"] > a["frictionless"]["iterations"]:
+        assert b["outer_iterations"] == a["outer_iterations"]
+        assert b["tangential_force"] == a["tangential_force"]
+        assert b["normal_force"] == a["normal_force"]
