@@ -435,26 +435,10 @@ TEST(Adhesion, RigidPlasticAdhesiveSphereCarriesHardnessMinusTheDugdalePull) {
   // 128^2 (contact radius 26 cells; measured: plastic area 0.10 %, repulsion 0.10 %, pull 0.07 %,
   // net force 0.11 %). A large H (never reached) gives the adhesive solve without a
   // cap (forces within 1e-6).
-  const std::string text = R"(
-[grid]
-nx = 128
-lx = 0.5
-[elastic]
-poisson = 0.5
-[indenter]
-type = "hertz"
-radius = 1.0
-[load]
-approach = 0.005
-[interaction]
-model = "adhesive"
-work_of_adhesion = 1e-7
-range = 1e-3
-hardness = 1e-4
-[output]
-analysis = false
-)";
-  const CaseResult r = gfmd::testing::solve(text);
+  // kCase (a sphere on an incompressible half-space at approach 0.005) with the small stresses.
+  const CaseResult r =
+      gfmd::testing::solve(kCase, {"grid.nx=128", "grid.lx=0.5", "interaction.work_of_adhesion=1e-7",
+                                   "interaction.range=1e-3", "interaction.hardness=1e-4"});
   const double H = 1e-4, s0 = 1e-4, delta = 0.005, rho = 1e-3;
   const double bearing = kPi * 2.0 * delta, reach = kPi * 2.0 * (delta + rho);
   const Observables& o = r.observables;

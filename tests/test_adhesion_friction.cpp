@@ -63,6 +63,28 @@ std::vector<Point> sliding_path(double lambda, double nu, int nx, double lx, con
   return out;
 }
 
+// A sphere R = 1 sliding on a nu = 0.3 half-space with adhesion (lambda = 1) and Coulomb friction.
+const char* kSliding = R"(
+[grid]
+nx = 64
+lx = 1.5
+[elastic]
+poisson = 0.3
+[indenter]
+type = "hertz"
+radius = 1.0
+[load]
+approach = 0.0
+[interaction]
+model = "adhesive"
+work_of_adhesion = 1e-3
+range = 0.0113
+[friction]
+coefficient = 0.4
+[output]
+analysis = false
+)";
+
 FrictionParams tresca(double tau0) {
   // Coulomb's coefficient far above any tau0 / p: the shear strength tau0 wherever the repulsion
   // is not tiny, i.e. a uniform shear over the contact.
@@ -140,28 +162,8 @@ TEST(AdhesionFriction, SlidingAdhesiveContactBalancesItsEnergy) {
   // spread; the error falls with refinement (measured 9.7e-4, 5.2e-4, 1.2e-5 at 64, 128, 256^2;
   // without adhesion 2.9e-5 at 128^2). The summary carries the adhesive figures beside the
   // friction ones.
-  const char* text = R"(
-[grid]
-nx = 64
-lx = 1.5
-[elastic]
-poisson = 0.3
-[indenter]
-type = "hertz"
-radius = 1.0
-[load]
-approach = 0.0
-[interaction]
-model = "adhesive"
-work_of_adhesion = 1e-3
-range = 0.0113
-[friction]
-coefficient = 0.4
-[output]
-analysis = false
-)";
-  const CaseResult coarse = gfmd::testing::solve(text, {});
-  const CaseResult fine = gfmd::testing::solve(text, {"grid.nx=256"});
+  const CaseResult coarse = gfmd::testing::solve(kSliding, {});
+  const CaseResult fine = gfmd::testing::solve(kSliding, {"grid.nx=256"});
   for (const CaseResult* r : {&coarse, &fine}) {
     ASSERT_TRUE(r->info.converged) << r->info.status;
     const Observables& o = r->observables;
@@ -203,31 +205,12 @@ TEST(AdhesionFriction, TwoEqualBodiesSlideWithTheFrictionlessAdhesiveContact) {
   // contact is the frictionless one (forces within 1e-6, the same contact cells), and the driving
   // work balances the slip's dissipation to round-off (measured 2e-15; the bodies' normal
   // displacements from the shear cancel).
-  const char* text = R"(
-[grid]
-nx = 64
-lx = 1.5
-[elastic]
-poisson = 0.3
-contact_modulus = 2.0
-[indenter]
-type = "hertz"
-radius = 1.0
-contact_modulus = 2.0
-poisson = 0.3
-[load]
-approach = 0.0
-[interaction]
-model = "adhesive"
-work_of_adhesion = 1e-3
-range = 0.0113
-[friction]
-coefficient = 0.4
-[output]
-analysis = false
-)";
-  const CaseResult slid = gfmd::testing::solve(text, {});
-  const CaseResult still = gfmd::testing::solve(text, {"friction.coefficient=0"});
+  const std::vector<std::string> pair = {"elastic.contact_modulus=2.0", "indenter.contact_modulus=2.0",
+                                         "indenter.poisson=0.3"};
+  std::vector<std::string> frictionless = pair;
+  frictionless.push_back("friction.coefficient=0");
+  const CaseResult slid = gfmd::testing::solve(kSliding, pair);
+  const CaseResult still = gfmd::testing::solve(kSliding, frictionless);
   const Observables &a = slid.observables, &b = still.observables;
   EXPECT_NEAR(a.normal_force, b.normal_force, 1e-6 * std::abs(b.normal_force));
   EXPECT_EQ(a.relative_contact_area, b.relative_contact_area);
