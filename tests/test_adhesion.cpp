@@ -287,11 +287,11 @@ approach = -0.01
     EXPECT_NE(std::string(e.what()).find("load.approach: must be zero or positive"), std::string::npos)
         << e.what();
   }
-  // Adhesion with plastic saturation under load control (no bracket of approaches need exist):
-  // refused by key.
-  EXPECT_NE(problem({"interaction.hardness=0.5", "load.force=0.001"})
-                .find("load.force: adhesion with plastic saturation (interaction.hardness) is solved under "
-                      "approach control only"),
+  // Adhesion with plastic saturation takes every load mode; a mean load at the hardness is refused.
+  EXPECT_EQ(problem({"interaction.hardness=0.5", "load.force=0.001"}), "");
+  EXPECT_NE(problem({"interaction.hardness=0.5", "load.pressure=0.6"})
+                .find("load.pressure: the mean pressure "
+                      "reaches interaction.hardness"),
             std::string::npos);
   // Sliding with adhesion: the post-analysis (Coulomb's traction on the frictionless pressure) is
   // not defined (the law reads the repulsion): refused by key.
@@ -306,6 +306,45 @@ approach = -0.01
   EXPECT_NE(visco.find("interaction.model: adhesion on a viscoelastic body is not implemented"),
             std::string::npos)
       << visco;
+}
+
+TEST(Adhesion, PlasticAdhesiveSphereUnderLoadControlFindsItsApproach) {
+  // Plastic saturation with adhesion under load control: each adhesive step's capped load solve
+  // brackets the approach on either side of zero. An elastic-plastic adhesive sphere (H = 0.04
+  // E*, sigma0 = 0.02 E*: the net pressure tops out at H - sigma0) at the forces approach control
+  // gives at delta = 0.01 R (compressive) and 0.002 R (tensile, 4 % of the cell at the cap) finds
+  // those states again: approach, adhesive force and plastic area (measured: approach within 6e-11
+  // R, forces within 1e-8).
+  const std::vector<std::string> sets = {"grid.lx=0.5", "interaction.work_of_adhesion=1e-4",
+                                         "interaction.range=0.005", "interaction.hardness=0.04"};
+  const auto with = [&](const char* key, double v) {
+    std::vector<std::string> out = sets;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s=%.17g", key, v);
+    out.emplace_back(buf);
+    return out;
+  };
+  for (const double delta : {0.01, 0.002}) {
+    const CaseResult a = gfmd::testing::solve(kCase, with("load.approach", delta));
+    const Observables& ao = a.observables;
+    EXPECT_EQ(ao.normal_force > 0, delta > 0.005) << delta;
+    EXPECT_GT(ao.plastic_area_fraction, 0.03) << delta;
+    const CaseResult l = gfmd::testing::solve(kCase, with("load.force", ao.normal_force));
+    const Observables& lo = l.observables;
+    EXPECT_NEAR(lo.normal_force, ao.normal_force, 1e-6 * std::abs(ao.normal_force)) << delta;
+    EXPECT_NEAR(lo.approach, delta, 1e-6) << delta;
+    EXPECT_NEAR(lo.adhesive_force, ao.adhesive_force, 1e-6 * ao.adhesive_force) << delta;
+    EXPECT_EQ(lo.plastic_area_fraction, ao.plastic_area_fraction) << delta;
+  }
+  // sigma0 = H: the pull grows with the contact as fast as the cap lets the repulsion carry it,
+  // and a compressive load has no state: a clear failure, not a wrong state.
+  std::vector<std::string> none = with("load.force", 1e-3);
+  none.emplace_back("interaction.hardness=0.02");
+  const CaseResult f = run_case(parse_config(kCase, "t.toml", none));
+  EXPECT_FALSE(f.info.converged);
+  EXPECT_NE(f.info.status.find("the load plus the adhesive pull reach interaction.hardness"),
+            std::string::npos)
+      << f.info.status;
 }
 
 TEST(Adhesion, CurveLoadsAndUnloadsAlongAnApproachPath) {

@@ -271,10 +271,6 @@ std::pair<std::string, std::string> load_problem(const Config& c) {
     if (std::abs(l.value) > kMaxLength) return {key, "must be at most 1e30 in size (a length)"};
     return {};
   }
-  if (c.interaction.adhesive() && c.interaction.plastic())
-    return {key,
-            "adhesion with plastic saturation (interaction.hardness) is solved under approach control only: "
-            "give load.approach (a path: gfmd curve --approaches)"};
   // With adhesion a load may be tensile (negative) up to the pull-off.
   if (!(l.value > 0) && !c.interaction.adhesive())
     return {key, "must be positive (negative, tensile, only with interaction.model = \"adhesive\")"};

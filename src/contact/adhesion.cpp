@@ -94,11 +94,6 @@ double adhesive_potential(double gap, double spread, double range) {
 
 ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, ContactFields& f, double tol,
                                                       SolveInfo& info, const RealField* w_extra, int max_it) {
-  // The capped load solve brackets a positive approach whose repulsion carries the load; with a
-  // pull it may need any approach and may have none (H <= sigma0 over the attracted area): not
-  // solved (case/config.cpp refuses it by key).
-  if (inter_.plastic() && load.mode != LoadMode::Approach)
-    throw ParameterError("load", "adhesion with plastic saturation is solved under approach control only");
   const std::size_t n = grid_.local_size();
   const auto nl = static_cast<std::ptrdiff_t>(n);
   const double s0 = inter_.adhesive_stress();
@@ -130,7 +125,8 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
   adh_.mixer->restart();
   PKResult pk{0, 1.0, 0.0, false};
   int used = 0;
-  double change = 1.0;  // relative change of the traction in the last step
+  bool no_state = false;  // the load has no state (beyond the pull-off, or beyond the cap)
+  double change = 1.0;    // relative change of the traction in the last step
   info.status = "";
   for (int step = 0;; ++step) {
     ++info.adhesion_steps;
@@ -147,6 +143,20 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
             "not converged: the load is below what the adhesion holds at this state (a tensile load "
             "beyond the pull-off under load control); follow the unloading branch under approach control "
             "(load.approach, gfmd curve --approaches ... --unload)";
+        no_state = true;
+        break;
+      }
+      // Capped (plastic saturation), the repulsion can carry at most H over the cell: a load
+      // and pull beyond it have no state (e.g. sigma0 >= H, where the pull grows with the
+      // contact as fast as the repulsion can).
+      const double inner_mean = load.mode == LoadMode::Force ? inner.value / grid_.area() : inner.value;
+      if (inter_.plastic() && !(inner_mean < inter_.hardness)) {
+        info.status =
+            "not converged: the load plus the adhesive pull reach interaction.hardness over the whole cell "
+            "(with sigma0 = work_of_adhesion / range near or above the hardness the pull grows with the "
+            "contact as fast as the repulsion can carry it); follow the path under approach control "
+            "(load.approach, gfmd curve --approaches)";
+        no_state = true;
         break;
       }
     }
@@ -194,7 +204,7 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
     adh_.mixer->advance(a, d, change, 0.0, s0);
   }
   info.converged = info.status == "converged";
-  if (!info.converged && info.status.find("pull-off") == std::string::npos) {
+  if (!info.converged && !no_state) {
     // The usual cause: cohesive zones narrower than a cell or two, whose edges the grid traps.
     const auto z = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {
       if (a[i] > 0 && !(p[i] > 0)) acc[0] += 1.0;

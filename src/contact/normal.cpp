@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -45,7 +46,7 @@ ContactSolver::PKResult ContactSolver::solve_normal_capped_load(const LoadParams
   PKResult total{0, 1.0, 0.0, false};
   bool inner_ok = true;
   double inner_err = 0.0;
-  double evaluated = -1.0;  // the approach whose solution p holds
+  double evaluated = std::numeric_limits<double>::quiet_NaN();  // the approach whose solution p holds
   const auto mean_at = [&](double d) {
     evaluated = d;
     const PKResult r = solve_normal_pk(LoadParams{LoadMode::Approach, d}, w, w_zero, p, tol,
@@ -56,21 +57,26 @@ ContactSolver::PKResult ContactSolver::solve_normal_capped_load(const LoadParams
     return grid_sum(grid_, [&](std::size_t i) { return p[i]; }) / n;
   };
   // A bracket [lo, hi] with P(lo) < pbar <= P(hi), from the last approach (or the surface's
-  // rms height) outwards.
-  double hi = capped_delta_ > 0 ? capped_delta_ : std::max(g0_rms_, 1e-300);
+  // rms height) outwards in steps that double. With adhesion (w holds the adhesive traction's
+  // pull) the approach may be negative: the search crosses zero as any other value.
+  const double scale = std::max(g0_rms_, 1e-300);
+  double hi = capped_found_ ? capped_delta_ : scale;
   double phi = mean_at(hi);
-  double lo = 0.0, plo = 0.0;
+  double lo = hi, plo = phi;
+  double step = hi != 0.0 ? std::abs(hi) : scale;
   if (phi < pbar) {
     for (int k = 0; k < 200 && phi < pbar && total.iterations < max_it; ++k) {
       lo = hi;
       plo = phi;
-      hi *= 2.0;
+      hi += step;
+      step *= 2.0;
       phi = mean_at(hi);
     }
   } else {
-    lo = hi;
+    step *= 0.5;  // first to half the start (the start itself where it is positive)
     for (int k = 0; k < 200 && total.iterations < max_it; ++k) {
-      lo *= 0.5;
+      lo -= step;
+      step *= 2.0;
       plo = mean_at(lo);
       if (plo < pbar) break;
       hi = lo;
@@ -96,10 +102,11 @@ ContactSolver::PKResult ContactSolver::solve_normal_capped_load(const LoadParams
       if (side == 1) plo = pbar + 0.5 * (plo - pbar);
       side = 1;
     }
-    if (hi - lo <= 1e-15 * hi) break;
+    if (hi - lo <= 1e-15 * std::max(std::abs(hi), std::abs(lo))) break;
   }
   if (evaluated != d) pd = mean_at(d);  // p must hold d's solution (a bracket found it at once)
   capped_delta_ = d;
+  capped_found_ = true;
   total.delta = d;
   const double load_err = std::abs(pd - pbar) / pbar;
   total.error = std::max(inner_err, load_err);

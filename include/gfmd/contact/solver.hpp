@@ -410,7 +410,8 @@ class ContactSolver {
   double g0_rms_ = 0.0;
   double gw_mean_ref_ = 0.0;      // solve_normal: last mean of g0 - w on the contact set
   double g_mean_ref_ = 0.0;       // solve_normal: last mean of the separation there (load control)
-  double capped_delta_ = 0.0;     // solve_normal_capped_load: the last approach found (0: none yet)
+  double capped_delta_ = 0.0;     // solve_normal_capped_load: the last approach found
+  bool capped_found_ = false;     // whether capped_delta_ holds one
   SpecField s1_, s2_, s3_;        // half-spectrum scratch
   RealField cg_g_, cg_t_, cg_r_;  // work arrays of solve_normal
   // Real scratch of the friction step and the displacement update; solve_normal does not
