@@ -13,7 +13,11 @@ over the repulsive one. Printed: per Q, the area at each mean pressure, the seca
 least-squares line A = s p + c, the slope's ratio to the repulsive one and Q/(Q-1), and a Maugis
 parameter lambda = 2 sigma0 (R/(pi w K^2))^(1/3) for a summit of radius R = 1/h'' (K = 4E*/3).
 
-    scripts/rough_adhesion.py [--nx 512] [--lambda-short 0.0625] [--range 1e-3] [--q inf,8,4,2]
+    scripts/rough_adhesion.py [--nx 512] [--lambda-short 0.0625] [--range 1e-3] [--q inf,8,4,2] [--dmt]
+
+--dmt prints instead the first-order (DMT) estimate from the non-adhesive solutions: the pull is
+sigma0 times the area where the gap is below rho, so F/A_rep = sigma_rep (1 - c/Q) with
+c = sigma0 Q kappa (A_{g<rho} / A_rep) / h' (kappa = A_rep h' E* / F measured).
 
 Units: L = 1, E* = 1, incompressible half-space (no coupling), lambda_long = L/2, H = 0.8,
 h' = 0.1, seed 1; loads solved under load control along the pressures, warm-started (the
@@ -37,6 +41,7 @@ def main():
     ap.add_argument("--range", type=float, default=1e-3)
     ap.add_argument("--q", default="inf,8,4,2")
     ap.add_argument("--pressures", default="0.0005,0.001,0.002,0.004")
+    ap.add_argument("--dmt", action="store_true", help="the first-order estimate of c from the non-adhesive gaps")
     a = ap.parse_args()
     top = gfmd.Topography.self_affine(a.nx, 1.0, hurst=0.8, lambda_long=0.5, lambda_short=a.lambda_short,
                                       rms_gradient=0.1, seed=1)
@@ -44,6 +49,9 @@ def main():
     ps = np.array([float(v) for v in a.pressures.split(",")])
     print(f"nx {a.nx}, lambda_s {a.lambda_short:g} L, h' {hp:.4g}, h'' {hpp:.4g}/L, d_rep {4 * hp / hpp:.4g} L, "
           f"range {rho:g} L, rho/g0 {rho / (16 / 3 * hp * hp / hpp):.3g}")
+    if a.dmt:
+        dmt(top, hp, hpp, ps)
+        return
     print("| Q | w / (E* L) | lambda (summit) | A_rep at p = " + ", ".join(f"{p:g}" for p in ps)
           + " | A/p (secant) | line s, c | s / s_rep | Q/(Q-1) |")
     print("|---" * 8 + "|")
@@ -60,6 +68,22 @@ def main():
         pred = "1" if math.isinf(q) else f"{q / (q - 1):.3g}"
         print(f"| {q:g} | {w:.3g} | {lam} | " + ", ".join(f"{v:.4f}" for v in area)
               + f" | {secant:.1f} | {s:.1f}, {c:.3f} | {secant / s_rep:.2f} | {pred} |")
+
+
+def dmt(top, hp, hpp, ps):
+    ranges = (5e-4, 1e-3, 2e-3, 4e-3)
+    print("| p / E* | A_rep | " + " | ".join(f"A_g<rho / A_rep, c (rho = {r:g})" for r in ranges) + " |")
+    print("|---" * (2 + len(ranges)) + "|")
+    solver = gfmd.ContactSolver(top, interaction="hardwall")
+    for r in gfmd.load_path(solver, pressures=ps):
+        p, area, gap = r.summary["mean_pressure"], r.summary["relative_contact_area"], np.asarray(r["gap"])
+        kappa = area * hp / p
+        cells = []
+        for rho in ranges:
+            ratio = float(np.mean(gap < rho)) / area
+            sigma0_q = hp / 2 * (hp * hp / (hpp * rho)) ** (2 / 3)  # sigma0 Q: w / rho at the w of Q
+            cells.append(f"{ratio:.2f}, {sigma0_q * ratio * kappa / hp:.1f}")
+        print(f"| {p:g} | {area:.4f} | " + " | ".join(cells) + " |")
 
 
 if __name__ == "__main__":
