@@ -338,7 +338,6 @@ void read_interaction(Section& ia, Config& c) {
   if (!(c.interaction.hardness > 0))
     ia.error("hardness", "must be positive (the largest local pressure, in units of E*) or \"inf\" (no cap)");
   if (c.visco.enabled()) {
-    if (c.interaction.adhesive()) ia.error("model", "adhesion on a viscoelastic body is not implemented");
     if (c.interaction.plastic())
       ia.error("hardness", "plastic saturation on a viscoelastic body is not implemented");
   }

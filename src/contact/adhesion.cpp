@@ -130,8 +130,8 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
   info.status = "";
   for (int step = 0;; ++step) {
     ++info.adhesion_steps;
-    apply_compliance(a, w);  // the normal displacement the adhesive traction causes (C_zz a)
-    if (w_extra)             // and the friction's (C_z.tau)
+    apply_normal_response(a, w);  // the normal displacement the adhesive traction causes (C_zz a)
+    if (w_extra)                  // and the friction's (C_z.tau)
       parallel_for(nl, [&](std::ptrdiff_t i) { w[i] += (*w_extra)[i]; });
     LoadParams inner = load;
     if (load.mode != LoadMode::Approach) {
@@ -163,11 +163,11 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
     // Each repulsive solve to a tenth of the traction's last change (no tighter than the
     // tolerance): early steps are far from the answer anyway.
     const double inner_tol = std::max(tol, 0.1 * change);
-    pk = solve_normal(inner, w, false, p, inner_tol, std::max(1, within.max_iterations - used));
+    pk = solve_repulsive(inner, w, p, inner_tol, std::max(1, within.max_iterations - used), info);
     used += pk.iterations;
     // The gap of this step's state, C_zz (p - a) - C_z.tau + p/k + g0 - delta, and the law on it.
     parallel_for(nl, [&](std::ptrdiff_t i) { d[i] = p[i] - a[i]; });
-    apply_compliance(d, gap);
+    apply_normal_response(d, gap);
     if (w_extra) parallel_for(nl, [&](std::ptrdiff_t i) { gap[i] -= (*w_extra)[i]; });
     // In one pass with the gap: the elastic energy 1/2 sum (p - a) C_zz (p - a) dA of this step's
     // state (gap holds C_zz (p - a), less the friction's displacement, until it is completed

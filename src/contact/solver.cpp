@@ -54,7 +54,9 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
     std::fill(f.tx.begin(), f.tx.end(), 0.0);
     std::fill(f.ty.begin(), f.ty.end(), 0.0);
     if (inter_.adhesive()) {
-      pk = solve_adhesive(load, f, tol, info);
+      pk = solve_adhesive(load, f, tol, info);  // on a viscoelastic body too (its repulsive solves)
+      if (body_.viscoelastic() && body_.visco().velocity != 0.0)
+        info.hysteresis_dissipation = hysteresis_dissipation(f, false);
     } else if (body_.viscoelastic()) {
       pk = solve_viscoelastic(load, f, tol, info);
     } else {
@@ -334,7 +336,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
         info.status = "not converged: iteration limit reached";
         break;
       }
-      if (body_.viscoelastic()) {
+      if (body_.viscoelastic() && !inter_.adhesive()) {
         std::string why;
         pk = solve_normal_viscoelastic(load, &w, f.pressure, inner_tol, budget, info.viscoelastic_steps, why);
       } else if (inter_.adhesive()) {
@@ -344,6 +346,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
         step_info = SolveInfo{};
         pk = solve_adhesive(load, f, inner_tol, step_info, &w, budget);
         info.adhesion_steps += step_info.adhesion_steps;
+        info.viscoelastic_steps += step_info.viscoelastic_steps;
         info.elastic_energy = step_info.elastic_energy;
         info.adhesive_energy = step_info.adhesive_energy;
         info.energy = step_info.energy;

@@ -81,8 +81,8 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
       throw ParameterError("interaction.range", "must be positive and finite with adhesion");
   }
   if (body.viscoelastic()) {
-    // Where the splitting has been derived and tested: frictionless, repulsive, elastic-plastic
-    // free. Each refusal names the key that asks for more.
+    // Where the splitting has been derived and tested: frictionless or regularised friction,
+    // repulsive or adhesive, elastic-plastic free. Each refusal names the key that asks for more.
     // Friction on it in full slip (the regularised law near rest): the stick-slip iteration's
     // resolvent is the elastic body's.
     if (fric_.coefficient > 0 && !fric_.regularized())
@@ -90,8 +90,6 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
           "friction.regularization",
           "must be positive with friction on a viscoelastic body (e.g. 0.01): its stick is not "
           "solved set-valued");
-    if (inter_.adhesive())
-      throw ParameterError("interaction.model", "adhesion on a viscoelastic body is not implemented");
     if (inter_.plastic())
       throw ParameterError("interaction.hardness",
                            "plastic saturation on a viscoelastic body is not implemented");

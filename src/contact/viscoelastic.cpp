@@ -124,6 +124,26 @@ ContactSolver::PKResult ContactSolver::solve_normal_viscoelastic(const LoadParam
   return pk;
 }
 
+void ContactSolver::apply_normal_response(const RealField& in, RealField& out) {
+  if (visco_.rest_n.empty() || body_.visco().velocity == 0.0) {
+    apply_compliance(in, out);
+    return;
+  }
+  // c C_zz / N = m C_zz / N (czz_n_) - rest_n: one spectral pass with the complex table.
+  fft_.forward(in.data(), s1_.data());
+  const auto ns = static_cast<std::ptrdiff_t>(s1_.size());
+  parallel_for(ns, [&](std::ptrdiff_t k) { s1_[k] *= czz_n_[k] - visco_.rest_n[k]; });
+  fft_.backward_unscaled_destroying(s1_.data(), out.data());
+}
+
+ContactSolver::PKResult ContactSolver::solve_repulsive(const LoadParams& load, const RealField& w,
+                                                       RealField& p, double tol, int max_it,
+                                                       SolveInfo& info) {
+  if (!body_.viscoelastic()) return solve_normal(load, w, false, p, tol, max_it);
+  std::string why;
+  return solve_normal_viscoelastic(load, &w, p, tol, max_it, info.viscoelastic_steps, why);
+}
+
 ContactSolver::PKResult ContactSolver::solve_viscoelastic(const LoadParams& load, ContactFields& f,
                                                           double tol, SolveInfo& info) {
   const PKResult pk = solve_normal_viscoelastic(load, nullptr, f.pressure, tol, sp_.max_iterations,

@@ -362,7 +362,14 @@ class ContactSolver {
   PKResult solve_normal_capped_load(const LoadParams& load, const RealField& w, bool w_zero, RealField& p,
                                     double tol, int max_it);
   void apply_compliance(const RealField& in, RealField& out, double scale = 1.0);  // scale C_zz in
-  void update_displacements(ContactFields& f);                                     // u from (tau, -p)
+  // The body's whole normal response to a normal traction: C_zz in, or on a sliding viscoelastic
+  // body c C_zz in (the symmetric part and the rest together; complex per mode).
+  void apply_normal_response(const RealField& in, RealField& out);
+  // The repulsive normal solve of the body under an extra displacement w held fixed: Polonsky-Keer,
+  // or on a sliding viscoelastic body its splitting (counting its steps into info).
+  PKResult solve_repulsive(const LoadParams& load, const RealField& w, RealField& p, double tol, int max_it,
+                           SolveInfo& info);
+  void update_displacements(ContactFields& f);  // u from (tau, -p)
   // Coulomb tractions of the current slip into (tx, ty); returns, over the grid,
   // sum |(tx, ty) - (f.tx, f.ty)|_1, sum |(tx, ty)|_1, the number of points outside the
   // Anderson support (in_supp == 0) where either traction is non-zero and the number of
