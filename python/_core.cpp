@@ -437,6 +437,26 @@ PYBIND11_MODULE(_core, m) {
       },
       "The friction laws (friction.law): [{'name', 'purpose', 'keys', 'set_valued_stick', 'on_device'}]");
   m.def(
+      "interaction_models",
+      [] {
+        py::list out;
+        for (const gfmd::InteractionType* t : gfmd::interaction_types()) {
+          py::dict d;
+          d["name"] = t->name;
+          d["purpose"] = t->purpose;
+          std::vector<std::string> keys;
+          for (const auto& k : t->keys) keys.push_back(k.name);
+          if (t->repulsion_key) keys.emplace_back("repulsion");
+          d["keys"] = keys;
+          d["repulsion_key"] = t->repulsion_key;
+          d["on_device"] = t->on_device;
+          out.append(d);
+        }
+        return out;
+      },
+      "The interaction models (interaction.model): [{'name', 'purpose', 'keys', 'repulsion_key', "
+      "'on_device'}]");
+  m.def(
       "indenter_types",
       [] {
         py::list out;

@@ -26,7 +26,7 @@ if "OMP_WAIT_POLICY" not in _os.environ and "GOMP_SPINCOUNT" not in _os.environ:
 
 from ._core import InputError, SolveError, __version__  # noqa: E402
 from ._api import (Adhesive, ContactSolver, ElasticBody, Result, Topography, curve, ensemble, friction_laws,  # noqa: E402
-                   indenter_types, load_path, percolation, run, run_toml, solve, study, sweep, ViscoelasticBody)
+                   indenter_types, interaction_models, load_path, percolation, run, run_toml, solve, study, sweep, ViscoelasticBody)
 
 __all__ = [
     "Adhesive",
@@ -42,6 +42,7 @@ __all__ = [
     "ensemble",
     "friction_laws",
     "indenter_types",
+    "interaction_models",
     "load_path",
     "percolation",
     "run",

@@ -22,6 +22,13 @@ def friction_laws() -> list:
     return _core.friction_laws()
 
 
+def interaction_models() -> list:
+    """The interaction models (interaction.model; gfmd.solve(..., interaction=...)): [{'name', 'purpose',
+    'keys', 'repulsion_key', 'on_device'}], in the order the docs list them; a model with keys is
+    given as an object (gfmd.Adhesive for "adhesive"), one without by its name."""
+    return _core.interaction_models()
+
+
 def indenter_types() -> list:
     """The indenter types a case file (indenter.type) and Topography.indenter take:
     [{'name', 'purpose', 'keys'}], in the order the docs list them."""
@@ -30,5 +37,5 @@ def indenter_types() -> list:
 __all__ = [
     "Adhesive", "ContactSolver", "ElasticBody", "ViscoelasticBody", "InputError", "Result", "SolveError", "Topography", "_FRICTION_KEYS", "_SOLVER_KEYS",
     "_core", "_count", "_flag", "_heights", "_package_file", "_positive", "_progress_bar", "_toml_value",
-    "_warn_implausible", "curve", "ensemble", "friction_laws", "indenter_types", "load_path", "percolation", "run", "run_toml", "solve", "study", "sweep",
+    "_warn_implausible", "curve", "ensemble", "friction_laws", "indenter_types", "interaction_models", "load_path", "percolation", "run", "run_toml", "solve", "study", "sweep",
 ]

@@ -141,6 +141,11 @@ def _body_lines(body: ElasticBody) -> list:
     return lines
 
 
+# The interaction models given by name (those without keys of their own: the repulsions), from the
+# registry (contact/interaction.hpp).
+_REPULSIONS = tuple(m["name"] for m in _core.interaction_models() if not m["keys"])
+
+
 @dataclass(frozen=True)
 class Adhesive:
     """The adhesive interaction (interaction.model = "adhesive"): the Maugis-Dugdale cohesive law,
@@ -166,8 +171,8 @@ class Adhesive:
             raise InputError(f"Adhesive.work_of_adhesion: must be zero or positive, got {self.work_of_adhesion!r}")
         if not self.range > 0:
             raise InputError(f"Adhesive.range: must be positive, got {self.range!r}")
-        if self.repulsion not in ("hardwall", "harmonic"):
-            raise InputError(f"Adhesive.repulsion: one of hardwall, harmonic, got {self.repulsion!r}")
+        if self.repulsion not in _REPULSIONS:
+            raise InputError(f"Adhesive.repulsion: one of {', '.join(_REPULSIONS)}, got {self.repulsion!r}")
 
 
 def _interaction_lines(interaction) -> list:
@@ -178,7 +183,8 @@ def _interaction_lines(interaction) -> list:
                 f"range = {_toml_value('range', interaction.range)}",
                 f"repulsion = {_toml_value('repulsion', interaction.repulsion)}"]
     if not isinstance(interaction, str):
-        raise InputError(f"interaction: \"harmonic\", \"hardwall\" or a gfmd.Adhesive (got {interaction!r})")
+        names = ", ".join(f'"{n}"' for n in _REPULSIONS)
+        raise InputError(f"interaction: {names} or a gfmd.Adhesive (got {interaction!r})")
     return ["[interaction]", f"model = {_toml_value('interaction', interaction)}"]
 
 

@@ -73,15 +73,14 @@ nlohmann::json Config::to_json() const {
     j["friction"]["law"] = law.name;
     for (const FrictionLawType::Key& k : law.keys) j["friction"][k.name] = friction.law.*k.member;
   }
-  j["interaction"] = {{"model", interaction.hard_wall ? "hardwall" : "harmonic"},
-                      {"stiffness", interaction.stiffness}};
+  // The model and its own keys from the registry (contact/interaction.hpp).
+  const InteractionType& model = interaction_type(interaction);
+  j["interaction"] = {{"model", model.name}, {"stiffness", interaction.stiffness}};
   if (interaction.plastic()) j["interaction"]["hardness"] = interaction.hardness;  // absent: no cap
-  if (interaction.adhesive()) {
-    j["interaction"]["model"] = "adhesive";
-    j["interaction"]["repulsion"] = interaction.hard_wall ? "hardwall" : "harmonic";
-    j["interaction"]["work_of_adhesion"] = interaction.work_of_adhesion;
-    j["interaction"]["range"] = interaction.range;
-  }
+  if (model.repulsion_key)
+    j["interaction"]["repulsion"] =
+        (interaction.hard_wall ? hardwall_interaction() : harmonic_interaction()).name;
+  for (const InteractionType::Key& k : model.keys) j["interaction"][k.name] = interaction.*k.member;
   j["solver"] = {{"tolerance", solver.tolerance},
                  {"max_iterations", solver.max_iterations},
                  {"max_outer", solver.max_outer},

@@ -10,6 +10,7 @@
 
 #include "config_section.hpp"
 #include "gfmd/contact/friction_law.hpp"
+#include "gfmd/contact/interaction.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 
@@ -301,35 +302,38 @@ void read_friction(Section& fr, Config& c) {
 }
 
 void read_interaction(Section& ia, Config& c) {
+  // The model and its own keys from the registry (contact/interaction.hpp).
   const std::string model = ia.string("model", "harmonic");
-  std::vector<std::string> adhesion_keys;
-  if (model == "harmonic") {
-    c.interaction.hard_wall = false;
-  } else if (model == "hardwall" || model == "hard_wall") {
-    c.interaction.hard_wall = true;
-  } else if (model == "adhesive") {
-    // The Maugis-Dugdale cohesive law on a repulsion (hard wall by default, as in the
-    // theories it is checked against).
-    adhesion_keys = {"work_of_adhesion", "range", "repulsion"};
-    // 0: the repulsion alone (the limit of vanishing adhesion, solved as without the model).
-    c.interaction.work_of_adhesion = ia.number("work_of_adhesion", 0.0);
-    if (!(c.interaction.work_of_adhesion >= 0) || !std::isfinite(c.interaction.work_of_adhesion))
-      ia.error("work_of_adhesion",
-               "must be zero or positive and finite (the work of adhesion, energy per area in E* x length "
-               "units)");
-    c.interaction.range = ia.number("range", 0.0);
-    if (!(c.interaction.range > 0) || !std::isfinite(c.interaction.range))
-      ia.error("range", "must be positive and finite (the range of the cohesive law, a length)");
-    const std::string rep = ia.string("repulsion", "hardwall");
-    if (rep == "hardwall" || rep == "hard_wall") {
-      c.interaction.hard_wall = true;
-    } else if (rep == "harmonic") {
-      c.interaction.hard_wall = false;
-    } else {
-      ia.error("repulsion", "unknown repulsion \"" + rep + "\"; one of hardwall, harmonic");
-    }
+  std::vector<std::string> own_keys;
+  const InteractionType* t = find_interaction(model);
+  if (!t) {
+    std::vector<std::string> names;
+    for (const InteractionType* m : interaction_types()) names.push_back(m->name);
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    ia.error("model", "unknown model \"" + model + "\"" + did_you_mean(model, names) + "; one of " + list);
   } else {
-    ia.error("model", "unknown model \"" + model + "\"; one of harmonic, hardwall, adhesive");
+    c.interaction.hard_wall = t->hard_wall;
+    for (const InteractionType::Key& k : t->keys) {
+      own_keys.push_back(k.name);
+      c.interaction.*k.member = ia.number(k.name, k.default_value);
+    }
+    if (t->repulsion_key) {
+      // A repulsion is a model without keys of its own.
+      own_keys.emplace_back("repulsion");
+      const std::string rep = ia.string("repulsion", t->hard_wall ? "hardwall" : "harmonic");
+      const InteractionType* r = find_interaction(rep);
+      if (r && r->keys.empty() && !r->repulsion_key) {
+        c.interaction.hard_wall = r->hard_wall;
+      } else {
+        std::string list;
+        for (const InteractionType* m : interaction_types())
+          if (m->keys.empty() && !m->repulsion_key) list += (list.empty() ? "" : ", ") + m->name;
+        ia.error("repulsion", "unknown repulsion \"" + rep + "\"; one of " + list);
+      }
+    }
+    if (t->check)
+      for (const auto& [key, why] : t->check(c.interaction)) ia.error(key, why);
   }
   c.interaction.stiffness = ia.number("stiffness", 0.0);
   if (!(c.interaction.stiffness >= 0))
@@ -341,7 +345,7 @@ void read_interaction(Section& ia, Config& c) {
     if (c.interaction.plastic())
       ia.error("hardness", "plastic saturation on a viscoelastic body is not implemented");
   }
-  ia.finish(adhesion_keys);
+  ia.finish(own_keys);
 }
 
 }  // namespace gfmd::config_detail

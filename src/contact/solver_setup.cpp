@@ -31,7 +31,8 @@ std::pair<std::string, std::string> device_lacks(const InteractionParams& inter,
   // The device's slip reads the pair's compliance table; sliding needs the body's own.
   if (elastic_indenter && fric.coefficient > 0)
     return {"indenter.contact_modulus", "friction under an elastic indenter" + there};
-  if (inter.adhesive()) return {"interaction.model", "adhesion" + there};
+  const InteractionType& model = interaction_type(inter);
+  if (!model.on_device) return {"interaction.model", "\"" + model.name + "\"" + there};
   if (inter.plastic()) return {"interaction.hardness", "plastic saturation" + there};
   const FrictionLawType& law = friction_law_type(fric.law.kind);
   if (fric.coefficient > 0 && !law.on_device) return {"friction.law", "\"" + law.name + "\"" + there};

@@ -49,7 +49,7 @@ def test_vanishing_adhesion_is_the_hard_wall_bit_for_bit():
     ((-1e-3, 0.01), "Adhesive.work_of_adhesion: must be zero or positive"),
     ((1e-3, 0.0), "Adhesive.range: must be positive"),
     ((1e-3, math.nan), "Adhesive.range: must be a finite number"),
-    ((1e-3, 0.01, "soft"), "Adhesive.repulsion: one of hardwall, harmonic"),
+    ((1e-3, 0.01, "soft"), "Adhesive.repulsion: one of harmonic, hardwall"),
 ])
 def test_bad_adhesion_is_refused(args, message):
     with pytest.raises(gfmd.InputError, match=message):

@@ -107,6 +107,22 @@ def test_flat_punch_from_python_presses_its_face():
         gfmd.Topography.flatpunch(128, 8.0, radius=0.1)
 
 
+def test_interaction_models_from_python():
+    models = {m["name"]: m for m in gfmd.interaction_models()}
+    assert list(models) == ["harmonic", "hardwall", "adhesive"]
+    assert models["adhesive"]["keys"] == ["work_of_adhesion", "range", "repulsion"]
+    assert models["adhesive"]["repulsion_key"] and not models["adhesive"]["on_device"]
+    t = gfmd.Topography.hertz(64, 1.6, radius=1.0)
+    for name in ("harmonic", "hardwall"):
+        assert models[name]["keys"] == [] and models[name]["on_device"]
+        assert gfmd.solve(t, force=0.01, interaction=name).summary["converged"]
+    with pytest.raises(gfmd.InputError, match="interaction.model: unknown model \"hardwal\" .*one of harmonic, "
+                                              "hardwall, adhesive"):
+        gfmd.solve(t, force=0.01, interaction="hardwal")
+    with pytest.raises(gfmd.InputError, match="Adhesive.repulsion: one of harmonic, hardwall"):
+        gfmd.Adhesive(1e-3, 0.01, repulsion="adhesive")
+
+
 def test_friction_laws_from_python():
     laws = {law["name"]: law for law in gfmd.friction_laws()}
     assert laws["coulomb"]["set_valued_stick"] and laws["coulomb"]["keys"] == []

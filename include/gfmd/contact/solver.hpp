@@ -35,35 +35,13 @@
 
 #include "gfmd/contact/anderson.hpp"
 #include "gfmd/contact/friction_law.hpp"
+#include "gfmd/contact/interaction.hpp"
 #include "gfmd/core/fft.hpp"
 #include "gfmd/core/fields.hpp"
 #include "gfmd/elastic/elastic.hpp"
 #include "gfmd/surface/topography.hpp"
 
 namespace gfmd {
-
-struct InteractionParams {
-  bool hard_wall = false;
-  double stiffness = 0.0;  // k_if; 0 means the default 2 E* / dx
-  // Plastic saturation: the local pressure is capped at the hardness H (a perfectly plastic
-  // surface flows where the elastic solution would press harder; there the indenter overlaps
-  // the undeformed surface by the plastic displacement). inf: no cap.
-  double hardness = std::numeric_limits<double>::infinity();
-  [[nodiscard]] bool plastic() const { return hardness < std::numeric_limits<double>::infinity(); }
-  // Adhesion (interaction.model = "adhesive"): the Maugis-Dugdale cohesive law on top of the
-  // repulsion. A tensile traction sigma0 = work_of_adhesion / range pulls the body towards the
-  // indenter wherever the gap is below the range (inside the contact too), none beyond; the
-  // work of separating a unit area is work_of_adhesion. 0: no adhesion (the repulsive solve).
-  double work_of_adhesion = 0.0;
-  double range = 0.0;
-  [[nodiscard]] bool adhesive() const { return work_of_adhesion > 0; }
-  [[nodiscard]] double adhesive_stress() const { return adhesive() ? work_of_adhesion / range : 0.0; }
-  // k_if on a grid of spacing dx: inf for the hard wall, else stiffness or its default 2 E*/dx.
-  [[nodiscard]] double stiffness_on(double contact_modulus, double dx) const {
-    if (hard_wall) return std::numeric_limits<double>::infinity();
-    return stiffness > 0 ? stiffness : 2.0 * contact_modulus / dx;
-  }
-};
 
 struct FrictionParams {
   double coefficient = 0.0;  // mu_c (a speed-dependent law's kinetic coefficient mu_k)
