@@ -201,6 +201,18 @@ def test_viscoelastic_sliding_any_rank_count(tmp_path, ranks, friction):
         assert b[k] == a[k], k
 
 
+def test_adhesive_viscoelastic_sliding_any_rank_count(tmp_path):
+    # Adhesion on the sliding viscoelastic body: the adhesive steps around the splitting give the
+    # serial bits on three slabs.
+    case = VISCO.replace("[solver]", "[interaction]\nmodel = \"adhesive\"\nwork_of_adhesion = 2e-3\n"
+                         "range = 0.02\n[solver]")
+    a, b = serial_and_distributed(tmp_path, case, 3)
+    assert a["adhesive_force"] > 0 and a["hysteresis_friction"] > 0 and a["hysteresis_balance_error"] < 1e-9
+    for k in ("adhesive_force", "adhesion_steps", "viscoelastic_steps", "hysteresis_force", "hysteresis_dissipation",
+              "centroid_shift", "relative_contact_area"):
+        assert b[k] == a[k], k
+
+
 COATED = HERTZ.replace("poisson = 0.3", "poisson = 0.3\nthickness = 0.05\nsubstrate_contact_modulus = 0.2\n"
                        "layers = [{contact_modulus = 3.0, poisson = 0.2, thickness = 0.02}]").replace(
     "[solver]", "[friction]\ncoefficient = 0.4\ndirection = 30\n[stress]\ndepths = [0.05, 0.2]\n[solver]")
