@@ -123,9 +123,10 @@ def plot_sweeps(study, results, fig_base):
                 mx, my = np.array([r[0] for r in st]), np.array([r[1] for r in st])
                 sd = np.array([r[2] for r in st])
                 lo, hi = np.array([r[3] for r in st]), np.array([r[4] for r in st])
-                ax.fill_between(mx, lo, hi, color=color, alpha=0.12, lw=0)
-                ax.fill_between(mx, my - sd, my + sd, color=color, alpha=0.3, lw=0)
-                ax.plot(mx, my, style, label=f"{s['label']} ({len(per_seed)} seeds)", color=color, ms=3)
+                # The line first: its colour (the series' own, or the cycle's next) is the bands'.
+                line, = ax.plot(mx, my, style, label=f"{s['label']} ({len(per_seed)} seeds)", color=color, ms=3)
+                ax.fill_between(mx, lo, hi, color=line.get_color(), alpha=0.12, lw=0)
+                ax.fill_between(mx, my - sd, my + sd, color=line.get_color(), alpha=0.3, lw=0)
                 for seed, rows in res["seeds"].items():
                     xv, yv = per_seed[seed]
                     extra = [col(rows, c) for c in extra_cols]
