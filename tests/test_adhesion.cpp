@@ -99,12 +99,7 @@ analysis = false
 )";
 
 std::string problem(const std::vector<std::string>& sets) {
-  try {
-    (void)parse_config(kCase, "t.toml", sets);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return gfmd::testing::config_problem(kCase, sets);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "gfmd/contact/interaction.hpp"
 #include "gfmd/contact/solver.hpp"
 #include "gfmd/core/error.hpp"
+#include "test_util.hpp"
 
 using namespace gfmd;
 
@@ -26,12 +27,7 @@ approach = 0.001
 )";
 
 std::string problem(const std::vector<std::string>& sets) {
-  try {
-    (void)parse_config(kCase, "t.toml", sets);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return gfmd::testing::config_problem(kCase, sets);
 }
 
 }  // namespace
