@@ -344,6 +344,16 @@ TEST(Adhesion, PlasticAdhesiveSphereUnderLoadControlFindsItsApproach) {
   EXPECT_NE(f.info.status.find("the load plus the adhesive pull reach interaction.hardness"),
             std::string::npos)
       << f.info.status;
+  // Sliding, the friction loop ends at the first step that finds it (not after solver.max_outer
+  // steps on a stale pressure).
+  none.emplace_back("friction.coefficient=0.3");
+  none.emplace_back("friction.reference=false");
+  const CaseResult g = run_case(parse_config(kCase, "t.toml", none));
+  EXPECT_FALSE(g.info.converged);
+  EXPECT_LE(g.info.outer_iterations, 1);
+  EXPECT_EQ(
+      g.info.status.rfind("not converged: the load plus the adhesive pull reach interaction.hardness", 0), 0u)
+      << g.info.status;
 }
 
 TEST(Adhesion, CurveLoadsAndUnloadsAlongAnApproachPath) {

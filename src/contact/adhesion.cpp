@@ -204,6 +204,7 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
     adh_.mixer->advance(a, d, change, 0.0, s0);
   }
   info.converged = info.status == "converged";
+  info.no_state = no_state;
   if (!info.converged && !no_state) {
     // The usual cause: cohesive zones narrower than a cell or two, whose edges the grid traps.
     const auto z = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {

@@ -60,11 +60,16 @@ ContactSolver::PKResult ContactSolver::solve_normal_capped_load(const LoadParams
   // rms height) outwards in steps that double. With adhesion (w holds the adhesive traction's
   // pull) the approach may be negative: the search crosses zero as any other value.
   const double scale = std::max(g0_rms_, 1e-300);
-  double hi = capped_found_ ? capped_delta_ : scale;
+  double hi = capped_found_ && std::isfinite(capped_delta_) ? capped_delta_ : scale;
   double phi = mean_at(hi);
   double lo = hi, plo = phi;
-  double step = hi != 0.0 ? std::abs(hi) : scale;
-  if (phi < pbar) {
+  // Steps of at least a thousandth of the rms height: an approach found near zero (with
+  // adhesion) must not make the search crawl outwards from it.
+  double step = std::max(std::abs(hi), 1e-3 * scale);
+  const bool met = std::abs(phi - pbar) <= tol * pbar && inner_ok;  // the warm start carries the load
+  if (met) {
+    // Nothing to bracket: hi is the answer.
+  } else if (phi < pbar) {
     for (int k = 0; k < 200 && phi < pbar && total.iterations < max_it; ++k) {
       lo = hi;
       plo = phi;
@@ -85,7 +90,7 @@ ContactSolver::PKResult ContactSolver::solve_normal_capped_load(const LoadParams
   }
   double d = hi, pd = phi;
   int side = 0;  // Illinois: the end kept twice in a row has its residual halved
-  for (int k = 0; k < 200 && total.iterations < max_it; ++k) {
+  for (int k = 0; !met && k < 200 && total.iterations < max_it; ++k) {
     if (std::abs(pd - pbar) <= tol * pbar && inner_ok) break;
     const double flo = plo - pbar, fhi = phi - pbar;
     d = fhi != flo ? hi - fhi * (hi - lo) / (fhi - flo) : 0.5 * (lo + hi);
@@ -102,7 +107,7 @@ ContactSolver::PKResult ContactSolver::solve_normal_capped_load(const LoadParams
       if (side == 1) plo = pbar + 0.5 * (plo - pbar);
       side = 1;
     }
-    if (hi - lo <= 1e-15 * std::max(std::abs(hi), std::abs(lo))) break;
+    if (hi - lo <= 1e-15 * std::max({std::abs(hi), std::abs(lo), scale})) break;
   }
   if (evaluated != d) pd = mean_at(d);  // p must hold d's solution (a bracket found it at once)
   capped_delta_ = d;

@@ -350,7 +350,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
         info.elastic_energy = step_info.elastic_energy;
         info.adhesive_energy = step_info.adhesive_energy;
         info.energy = step_info.energy;
-        if (step_info.status.find("pull-off") != std::string::npos) {
+        if (step_info.no_state) {  // beyond the pull-off, or beyond the cap
           info.status = step_info.status;
           pulled_off = true;
           break;

@@ -24,7 +24,8 @@ def interrupt_after_first_checkpoint(case, out, ranks=2):
         if (out / "checkpoint.bin").exists() or proc.poll() is not None:
             break
         time.sleep(0.02)
-    for pid in children(proc.pid):
+    ranks = children(proc.pid)
+    for pid in ranks or [proc.pid]:  # mpirun itself if it has no ranks (yet, or any more)
         try:
             os.kill(pid, signal.SIGTERM)
         except ProcessLookupError:

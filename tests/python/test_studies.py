@@ -289,6 +289,7 @@ def test_visco_coupling_rough_quick_signs(out):
     # signs, kept on a rubber); the hysteresis part peaks between the relaxed and glassy ends.
     # Measured (full, 256^2, four seeds): +0.0106 at the relaxed end to +0.0042 at the glassy one
     # for h = 0.05 lambda_l, -0.0082 to -0.0042 on the half-space; the hysteresis peaks at 0.05.
+    # This quick run (128^2, two seeds): +0.016 ... +0.0046 and -0.0082 ... -0.0041; peak 0.055.
     run_study("visco_coupling_rough", out)
     table = rows(out / "visco_coupling_rough" / "quick" / "visco_coupling_rough.csv")
     head = table[0]

@@ -117,6 +117,9 @@ struct SolveInfo {
   // Adhesion: the cohesive-set steps (majorize-minimize over the set where the gap is below
   // the range; each a repulsive solve) the solve took; 0 without adhesion.
   int adhesion_steps = 0;
+  // The adhesive solve found that its load has no state (a tensile load beyond the pull-off, or
+  // a load and pull beyond the cap): the friction loop ends there.
+  bool no_state = false;
   // Adhesion: the energy of the solution (per the solve's own discretisation, so that along a
   // load path d(energy)/d(approach) = normal_force): the elastic energy 1/2 sum p_net C p_net dA,
   // the adhesive energy sum phi(g) dA (phi = -w + the cell law's integral over the gap: -w in
