@@ -155,6 +155,9 @@ TEST(Resume, AdhesiveSlidingGoesOnWhereItStopped) {
   expect_same_solve(x);
   EXPECT_TRUE(x.resumed.fields.adhesion == x.fresh.fields.adhesion);
   EXPECT_EQ(x.resumed.observables.adhesive_force, x.fresh.observables.adhesive_force);
+  // The restart point counts the adhesive steps done before it.
+  EXPECT_GT(x.fresh.info.adhesion_steps, 0);
+  EXPECT_EQ(x.resumed.info.adhesion_steps, x.fresh.info.adhesion_steps);
 }
 
 // A frictionless adhesive solve stopped inside its steps: the checkpoint holds the net pressure

@@ -140,8 +140,9 @@ std::vector<const RealField*> resume_fields(const SolveResume& st) { return fiel
 
 std::string encode_resume_numbers(const SolveInfo* ref, const FrictionRestart* fr, bool adhesive) {
   Bytes b;
-  // Flags: 1 a reference, 2 a friction restart, 4 adhesive tractions among the fields.
-  b.put(static_cast<std::uint32_t>((ref ? 1u : 0u) | (fr ? 2u : 0u) | (adhesive ? 4u : 0u)));
+  // Flags: 1 a reference, 2 a friction restart, 4 adhesive tractions among the fields, 8 the
+  // restart's adhesive step count at the end (checkpoints before it lack it: 0 steps).
+  b.put(static_cast<std::uint32_t>((ref ? 1u : 0u) | (fr ? 2u | 8u : 0u) | (adhesive ? 4u : 0u)));
   if (ref) {
     b.put(static_cast<std::int32_t>(ref->iterations));
     b.put(static_cast<std::int32_t>(ref->outer_iterations));
@@ -174,6 +175,7 @@ std::string encode_resume_numbers(const SolveInfo* ref, const FrictionRestart* f
     put_bool(b, fr->mixer_have_prev);
     b.put_vector(fr->mixer_slots);
     b.put_vector(fr->mixer_gram);
+    b.put(fr->adhesion_steps);
   }
   return b.buf;
 }
@@ -181,7 +183,7 @@ std::string encode_resume_numbers(const SolveInfo* ref, const FrictionRestart* f
 bool decode_resume_numbers(const std::string& bytes, SolveResume& state) {
   Unbytes u{bytes};
   std::uint32_t flags = 0;
-  if (!u.get(flags) || flags > 7) return false;
+  if (!u.get(flags) || flags > 15 || ((flags & 8u) && !(flags & 2u))) return false;
   state = SolveResume{};
   state.adhesive = (flags & 4u) != 0;
   if (flags & 1u) {
@@ -227,6 +229,7 @@ bool decode_resume_numbers(const std::string& bytes, SolveResume& state) {
       f.df.resize(f.mixer_slots.size());
       f.dx.resize(f.mixer_slots.size());
     }
+    if ((flags & 8u) && (!u.get(f.adhesion_steps) || f.adhesion_steps < 0)) return false;
   }
   return u.pos == bytes.size();
 }

@@ -206,6 +206,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       hist_change = resume->history_change;
       hist_force = resume->history_force;
       have_z_ = resume->have_z;
+      info.adhesion_steps = resume->adhesion_steps;
       if (have_z_) {
         zx_ = resume->zx;
         zy_ = resume->zy;
@@ -224,6 +225,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       double gw, g;
       PKResult pk;
       std::size_t hist;
+      int adhesion_steps;
     } top{};
     RealField p_top, a_top, zx_top, zy_top;
     const bool keep_top = static_cast<bool>(stop_) || static_cast<bool>(checkpoint_);
@@ -247,6 +249,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       s.pk_error = top.pk.error;
       s.pk_delta = top.pk.delta;
       s.pk_converged = top.pk.converged;
+      s.adhesion_steps = top.adhesion_steps;
       s.history_change.assign(hist_change.begin(),
                               hist_change.begin() + static_cast<std::ptrdiff_t>(top.hist));
       s.history_force.assign(hist_force.begin(), hist_force.begin() + static_cast<std::ptrdiff_t>(top.hist));
@@ -315,7 +318,8 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
                 gw_mean_ref_,
                 g_mean_ref_,
                 pk,
-                hist_change.size()};
+                hist_change.size(),
+                info.adhesion_steps};
       if (keep_top) {
         p_top = f.pressure;
         a_top = f.adhesion;  // with adhesion: the traction that goes with the net pressure

@@ -110,5 +110,6 @@ def test_adhesive_sliding_interrupted_resumes_on_another_process_count(tmp_path)
     assert b["adhesive_force"] == pytest.approx(a["adhesive_force"], rel=1e-6)
     if b["resumed"]["iterations_before"] > a["frictionless"]["iterations"]:
         assert b["outer_iterations"] == a["outer_iterations"]
+        assert b["adhesion_steps"] == a["adhesion_steps"]  # counted from the restart point on
         assert b["tangential_force"] == a["tangential_force"]
         assert b["normal_force"] == a["normal_force"]

@@ -213,6 +213,7 @@ struct FrictionRestart {
   bool have_z = false;  // the splitting variable (zx, zy) is set
   SlipDerivative derivative = SlipDerivative::Spectral;
   FrictionStepsState steps;
+  std::int32_t adhesion_steps = 0;             // with adhesion: the adhesive steps done by then
   double gw_mean_ref = 0.0, g_mean_ref = 0.0;  // the normal solve's references
   // The last normal solve.
   std::int32_t pk_iterations = 0;
