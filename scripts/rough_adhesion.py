@@ -34,6 +34,11 @@ sys.path.insert(0, os.environ.get("GFMD_PYTHON_DIR", os.path.join(HERE, "..", "b
 import gfmd  # noqa: E402
 
 
+def work_of_adhesion(q, hp, hpp, rho):
+    """The w that makes the stickiness parameter Q for rms gradient hp, curvature hpp, range rho."""
+    return hp * rho / (2 * q) * (hp * hp / (hpp * rho)) ** (2 / 3)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--nx", type=int, default=512)
@@ -57,7 +62,7 @@ def main():
     print("|---" * 8 + "|")
     s_rep = None
     for q in (float(v) for v in a.q.split(",")):
-        w = 0.0 if math.isinf(q) else hp * rho / (2 * q) * (hp * hp / (hpp * rho)) ** (2 / 3)
+        w = 0.0 if math.isinf(q) else work_of_adhesion(q, hp, hpp, rho)
         solver = gfmd.ContactSolver(top, interaction="hardwall" if w == 0 else gfmd.Adhesive(w, rho))
         area = np.array([r.summary["relative_contact_area"] for r in gfmd.load_path(solver, pressures=ps)])
         secant = float(area @ ps / (ps @ ps))
@@ -81,7 +86,7 @@ def dmt(top, hp, hpp, ps):
         cells = []
         for rho in ranges:
             ratio = float(np.mean(gap < rho)) / area
-            sigma0_q = hp / 2 * (hp * hp / (hpp * rho)) ** (2 / 3)  # sigma0 Q: w / rho at the w of Q
+            sigma0_q = work_of_adhesion(1.0, hp, hpp, rho) / rho  # sigma0 Q (sigma0 = w / rho)
             cells.append(f"{ratio:.2f}, {sigma0_q * ratio * kappa / hp:.1f}")
         print(f"| {p:g} | {area:.4f} | " + " | ".join(cells) + " |")
 

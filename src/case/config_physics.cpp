@@ -293,10 +293,8 @@ void read_friction(Section& fr, Config& c) {
       names.push_back(t->name);
       for (const auto& k : t->keys) law_keys.push_back(k.name);
     }
-    std::string list;
-    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
     fr.error("law", "unknown friction law \"" + law_name + "\"" + did_you_mean(law_name, names) +
-                        "; one of " + list);
+                        "; one of " + comma_list(names));
   }
   fr.finish(law_keys);
 }
@@ -309,9 +307,8 @@ void read_interaction(Section& ia, Config& c) {
   if (!t) {
     std::vector<std::string> names;
     for (const InteractionType* m : interaction_types()) names.push_back(m->name);
-    std::string list;
-    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-    ia.error("model", "unknown model \"" + model + "\"" + did_you_mean(model, names) + "; one of " + list);
+    ia.error("model", "unknown model \"" + model + "\"" + did_you_mean(model, names) + "; one of " +
+                          comma_list(names));
   } else {
     c.interaction.hard_wall = t->hard_wall;
     for (const InteractionType::Key& k : t->keys) {
@@ -319,17 +316,16 @@ void read_interaction(Section& ia, Config& c) {
       c.interaction.*k.member = ia.number(k.name, k.default_value);
     }
     if (t->repulsion_key) {
-      // A repulsion is a model without keys of its own.
       own_keys.emplace_back("repulsion");
       const std::string rep = ia.string("repulsion", t->hard_wall ? "hardwall" : "harmonic");
       const InteractionType* r = find_interaction(rep);
-      if (r && r->keys.empty() && !r->repulsion_key) {
+      if (r && r->repulsion()) {
         c.interaction.hard_wall = r->hard_wall;
       } else {
-        std::string list;
+        std::vector<std::string> repulsions;
         for (const InteractionType* m : interaction_types())
-          if (m->keys.empty() && !m->repulsion_key) list += (list.empty() ? "" : ", ") + m->name;
-        ia.error("repulsion", "unknown repulsion \"" + rep + "\"; one of " + list);
+          if (m->repulsion()) repulsions.push_back(m->name);
+        ia.error("repulsion", "unknown repulsion \"" + rep + "\"; one of " + comma_list(repulsions));
       }
     }
     if (t->check)

@@ -27,6 +27,13 @@ inline std::size_t edit_distance(const std::string& a, const std::string& b) {
   return prev[b.size()];
 }
 
+// Names joined for a "one of ..." message: "a, b, c".
+inline std::string comma_list(const std::vector<std::string>& names) {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return list;
+}
+
 inline std::string did_you_mean(const std::string& key, const std::vector<std::string>& allowed) {
   std::string best;
   std::size_t bd = 3;

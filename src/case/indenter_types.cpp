@@ -42,11 +42,7 @@ std::vector<std::string> case_indenter_names() {
   return names;
 }
 
-std::string indenter_names_text() {
-  std::string text;
-  for (const std::string& n : case_indenter_names()) text += (text.empty() ? "" : ", ") + n;
-  return text;
-}
+std::string indenter_names_text() { return comma_list(case_indenter_names()); }
 
 std::string g3(double v) {
   char buf[32];

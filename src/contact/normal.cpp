@@ -68,7 +68,7 @@ ContactSolver::PKResult ContactSolver::solve_normal_capped_load(const LoadParams
   double step = std::max(std::abs(hi), 1e-3 * scale);
   const bool met = std::abs(phi - pbar) <= tol * pbar && inner_ok;  // the warm start carries the load
   if (met) {
-    // Nothing to bracket: hi is the answer.
+    // hi is the answer: nothing to bracket, no step below.
   } else if (phi < pbar) {
     for (int k = 0; k < 200 && phi < pbar && total.iterations < max_it; ++k) {
       lo = hi;

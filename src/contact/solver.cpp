@@ -340,10 +340,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
         info.status = "not converged: iteration limit reached";
         break;
       }
-      if (body_.viscoelastic() && !inter_.adhesive()) {
-        std::string why;
-        pk = solve_normal_viscoelastic(load, &w, f.pressure, inner_tol, budget, info.viscoelastic_steps, why);
-      } else if (inter_.adhesive()) {
+      if (inter_.adhesive()) {
         // The adhesive normal problem under the friction's normal displacement; its traction
         // f.adhesion is kept from step to step (the warm start of the next).
         SolveInfo& step_info = adhesive_step;
@@ -361,7 +358,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
         }
         if (!steps.stick_mode()) transform_tractions(f.tx, f.ty);  // the gap spread used s2_/s3_
       } else {
-        pk = solve_normal(load, w, false, f.pressure, inner_tol, budget);
+        pk = solve_repulsive(load, w, f.pressure, inner_tol, budget, info);  // elastic or viscoelastic
       }
       // One friction step costs 3 forward + 3 inverse FFTs: tau_x, tau_y and p forward,
       // w and the two slip derivatives back (with adhesion two more forward: the tractions

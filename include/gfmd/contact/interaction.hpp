@@ -59,6 +59,8 @@ struct InteractionType {
   // own: "hardwall" or "harmonic"), this being its default.
   bool hard_wall = false;
   bool repulsion_key = false;
+  // A repulsion: a model without keys of its own (what interaction.repulsion names).
+  [[nodiscard]] bool repulsion() const { return keys.empty() && !repulsion_key; }
   // Capabilities: the cuda backend computes it.
   bool on_device = true;
   // Whether a parameter set is this model's (how a case is written back): the first model in the
