@@ -3,11 +3,13 @@
 # host on the example cases), then the benchmarks (bare cuFFT, rough sliding on the device
 # and on 2 host cores). Needs build/gfmd, build/gfmd_tests, build/bench_cufft and
 # .devcarry/devlibs.tar.xz (scripts/gpu_pack.sh). Writes its logs to $OUT (or /tmp/gpu_out).
-#   bash scripts/gpu_check.sh [tests] [stress] [fig2e] [bench] [large] [cpu]
+#   bash scripts/gpu_check.sh [tests] [stress] [fig2e] [bench] [large] [cpu] [adhesion]
 #   (default: tests bench cpu). stress: the stresses' time on the device and on the cores;
 #   fig2e: the paper's Fig. 2(e) study at 2048^2 on the device, its runs only (the figure is
 #   drawn where matplotlib is: gfmd study studies/fig2e.toml -o DIR --set 'solver.backend="cuda"'
-#   reuses every finished run); large: 8192^2 and 16384^2 rough sliding with upwind2.
+#   reuses every finished run); large: 8192^2 and 16384^2 rough sliding with upwind2;
+#   adhesion: the rough adhesive contact at 2048^2 on the device (adhesive and hard wall) and
+#   on the machine's cores (BENCHMARKS.md, "Adhesion on the CUDA backend").
 set -uo pipefail
 cd "$(dirname "$0")/.."
 out=${OUT:-/tmp/gpu_out}
@@ -73,6 +75,23 @@ if has large; then
   ./build/bench_cufft 16384 10 | tee -a "$out/cufft.txt"
   timeout "${LARGE_TIMEOUT:-400}" python3 scripts/bench.py --backend cuda --cases rough_upwind2 --sizes 8192 16384 \
     --tolerance 1e-6 2>&1 | tee "$out/bench_cuda_large.txt"
+fi
+if has adhesion; then
+  # examples/adhesive_rough.toml at 2048^2 (lambda_s = 32 cells, as in BENCHMARKS.md's host rows),
+  # one cold solve each: adhesive on the device, the hard wall alone (work 0) on the device, and
+  # adhesive on the cores.
+  for spec in "cuda 2e-5" "cuda 0" "threads 2e-5"; do
+    set -- $spec
+    dir=/tmp/adh_rough_$1_$2
+    timeout "${ADHESION_TIMEOUT:-200}" ./build/gfmd run examples/adhesive_rough.toml -o "$dir" -q --set grid.nx=2048 \
+      --set interaction.work_of_adhesion=$2 --set output.fields=false --set output.png=false \
+      --set output.analysis=false --set "solver.backend=\"$1\"" > /dev/null 2>&1
+    python3 -c "import json; s = json.load(open('$dir/summary.json')); \
+print(f'rough adhesive 2048^2, {s[\"backend\"]}, work {$2}: {s[\"iterations\"]} CG iterations, ' \
+      f'{s.get(\"adhesion_steps\", 0)} adhesive steps, {s[\"wall_time_s\"]:.2f} s, {s[\"threads\"]} threads, ' \
+      f'area {s[\"relative_contact_area\"]:.4f}, force {s[\"normal_force\"]:.9g}, converged {s[\"converged\"]}')" |
+      tee -a "$out/adhesion.txt" || echo "rough adhesive $spec: no summary" | tee -a "$out/adhesion.txt"
+  done
 fi
 if has cpu; then
   timeout 300 python3 scripts/bench.py --backend threads --threads 2 --cases rough --sizes 2048 \

@@ -296,8 +296,9 @@ TEST(Device, AutoKeepsHostOnlyPhysicsOnTheCoresAndCudaNamesIt) {
       {{"elastic.viscoelastic=\"sls\"", "elastic.high_frequency_modulus=10", "elastic.relaxation_time=1",
         "friction.velocity=0.02"},
        "elastic.viscoelastic"},
-      {{"interaction.model=\"adhesive\"", "interaction.work_of_adhesion=1e-3", "interaction.range=0.02"},
-       "interaction.model"}};
+      {{"interaction.model=\"adhesive\"", "interaction.work_of_adhesion=1e-3", "interaction.range=0.02",
+        "interaction.hardness=0.5"},
+       "interaction.hardness"}};
   const DeviceStatus dev = cuda_device();
   for (const auto& [sets, key] : cases) {
     std::vector<std::string> with = sets;

@@ -64,6 +64,10 @@ TEST(Interactions, EveryModelIsReadAndWrittenBackThroughTheRegistry) {
     if (!t->on_device) {
       EXPECT_NE(why.find("\"" + t->name + "\""), std::string::npos) << why;
     }
+    // With Coulomb friction too (the device's friction law).
+    FrictionParams sliding;
+    sliding.coefficient = 0.3;
+    EXPECT_EQ(device_lacks(c.interaction, sliding, false, false).first.empty(), t->on_device) << t->name;
   }
 }
 

@@ -201,7 +201,8 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     if (mpi::distributed())
       throw InputError("solver.backend", "\"cuda\" solves on one process; under mpirun use \"threads\"");
     // No device, or a grid too large for it: said before the surface is made.
-    require_device_fits(cfg.grid, cfg.friction.coefficient > 0);
+    require_device_fits(cfg.grid, cfg.friction.coefficient > 0, cfg.interaction.adhesive(),
+                        cfg.solver.anderson);
   }
   const BackendScope on_backend(*chosen);
   CaseResult r;

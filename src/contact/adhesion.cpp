@@ -73,25 +73,6 @@ void ContactSolver::gap_spread(const RealField& gap, RealField& gx, RealField& s
                [&](std::ptrdiff_t i) { spread[i] = std::abs(gx[i]) * dx + std::abs(spread[i]) * dy; });
 }
 
-double adhesive_fraction(double gap, double spread, double range) {
-  if (gap <= 0.0) return 1.0;
-  if (spread > 0.0) return std::clamp((range - gap) / spread + 0.5, 0.0, 1.0);
-  return gap < range ? 1.0 : 0.0;
-}
-
-double adhesive_potential(double gap, double spread, double range) {
-  // -(the integral of adhesive_fraction from the gap to infinity). The fraction is 1 up to
-  // a0 = max(range - spread/2, 0), falls linearly to 0 at hi = range + spread/2 and is 0 beyond.
-  if (!(spread > 0.0)) return std::max(gap, 0.0) < range ? std::max(gap, 0.0) - range : 0.0;
-  const double hi = range + 0.5 * spread, a0 = std::max(range - 0.5 * spread, 0.0);
-  const double g = std::max(gap, 0.0);
-  if (g >= hi) return 0.0;
-  // The linear part from max(g, a0) to hi: the area of a triangle of height f there.
-  const double from = std::max(g, a0);
-  const double f_from = std::clamp((range - from) / spread + 0.5, 0.0, 1.0);
-  return -(0.5 * f_from * (hi - from) + std::max(a0 - g, 0.0));
-}
-
 ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, ContactFields& f, double tol,
                                                       SolveInfo& info, const RealField* w_extra, int max_it) {
   const std::size_t n = grid_.local_size();

@@ -1,12 +1,15 @@
-// Anderson mixing of the friction fixed point on the device (the CUDA solve's part that
-// AndersonMixer is on the host): the mixed vector's layout on the traction's support and the
-// single-precision history. Private to src/contact/device_solve.cu, which includes it.
+// Anderson mixing on the device (the CUDA solve's part that AndersonMixer and GuardedAnderson
+// are on the host): the mixed vectors' layouts (the friction traction on its support, the
+// adhesive traction on every point), the single-precision history and the safeguard. Private
+// to the CUDA solve (device_solve_class.cuh includes it).
 #pragma once
 
 #include <cuda_runtime.h>
 
 #include <algorithm>
 #include <cstddef>
+#include <limits>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -19,9 +22,10 @@ using namespace cuda_kernels;
 
 inline constexpr int kMaxDepth = 50;  // solver.anderson's upper limit (case/config.cpp)
 
-// Anderson mixing of the friction fixed point on the device (AndersonMixer's algorithm and
-// its single-precision history; the small least-squares solve on the host).
-// The mixed vector: entry 2j is tau_x at support point supp[j], 2j + 1 tau_y there; x is
+// Anderson mixing on the device (AndersonMixer's algorithm and its single-precision history;
+// the small least-squares solve on the host), over a vector a target describes: x(e) the
+// iterate's entry e, g(e) its image, set(e, v) writes the mixed iterate.
+// The friction's target: entry 2j is tau_x at support point supp[j], 2j + 1 tau_y there; x is
 // the iterate (ftx, fty), g its image (tx, ty).
 struct MixTarget {
   double* ftx;
@@ -29,13 +33,19 @@ struct MixTarget {
   const double* tx;
   const double* ty;
   const std::uint32_t* supp;
+  __device__ double x(std::size_t e) const { return (e % 2 == 0 ? ftx : fty)[supp[e / 2]]; }
+  __device__ double g(std::size_t e) const { return (e % 2 == 0 ? tx : ty)[supp[e / 2]]; }
+  __device__ void set(std::size_t e, double v) const { (e % 2 == 0 ? ftx : fty)[supp[e / 2]] = v; }
 };
-__device__ inline double mix_x(const MixTarget& t, std::size_t e) {
-  return (e % 2 == 0 ? t.ftx : t.fty)[t.supp[e / 2]];
-}
-__device__ inline double mix_g(const MixTarget& t, std::size_t e) {
-  return (e % 2 == 0 ? t.tx : t.ty)[t.supp[e / 2]];
-}
+// A field over every point (adhesion's traction): the mixed iterate clipped to [lo, hi].
+struct FieldTarget {
+  double* xs;
+  const double* gs;
+  double lo, hi;
+  __device__ double x(std::size_t e) const { return xs[e]; }
+  __device__ double g(std::size_t e) const { return gs[e]; }
+  __device__ void set(std::size_t e, double v) const { xs[e] = fmin(fmax(v, lo), hi); }
+};
 
 struct EightVectors {
   const float* v[8];
@@ -54,11 +64,12 @@ class DeviceAnderson {
       : m_(depth), tally_(tally), min_cap_(entries / 8), df_(depth), dx_(depth) {
     gram_.assign(static_cast<std::size_t>(m_) * m_, 0.0);
   }
-  void resize(std::size_t len) {
+  // exact: a vector that does not grow (no headroom).
+  void resize(std::size_t len, bool exact = false) {
     if (len > cap_) {
       // Doubling, from an eighth of the grid's entries: a few reallocations per solve (each
       // one waits for the device).
-      const std::size_t cap = std::max(2 * len, min_cap_);
+      const std::size_t cap = exact ? len : std::max(2 * len, min_cap_);
       xprev_.grow(cap, cap_, tally_, "the mixing history");
       fprev_.grow(cap, cap_, tally_, "the mixing history");
       for (int s = 0; s < m_; ++s) {
@@ -70,21 +81,23 @@ class DeviceAnderson {
     len_ = len;
   }
   void clear_history() { slots_.clear(); }
+  [[nodiscard]] std::size_t history() const { return slots_.size(); }
   void restart() {
     slots_.clear();
     have_prev_ = false;
   }
-  // One mixing step: the mixed iterate replaces (ftx, fty) on the support.
-  void step(Reducer& red, double omega, MixTarget t) {
+  // One mixing step: the mixed iterate replaces the target's.
+  template <class Target>
+  void step(Reducer& red, double omega, Target t) {
     const std::size_t len = len_;
     double* xp = xprev_.get();
     double* fp = fprev_.get();
     std::vector<double> rhs;
     if (!have_prev_) {
       launch_each(len, [=] __device__(std::size_t e) {
-        const double xi = mix_x(t, e);
+        const double xi = t.x(e);
         xp[e] = xi;
-        fp[e] = mix_g(t, e) - xi;
+        fp[e] = t.g(e) - xi;
       });
       have_prev_ = true;
     } else {
@@ -92,8 +105,8 @@ class DeviceAnderson {
       float* dfs = df_[slot].get();
       float* dxs = dx_[slot].get();
       launch_each(len, [=] __device__(std::size_t e) {
-        const double xi = mix_x(t, e);
-        const double fi = mix_g(t, e) - xi;
+        const double xi = t.x(e);
+        const double fi = t.g(e) - xi;
         dfs[e] = static_cast<float>(fi - fp[e]);
         dxs[e] = static_cast<float>(xi - xp[e]);
         xp[e] = xi;
@@ -145,7 +158,7 @@ class DeviceAnderson {
         xe -= hv.gamma[r] * static_cast<double>(hv.dx[r][e]);
         fe -= hv.gamma[r] * static_cast<double>(hv.df[r][e]);
       }
-      (e % 2 == 0 ? t.ftx : t.fty)[t.supp[e / 2]] = xe + omega * fe;
+      t.set(e, xe + omega * fe);
     });
   }
 
@@ -172,6 +185,56 @@ class DeviceAnderson {
   std::vector<double> gram_;
   std::vector<std::size_t> slots_;
   bool have_prev_ = false;
+};
+
+// GuardedAnderson on the device: a fixed point over every point of the grid (adhesion's
+// traction), Anderson-mixed with the host's safeguard, decision for decision (an
+// extrapolation kept only where its step's change is below the last kept one's; otherwise
+// the kept image back, the history dropped and plain steps for 5, 10, 20, ... steps).
+class DeviceGuarded {
+ public:
+  DeviceGuarded(int depth, std::size_t n, Tally* tally) : n_(n) {
+    if (depth <= 0) return;
+    mixer_.emplace(depth, n, tally);
+    mixer_->resize(n, true);
+    kept_.allocate(n, tally, "the mixing history");
+  }
+  void restart() {
+    if (mixer_) mixer_->restart();
+    kept_change_ = std::numeric_limits<double>::infinity();
+    mixed_ = false;
+    rejected_ = plain_left_ = 0;
+  }
+  // x: the iterate, image: G(x), change: the step's relative change. The next iterate into x.
+  void advance(Reducer& red, double* x, const double* image, double change, double lo, double hi) {
+    const std::size_t bytes = n_ * sizeof(double);
+    if (!mixer_ || plain_left_ > 0) {
+      cuda_check(cudaMemcpy(x, image, bytes, cudaMemcpyDeviceToDevice), "a plain step");
+      if (plain_left_ > 0 && --plain_left_ == 0) kept_change_ = std::numeric_limits<double>::infinity();
+      return;
+    }
+    if (mixed_ && !(change < kept_change_)) {
+      cuda_check(cudaMemcpy(x, kept_.get(), bytes, cudaMemcpyDeviceToDevice), "a rejected step");
+      mixer_->restart();
+      mixed_ = false;
+      plain_left_ = kPlainSteps << std::min(rejected_, 10);
+      ++rejected_;
+      return;
+    }
+    kept_change_ = change;
+    cuda_check(cudaMemcpy(kept_.get(), image, bytes, cudaMemcpyDeviceToDevice), "keeping an image");
+    mixer_->step(red, 1.0, FieldTarget{x, image, lo, hi});
+    mixed_ = mixer_->history() > 0;
+  }
+
+ private:
+  static constexpr int kPlainSteps = 5;  // GuardedAnderson's
+  std::size_t n_;
+  std::optional<DeviceAnderson> mixer_;
+  DevArray<double> kept_;
+  double kept_change_ = std::numeric_limits<double>::infinity();
+  bool mixed_ = false;
+  int rejected_ = 0, plain_left_ = 0;
 };
 
 using Clock = std::chrono::steady_clock;

@@ -51,7 +51,7 @@ std::array<double, 4> CudaSolve::slip_tractions() {
   const double mu = fric_.coefficient, eps = fric_.regularization;
   const std::array<double, 2> rigid = fric_.rigid_slip(ex, ey);
   const double rx = rigid[0], ry = rigid[1];
-  const double* p = p_.get();
+  const double* p = law_pressure();
   const double* r1 = cg_t_.get();
   const double* r2 = cg_r_.get();
   const double* fx = tx_.get();
@@ -105,7 +105,7 @@ CudaSolve::Tangential CudaSolve::solve_tangential(double tol, int max_it) {
   double* zy = zy_.get();
   double* tx = ntx_.get();
   double* ty = nty_.get();
-  const double* p = p_.get();
+  const double* p = law_pressure();  // the bound's; the coupling reads the net pressure p_
   forward(p_.get(), s1_.get());
   launch_each(ns_, [=] __device__(std::size_t k) {
     cufftDoubleComplex ux, uy;

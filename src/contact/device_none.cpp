@@ -7,9 +7,9 @@
 
 namespace gfmd {
 
-std::size_t device_solve_bytes(const Grid&, bool) { return 0; }
+std::size_t device_solve_bytes(const Grid&, bool, bool, int) { return 0; }
 
-void require_device_fits(const Grid&, bool) {
+void require_device_fits(const Grid&, bool, bool, int) {
   throw InputError("solver.backend", "\"cuda\": " + cuda_device().reason);
 }
 

@@ -15,7 +15,7 @@ using namespace cuda_kernels;
 using namespace contact_device;
 using namespace device_solve_detail;
 
-std::size_t device_solve_bytes(const Grid& g, bool friction) {
+std::size_t device_solve_bytes(const Grid& g, bool friction, bool adhesion, int anderson) {
   const std::size_t n = g.size(), m = spectral_modes(g);
   // cuFFT's estimate of the transforms' work area (one area for both plans).
   std::size_t wf = 0, wb = 0;
@@ -28,13 +28,19 @@ std::size_t device_solve_bytes(const Grid& g, bool friction) {
   // (4), two flags and the support list per point; the derivative's symbol per mode.
   if (friction)
     b += 8 * n * sizeof(double) + 2 * n + n * sizeof(std::uint32_t) + m * sizeof(cufftDoubleComplex);
+  // Adhesion: its traction, image, gap, spread and the friction's displacement; the derivative's
+  // two symbols per mode; the mixing's last iterate, residual and kept image and its differences
+  // (two floats per point and step of history).
+  if (adhesion)
+    b += 8 * n * sizeof(double) + 2 * m * sizeof(double) +
+         2 * static_cast<std::size_t>(std::max(anderson, 0)) * n * sizeof(float);
   return b + std::max(wf, wb);
 }
 
-void require_device_fits(const Grid& grid, bool friction) {
+void require_device_fits(const Grid& grid, bool friction, bool adhesion, int anderson) {
   const DeviceStatus dev = cuda_device();
   if (!dev.available) throw InputError("solver.backend", "\"cuda\": " + dev.reason);
-  const std::size_t need = device_solve_bytes(grid, friction);
+  const std::size_t need = device_solve_bytes(grid, friction, adhesion, anderson);
   // The mixing history grows with the support: a sixteenth of the card is kept for it and
   // the runtime. Said before anything is allocated.
   if (need > dev.free_bytes - std::min(dev.free_bytes, dev.total_bytes / 16)) {
@@ -77,7 +83,7 @@ CudaSolve::CudaSolve(const DeviceProblem& pr)
   cufft_check(cufftMakePlan2d(plan_fwd_, grid_.ny, grid_.nx, CUFFT_D2Z, &work_f), "plan (D2Z)");
   cufft_check(cufftMakePlan2d(plan_bwd_, grid_.ny, grid_.nx, CUFFT_Z2D, &work_b), "plan (Z2D)");
   const std::size_t work = std::max(work_f, work_b);
-  require_device_fits(grid_, friction);
+  require_device_fits(grid_, friction, pr.adhesive, sp_.anderson);
   fft_work_.allocate(work, &bytes_, "the transforms' work area");
   cufft_check(cufftSetWorkArea(plan_fwd_, fft_work_.get()), "plan");
   cufft_check(cufftSetWorkArea(plan_bwd_, fft_work_.get()), "plan");
@@ -93,6 +99,7 @@ CudaSolve::CudaSolve(const DeviceProblem& pr)
   modes_.allocate(ns_, &bytes_, "the compliance table");
   cuda_check(cudaMemcpy(modes_.get(), modes.data(), ns_ * sizeof(ComplianceMode), cudaMemcpyHostToDevice),
              "upload");
+  if (pr.adhesive) setup_adhesion(pr);
   if (!friction) return;
   deriv_.allocate(ns_, &bytes_, "the derivative table");
   use_derivative(deriv_kind_);
@@ -134,6 +141,11 @@ void CudaSolve::poll(bool with_fields, double pressure_scale) {
     download(p_.get(), host_->pressure);
     if (pressure_scale != 1.0)
       for (double& v : host_->pressure) v *= pressure_scale;
+    // With adhesion the traction that goes with the pressure (a warm start); inside the adhesive
+    // steps p_ holds the repulsion: the host sees the net pressure p - a.
+    if (adhesive_) download(a_.get(), host_->adhesion);
+    if (adhesion_active_)
+      for (std::size_t i = 0; i < n_; ++i) host_->pressure[i] -= host_->adhesion[i];
     if (tx_.get()) {
       download(tx_.get(), host_->tx);
       download(ty_.get(), host_->ty);

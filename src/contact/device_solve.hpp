@@ -28,6 +28,11 @@ struct DeviceProblem {
   double stick_step = 0.0;  // gamma of the Douglas-Rachford iteration (exact law with friction)
   // gamma once an automatic slip derivative turns to upwind2 (the solve met stick).
   double stick_step_upwind2 = 0.0;
+  // Adhesion (interaction.model = "adhesive"): sigma0 = work_of_adhesion / range and the range;
+  // the host's field that receives the last step's gap spread (the residual check reads it).
+  bool adhesive = false;
+  double adhesive_stress = 0.0, range = 0.0;
+  RealField* adhesive_spread = nullptr;
 };
 
 // The host's hooks, polled at the same points as on the host.

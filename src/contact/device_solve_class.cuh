@@ -1,6 +1,7 @@
-// The CUDA contact solve's class (device_solve.cu): shared by its three translation units,
-// device_solve.cu (set-up, transforms, the normal solve), device_friction.cu (the friction
-// passes and the tangential solve) and device_solve_loop.cu (the friction fixed point).
+// The CUDA contact solve's class (device_solve.cu): shared by its translation units,
+// device_solve.cu (set-up, transforms, the normal solve), device_adhesion.cu (the adhesive
+// steps), device_friction.cu (the friction passes and the tangential solve) and
+// device_solve_loop.cu (the friction fixed point).
 #pragma once
 
 #include <cuda_runtime.h>
@@ -15,6 +16,7 @@
 #include <cstdlib>
 #include <cub/device/device_select.cuh>
 #include <functional>
+#include <iomanip>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -86,6 +88,15 @@ class CudaSolve final : public DeviceSolve {
   void use_derivative(SlipDerivative deriv);
   Tangential solve_tangential(double tol, int max_it);
   void friction_normal_displacement();
+  // Adhesion (device_adhesion.cu): the fields and tables; |g_x| dx + |g_y| dy; the adhesive
+  // normal problem (ContactSolver::solve_adhesive), under the friction's displacement held in
+  // w_ where w_extra.
+  void setup_adhesion(const DeviceProblem& pr);
+  void gap_spread(const double* gap, double* gx, double* spread);
+  PK solve_adhesive(const LoadParams& load, double tol, SolveInfo& info, bool w_extra, int max_it);
+  // The pressure the friction law's bound reads: the repulsion p + a with adhesion (made in ad_
+  // after each adhesive solve of the friction loop), the pressure itself otherwise.
+  [[nodiscard]] const double* law_pressure() const { return adhesive_ ? ad_.get() : p_.get(); }
   void download(const double* d, RealField& h) const {
     h.resize(n_);
     cuda_check(cudaMemcpy(h.data(), d, n_ * sizeof(double), cudaMemcpyDeviceToHost), "reading a field back");
@@ -127,6 +138,15 @@ class CudaSolve final : public DeviceSolve {
   DevArray<std::uint32_t> supp_, nsel_;
   DevArray<char> select_work_;
   std::size_t supp_len_ = 0;
+  // Adhesion only: sigma0 and the range; the traction, its image, the gap, its spread, the
+  // friction's normal displacement; the spectral derivative's symbols; the mixing.
+  bool adhesive_ = false;
+  double s0_ = 0.0, range_ = 0.0;
+  RealField* spread_out_ = nullptr;  // the host's copy of the last step's spread (its residual)
+  DevArray<double> a_, ad_, agap_, aspread_, awx_;
+  DevArray<double> qx_, qy_;
+  std::optional<DeviceGuarded> amix_;
+  bool adhesion_active_ = false;  // inside the adhesive steps: p_ holds the repulsion p + a
   bool have_z_ = false;
   double gw_mean_ref_ = 0.0, g_mean_ref_ = 0.0;
   std::uint64_t transforms_ = 0;

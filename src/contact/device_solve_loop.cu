@@ -24,6 +24,13 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
     if (fld->size() != n) fld->assign(n, 0.0);
   for (auto* fld : {&f.ux, &f.uy, &f.uz, &f.gap}) RealField().swap(*fld);
   f.stick.clear();
+  if (!adhesive_) {
+    RealField().swap(f.adhesion);
+  } else {
+    // The adhesive traction of the warm start (none: zero).
+    if (f.adhesion.size() != n) f.adhesion.assign(n, 0.0);
+    upload(f.adhesion, a_.get());
+  }
   SolveInfo info;
   info.stiffness = k_;
   const double tol = sp_.tolerance;
@@ -36,12 +43,16 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
   if (mu == 0.0) {
     std::fill(f.tx.begin(), f.tx.end(), 0.0);
     std::fill(f.ty.begin(), f.ty.end(), 0.0);
-    {
-      const Phase ph(this, 0);
-      pk = solve_normal(load, true, tol, sp_.max_iterations);
+    if (adhesive_) {
+      pk = solve_adhesive(load, tol, info, false, -1);
+    } else {
+      {
+        const Phase ph(this, 0);
+        pk = solve_normal(load, true, tol, sp_.max_iterations);
+      }
+      info.converged = pk.converged;
+      info.status = pk.converged ? "converged" : "not converged: iteration limit reached";
     }
-    info.converged = pk.converged;
-    info.status = pk.converged ? "converged" : "not converged: iteration limit reached";
   } else {
     upload(f.tx, tx_.get());
     upload(f.ty, ty_.get());
@@ -96,6 +107,8 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
     have_z_ = false;
     double omega = sp_.mixing;
     info.status = "not converged: friction fixed point did not settle";
+    SolveInfo adhesive_step;  // with adhesion: the last friction step's adhesive solve
+    bool pulled_off = false;  // it found the load beyond what the adhesion holds
     for (int outer = 0; outer < sp_.max_outer; ++outer) {
       info.outer_iterations = outer + 1;
       {
@@ -108,7 +121,31 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
         info.status = "not converged: iteration limit reached";
         break;
       }
-      {
+      if (adhesive_) {
+        // The adhesive normal problem under the friction's normal displacement (w_); its
+        // traction a_ is kept from step to step (the warm start of the next), as on the host.
+        adhesive_step = SolveInfo{};
+        pk = solve_adhesive(load, inner_tol, adhesive_step, true, budget);
+        info.adhesion_steps += adhesive_step.adhesion_steps;
+        info.elastic_energy = adhesive_step.elastic_energy;
+        info.adhesive_energy = adhesive_step.adhesive_energy;
+        info.energy = adhesive_step.energy;
+        if (adhesive_step.no_state) {  // beyond the pull-off
+          info.status = adhesive_step.status;
+          pulled_off = true;
+          break;
+        }
+        // The law's bound reads the repulsion p + a (in ad_, free after the adhesive steps); the
+        // gap spread used s2/s3: the tractions' spectra again for the slip pass.
+        const double* pp = p_.get();
+        const double* aa = a_.get();
+        double* rep = ad_.get();
+        launch_each(n, [=] __device__(std::size_t i) { rep[i] = pp[i] + aa[i]; });
+        if (!steps.stick_mode()) {
+          forward(tx_.get(), s2_.get());
+          forward(ty_.get(), s3_.get());
+        }
+      } else {
         const Phase ph(this, 0);
         pk = solve_normal(load, false, inner_tol, budget);
       }
@@ -127,7 +164,7 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
         const auto tr = solve_tangential(ttol, sp_.max_tangential);
         info.tangential_iterations += tr.iterations;
         tangential_ok = tr.converged && ttol <= 0.1 * tol;
-        const double* pp = p_.get();
+        const double* pp = law_pressure();
         const double* zxs = zx_.get();
         const double* zys = zy_.get();
         const auto c = red_.run<4>(n, [=] __device__(std::size_t i, double* acc) {
@@ -229,11 +266,13 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
           zy[i] += fty[i] - ty[i];
         });
     }
-    if (!info.converged && info.status.rfind("not converged: iteration limit", 0) != 0)
+    if (!info.converged && !pulled_off && info.status.rfind("not converged: iteration limit", 0) != 0)
       info.status += "; " + friction_history_evidence(hist_change, hist_force);
+    if (!info.converged && !pulled_off && !adhesive_step.converged && !adhesive_step.status.empty())
+      info.status += "; the last adhesive solve: " + adhesive_step.status;
     if (!fric_.regularized()) f.stick.assign(n, 0);
     if (steps.stick_mode() && have_z_) {
-      const double* p = p_.get();
+      const double* p = law_pressure();
       const double* zx = zx_.get();
       const double* zy = zy_.get();
       unsigned char* fl = flags_.get();
@@ -284,6 +323,17 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
     backward(s1_.get(), cg_g_.get());
     backward(s2_.get(), cg_t_.get());
     backward(s3_.get(), cg_r_.get());
+    if (adhesive_ && fr) {
+      // The elastic energy with the tractions' share: 1/2 sum (tau.u_t - p u_z) dA (the adhesive
+      // steps counted the normal part alone), as on the host.
+      const double *uz = cg_g_.get(), *ux = cg_t_.get(), *uy = cg_r_.get();
+      const double *px = p_.get(), *qx = tx_.get(), *qy = ty_.get();
+      const double e = 0.5 * grid_.cell_area() * red_.run<1>(n, [=] __device__(std::size_t i, double* acc) {
+        acc[0] += qx[i] * ux[i] + qy[i] * uy[i] - px[i] * uz[i];
+      })[0];
+      info.energy += e - info.elastic_energy;
+      info.elastic_energy = e;
+    }
     download(cg_g_.get(), f.uz);
     download(cg_t_.get(), f.ux);
     download(cg_r_.get(), f.uy);
@@ -292,6 +342,10 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
       download(ty_.get(), f.ty);
     }
     download(p_.get(), f.pressure);
+    if (adhesive_) {
+      download(a_.get(), f.adhesion);
+      if (spread_out_) download(aspread_.get(), *spread_out_);
+    }
   }
   info.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
   if (profile_) {

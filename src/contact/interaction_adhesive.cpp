@@ -2,7 +2,7 @@
 // work_of_adhesion / range wherever the gap is below the range, on a repulsion (the hard wall by
 // default, as in the theories it is checked against; interaction.repulsion). A zero work of
 // adhesion is the repulsion alone (written back as that model). The solve's adhesive steps are
-// src/contact/adhesion.cpp.
+// src/contact/adhesion.cpp, on the CUDA device src/contact/device_adhesion.cu.
 #include <cmath>
 
 #include "gfmd/contact/interaction.hpp"
@@ -36,7 +36,7 @@ const InteractionType& adhesive_interaction() {
                {"range", &InteractionParams::range, 0.0, "the range of the cohesive law (a length)"}},
       .hard_wall = true,
       .repulsion_key = true,
-      .on_device = false,
+      .on_device = true,
       .claims = [](const InteractionParams& p) { return p.adhesive(); },
       .check = check};
   return t;

@@ -112,6 +112,10 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
     pr.hard_wall = inter_.hard_wall;
     pr.friction = fric_;
     pr.solver = sp_;
+    pr.adhesive = inter_.adhesive();
+    pr.adhesive_stress = inter_.adhesive_stress();
+    pr.range = inter_.range;
+    pr.adhesive_spread = &adh_.spread;
     // Steps of the stick-slip iteration (exact law with friction only); the second for an
     // automatic derivative that turns to upwind2.
     if (exact_friction) {

@@ -111,7 +111,7 @@ def test_interaction_models_from_python():
     models = {m["name"]: m for m in gfmd.interaction_models()}
     assert list(models) == ["harmonic", "hardwall", "adhesive"]
     assert models["adhesive"]["keys"] == ["work_of_adhesion", "range", "repulsion"]
-    assert models["adhesive"]["repulsion_key"] and not models["adhesive"]["on_device"]
+    assert models["adhesive"]["repulsion_key"] and models["adhesive"]["on_device"]
     t = gfmd.Topography.hertz(64, 1.6, radius=1.0)
     for name in ("harmonic", "hardwall"):
         assert models[name]["keys"] == [] and models[name]["on_device"]

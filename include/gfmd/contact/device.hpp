@@ -10,10 +10,11 @@ namespace gfmd {
 
 // Device memory of a solve on this grid: fields, spectra, per-mode tables and cuFFT's work
 // area (docs/gpu.md gives it per point); the friction iteration's mixing history comes on
-// top and grows with the traction's support. 0 in a build without CUDA.
-std::size_t device_solve_bytes(const Grid& grid, bool friction);
+// top and grows with the traction's support. With adhesion its fields, tables and the mixing
+// history of its traction (`anderson` steps deep) count too. 0 in a build without CUDA.
+std::size_t device_solve_bytes(const Grid& grid, bool friction, bool adhesion = false, int anderson = 0);
 // Throws InputError naming "grid" when that does not fit the device's free memory with a
 // sixteenth of the card to spare, or naming "solver.backend" when no device is usable.
-void require_device_fits(const Grid& grid, bool friction);
+void require_device_fits(const Grid& grid, bool friction, bool adhesion = false, int anderson = 0);
 
 }  // namespace gfmd

@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "gfmd/contact/anderson.hpp"
+#include "gfmd/contact/cohesive_law.hpp"
 #include "gfmd/contact/friction_law.hpp"
 #include "gfmd/contact/interaction.hpp"
 #include "gfmd/core/fft.hpp"
@@ -171,15 +172,7 @@ inline bool history_depth_fits(int configured, int depth) {
   return depth == configured || (configured > 0 && depth == deepened_history(configured, configured));
 }
 
-// The Maugis-Dugdale law integrated over a cell whose gap is linear across it, with value
-// `gap` at its centre and range `spread` over it: the fraction of the cell where the gap is
-// below `range` (1 in contact), clamp((range - gap)/spread + 1/2, 0, 1); the cell's adhesive
-// traction is sigma0 times it.
-double adhesive_fraction(double gap, double spread, double range);
-// The cell's adhesive energy per area over sigma0: minus the integral of adhesive_fraction from
-// the gap to infinity (-range in contact where spread <= 2 range; 0 beyond range + spread/2),
-// so that the traction is its derivative in the gap.
-double adhesive_potential(double gap, double spread, double range);
+// adhesive_fraction and adhesive_potential, the cohesive law on a cell: contact/cohesive_law.hpp.
 
 class DeviceSolve;  // the CUDA backend's solve (contact/device_solve.hpp)
 
