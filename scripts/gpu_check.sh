@@ -3,13 +3,15 @@
 # host on the example cases), then the benchmarks (bare cuFFT, rough sliding on the device
 # and on 2 host cores). Needs build/gfmd, build/gfmd_tests, build/bench_cufft and
 # .devcarry/devlibs.tar.xz (scripts/gpu_pack.sh). Writes its logs to $OUT (or /tmp/gpu_out).
-#   bash scripts/gpu_check.sh [tests] [stress] [fig2e] [bench] [large] [cpu] [adhesion]
+#   bash scripts/gpu_check.sh [tests] [stress] [fig2e] [bench] [large] [cpu] [adhesion] [laws]
 #   (default: tests bench cpu). stress: the stresses' time on the device and on the cores;
 #   fig2e: the paper's Fig. 2(e) study at 2048^2 on the device, its runs only (the figure is
 #   drawn where matplotlib is: gfmd study studies/fig2e.toml -o DIR --set 'solver.backend="cuda"'
 #   reuses every finished run); large: 8192^2 and 16384^2 rough sliding with upwind2;
 #   adhesion: the rough adhesive contact at 2048^2 on the device (adhesive and hard wall) and
-#   on the machine's cores (BENCHMARKS.md, "Adhesion on the CUDA backend").
+#   on the machine's cores (BENCHMARKS.md, "Adhesion on the CUDA backend"); laws: tractive
+#   rolling with a sharp static peak (the velocity law with stick) where the host did not settle
+#   in 300 s (docs/solver.md, "Velocity weakening with stick").
 set -uo pipefail
 cd "$(dirname "$0")/.."
 out=${OUT:-/tmp/gpu_out}
@@ -91,6 +93,20 @@ print(f'rough adhesive 2048^2, {s[\"backend\"]}, work {$2}: {s[\"iterations\"]} 
       f'{s.get(\"adhesion_steps\", 0)} adhesive steps, {s[\"wall_time_s\"]:.2f} s, {s[\"threads\"]} threads, ' \
       f'area {s[\"relative_contact_area\"]:.4f}, force {s[\"normal_force\"]:.9g}, converged {s[\"converged\"]}')" |
       tee -a "$out/adhesion.txt" || echo "rough adhesive $spec: no summary" | tee -a "$out/adhesion.txt"
+  done
+fi
+if has laws; then
+  for spec in "128 0.1" "256 0.1" "128 0.01"; do
+    set -- $spec
+    dir=/tmp/peak_$1_$2
+    timeout "${LAWS_TIMEOUT:-120}" ./build/gfmd run examples/rolling_static_peak.toml -o "$dir" -q --set grid.nx=$1 \
+      --set friction.velocity_scale=$2 --set output.fields=false --set output.png=false \
+      --set 'solver.backend="cuda"' > /dev/null 2>&1
+    python3 -c "import json; s = json.load(open('$dir/summary.json')); \
+print(f'static peak {$1}^2, v_c {$2}, {s[\"backend\"]}: {s[\"iterations\"]} CG iterations, {s[\"outer_iterations\"]} friction steps, ' \
+      f'{s[\"tangential_iterations\"]} splitting steps, {s[\"wall_time_s\"]:.2f} s, stick fraction {s[\"stick_fraction\"]:.4f}, ' \
+      f'tangential force {s[\"tangential_force\"]:.9g}, converged {s[\"converged\"]}')" |
+      tee -a "$out/laws.txt" || echo "static peak $spec: no summary (timed out?)" | tee -a "$out/laws.txt"
   done
 fi
 if has cpu; then

@@ -9,39 +9,16 @@
 #include <string>
 #include <vector>
 
+#include "device_helpers.hpp"
 #include "gfmd/contact/device.hpp"
 #include "gfmd/core/backend.hpp"
-#include "gfmd/core/device.hpp"
-#include "test_util.hpp"
 
 using namespace gfmd;
 using namespace gfmd::testing;
 
 namespace {
 
-#define REQUIRE_CUDA_DEVICE()                                                    \
-  do {                                                                           \
-    const DeviceStatus dev_ = cuda_device();                                     \
-    if (!dev_.available) GTEST_SKIP() << "no CUDA device here: " << dev_.reason; \
-  } while (0)
-
 constexpr double kBound = 1e-7;
-
-std::string example(const std::string& name) {
-  return read_file(std::filesystem::path(GFMD_SOURCE_DIR) / "examples" / (name + ".toml"));
-}
-
-double field_difference(const RealField& a, const RealField& b) {
-  EXPECT_EQ(a.size(), b.size());
-  double d = 0.0, m = 0.0;
-  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
-    d = std::max(d, std::abs(a[i] - b[i]));
-    m = std::max(m, std::abs(b[i]));
-  }
-  return m > 0 ? d / m : d;
-}
-
-double relative(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); }
 
 // The case on the host ("threads") and on the device: fields, forces, energies and the
 // adhesive observables to kBound; the adhesive steps within a few of the host's.
@@ -147,6 +124,13 @@ analysis = false
 TEST(Device, AdhesiveSlidingSphereMatchesTheHost) {
   REQUIRE_CUDA_DEVICE();
   compare_adhesive(kSlidingAdhesive, {});
+}
+
+// Menga, Carbone & Dini's uniform interfacial shear: the tresca law (mu_c = 3, tau0 = 0.03) on the
+// repulsion, the example's sphere sliding on a nu = 0.25 half-space.
+TEST(Device, AdhesiveSlidingWithAUniformShearMatchesTheHost) {
+  REQUIRE_CUDA_DEVICE();
+  compare_adhesive(example("adhesive_sliding_sphere"), {});
 }
 
 // Rolling with creepage 0.002 (a stick zone: the exact law's splitting) under a tensile load.

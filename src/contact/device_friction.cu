@@ -49,6 +49,7 @@ std::array<double, 4> CudaSolve::slip_tractions() {
   backward(s1_.get(), cg_t_.get());
   backward(s2_.get(), cg_r_.get());
   const double mu = fric_.coefficient, eps = fric_.regularization;
+  const FrictionLaw law = fric_.law;  // |tau| = mu_c p for Coulomb's law (friction_law.hpp)
   const std::array<double, 2> rigid = fric_.rigid_slip(ex, ey);
   const double rx = rigid[0], ry = rigid[1];
   const double* p = law_pressure();
@@ -66,11 +67,13 @@ std::array<double, 4> CudaSolve::slip_tractions() {
       const double vx = rx + r1[i], vy = ry + r2[i];
       const double v2 = vx * vx + vy * vy;
       if (v2 < slow2) acc[3] += 1.0;
-      const double norm = fmax(sqrt(v2), eps);
+      const double speed = sqrt(v2);
+      const double norm = fmax(speed, eps);
+      const double t = law.bound(mu, pi, speed);
       double x = 0.0, y = 0.0;
       if (norm > 0) {
-        x = mu * pi * vx / norm;
-        y = mu * pi * vy / norm;
+        x = t * vx / norm;
+        y = t * vy / norm;
       }
       tx[i] = x;
       ty[i] = y;
@@ -90,6 +93,20 @@ CudaSolve::Tangential CudaSolve::solve_tangential(double tol, int max_it) {
   const std::array<double, 2> rigid = fric_.rigid_slip(ex, ey);
   const double rx = rigid[0], ry = rigid[1];
   const double mu = fric_.coefficient;
+  const FrictionLaw law = fric_.law;
+  const bool speed_law = law.speed_dependent();
+  const double* p = law_pressure();  // the bound's; the coupling reads the net pressure p_
+  // A bound that falls with the speed (the velocity law's static peak): the step stays above its
+  // steepest fall at the largest pressure, raised with headroom, z afresh (friction.cpp).
+  if (const double fall = law.steepest_fall(mu, 1.0); fall > 0) {
+    const double need = fall * red_.run<1, true>(n_, [=] __device__(std::size_t i, double* acc) {
+      acc[0] = fmax(acc[0], p[i]);
+    })[0];
+    if (kFallingStepMargin * need > gamma_) {
+      gamma_ = kFallingStepHeadroom * need;
+      have_z_ = false;
+    }
+  }
   const double gamma = gamma_;
   const double scale = 1.0 / static_cast<double>(n_);
   const ComplianceMode* md = modes_.get();
@@ -105,7 +122,6 @@ CudaSolve::Tangential CudaSolve::solve_tangential(double tol, int max_it) {
   double* zy = zy_.get();
   double* tx = ntx_.get();
   double* ty = nty_.get();
-  const double* p = law_pressure();  // the bound's; the coupling reads the net pressure p_
   forward(p_.get(), s1_.get());
   launch_each(ns_, [=] __device__(std::size_t k) {
     cufftDoubleComplex ux, uy;
@@ -134,7 +150,10 @@ CudaSolve::Tangential CudaSolve::solve_tangential(double tol, int max_it) {
   }
   const auto project_pass = [&](bool rhs) {
     launch_each(n_, [=] __device__(std::size_t i) {
-      const double r = mu * p[i];
+      // The projection onto the disc of radius bound(p, 0); for a law whose bound changes with
+      // the slip speed, its resolvent (friction_law.hpp, as on the host).
+      const double pi = p[i];
+      const double r = law.bound(mu, pi, 0.0);
       double x = 0.0, y = 0.0;
       if (r > 0) {
         const double m2 = zx[i] * zx[i] + zy[i] * zy[i];
@@ -142,7 +161,8 @@ CudaSolve::Tangential CudaSolve::solve_tangential(double tol, int max_it) {
           x = zx[i];
           y = zy[i];
         } else {
-          const double f = r / sqrt(m2);
+          const double zm = sqrt(m2);
+          const double f = (speed_law ? law.resolvent(mu, pi, zm, gamma) : r) / zm;
           x = f * zx[i];
           y = f * zy[i];
         }

@@ -167,9 +167,10 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
         const double* pp = law_pressure();
         const double* zxs = zx_.get();
         const double* zys = zy_.get();
+        const FrictionLaw law = fric_.law;
         const auto c = red_.run<4>(n, [=] __device__(std::size_t i, double* acc) {
           add_change_dev(acc, in_supp[i], tx[i], ty[i], ftx[i], fty[i]);
-          const double r = mu * pp[i];
+          const double r = law.bound(mu, pp[i], 0.0);  // the friction disc's radius
           if (r > 0 && zxs[i] * zxs[i] + zys[i] * zys[i] < r * r) acc[3] += 1.0;
         });
         dn = {c[0], c[1], c[2], 0.0};
@@ -270,14 +271,18 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
       info.status += "; " + friction_history_evidence(hist_change, hist_force);
     if (!info.converged && !pulled_off && !adhesive_step.converged && !adhesive_step.status.empty())
       info.status += "; the last adhesive solve: " + adhesive_step.status;
+    if (!info.converged && !pulled_off && fric_.law.kind == FrictionLawKind::Tresca &&
+        mu > kTrescaSteepCoefficient)
+      info.status += kTrescaSteepHint;
     if (!fric_.regularized()) f.stick.assign(n, 0);
     if (steps.stick_mode() && have_z_) {
       const double* p = law_pressure();
       const double* zx = zx_.get();
       const double* zy = zy_.get();
       unsigned char* fl = flags_.get();
+      const FrictionLaw law = fric_.law;
       const auto ns = red_.run<1>(n, [=] __device__(std::size_t i, double* acc) {
-        const double r = mu * p[i];
+        const double r = law.bound(mu, p[i], 0.0);
         const bool s = r > 0 && zx[i] * zx[i] + zy[i] * zy[i] < r * r;
         fl[i] = s ? 1 : 0;
         if (s) acc[0] += 1.0;

@@ -31,7 +31,7 @@ const FrictionLawType& rate_friction_law() {
       // mu grows with the speed: the dissipation potential is convex and the splitting's
       // resolvent is single-valued (FrictionLaw::resolvent).
       .set_valued_stick = true,
-      .on_device = false,
+      .on_device = true,
       .traction = "(mu_c + a ln(1 + |v|/v_c)) p v/|v|",
       .check = check};
   return t;

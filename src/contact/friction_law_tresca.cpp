@@ -26,7 +26,7 @@ const FrictionLawType& tresca_friction_law() {
                 "tau_0 / E*, the interface's shear strength"}},
       // The bound does not depend on the slip speed: its stick is a disc, as Coulomb's.
       .set_valued_stick = true,
-      .on_device = false,
+      .on_device = true,
       .traction = "min(mu_c p, tau_0) v/|v|",
       .check = check};
   return t;

@@ -34,7 +34,7 @@ const FrictionLawType& velocity_friction_law() {
       // The resolvent is single-valued outside the disc for either sign of mu_s - mu_k
       // (contact/friction_law.hpp); inside it stick is chosen.
       .set_valued_stick = true,
-      .on_device = false,
+      .on_device = true,
       .traction = "mu(|v|) p v/|v|, mu(|v|) = mu_k + (mu_s - mu_k) exp(-|v|/v_c)",
       .check = check};
   return t;

@@ -510,12 +510,7 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       info.status += "; the last adhesive solve: " + adhesive_step.status;
     if (!info.converged && !pulled_off && fric_.law.kind == FrictionLawKind::Tresca &&
         mu > kTrescaSteepCoefficient)
-      info.status +=
-          "; friction.law = \"tresca\" with a large friction.coefficient switches the shear strength on and "
-          "off "
-          "at the contact's edge, whose cells the coupling moves: lower friction.coefficient (e.g. 3), so "
-          "that "
-          "the shear rises continuously there (docs/solver.md, \"Adhesion with friction\")";
+      info.status += kTrescaSteepHint;
     if (!info.converged && have_slip && fric_.regularized()) {
       // Near stick the slip direction of the exact Coulomb law is ill-conditioned (the
       // usual cause of a friction fixed point that does not settle): say so. r1_/r2_ hold

@@ -173,6 +173,10 @@ std::string restart_mismatch(const FrictionRestart& r, std::size_t n, int depth,
 // Above this friction.coefficient the tresca law's cap acts as a switch at the contact's edge: a
 // failure says so (docs/solver.md, "Adhesion with friction").
 constexpr double kTrescaSteepCoefficient = 3.0;
+inline constexpr const char* kTrescaSteepHint =
+    "; friction.law = \"tresca\" with a large friction.coefficient switches the shear strength on and off "
+    "at the contact's edge, whose cells the coupling moves: lower friction.coefficient (e.g. 3), so that "
+    "the shear rises continuously there (docs/solver.md, \"Adhesion with friction\")";
 
 inline std::string outer_status(double change, double tol, bool inner_ok, double inner_tol, int used,
                                 int step, const SolverParams& sp, const char* what) {
