@@ -3,11 +3,13 @@
 # host on the example cases), then the benchmarks (bare cuFFT, rough sliding on the device
 # and on 2 host cores). Needs build/gfmd, build/gfmd_tests, build/bench_cufft and
 # .devcarry/devlibs.tar.xz (scripts/gpu_pack.sh). Writes its logs to $OUT (or /tmp/gpu_out).
-#   bash scripts/gpu_check.sh [tests] [stress] [fig2e] [bench] [large] [cpu] [adhesion] [laws]
+#   bash scripts/gpu_check.sh [tests] [stress] [fig2e] [fig2e_seeds] [bench] [large] [cpu] [adhesion] [laws]
 #   (default: tests bench cpu). stress: the stresses' time on the device and on the cores;
 #   fig2e: the paper's Fig. 2(e) study at 2048^2 on the device, its runs only (the figure is
 #   drawn where matplotlib is: gfmd study studies/fig2e.toml -o DIR --set 'solver.backend="cuda"'
-#   reuses every finished run); large: 8192^2 and 16384^2 rough sliding with upwind2;
+#   reuses every finished run); fig2e_seeds: at 2048^2 the authors' surface over the study's ten
+#   loads (studies/fig2e_authors.toml), then the eight-seed study at four loads (sweep.points=4),
+#   each under its own timeout, the runs back as one tarball; large: 8192^2 and 16384^2 rough sliding with upwind2;
 #   adhesion: the rough adhesive contact at 2048^2 on the device (adhesive and hard wall) and
 #   on the machine's cores (BENCHMARKS.md, "Adhesion on the CUDA backend"); laws: tractive
 #   rolling with a sharp static peak (the velocity law with stick) where the host did not settle
@@ -62,6 +64,16 @@ if has fig2e; then
       --set 'solver.backend="cuda"' --set output.png=false --set output.analysis=false ) 2>&1 | tee "$out/fig2e.txt"
   (cd /tmp && find studies \( -name summary.json -o -name status.json -o -name 'sweep.*' \) -print0 |
     xargs -0 tar -czf "$out/fig2e_runs.tgz")
+fi
+if has fig2e_seeds; then
+  export GFMD="$PWD/build/gfmd"
+  sets=(--set 'solver.backend="cuda"' --set output.png=false --set output.analysis=false)
+  ( time timeout "${AUTHORS_TIMEOUT:-110}" python3 scripts/study.py studies/fig2e_authors.toml -o /tmp/studies \
+      --runs-only "${sets[@]}" ) 2>&1 | tee "$out/fig2e_seeds.txt"
+  ( time timeout "${SEEDS_TIMEOUT:-230}" python3 scripts/study.py studies/fig2e.toml -o /tmp/studies --runs-only \
+      "${sets[@]}" --set sweep.points=4 ) 2>&1 | tee -a "$out/fig2e_seeds.txt"
+  (cd /tmp && find studies \( -name summary.json -o -name status.json -o -name 'sweep.*' \) -print0 |
+    xargs -0 tar -czf "$out/fig2e_seeds_runs.tgz")
 fi
 if has bench; then
   for n in 2048 4096 8192; do ./build/bench_cufft $n | tee -a "$out/cufft.txt"; done
