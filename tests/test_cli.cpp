@@ -441,3 +441,24 @@ TEST(Cli, SweepPlotColumnIsCheckedAtTheFirstPoint) {
   EXPECT_EQ(ok.code, 0) << ok.output;
   EXPECT_TRUE(fs::exists(d / "s" / "sweep_max_pressure.png")) << ok.output;
 }
+
+// Without friction the default plot is not the friction coefficient (there is none): a load
+// sweep draws the contact area, an approach sweep the force it finds, with no complaint about a
+// missing column; sweeping friction itself draws the friction coefficient.
+TEST(Cli, AFrictionlessSweepDrawsWhatItHas) {
+  const fs::path d = scratch("sweep_default_plot");
+  write_file(d / "case.toml", kGood + "[output]\npng = false\nfields = false\n");
+  const auto a = run_gfmd("sweep " + (d / "case.toml").string() + " -q -o " + (d / "a").string() +
+                          " --set load.force=0.005,0.01");
+  EXPECT_EQ(a.code, 0) << a.output;
+  EXPECT_EQ(a.output.find("no column"), std::string::npos) << a.output;
+  EXPECT_TRUE(fs::exists(d / "a" / "sweep_relative_contact_area.png")) << a.output;
+  const auto b = run_gfmd("sweep " + (d / "case.toml").string() + " -q -o " + (d / "b").string() +
+                          " --set load.approach=0.005,0.01");
+  EXPECT_EQ(b.code, 0) << b.output;
+  EXPECT_TRUE(fs::exists(d / "b" / "sweep_normal_force.png")) << b.output;
+  const auto c = run_gfmd("sweep " + (d / "case.toml").string() + " -q -o " + (d / "c").string() +
+                          " --set friction.coefficient=0.2,0.4");
+  EXPECT_EQ(c.code, 0) << c.output;
+  EXPECT_TRUE(fs::exists(d / "c" / "sweep_friction_coefficient.png")) << c.output;
+}
