@@ -295,16 +295,14 @@ approach = -0.01
           .find("stress.post_analysis: adds Coulomb's traction mu_c p e_s to the frictionless solution: not "
                 "defined with adhesion"),
       std::string::npos);
-  // Adhesion on a viscoelastic body is read (tests/python/test_adhesion.py solves it); with plastic
-  // saturation there it is refused by key.
+  // Adhesion on a viscoelastic body is read (tests/python/test_adhesion.py solves it), with plastic
+  // saturation there too (tests/python/test_viscoelastic.py).
   const std::vector<std::string> visco = {"elastic.viscoelastic=\"sls\"", "elastic.high_frequency_modulus=10",
                                           "elastic.relaxation_time=1"};
   EXPECT_EQ(problem(visco), "");
   std::vector<std::string> capped = visco;
   capped.emplace_back("interaction.hardness=0.5");
-  EXPECT_NE(problem(capped).find(
-                "interaction.hardness: plastic saturation on a viscoelastic body is not implemented"),
-            std::string::npos);
+  EXPECT_EQ(problem(capped), "");
 }
 
 TEST(Adhesion, PlasticAdhesiveSphereUnderLoadControlFindsItsApproach) {

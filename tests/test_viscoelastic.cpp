@@ -106,6 +106,13 @@ TEST(Viscoelastic, AtRestItIsTheRelaxedElasticSolve) {
   EXPECT_EQ(el.f.pressure, ve.f.pressure);
   EXPECT_EQ(ve.o.hysteresis_dissipation, 0.0);
   EXPECT_LT(std::abs(ve.o.hysteresis_friction), 1e-12);
+  // Under approach control from a cold start too (its first guess read a displacement field the
+  // at-rest solve does not have: out of bounds before 2026-11-28).
+  const LoadParams approach{LoadMode::Approach, 0.01};
+  const Solved ela = solve_with(g, topo, ep, ViscoelasticParams{}, approach);
+  const Solved vea = solve_with(g, topo, ep, sls(10.0, 1.0, 0.0), approach);
+  ASSERT_TRUE(vea.info.converged) << vea.info.status;
+  EXPECT_EQ(ela.f.pressure, vea.f.pressure);
 }
 
 // Fast sliding: every mode with q_x != 0 is glassy. A wave along x has no other modes but the
@@ -443,7 +450,8 @@ velocity = 0.1
                       "viscoelastic body"),
             std::string::npos);
   EXPECT_EQ(problem({"friction.coefficient=0.3", "friction.regularization=0.01"}), "");
-  EXPECT_NE(problem({"interaction.hardness=0.5"}).find("interaction.hardness"), std::string::npos);
+  EXPECT_EQ(problem({"interaction.hardness=0.5"}),
+            "");  // plastic saturation: tests/python/test_viscoelastic.py
   const std::string prony = R"(
 [grid]
 nx = 32

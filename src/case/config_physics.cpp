@@ -337,10 +337,6 @@ void read_interaction(Section& ia, Config& c) {
   c.interaction.hardness = ia.number_or_inf("hardness", std::numeric_limits<double>::infinity());
   if (!(c.interaction.hardness > 0))
     ia.error("hardness", "must be positive (the largest local pressure, in units of E*) or \"inf\" (no cap)");
-  if (c.visco.enabled()) {
-    if (c.interaction.plastic())
-      ia.error("hardness", "plastic saturation on a viscoelastic body is not implemented");
-  }
   ia.finish(own_keys);
 }
 

@@ -155,7 +155,7 @@ ContactSolver::PKResult ContactSolver::solve_normal_pk(const LoadParams& load, c
     }
   } else if (!(psum > 0)) {
     for (std::ptrdiff_t i = 0; i < nl; ++i)
-      p[i] = std::min(local_k * std::max(0.0, delta_imp + w[i] - g0_[i]), H);
+      p[i] = std::min(local_k * std::max(0.0, delta_imp + (w_zero ? 0.0 : w[i]) - g0_[i]), H);
   }
 
   RealField& g = cg_g_;
@@ -186,6 +186,12 @@ ContactSolver::PKResult ContactSolver::solve_normal_pk(const LoadParams& load, c
   };
   PKResult res{0, 1.0, 0.0, false};
   double last_tau = 0.0;  // the last CG step length (capped: the step of points outside the CG)
+  // Capped: the step of points that enter the contact or leave the cap is halved whenever such a
+  // step does not shrink the pressure's change (a whole contact at the cap can otherwise jump
+  // between all-capped and all-open, each point moved by the local stiffness while the patch
+  // responds far more softly: seen on a viscoelastic body, whose glassy modes stiffen the
+  // operator unevenly).
+  double cap_damping = 1.0, last_cap_change = std::numeric_limits<double>::infinity();
   for (int it = 0; it < max_it; ++it) {
     ++res.iterations;
     ++total_it_;
@@ -304,7 +310,7 @@ ContactSolver::PKResult ContactSolver::solve_normal_pk(const LoadParams& load, c
     // Points that enter the contact or leave the cap move by at most the local stiffness
     // (E*/dx, k) times their gap when capped: the CG's step of a small free set can be far
     // larger and would throw points between 0 and H (without a cap: Polonsky-Keer's tau).
-    const double tau_cap = capped ? std::min(tau, local_k) : tau;
+    const double tau_cap = capped ? std::min(tau, local_k) * cap_damping : tau;
     // E: projected step; points that overlap outside the contact set enter it. Sums: the
     // entering points, the new total and the change of the pressure.
     // Capped: steps are clipped at H; a point at the cap whose gap opens leaves it by the same
@@ -330,6 +336,10 @@ ContactSolver::PKResult ContactSolver::solve_normal_pk(const LoadParams& load, c
       acc[1] += v;
       acc[2] += std::abs(v - pi);
     });
+    if (capped && e[0] > 0.0) {
+      if (!(e[2] < last_cap_change)) cap_damping *= 0.5;
+      last_cap_change = e[2];
+    }
     conjugate = (e[0] == 0.0);
     double pnew = e[1];
     // Load control rescales the new pressure by f (pending until the next pass A). The

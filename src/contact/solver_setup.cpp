@@ -83,7 +83,8 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
   }
   if (body.viscoelastic()) {
     // Where the splitting has been derived and tested: frictionless or regularised friction,
-    // repulsive or adhesive, elastic-plastic free. Each refusal names the key that asks for more.
+    // repulsive or adhesive, with or without plastic saturation. Each refusal names the key
+    // that asks for more.
     // Friction on it in full slip (the regularised law near rest): the stick-slip iteration's
     // resolvent is the elastic body's.
     if (fric_.coefficient > 0 && !fric_.regularized())
@@ -91,9 +92,6 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
           "friction.regularization",
           "must be positive with friction on a viscoelastic body (e.g. 0.01): its stick is not "
           "solved set-valued");
-    if (inter_.plastic())
-      throw ParameterError("interaction.hardness",
-                           "plastic saturation on a viscoelastic body is not implemented");
     // The observables measure along the friction's direction, the body is excited along its own.
     if (body.visco().direction_deg != fric_.direction_deg)
       throw ParameterError("friction.direction", "must be the viscoelastic body's sliding direction");

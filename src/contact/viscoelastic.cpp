@@ -91,7 +91,8 @@ ContactSolver::PKResult ContactSolver::solve_normal_viscoelastic(const LoadParam
   PKResult pk{0, 1.0, 0.0, false};
   int used = 0;
   double change = 1.0;
-  const double inf = std::numeric_limits<double>::infinity();
+  // The repulsion's range: capped at the hardness with plastic saturation (inf: none).
+  const double cap = inter_.hardness;
   SolverParams within = sp_;
   within.max_iterations = max_it;
   for (int step = 0;; ++step) {
@@ -117,7 +118,7 @@ ContactSolver::PKResult ContactSolver::solve_normal_viscoelastic(const LoadParam
     status =
         outer_status(change, tol, pk.converged, inner_tol, used, step, within, "the viscoelastic pressure");
     if (!status.empty()) break;
-    visco_.mixer->advance(x, p, change, 0.0, inf);  // p is the step's image of x
+    visco_.mixer->advance(x, p, change, 0.0, cap);  // p is the step's image of x
   }
   pk.iterations = used;
   pk.converged = status == "converged";
