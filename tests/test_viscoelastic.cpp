@@ -484,3 +484,40 @@ velocity = 1.0
                 .find("friction.velocity: a sliding speed needs a viscoelastic body"),
             std::string::npos);
 }
+
+// A solve on a viscoelastic body that stops says why its last viscoelastic solve did not settle,
+// in the friction loop and in the adhesive steps alike (the text was dropped before 2026-11-28).
+TEST(Viscoelastic, AFailureSaysWhyTheViscoelasticSolveDidNotSettle) {
+  const std::string base = R"(
+[grid]
+nx = 64
+lx = 2.0
+[elastic]
+poisson = 0.5
+viscoelastic = "sls"
+high_frequency_modulus = 10.0
+relaxation_time = 1.0
+[indenter]
+type = "hertz"
+radius = 1.0
+[load]
+force = 0.01
+[friction]
+velocity = 0.02
+reference = false
+[solver]
+max_outer = 3
+)";
+  for (const auto& sets : std::vector<std::vector<std::string>>{
+           {"friction.coefficient=0.3", "friction.regularization=0.01"},
+           {"interaction.model=\"adhesive\"", "interaction.work_of_adhesion=1e-3",
+            "interaction.range=0.02"}}) {
+    const CaseResult r = run_case(parse_config(base, "visco.toml", sets));
+    EXPECT_FALSE(r.info.converged);
+    EXPECT_NE(
+        r.info.status.find("; the last viscoelastic solve: not converged: the viscoelastic pressure did "
+                           "not settle in solver.max_outer = 3 steps"),
+        std::string::npos)
+        << r.info.status;
+  }
+}

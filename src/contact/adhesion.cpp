@@ -186,6 +186,9 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
   }
   info.converged = info.status == "converged";
   info.no_state = no_state;
+  // On a viscoelastic body: why its last repulsive solve did not settle, if it did not.
+  if (!info.converged && !no_state && !pk.converged && !visco_.last_failure.empty())
+    info.status += "; the last viscoelastic solve: " + visco_.last_failure;
   if (!info.converged && !no_state) {
     // The usual cause: cohesive zones narrower than a cell or two, whose edges the grid traps.
     const auto z = grid_sums<2>(grid_, [&](std::size_t i, std::array<double, 2>& acc) {

@@ -551,6 +551,9 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       info.converged = false;
       info.status = "not converged: iteration limit reached";
     }
+    // On a viscoelastic body: why the last normal solve did not settle, if it did not.
+    if (!info.converged && !pulled_off && !pk.converged && !inter_.adhesive() && !visco_.last_failure.empty())
+      info.status += "; the last viscoelastic solve: " + visco_.last_failure;
   }
   info.iterations = total_it_;
   info.slip_derivative = deriv_;

@@ -142,7 +142,9 @@ ContactSolver::PKResult ContactSolver::solve_repulsive(const LoadParams& load, c
                                                        SolveInfo& info) {
   if (!body_.viscoelastic()) return solve_normal(load, w, false, p, tol, max_it);
   std::string why;
-  return solve_normal_viscoelastic(load, &w, p, tol, max_it, info.viscoelastic_steps, why);
+  const PKResult pk = solve_normal_viscoelastic(load, &w, p, tol, max_it, info.viscoelastic_steps, why);
+  visco_.last_failure = pk.converged ? "" : why;
+  return pk;
 }
 
 ContactSolver::PKResult ContactSolver::solve_viscoelastic(const LoadParams& load, ContactFields& f,

@@ -419,6 +419,9 @@ class ContactSolver {
     std::vector<cplx> rest_n;
     RealField w;
     std::unique_ptr<GuardedAnderson> mixer;
+    // Why the last viscoelastic solve under a held displacement (solve_repulsive) did not
+    // converge ("" when it did): its callers' failures say it.
+    std::string last_failure;
   };
   ViscoWork visco_;
   RealField zx_, zy_, bx_, by_;  // splitting variable and pressure-induced slip of solve_tangential
