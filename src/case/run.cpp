@@ -21,6 +21,7 @@
 #include <set>
 #include <sstream>
 
+#include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/contact/device.hpp"
 #include "gfmd/core/backend.hpp"
@@ -104,17 +105,14 @@ void gather_for_root(const Config& cfg, const RunOptions& opts, const Grid& slab
     }
     return;
   }
-  ContactFields& f = r.fields;
-  gather_on_root(slab, {&f.pressure, &f.tx, &f.ty, &f.ux, &f.uy, &f.uz, &f.gap, &f.adhesion});
-  gather_on_root(slab, {&f.stick});
-  DerivedFields& d = r.derived;
-  gather_on_root(slab, {&d.slip_longitudinal, &d.slip_transverse, &d.dissipation, &d.plastic_displacement});
-  StressField& st = r.stress;
-  PrincipalField& pr = r.principal;
-  gather_on_root(slab, {&st.xx, &st.yy, &st.zz, &st.xy, &st.xz, &st.yz, &pr.s1, &pr.s2, &pr.s3, &pr.e1x,
-                        &pr.e1y, &pr.e1z, &pr.von_mises});
-  for (auto& pa : r.post_analyses) gather_on_root(slab, {&pa.s1});
-  for (auto& ss : r.subsurface) gather_on_root(slab, {&ss.von_mises, &ss.s1});
+  // Every field of the registry (for_each_result_field: the fields fields.nc, Python and the
+  // maps name) that has storage, once each, in the registry's order on every process; and the
+  // stick flags, whose mask rank 0 derives.
+  std::set<RealField*> gathered;
+  for_each_result_field(r, [&](const ResultField&, RealField* storage) {
+    if (storage && gathered.insert(storage).second) gather_on_root(slab, {storage});
+  });
+  gather_on_root(slab, {&r.fields.stick});
 }
 
 // Approach control has no load to check before the solve (load_config checks force and

@@ -47,6 +47,21 @@ struct FieldSet {
 };
 FieldSet result_fields(const CaseResult& r, bool maps_only = false);
 
+// The registry of a result's per-point fields (src/case/result_fields.cpp): every field a result
+// may hold, once, in fields.nc's order, with its name, description, units, whether the maps draw
+// it and whether this result shows it (friction fields with friction, adhesion's with adhesion,
+// ...). visit(info, storage) gets the field's storage, or null for a mask result_fields derives
+// (contact, attraction, stick). result_fields lists the shown ones (after the topography; the
+// leakage's currents after them); a distributed run gathers every one's storage on rank 0.
+struct ResultField {
+  std::string name, description, units;
+  bool in_maps = false;
+  bool shown = true;
+};
+void for_each_result_field(const CaseResult& r,
+                           const std::function<void(const ResultField&, const RealField*)>& visit);
+void for_each_result_field(CaseResult& r, const std::function<void(const ResultField&, RealField*)>& visit);
+
 // Warnings about a solution itself (summary.json's warnings, printed by gfmd run): an adhesive
 // cohesive zone narrower than kMinCohesiveZoneCells cells.
 inline constexpr double kMinCohesiveZoneCells = 2.0;
