@@ -48,6 +48,7 @@ CASE_ROOT = ROOT
 
 QUIET = False  # --quiet (gfmd study -q): only errors
 FORCE = False  # --force: the runs may write into non-empty directories gfmd did not make
+DRAW_ONLY = False  # --draw-only: draw from the runs on disk, run nothing
 
 
 def log(msg):
@@ -193,6 +194,8 @@ def run_series(study, mode_sets, out, quick, incomplete):
         for kv in sets:
             args += ["--set", kv]
         t = time.time()
+        if DRAW_ONLY and study.get("kind", "sweep") != "sweep":
+            raise BadInput(f"--draw-only: draws sweep studies only (this one is kind = \"{study.get('kind')}\")")
         if study.get("kind") == "percolation":
             res = run_percolation_series(s, sets, d, what)
         elif study.get("kind") == "green":
@@ -213,6 +216,9 @@ def run_series(study, mode_sets, out, quick, incomplete):
             for k, seed in enumerate(s["seeds"]):
                 rows, why = run_sweep(case, seed_dir(out, i, seed), study, args + ["--set", f"indenter.seed={seed}"],
                                       f"{what} seed {seed}", s["label"])
+                if rows is None:  # --draw-only: this seed was not run
+                    log(f"study: {what}: seed {seed} has no runs in {seed_dir(out, i, seed)}: not drawn")
+                    continue
                 res["seeds"][seed] = rows
                 if why:
                     stopped.append(f"seed {seed}: {why}")
@@ -220,8 +226,14 @@ def run_series(study, mode_sets, out, quick, incomplete):
             if stopped:
                 incomplete.append({"series": s["label"], "reason": "; ".join(stopped)})
                 s = dict(s, label=s["label"] + " (stopped: not converged)")
+            if not res["seeds"]:
+                log(f"study: {what}: no runs in {d}: not drawn")
+                continue
         elif study.get("kind", "sweep") == "sweep":
             res, why = run_sweep(case, d, study, args, what, s["label"])
+            if res is None:  # --draw-only: this series was not run
+                log(f"study: {what}: no runs in {d}: not drawn")
+                continue
             if why:
                 incomplete.append({"series": s["label"], "reason": why})
                 s = dict(s, label=s["label"] + " (stopped: not converged)")
@@ -237,9 +249,29 @@ def run_series(study, mode_sets, out, quick, incomplete):
     return results
 
 
+def finished_sweep(d):
+    """--draw-only: the rows of the sweep in d as it is on disk and, where it stopped at a point
+    that did not converge, its reason (status.json); (None, None) where d holds no sweep."""
+    table = os.path.join(d, "sweep.csv")
+    if not os.path.exists(table):
+        return None, None
+    why = None
+    try:
+        status = json.load(open(os.path.join(d, "status.json")))
+        if status.get("status") != "converged":
+            why = status.get("reason") or status.get("status")
+    except (OSError, ValueError):
+        pass
+    rows = read_table(table)
+    return (rows, why) if rows else (None, None)
+
+
 def run_sweep(case, d, study, args, what, label):
     """One gfmd sweep into d: (its rows, None) or, where it stopped at a point that did not
-    converge, (its finished rows, the reason); no finished point at all ends the study."""
+    converge, (its finished rows, the reason); no finished point at all ends the study.
+    --draw-only: the sweep on disk, run nothing ((None, None) where there is none)."""
+    if DRAW_ONLY:
+        return finished_sweep(d)
     p = run([GFMD, "sweep", case, "-o", d, "-q", "--plot", study["y"]] + args, tolerate_not_converged=True, what=what)
     table = os.path.join(d, "sweep.csv")
     why = None
@@ -329,9 +361,15 @@ def main():
                     help="let the runs write into non-empty directories that gfmd did not make")
     ap.add_argument("--runs-only", action="store_true",
                     help="run (or reuse) every series and stop: no figure, no matplotlib needed")
+    ap.add_argument("--draw-only", action="store_true",
+                    help="draw from the runs on disk and run nothing (a point that did not converge is not "
+                         "retried; a series or seed without runs is left out): sweep studies")
     args = ap.parse_args()
-    global QUIET, FORCE
-    QUIET, FORCE = args.quiet, args.force
+    global QUIET, FORCE, DRAW_ONLY
+    QUIET, FORCE, DRAW_ONLY = args.quiet, args.force, args.draw_only
+    if args.draw_only and args.runs_only:
+        log(f"gfmd study: {args.study}: --draw-only and --runs-only exclude each other")
+        return BAD_INPUT
     out = None
     before = set()
     try:

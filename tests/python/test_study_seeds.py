@@ -92,6 +92,25 @@ where = ["a=1"]
     sec = [r for r in table if r["panel"] == "second" and r["series"] == "one seed"]
     assert sec and all(r["quantity"] == "delta_mu_over_mu_c" and r["seed"] == "" for r in sec)
     assert (d / "s.png").stat().st_size > 10000
+    # --draw-only draws from the runs on disk and runs nothing (no gfmd to run here): a seed whose
+    # runs are gone is left out of the mean, a series without runs out of the figure.
+    import shutil
+    shutil.rmtree(d / "series_00" / "seed_2")
+    shutil.rmtree(d / "series_01")
+    (d / "s.png").unlink()
+    p = subprocess.run(STUDY + [str(tmp_path / "s.toml"), "--quick", "-o", str(tmp_path / "out"), "--draw-only"],
+                       capture_output=True, text=True, env=dict(ENV, GFMD="/nonexistent/gfmd"))
+    assert p.returncode == 0, p.stderr
+    assert "seed 2 has no runs" in p.stderr and "series[2] (one seed): no runs" in p.stderr
+    assert (d / "s.png").stat().st_size > 10000
+    with open(d / "s.csv", newline="") as f:
+        table = list(csv.DictReader(f))
+    assert {r["series"] for r in table} == {"coupled"}
+    assert {r["seed"] for r in table} == {"0", "1", "mean", "std", "min", "max"}
+    assert not (d / "series_01").exists()
+    p = subprocess.run(STUDY + [str(tmp_path / "s.toml"), "--quick", "-o", str(tmp_path / "out"), "--draw-only",
+                                "--runs-only"], capture_output=True, text=True, env=ENV)
+    assert p.returncode == 2 and "exclude each other" in p.stderr
 
 
 @pytest.mark.parametrize("seeds,says", [('"3..1"', 'series[1].seeds: "3..1" is not FIRST..LAST'),
