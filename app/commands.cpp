@@ -147,13 +147,14 @@ int cmd_green(const std::vector<double>& nus, double from, double to, int points
 }
 
 int cmd_study(const std::string& study_path, bool quick, const std::string& out_dir,
-              const std::vector<std::string>& sets, bool quiet, bool force) {
+              const std::vector<std::string>& sets, bool quiet, bool force, bool draw_only) {
   const std::string script = find_script("study.py");
   if (script.empty()) throw gfmd::InputError("gfmd study", "study.py is not installed next to this program");
   std::vector<std::string> args = {python_interpreter(), script, study_path};
   if (quick) args.emplace_back("--quick");
   if (quiet) args.emplace_back("--quiet");
   if (force) args.emplace_back("--force");
+  if (draw_only) args.emplace_back("--draw-only");
   if (!out_dir.empty()) {
     args.emplace_back("-o");
     args.push_back(out_dir);

@@ -82,7 +82,7 @@ def _package_file(*parts: str) -> str:
 
 
 def study(study_file: str, quick: bool = False, output: str = os.path.join("out", "studies"),
-          set: Iterable[str] = ()) -> dict:
+          set: Iterable[str] = (), draw_only: bool = False) -> dict:
     """Runs a figure study (studies/*.toml) as `gfmd study` does: its sweeps or runs (reusing
     finished results), then its figure (PNG, PDF) and the plotted data (CSV) in
     output/<name>/<quick|full>/. Returns study.json (figure path, series, wall time, series
@@ -90,7 +90,9 @@ def study(study_file: str, quick: bool = False, output: str = os.path.join("out"
     file's (the repository root for studies/*.toml). Raises SolveError if a series stopped
     early (its finished points are drawn), InputError (a ValueError) for a missing or malformed
     study file or a case file given as a study, naming the file and the key. `set`: settings
-    for every run of the study, after its own (e.g. 'solver.backend="cuda"').
+    for every run of the study, after its own (e.g. 'solver.backend="cuda"'). `draw_only`: draw a
+    sweep study from the runs on disk and run nothing (gfmd study --draw-only: a point that did not
+    converge is not retried, a series or seed without runs is left out).
     KeyboardInterrupt (Ctrl-C, or a notebook's interrupt) stops the study's runs, waits for
     them and is raised again; the finished runs are reused by the next call."""
     import signal
@@ -105,6 +107,8 @@ def study(study_file: str, quick: bool = False, output: str = os.path.join("out"
         raise InputError("study: the gfmd program is not installed with the package")
     # `gfmd study` itself (it finds study.py beside it and calls itself back for the runs).
     args = [program, "study", path, "-o", str(output)] + (["--quick"] if quick else [])
+    if draw_only:
+        args.append("--draw-only")
     for kv in set:
         args += ["--set", str(kv)]
     # In a process group of its own, so that an interrupt of this process (which may come

@@ -111,6 +111,15 @@ where = ["a=1"]
     p = subprocess.run(STUDY + [str(tmp_path / "s.toml"), "--quick", "-o", str(tmp_path / "out"), "--draw-only",
                                 "--runs-only"], capture_output=True, text=True, env=ENV)
     assert p.returncode == 2 and "exclude each other" in p.stderr
+    # The same from gfmd study and from Python.
+    (d / "s.png").unlink()
+    p = subprocess.run([ENV["GFMD"], "study", str(tmp_path / "s.toml"), "--quick", "-o", str(tmp_path / "out"),
+                        "--draw-only"], capture_output=True, text=True, env=ENV)
+    assert p.returncode == 0, p.stderr
+    assert (d / "s.png").stat().st_size > 10000
+    import gfmd
+    j = gfmd.study(str(tmp_path / "s.toml"), quick=True, output=str(tmp_path / "out"), draw_only=True)
+    assert j["series"] == ["coupled"]
 
 
 @pytest.mark.parametrize("seeds,says", [('"3..1"', 'series[1].seeds: "3..1" is not FIRST..LAST'),
