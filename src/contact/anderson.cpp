@@ -30,32 +30,27 @@ GuardedAnderson::GuardedAnderson(int depth, const Grid& grid) {
 
 void GuardedAnderson::restart() {
   if (mixer_) mixer_->restart();
-  kept_change_ = std::numeric_limits<double>::infinity();
-  mixed_ = false;
-  rejected_ = plain_left_ = 0;
+  guard_.restart();
 }
 
 void GuardedAnderson::advance(RealField& x, const RealField& image, double change, double lo, double hi) {
   const auto n = static_cast<std::ptrdiff_t>(x.size());
-  if (!mixer_ || plain_left_ > 0) {
-    parallel_for(n, [&](std::ptrdiff_t i) { x[i] = image[i]; });
-    if (plain_left_ > 0 && --plain_left_ == 0) kept_change_ = std::numeric_limits<double>::infinity();
-    return;
+  switch (guard_.next(change, mixer_ != nullptr)) {
+    case AndersonGuard::Step::Plain:
+      parallel_for(n, [&](std::ptrdiff_t i) { x[i] = image[i]; });
+      return;
+    case AndersonGuard::Step::Reject:
+      parallel_for(n, [&](std::ptrdiff_t i) { x[i] = kept_[i]; });
+      mixer_->restart();
+      return;
+    case AndersonGuard::Step::Mix:
+      break;
   }
-  if (mixed_ && !(change < kept_change_)) {
-    parallel_for(n, [&](std::ptrdiff_t i) { x[i] = kept_[i]; });
-    mixer_->restart();
-    mixed_ = false;
-    plain_left_ = kPlainSteps << std::min(rejected_, 10);
-    ++rejected_;
-    return;
-  }
-  kept_change_ = change;
   kept_.assign(image.begin(), image.end());
   mixer_->step(
       1.0, [&](std::size_t e) { return x[e]; }, [&](std::size_t e) { return image[e]; },
       [&](std::size_t e, double v) { x[e] = std::clamp(v, lo, hi); });
-  mixed_ = mixer_->history() > 0;
+  guard_.mixed(mixer_->history() > 0);
 }
 
 void AndersonMixer::resize(std::size_t len) {

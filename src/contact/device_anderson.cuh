@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cstddef>
-#include <limits>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -188,9 +187,7 @@ class DeviceAnderson {
 };
 
 // GuardedAnderson on the device: a fixed point over every point of the grid (adhesion's
-// traction), Anderson-mixed with the host's safeguard, decision for decision (an
-// extrapolation kept only where its step's change is below the last kept one's; otherwise
-// the kept image back, the history dropped and plain steps for 5, 10, 20, ... steps).
+// traction), Anderson-mixed with the host's safeguard (the same AndersonGuard decides).
 class DeviceGuarded {
  public:
   DeviceGuarded(int depth, std::size_t n, Tally* tally) : n_(n) {
@@ -201,40 +198,32 @@ class DeviceGuarded {
   }
   void restart() {
     if (mixer_) mixer_->restart();
-    kept_change_ = std::numeric_limits<double>::infinity();
-    mixed_ = false;
-    rejected_ = plain_left_ = 0;
+    guard_.restart();
   }
   // x: the iterate, image: G(x), change: the step's relative change. The next iterate into x.
   void advance(Reducer& red, double* x, const double* image, double change, double lo, double hi) {
     const std::size_t bytes = n_ * sizeof(double);
-    if (!mixer_ || plain_left_ > 0) {
-      cuda_check(cudaMemcpy(x, image, bytes, cudaMemcpyDeviceToDevice), "a plain step");
-      if (plain_left_ > 0 && --plain_left_ == 0) kept_change_ = std::numeric_limits<double>::infinity();
-      return;
+    switch (guard_.next(change, mixer_.has_value())) {
+      case AndersonGuard::Step::Plain:
+        cuda_check(cudaMemcpy(x, image, bytes, cudaMemcpyDeviceToDevice), "a plain step");
+        return;
+      case AndersonGuard::Step::Reject:
+        cuda_check(cudaMemcpy(x, kept_.get(), bytes, cudaMemcpyDeviceToDevice), "a rejected step");
+        mixer_->restart();
+        return;
+      case AndersonGuard::Step::Mix:
+        break;
     }
-    if (mixed_ && !(change < kept_change_)) {
-      cuda_check(cudaMemcpy(x, kept_.get(), bytes, cudaMemcpyDeviceToDevice), "a rejected step");
-      mixer_->restart();
-      mixed_ = false;
-      plain_left_ = kPlainSteps << std::min(rejected_, 10);
-      ++rejected_;
-      return;
-    }
-    kept_change_ = change;
     cuda_check(cudaMemcpy(kept_.get(), image, bytes, cudaMemcpyDeviceToDevice), "keeping an image");
     mixer_->step(red, 1.0, FieldTarget{x, image, lo, hi});
-    mixed_ = mixer_->history() > 0;
+    guard_.mixed(mixer_->history() > 0);
   }
 
  private:
-  static constexpr int kPlainSteps = 5;  // GuardedAnderson's
   std::size_t n_;
   std::optional<DeviceAnderson> mixer_;
   DevArray<double> kept_;
-  double kept_change_ = std::numeric_limits<double>::infinity();
-  bool mixed_ = false;
-  int rejected_ = 0, plain_left_ = 0;
+  AndersonGuard guard_;
 };
 
 using Clock = std::chrono::steady_clock;

@@ -11,6 +11,7 @@
 // depend on the backend or the thread count.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -109,8 +110,41 @@ class AndersonMixer {
   const std::vector<std::uint32_t>* order_ = nullptr;
 };
 
+// The safeguard's decisions (GuardedAnderson's, and the CUDA solve's DeviceGuarded alike): for
+// each step, from its relative change, whether to take the plain image, to reject the last
+// extrapolation (back to the kept image, the history dropped, plain steps for 5, 10, 20, ...
+// steps) or to mix.
+class AndersonGuard {
+ public:
+  enum class Step { Plain, Reject, Mix };
+  // The next step for an iterate whose step changed by `change`; mixing: a mixer exists.
+  Step next(double change, bool mixing) {
+    if (!mixing || plain_left_ > 0) {
+      if (plain_left_ > 0 && --plain_left_ == 0) kept_change_ = std::numeric_limits<double>::infinity();
+      return Step::Plain;
+    }
+    if (mixed_ && !(change < kept_change_)) {
+      mixed_ = false;
+      plain_left_ = kPlainSteps << std::min(rejected_, 10);
+      ++rejected_;
+      return Step::Reject;
+    }
+    kept_change_ = change;
+    return Step::Mix;
+  }
+  // After a Mix step: whether the new iterate is an extrapolation (the mixer had a history).
+  void mixed(bool extrapolated) { mixed_ = extrapolated; }
+  void restart() { *this = AndersonGuard{}; }
+
+ private:
+  static constexpr int kPlainSteps = 5;
+  double kept_change_ = std::numeric_limits<double>::infinity();
+  bool mixed_ = false;  // the current iterate is an extrapolation
+  int rejected_ = 0, plain_left_ = 0;
+};
+
 // A fixed point x <- G(x) over every point of the grid held here (adhesion's traction, a
-// viscoelastic body's pressure), Anderson-mixed with a safeguard: an extrapolated iterate is
+// viscoelastic body's pressure), Anderson-mixed with a safeguard (AndersonGuard): an extrapolated iterate is
 // kept only where its step's change is below the last kept one's; otherwise the plain image of
 // the last kept iterate is taken and the history dropped, and plain steps take over for a
 // while, longer after each rejection (5, 10, 20, ... steps) before mixing starts afresh. Near
@@ -128,13 +162,10 @@ class GuardedAnderson {
   void advance(RealField& x, const RealField& image, double change, double lo, double hi);
 
  private:
-  static constexpr int kPlainSteps = 5;
   std::unique_ptr<AndersonMixer> mixer_;
   std::vector<std::uint32_t> start_, order_;
   RealField kept_;  // the image of the last iterate kept
-  double kept_change_ = std::numeric_limits<double>::infinity();
-  bool mixed_ = false;  // the current iterate is an extrapolation
-  int rejected_ = 0, plain_left_ = 0;
+  AndersonGuard guard_;
 };
 
 // Solves the small (regularised) normal equations M x = rhs of the least-squares problem
