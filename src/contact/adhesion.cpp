@@ -21,10 +21,8 @@
 // to [0, sigma0] and safeguarded (below), accelerates it.
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
 #include <limits>
 #include <memory>
-#include <sstream>
 
 #include "gfmd/contact/anderson.hpp"
 #include "gfmd/contact/solver.hpp"
@@ -120,10 +118,7 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
       const double pull = grid_sum(grid_, [&](std::size_t i) { return a[i]; }) * grid_.cell_area();
       inner.value += load.mode == LoadMode::Force ? pull : pull / grid_.area();
       if (!(inner.value > 0)) {
-        info.status =
-            "not converged: the load is below what the adhesion holds at this state (a tensile load "
-            "beyond the pull-off under load control); follow the unloading branch under approach control "
-            "(load.approach, gfmd curve --approaches ... --unload)";
+        info.status = kBeyondPullOff;
         no_state = true;
         break;
       }
@@ -195,13 +190,7 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
       if (a[i] > 0 && !(p[i] > 0)) acc[0] += 1.0;
       if (a[i] > 0 && a[i] < s0 * (1.0 - 1e-9)) acc[1] += 1.0;
     });
-    if (z[1] > 0) {
-      std::ostringstream os;
-      os << "; the cohesive zones are about " << std::setprecision(2) << z[0] / z[1]
-         << " cells wide: below about 2 their edges are trapped by the grid and the steps may not settle "
-            "(refine the grid, or lengthen interaction.range at the same work of adhesion)";
-      info.status += os.str();
-    }
+    if (z[1] > 0) info.status += narrow_cohesive_zones(z[0] / z[1]);
   }
   parallel_for(nl, [&](std::ptrdiff_t i) { p[i] -= a[i]; });
   adh_.repulsive = false;

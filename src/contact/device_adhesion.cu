@@ -101,10 +101,7 @@ CudaSolve::PK CudaSolve::solve_adhesive(const LoadParams& load, double tol, Solv
       const double pull = sum_a() * cell;
       inner.value += load.mode == LoadMode::Force ? pull : pull / grid_.area();
       if (!(inner.value > 0)) {
-        info.status =
-            "not converged: the load is below what the adhesion holds at this state (a tensile load "
-            "beyond the pull-off under load control); follow the unloading branch under approach control "
-            "(load.approach, gfmd curve --approaches ... --unload)";
+        info.status = kBeyondPullOff;
         no_state = true;
         break;
       }
@@ -150,13 +147,7 @@ CudaSolve::PK CudaSolve::solve_adhesive(const LoadParams& load, double tol, Solv
       if (a[i] > 0 && !(p[i] > 0)) acc[0] += 1.0;
       if (a[i] > 0 && a[i] < s0 * (1.0 - 1e-9)) acc[1] += 1.0;
     });
-    if (z[1] > 0) {
-      std::ostringstream os;
-      os << "; the cohesive zones are about " << std::setprecision(2) << z[0] / z[1]
-         << " cells wide: below about 2 their edges are trapped by the grid and the steps may not settle "
-            "(refine the grid, or lengthen interaction.range at the same work of adhesion)";
-      info.status += os.str();
-    }
+    if (z[1] > 0) info.status += narrow_cohesive_zones(z[0] / z[1]);
   }
   launch_each(n, [=] __device__(std::size_t i) { p[i] -= a[i]; });
   adhesion_active_ = false;

@@ -16,7 +16,6 @@
 #include <cstdlib>
 #include <cub/device/device_select.cuh>
 #include <functional>
-#include <iomanip>
 #include <limits>
 #include <numbers>
 #include <optional>

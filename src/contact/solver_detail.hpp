@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -177,6 +178,21 @@ inline constexpr const char* kTrescaSteepHint =
     "; friction.law = \"tresca\" with a large friction.coefficient switches the shear strength on and off "
     "at the contact's edge, whose cells the coupling moves: lower friction.coefficient (e.g. 3), so that "
     "the shear rises continuously there (docs/solver.md, \"Adhesion with friction\")";
+
+// The adhesive steps' texts (adhesion.cpp and device_adhesion.cu alike): a load beyond what the
+// adhesion holds under load control, and the failure's likely cause given the cohesive zones'
+// width in cells (the cells they pull without contact over the cells they pull partly).
+inline constexpr const char* kBeyondPullOff =
+    "not converged: the load is below what the adhesion holds at this state (a tensile load beyond the "
+    "pull-off under load control); follow the unloading branch under approach control (load.approach, gfmd "
+    "curve --approaches ... --unload)";
+inline std::string narrow_cohesive_zones(double cells) {
+  std::ostringstream os;
+  os << "; the cohesive zones are about " << std::setprecision(2) << cells
+     << " cells wide: below about 2 their edges are trapped by the grid and the steps may not settle "
+        "(refine the grid, or lengthen interaction.range at the same work of adhesion)";
+  return os.str();
+}
 
 inline std::string outer_status(double change, double tol, bool inner_ok, double inner_tol, int used,
                                 int step, const SolverParams& sp, const char* what) {
