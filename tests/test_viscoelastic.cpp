@@ -415,8 +415,9 @@ velocity = 0.1
 }
 
 // Bad input names the key.
-TEST(Viscoelastic, BadInputNamesTheKey) {
-  const std::string base = R"(
+namespace {
+// A sphere on a standard linear solid (E_inf = 10 E0, tau = 1) sliding at v0 = 0.1, 32^2.
+const std::string kSlsSphere = R"(
 [grid]
 nx = 32
 lx = 2.0
@@ -432,7 +433,10 @@ force = 0.01
 [friction]
 velocity = 0.1
 )";
+}  // namespace
 
+TEST(Viscoelastic, BadInputNamesTheKey) {
+  const std::string& base = kSlsSphere;
   const auto problem = [&](const std::vector<std::string>& sets) {
     return gfmd::testing::config_problem(base, sets);
   };
@@ -488,31 +492,15 @@ velocity = 1.0
 // A solve on a viscoelastic body that stops says why its last viscoelastic solve did not settle,
 // in the friction loop and in the adhesive steps alike (the text was dropped before 2026-11-28).
 TEST(Viscoelastic, AFailureSaysWhyTheViscoelasticSolveDidNotSettle) {
-  const std::string base = R"(
-[grid]
-nx = 64
-lx = 2.0
-[elastic]
-poisson = 0.5
-viscoelastic = "sls"
-high_frequency_modulus = 10.0
-relaxation_time = 1.0
-[indenter]
-type = "hertz"
-radius = 1.0
-[load]
-force = 0.01
-[friction]
-velocity = 0.02
-reference = false
-[solver]
-max_outer = 3
-)";
+  const std::vector<std::string> common = {"grid.nx=64", "elastic.poisson=0.5", "friction.velocity=0.02",
+                                           "friction.reference=false", "solver.max_outer=3"};
   for (const auto& sets : std::vector<std::vector<std::string>>{
            {"friction.coefficient=0.3", "friction.regularization=0.01"},
            {"interaction.model=\"adhesive\"", "interaction.work_of_adhesion=1e-3",
             "interaction.range=0.02"}}) {
-    const CaseResult r = run_case(parse_config(base, "visco.toml", sets));
+    std::vector<std::string> all = common;
+    all.insert(all.end(), sets.begin(), sets.end());
+    const CaseResult r = run_case(parse_config(kSlsSphere, "visco.toml", all));
     EXPECT_FALSE(r.info.converged);
     EXPECT_NE(
         r.info.status.find("; the last viscoelastic solve: not converged: the viscoelastic pressure did "
