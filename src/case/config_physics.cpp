@@ -236,12 +236,7 @@ void read_friction(Section& fr, Config& c) {
   if (!(c.friction.regularization >= 0 && c.friction.regularization < 1))
     fr.error("regularization", "must be in [0, 1) (slip speed / v0 below which the traction is regularised)");
   // Section::number has refused nan and inf already (they come back as the default).
-  if (!(c.friction.coefficient >= 0))
-    fr.error("coefficient", "must be a non-negative number");
-  else if (c.friction.coefficient > 0 && c.visco.enabled() && !c.friction.regularized())
-    fr.error("regularization",
-             "must be positive with friction on a viscoelastic body (e.g. 0.01): its stick is not solved "
-             "set-valued");
+  if (!(c.friction.coefficient >= 0)) fr.error("coefficient", "must be a non-negative number");
   c.friction.creepage = fr.number("creepage", 1.0);
   if (!(c.friction.creepage > 0))
     fr.error("creepage", "must be a positive finite number (rigid slip speed / v0; 1 = sliding)");

@@ -137,7 +137,8 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
                                                                 RealField& tx, RealField& ty, double tol,
                                                                 int max_it) {
   // Douglas-Rachford on 0 in -v(tau) + N_K(tau), v(tau) = b + A tau with b = xi e_s + b' (b'
-  // the slip the pressure causes through the coupling) and A = (e_s.grad) C_tt skew:
+  // the slip the pressure causes through the coupling) and A = (e_s.grad) C_tt skew (on a
+  // viscoelastic body (e_s.grad) c C_tt, dissipative: ElasticBody::slip_resolvent):
   //   tau = P_K(z);  y = (I - gamma A)^-1 (2 tau - z + gamma b);  z <- z + y - tau.
   // At a fixed point y = tau and z = tau + gamma v(tau), the projection form of Coulomb's
   // law: tau = mu_c p v/|v| where the point slips, |tau| <= mu_c p where v = 0 (stick).
@@ -174,6 +175,7 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
   fft_.forward(p.data(), s1_.data());
   body_.inplane_slope(nullptr, nullptr, s1_.data(), ex, ey, s2_.data(), s3_.data(), scale, -scale * gamma,
                       deriv, slip_symbols());
+  body_.apply_response(s2_.data(), s3_.data(), nullptr);  // a viscoelastic body's (identity otherwise)
   fft_.backward_unscaled_destroying(s2_.data(), bx_.data());
   fft_.backward_unscaled_destroying(s3_.data(), by_.data());
   if (!have_z_) {
@@ -182,6 +184,7 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
     fft_.forward(ty.data(), s3_.data());
     body_.inplane_slope(s2_.data(), s3_.data(), nullptr, ex, ey, s2_.data(), s3_.data(), scale * gamma, 0.0,
                         deriv, slip_symbols());
+    body_.apply_response(s2_.data(), s3_.data(), nullptr);
     fft_.backward_unscaled_destroying(s2_.data(), yx.data());
     fft_.backward_unscaled_destroying(s3_.data(), yy.data());
     parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t s_i) {

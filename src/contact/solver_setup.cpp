@@ -82,16 +82,6 @@ ContactSolver::ContactSolver(const ElasticBody& body, const Topography& topo, co
       throw ParameterError("interaction.range", "must be positive and finite with adhesion");
   }
   if (body.viscoelastic()) {
-    // Where the splitting has been derived and tested: frictionless or regularised friction,
-    // repulsive or adhesive, with or without plastic saturation. Each refusal names the key
-    // that asks for more.
-    // Friction on it in full slip (the regularised law near rest): the stick-slip iteration's
-    // resolvent is the elastic body's.
-    if (fric_.coefficient > 0 && !fric_.regularized())
-      throw ParameterError(
-          "friction.regularization",
-          "must be positive with friction on a viscoelastic body (e.g. 0.01): its stick is not "
-          "solved set-valued");
     // The observables measure along the friction's direction, the body is excited along its own.
     if (body.visco().direction_deg != fric_.direction_deg)
       throw ParameterError("friction.direction", "must be the viscoelastic body's sliding direction");

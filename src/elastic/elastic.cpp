@@ -407,25 +407,50 @@ void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, 
 double ElasticBody::slip_operator_norm(double ex, double ey, SlipDerivative deriv) const {
   // max over modes of |D| times the largest eigenvalue of C_tt (real symmetric 2x2).
   std::vector<double> rows(static_cast<std::size_t>(grid_.rows()), 0.0);
-  const auto take = [&](int row, const ComplianceMode& m, double absd) {
+  // A viscoelastic body's operator is D c C_tt (c = E0/E(omega) per mode): |c| times the elastic one's.
+  const auto take = [&](int row, std::size_t k, const ComplianceMode& m, double absd) {
     const double tr = 0.5 * (m.cxx + m.cyy), df = 0.5 * (m.cxx - m.cyy);
     double& r = rows[static_cast<std::size_t>(row)];
+    if (!response_.empty()) absd *= std::abs(response_[k]);
     r = std::max(r, absd * (tr + std::sqrt(df * df + m.cxy * m.cxy)));
   };
   if (deriv == SlipDerivative::Spectral)
     for_each_slope_mode(
         grid_, slip_modes(), ex, ey,
-        [&](int row, std::size_t, const ComplianceMode& m, double d) { take(row, m, std::abs(d)); });
+        [&](int row, std::size_t k, const ComplianceMode& m, double d) { take(row, k, m, std::abs(d)); });
   else
     for_each_upwind_mode(
         grid_, slip_modes(), ex, ey, deriv, nullptr,
-        [&](int row, std::size_t, const ComplianceMode& m, cplx d) { take(row, m, std::abs(d)); });
+        [&](int row, std::size_t k, const ComplianceMode& m, cplx d) { take(row, k, m, std::abs(d)); });
   const double mine = rows.empty() ? 0.0 : *std::max_element(rows.begin(), rows.end());
   return mpi::max_all(grid_, mine);
 }
 
 void ElasticBody::slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale,
                                  SlipDerivative deriv, const cplx* symbols) const {
+  // M = I - g D C with Re D <= 0: M's Hermitian part I - g Re(D) C >= I, so det M != 0. On a
+  // viscoelastic body D c takes D's place (c = E0/E(omega) per mode), and Re(D c) <= 0 too:
+  // omega = -(q.e_s) v0, so Im c has the sign of q.e_s, as Im D has.
+  const auto general = [&](std::size_t k, const ComplianceMode& m, cplx gd) {
+    const cplx a = scale * x[k], b = scale * y[k];
+    const cplx m11 = 1.0 - gd * m.cyy, m22 = 1.0 - gd * m.cxx, m12 = gd * m.cxy;  // adjugate of M
+    const cplx inv = 1.0 / (m11 * m22 - m12 * m12);
+    x[k] = inv * (m11 * a + m12 * b);
+    y[k] = inv * (m12 * a + m22 * b);
+  };
+  if (!response_.empty() && visco_.velocity != 0.0) {  // at rest c = 1: the elastic branch below
+    if (deriv == SlipDerivative::Spectral)
+      for_each_slope_mode(grid_, slip_modes(), ex, ey,
+                          [&](int, std::size_t k, const ComplianceMode& m, double d) {
+                            general(k, m, gamma * cplx(0.0, d) * response_[k]);
+                          });
+    else
+      for_each_upwind_mode(grid_, slip_modes(), ex, ey, deriv, symbols,
+                           [&](int, std::size_t k, const ComplianceMode& m, cplx d) {
+                             general(k, m, gamma * d * response_[k]);
+                           });
+    return;
+  }
   if (deriv == SlipDerivative::Spectral) {
     // M = I - i g d C with C = [[cxx, cxy], [cxy, cyy]] real symmetric and g d real: M is
     // complex symmetric, det M = 1 - i g d (cxx + cyy) - (g d)^2 (cxx cyy - cxy^2), never 0.
@@ -447,16 +472,9 @@ void ElasticBody::slip_resolvent(cplx* x, cplx* y, double ex, double ey, double 
         });
     return;
   }
-  // M = I - g D C with Re D <= 0: M's Hermitian part I - g Re(D) C >= I, so det M != 0.
   for_each_upwind_mode(
-      grid_, slip_modes(), ex, ey, deriv, symbols, [&](int, std::size_t k, const ComplianceMode& m, cplx d) {
-        const cplx gd = gamma * d;
-        const cplx a = scale * x[k], b = scale * y[k];
-        const cplx m11 = 1.0 - gd * m.cyy, m22 = 1.0 - gd * m.cxx, m12 = gd * m.cxy;  // adjugate of M
-        const cplx inv = 1.0 / (m11 * m22 - m12 * m12);
-        x[k] = inv * (m11 * a + m12 * b);
-        y[k] = inv * (m12 * a + m22 * b);
-      });
+      grid_, slip_modes(), ex, ey, deriv, symbols,
+      [&](int, std::size_t k, const ComplianceMode& m, cplx d) { general(k, m, gamma * d); });
 }
 
 }  // namespace gfmd

@@ -36,9 +36,6 @@ def test_bad_viscoelastic_input_names_the_key():
         gfmd.solve(sphere(), gfmd.ViscoelasticBody(high_frequency_modulus=0.5, relaxation_time=1.0), force=0.01)
     with pytest.raises(gfmd.InputError, match="velocity"):
         gfmd.solve(sphere(), gfmd.ElasticBody(), force=0.01, velocity=1.0)
-    with pytest.raises(gfmd.InputError, match="friction.regularization"):
-        gfmd.solve(sphere(), gfmd.ViscoelasticBody(high_frequency_modulus=2.0, relaxation_time=1.0), force=0.01,
-                   friction=0.3, velocity=1.0)
 
 
 def test_a_master_curve_file_is_the_body_it_tabulates(tmp_path):
@@ -75,6 +72,27 @@ def test_friction_on_a_viscoelastic_body_adds_the_hysteresis():
                                                             rel=1e-3)
     assert s["total_friction_coefficient"] > 0.3
     assert s["hysteresis_balance_error"] < 1e-9
+
+
+def test_a_rubber_sphere_rolls_with_stick():
+    # Tractive rolling (creepage 1e-3) of a sphere over a standard linear solid with Coulomb's
+    # set-valued law: much of the contact sticks; slowly rolled it is the elastic body's rolling
+    # with E0 (to the tolerance); near the loss peak it adds the hysteresis, and the driving work
+    # balances the interface's and the body's dissipation (1.7e-3 measured at 64^2; the sphere's
+    # balance converges with the grid: docs/solver.md).
+    top = gfmd.Topography.hertz(nx=64, lx=1.0, radius=1.0)
+    body = gfmd.ViscoelasticBody(poisson=0.3, high_frequency_modulus=10.0, relaxation_time=1.0)
+    slow = gfmd.solve(top, body, force=0.0026, velocity=1e-9, friction=0.3, creepage=1e-3).summary
+    elastic = gfmd.solve(top, gfmd.ElasticBody(poisson=0.3), force=0.0026, friction=0.3, creepage=1e-3).summary
+    assert slow["converged"] and elastic["converged"]
+    assert 0.3 < elastic["stick_fraction"] < 1.0
+    assert slow["stick_fraction"] == elastic["stick_fraction"]
+    assert slow["tangential_force"] == pytest.approx(elastic["tangential_force"], rel=1e-6)
+    peak = gfmd.solve(top, body, force=0.0026, velocity=0.03, friction=0.3, creepage=1e-3).summary
+    assert peak["converged"], peak["status"]
+    assert peak["stick_fraction"] > 0.3
+    assert peak["hysteresis_friction"] > 1e-3
+    assert peak["energy_balance_error_exact"] < 0.01
 
 
 def test_plastic_saturation_on_a_viscoelastic_body():

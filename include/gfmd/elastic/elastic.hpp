@@ -177,11 +177,13 @@ class ElasticBody {
   // Resolvent of the slip operator of steady sliding: A = (e.grad) C_tt maps a tangential
   // traction to the slip velocity it causes; with the spectral derivative A is skew-adjoint
   // (C_tt Hermitian, e.grad skew), with an upwind one A + A* <= 0; either way I - gamma A is
-  // invertible for every gamma > 0. In place, per mode:
-  // (x, y) <- (I - gamma A)^-1 scale (x, y); the q = 0 mode is scaled only.
+  // invertible for every gamma > 0. On a viscoelastic body A = (e.grad) c C_tt with its response
+  // c = E0/E(omega) per mode, dissipative (A + A* <= 0) with either derivative. In place, per
+  // mode: (x, y) <- (I - gamma A)^-1 scale (x, y); the q = 0 mode is scaled only.
   void slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale,
                       SlipDerivative deriv = SlipDerivative::Spectral, const cplx* symbols = nullptr) const;
-  // Spectral radius of A along (ex, ey): the largest |D(q)| times eigenvalue of C_tt(q).
+  // Spectral radius of A along (ex, ey): the largest |D(q)| times eigenvalue of C_tt(q) (times
+  // |c| on a viscoelastic body).
   [[nodiscard]] double slip_operator_norm(double ex, double ey,
                                           SlipDerivative deriv = SlipDerivative::Spectral) const;
 
