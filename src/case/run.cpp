@@ -259,7 +259,8 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     const SolveResume* whole = mpi::root() ? resume : nullptr;
     const auto numbers_of = [](const SolveResume& st) {
       return encode_resume_numbers(st.reference ? &st.reference->info : nullptr,
-                                   st.friction ? &*st.friction : nullptr, st.adhesive);
+                                   st.friction ? &*st.friction : nullptr, st.adhesive,
+                                   st.adhesive_restart ? &*st.adhesive_restart : nullptr);
     };
     const std::string numbers = mpi::from_root(whole ? numbers_of(*whole) : std::string());
     resume = nullptr;
@@ -305,8 +306,15 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     // The friction solve's restart point where it has one: its fields (the pressure at the
     // start of the step in progress) and its state; and the finished reference's result.
     const ContactSolver::RestartPoint* rp = running ? running->restart_point() : nullptr;
-    const ContactFields& now = rp ? rp->fields : f;
+    // A frictionless adhesive solve's restart point: its net pressure and traction at the start of
+    // the adhesive step in progress, and its state.
+    // (A friction run's frictionless reference is solved again from the fields: none is kept.)
+    const ContactSolver::AdhesiveRestartPoint* arp =
+        !rp && running && adhesive && cfg.friction.coefficient == 0 ? running->adhesive_restart_point()
+                                                                    : nullptr;
+    const ContactFields& now = rp ? rp->fields : arp ? arp->fields : f;
     const FrictionRestart* fr = rp ? &rp->state : nullptr;
+    const AdhesiveRestart* ar = arp ? &arp->state : nullptr;
     // An adhesive solve stopped inside its steps holds the repulsive pressure p + a: the file
     // takes the net one, p - a (a missing traction: zeros).
     RealField net, none;
@@ -320,7 +328,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
       }
     }
     const RealField* pressure = &now.pressure;
-    if (adhesive && !rp && running && running->pressure_is_repulsive()) {
+    if (adhesive && !rp && !arp && running && running->pressure_is_repulsive()) {
       net.resize(now.pressure.size());
       for (std::size_t i = 0; i < net.size(); ++i) net[i] = now.pressure[i] - (*adhesion)[i];
       pressure = &net;
@@ -328,7 +336,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     std::vector<const RealField*> fields = {pressure, &now.tx, &now.ty};
     for (const RealField* fld :
          resume_fields(ref_kept ? &ref_kept->pressure : nullptr,
-                       ref_kept && adhesive ? &ref_kept->adhesion : nullptr, adhesion, fr))
+                       ref_kept && adhesive ? &ref_kept->adhesion : nullptr, adhesion, fr, ar))
       fields.push_back(fld);
     // Rank 0 writes the file a field at a time as it gathers them (8 bytes per point of the
     // cell at once). A checkpoint it could not write stops every process (none may wait for
@@ -342,7 +350,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
       }
     for (std::size_t k = 0; k < fields.size(); ++k) {
       if (k == 3 && file && !failure) try {
-          file->add_state(ref_kept ? &ref_kept->info : nullptr, fr, adhesive);
+          file->add_state(ref_kept ? &ref_kept->info : nullptr, fr, adhesive, ar);
         } catch (...) {
           failure = std::current_exception();
         }
@@ -432,9 +440,15 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     // A restart point goes on where the interrupted solve was (the device solve starts warm
     // from the fields); its iterations up to there were counted before.
     const FrictionRestart* from = solver.on_device() || cfg.friction.coefficient == 0 ? nullptr : restart;
-    running_from = from ? from->iterations : 0;
+    // A frictionless adhesive solve's restart point likewise (with its fields' traction).
+    const AdhesiveRestart* adh_from = !solver.on_device() && cfg.friction.coefficient == 0 && resume &&
+                                              resume->adhesive_restart &&
+                                              r.fields.adhesion.size() == slab.local_size()
+                                          ? &*resume->adhesive_restart
+                                          : nullptr;
+    running_from = from ? from->iterations : adh_from ? adh_from->iterations : 0;
     try {
-      r.info = solver.solve(cfg.load, r.fields, from);
+      r.info = solver.solve(cfg.load, r.fields, from, adh_from);
     } catch (const Interrupted&) {
       save(r.fields);
       throw interrupted_after(progress_now());

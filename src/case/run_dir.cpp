@@ -84,9 +84,11 @@ bool derivative_from(std::int32_t v, SlipDerivative& d) {
 
 // The kinds of the state's fields in order (resume_fields): F whole, S the support (whole;
 // says which points the C fields are stored at), C on the support only.
-std::string field_kinds(bool reference, bool adhesive, const FrictionRestart* fr) {
+std::string field_kinds(bool reference, bool adhesive, const FrictionRestart* fr,
+                        const AdhesiveRestart* ar = nullptr) {
   std::string k = reference ? "F" : "";
   if (adhesive) k += reference ? "FF" : "F";
+  if (ar) k += std::string(2 + (ar->mixer ? 2 + 2 * ar->mixer_slots.size() : 0), 'F');
   if (!fr) return k;
   k += 'S';
   if (fr->have_z) k += "FF";
@@ -94,13 +96,25 @@ std::string field_kinds(bool reference, bool adhesive, const FrictionRestart* fr
   return k;
 }
 
-template <class Field, class Restart>
+template <class Field, class Restart, class AdhRestart>
 std::vector<Field*> fields_of(Field* reference_pressure, Field* reference_adhesion, Field* adhesion,
-                              Restart* fr) {
+                              Restart* fr, AdhRestart* ar) {
   std::vector<Field*> out;
   if (reference_pressure) out.push_back(reference_pressure);
   if (reference_pressure && reference_adhesion) out.push_back(reference_adhesion);
   if (adhesion) out.push_back(adhesion);
+  if (ar) {
+    out.push_back(&ar->repulsion);
+    out.push_back(&ar->kept);
+    if (ar->mixer) {
+      out.push_back(&ar->xprev);
+      out.push_back(&ar->fprev);
+      for (std::size_t k = 0; k < ar->df.size() && k < ar->dx.size(); ++k) {
+        out.push_back(&ar->df[k]);
+        out.push_back(&ar->dx[k]);
+      }
+    }
+  }
   if (!fr) return out;
   out.push_back(&fr->support);
   if (fr->have_z) {
@@ -120,29 +134,36 @@ std::vector<Field*> fields_of(Field* reference_pressure, Field* reference_adhesi
 
 std::vector<const RealField*> resume_fields(const RealField* reference_pressure,
                                             const RealField* reference_adhesion, const RealField* adhesion,
-                                            const FrictionRestart* friction) {
-  return fields_of<const RealField>(reference_pressure, reference_adhesion, adhesion, friction);
+                                            const FrictionRestart* friction,
+                                            const AdhesiveRestart* adhesive_restart) {
+  return fields_of<const RealField>(reference_pressure, reference_adhesion, adhesion, friction,
+                                    adhesive_restart);
 }
 std::vector<RealField*> resume_fields(RealField* reference_pressure, RealField* reference_adhesion,
-                                      RealField* adhesion, FrictionRestart* friction) {
-  return fields_of<RealField>(reference_pressure, reference_adhesion, adhesion, friction);
+                                      RealField* adhesion, FrictionRestart* friction,
+                                      AdhesiveRestart* adhesive_restart) {
+  return fields_of<RealField>(reference_pressure, reference_adhesion, adhesion, friction, adhesive_restart);
 }
 namespace {
 template <class State>
 auto fields_of_state(State& st) {
   auto* ref = st.reference ? &*st.reference : nullptr;
   return resume_fields(ref ? &ref->pressure : nullptr, ref && st.adhesive ? &ref->adhesion : nullptr,
-                       st.adhesive ? &st.adhesion : nullptr, st.friction ? &*st.friction : nullptr);
+                       st.adhesive ? &st.adhesion : nullptr, st.friction ? &*st.friction : nullptr,
+                       st.adhesive_restart ? &*st.adhesive_restart : nullptr);
 }
 }  // namespace
 std::vector<RealField*> resume_fields(SolveResume& st) { return fields_of_state(st); }
 std::vector<const RealField*> resume_fields(const SolveResume& st) { return fields_of_state(st); }
 
-std::string encode_resume_numbers(const SolveInfo* ref, const FrictionRestart* fr, bool adhesive) {
+std::string encode_resume_numbers(const SolveInfo* ref, const FrictionRestart* fr, bool adhesive,
+                                  const AdhesiveRestart* ar) {
   Bytes b;
   // Flags: 1 a reference, 2 a friction restart, 4 adhesive tractions among the fields, 8 the
-  // restart's adhesive step count at the end (checkpoints before it lack it: 0 steps).
-  b.put(static_cast<std::uint32_t>((ref ? 1u : 0u) | (fr ? 2u | 8u : 0u) | (adhesive ? 4u : 0u)));
+  // restart's adhesive step count at the end (checkpoints before it lack it: 0 steps), 16 an
+  // adhesive restart point (frictionless, with 4; its numbers last).
+  b.put(static_cast<std::uint32_t>((ref ? 1u : 0u) | (fr ? 2u | 8u : 0u) | (adhesive ? 4u : 0u) |
+                                   (ar && adhesive ? 16u : 0u)));
   if (ref) {
     b.put(static_cast<std::int32_t>(ref->iterations));
     b.put(static_cast<std::int32_t>(ref->outer_iterations));
@@ -177,13 +198,25 @@ std::string encode_resume_numbers(const SolveInfo* ref, const FrictionRestart* f
     b.put_vector(fr->mixer_gram);
     b.put(fr->adhesion_steps);
   }
+  if (ar && adhesive) {
+    for (std::int32_t v : {ar->step, ar->used, ar->pre_iterations, ar->iterations, ar->adhesion_steps,
+                           ar->viscoelastic_steps, ar->guard.rejected, ar->guard.plain_left})
+      b.put(v);
+    for (double v : {ar->change, ar->capped_delta, ar->guard.kept_change, ar->gw_mean_ref, ar->g_mean_ref})
+      b.put(v);
+    for (bool v : {ar->capped_found, ar->guard.mixed, ar->mixer, ar->mixer_have_prev}) put_bool(b, v);
+    b.put_vector(ar->mixer_slots);
+    b.put_vector(ar->mixer_gram);
+  }
   return b.buf;
 }
 
 bool decode_resume_numbers(const std::string& bytes, SolveResume& state) {
   Unbytes u{bytes};
   std::uint32_t flags = 0;
-  if (!u.get(flags) || flags > 15 || ((flags & 8u) && !(flags & 2u))) return false;
+  if (!u.get(flags) || flags > 31 || ((flags & 8u) && !(flags & 2u)) ||
+      ((flags & 16u) && (!(flags & 4u) || (flags & 2u))))
+    return false;
   state = SolveResume{};
   state.adhesive = (flags & 4u) != 0;
   if (flags & 1u) {
@@ -230,6 +263,27 @@ bool decode_resume_numbers(const std::string& bytes, SolveResume& state) {
       f.dx.resize(f.mixer_slots.size());
     }
     if ((flags & 8u) && (!u.get(f.adhesion_steps) || f.adhesion_steps < 0)) return false;
+  }
+  if (flags & 16u) {
+    AdhesiveRestart& a = state.adhesive_restart.emplace();
+    bool ok = true;
+    for (std::int32_t* v : {&a.step, &a.used, &a.pre_iterations, &a.iterations, &a.adhesion_steps,
+                            &a.viscoelastic_steps, &a.guard.rejected, &a.guard.plain_left})
+      ok = ok && u.get(*v) && *v >= 0;
+    for (double* v : {&a.change, &a.capped_delta, &a.guard.kept_change, &a.gw_mean_ref, &a.g_mean_ref})
+      ok = ok && u.get(*v);
+    for (bool* v : {&a.capped_found, &a.guard.mixed, &a.mixer, &a.mixer_have_prev}) ok = ok && u.get(*v);
+    ok = ok && u.get_vector(a.mixer_slots) && u.get_vector(a.mixer_gram);
+    if (!ok || !std::isfinite(a.change) || !std::isfinite(a.capped_delta) ||
+        std::isnan(a.guard.kept_change) || !std::isfinite(a.gw_mean_ref) || !std::isfinite(a.g_mean_ref))
+      return false;
+    for (const std::int32_t sl : a.mixer_slots)
+      if (sl < 0 || static_cast<std::size_t>(sl) * static_cast<std::size_t>(sl) >= a.mixer_gram.size())
+        return false;
+    if (a.mixer) {
+      a.df.resize(a.mixer_slots.size());
+      a.dx.resize(a.mixer_slots.size());
+    }
   }
   return u.pos == bytes.size();
 }
@@ -287,15 +341,16 @@ void CheckpointStream::add(const RealField& field) {
 }
 
 void CheckpointStream::add_state(const SolveInfo* reference_info, const FrictionRestart* friction,
-                                 bool adhesive) {
+                                 bool adhesive, const AdhesiveRestart* adhesive_restart) {
   if (added_ != 3 || state_)
     throw std::logic_error("CheckpointStream: the state goes after the three fields");
   state_ = true;
-  const std::string numbers = encode_resume_numbers(reference_info, friction, adhesive);
+  const AdhesiveRestart* ar = adhesive ? adhesive_restart : nullptr;
+  const std::string numbers = encode_resume_numbers(reference_info, friction, adhesive, ar);
   const std::uint64_t len = numbers.size();
   file_.append_bytes(&len, 8);
   file_.append_bytes(numbers.data(), numbers.size());
-  kinds_ = field_kinds(reference_info != nullptr, adhesive, friction);
+  kinds_ = field_kinds(reference_info != nullptr, adhesive, friction, ar);
 }
 
 void CheckpointStream::commit() {
@@ -313,7 +368,7 @@ void write_checkpoint(const std::string& path, const Config& cfg, const ContactF
   if (progress.state) {
     const SolveResume& st = *progress.state;
     s.add_state(st.reference ? &st.reference->info : nullptr, st.friction ? &*st.friction : nullptr,
-                st.adhesive);
+                st.adhesive, st.adhesive_restart ? &*st.adhesive_restart : nullptr);
     for (const RealField* fld : resume_fields(st)) s.add(*fld);
   }
   s.commit();
@@ -369,7 +424,8 @@ bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& 
   }
   FrictionRestart* fr = state->friction ? &*state->friction : nullptr;
   const std::vector<RealField*> fields = resume_fields(*state);
-  const std::string kinds = field_kinds(state->reference.has_value(), state->adhesive, fr);
+  const std::string kinds = field_kinds(state->reference.has_value(), state->adhesive, fr,
+                                        state->adhesive_restart ? &*state->adhesive_restart : nullptr);
   if (kinds.size() != fields.size()) return false;
   std::vector<std::size_t> support;
   for (std::size_t k = 0; k < fields.size(); ++k) {

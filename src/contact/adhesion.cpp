@@ -21,6 +21,7 @@
 // to [0, sigma0] and safeguarded (below), accelerates it.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 
@@ -71,8 +72,52 @@ void ContactSolver::gap_spread(const RealField& gap, RealField& gx, RealField& s
                [&](std::ptrdiff_t i) { spread[i] = std::abs(gx[i]) * dx + std::abs(spread[i]) * dy; });
 }
 
+void ContactSolver::save_adhesive_mixing(AdhesiveRestart& st) const {
+  const GuardedAnderson& g = *adh_.mixer;
+  const std::size_t n = grid_.local_size();
+  st.guard = g.guard().state();
+  st.kept = g.kept().size() == n ? g.kept() : RealField(n, 0.0);  // read only after a mixing step
+  const AndersonMixer* m = g.mixer();
+  st.mixer = m != nullptr;
+  if (!m) return;
+  st.mixer_have_prev = m->has_previous();
+  for (const std::size_t sl : m->slots()) st.mixer_slots.push_back(static_cast<std::int32_t>(sl));
+  st.mixer_gram = m->gram();
+  st.xprev.assign(m->previous_iterate().begin(), m->previous_iterate().end());
+  st.fprev.assign(m->previous_residual().begin(), m->previous_residual().end());
+  for (const std::size_t sl : m->slots()) {
+    const auto& df = m->residual_differences(sl);
+    const auto& dx = m->iterate_differences(sl);
+    st.df.emplace_back(df.begin(), df.end());  // floats, exactly
+    st.dx.emplace_back(dx.begin(), dx.end());
+  }
+}
+
+void ContactSolver::restore_adhesive_mixing(const AdhesiveRestart& st) {
+  GuardedAnderson& g = *adh_.mixer;
+  g.guard().restore(st.guard);
+  g.kept() = st.kept;
+  AndersonMixer* m = g.mixer();
+  if (!m) return;
+  const std::vector<std::size_t> slots(st.mixer_slots.begin(), st.mixer_slots.end());
+  m->restore(st.mixer_have_prev, slots, st.mixer_gram);
+  m->previous_iterate().assign(st.xprev.begin(), st.xprev.end());
+  m->previous_residual().assign(st.fprev.begin(), st.fprev.end());
+  for (std::size_t k = 0; k < slots.size(); ++k) {
+    auto& df = m->residual_differences(slots[k]);
+    auto& dx = m->iterate_differences(slots[k]);
+    df.resize(st.df[k].size());
+    dx.resize(st.dx[k].size());
+    for (std::size_t i = 0; i < df.size(); ++i) {
+      df[i] = static_cast<float>(st.df[k][i]);
+      dx[i] = static_cast<float>(st.dx[k][i]);
+    }
+  }
+}
+
 ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, ContactFields& f, double tol,
-                                                      SolveInfo& info, const RealField* w_extra, int max_it) {
+                                                      SolveInfo& info, const RealField* w_extra, int max_it,
+                                                      bool restartable, const AdhesiveRestart* resume) {
   const std::size_t n = grid_.local_size();
   const auto nl = static_cast<std::ptrdiff_t>(n);
   const double s0 = inter_.adhesive_stress();
@@ -80,17 +125,26 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
   RealField& a = f.adhesion;
   RealField& p = f.pressure;  // the repulsive pressure during the steps, the net one at the end
   if (a.size() != n) a.assign(n, 0.0);
+  if (resume) {
+    const std::string why = adhesive_restart_mismatch(*resume, n, sp_.anderson);
+    if (!why.empty()) throw ParameterError("resume", "the restart point does not fit this solve: " + why);
+  }
   // A tensile (or zero) load under load control needs an adhesive state to start from: a cold
   // start has no pull to hold it. The state at first touch (approach 0) is made first.
   PKResult pre{0, 0.0, 0.0, true};
-  if (load.mode != LoadMode::Approach && !(load.value > 0) &&
-      !(grid_sum(grid_, [&](std::size_t i) { return a[i]; }) > 0)) {
+  if (resume) {
+    pre.iterations = resume->pre_iterations;  // done before the restart point
+  } else if (load.mode != LoadMode::Approach && !(load.value > 0) &&
+             !(grid_sum(grid_, [&](std::size_t i) { return a[i]; }) > 0)) {
     pre = solve_adhesive(LoadParams{LoadMode::Approach, 0.0}, f, tol, info, w_extra, max_it);
     if (!info.converged) return pre;
   }
   // A warm start holds the net pressure: its repulsive part is p + a (held in the fields until
-  // the end; pressure_is_repulsive says so to a checkpoint).
-  parallel_for(nl, [&](std::ptrdiff_t i) { p[i] = std::max(0.0, p[i] + a[i]); });
+  // the end; pressure_is_repulsive says so to a checkpoint). A restart point has its own.
+  if (resume)
+    p = resume->repulsion;
+  else
+    parallel_for(nl, [&](std::ptrdiff_t i) { p[i] = std::max(0.0, p[i] + a[i]); });
   adh_.repulsive = true;
   // The budget: all of solver.max_iterations, or the caller's, less what the pre-solve took.
   SolverParams within = sp_;
@@ -106,8 +160,69 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
   int used = 0;
   bool no_state = false;  // the load has no state (beyond the pull-off, or beyond the cap)
   double change = 1.0;    // relative change of the traction in the last step
+  int first_step = 0;
+  if (resume) {
+    // Where the interrupted solve stood at the start of its step.
+    first_step = resume->step;
+    used = resume->used;
+    change = resume->change;
+    total_it_ = resume->iterations;
+    info.adhesion_steps = resume->adhesion_steps;
+    info.viscoelastic_steps = resume->viscoelastic_steps;
+    capped_found_ = resume->capped_found;
+    capped_delta_ = resume->capped_delta;
+    gw_mean_ref_ = resume->gw_mean_ref;
+    g_mean_ref_ = resume->g_mean_ref;
+    restore_adhesive_mixing(*resume);
+  }
+  // The restart point (the start of the step in progress) for a checkpoint or a stop: the loop's
+  // numbers and the repulsive pressure at the start of the step (its solve changes it in place);
+  // the traction and the mixing change only at the step's end, after its last poll.
+  struct Top {
+    int step, used, iterations, adhesion_steps, viscoelastic_steps;
+    double change;
+    bool capped_found;
+    double capped_delta, gw, g;
+  } top{};
+  RealField p_top;
+  const bool keep_top = restartable && (static_cast<bool>(stop_) || static_cast<bool>(checkpoint_));
+  struct ClearMaker {
+    std::function<void()>* maker;
+    ~ClearMaker() {
+      if (maker) *maker = nullptr;
+    }
+  } clear_maker{keep_top ? &restart_maker_ : nullptr};
+  if (keep_top)
+    restart_maker_ = [&] {
+      auto rp = std::make_unique<AdhesiveRestartPoint>();
+      AdhesiveRestart& st = rp->state;
+      st.step = top.step;
+      st.used = top.used;
+      st.pre_iterations = pre.iterations;
+      st.iterations = top.iterations;
+      st.adhesion_steps = top.adhesion_steps;
+      st.viscoelastic_steps = top.viscoelastic_steps;
+      st.change = top.change;
+      st.capped_found = top.capped_found;
+      st.capped_delta = top.capped_delta;
+      st.gw_mean_ref = top.gw;
+      st.g_mean_ref = top.g;
+      save_adhesive_mixing(st);
+      st.repulsion = p_top;
+      rp->fields.pressure.resize(n);
+      parallel_for(nl, [&](std::ptrdiff_t i) { rp->fields.pressure[i] = p_top[i] - a[i]; });
+      rp->fields.adhesion = a;
+      rp->fields.tx.assign(n, 0.0);
+      rp->fields.ty.assign(n, 0.0);
+      adh_restart_ = std::move(rp);
+    };
   info.status = "";
-  for (int step = 0;; ++step) {
+  for (int step = first_step;; ++step) {
+    if (keep_top) {
+      top = Top{step,   used,          total_it_,     info.adhesion_steps, info.viscoelastic_steps,
+                change, capped_found_, capped_delta_, gw_mean_ref_,        g_mean_ref_};
+      p_top = p;
+    }
     ++info.adhesion_steps;
     apply_normal_response(a, w);  // the normal displacement the adhesive traction causes (C_zz a)
     if (w_extra)                  // and the friction's (C_z.tau)

@@ -24,8 +24,10 @@ namespace gfmd {
 
 using namespace contact_detail;
 
-SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const FrictionRestart* resume) {
+SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const FrictionRestart* resume,
+                               const AdhesiveRestart* adhesive_resume) {
   restart_.reset();
+  adh_restart_.reset();
   adh_.repulsive = false;
   // The device solve resumes from the fields alone (a warm start).
   if (device_) return solve_on_device(load, f);
@@ -54,7 +56,8 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
     std::fill(f.tx.begin(), f.tx.end(), 0.0);
     std::fill(f.ty.begin(), f.ty.end(), 0.0);
     if (inter_.adhesive()) {
-      pk = solve_adhesive(load, f, tol, info);  // on a viscoelastic body too (its repulsive solves)
+      // On a viscoelastic body too (its repulsive solves); it keeps a restart point.
+      pk = solve_adhesive(load, f, tol, info, nullptr, -1, true, adhesive_resume);
       if (body_.viscoelastic() && body_.visco().velocity != 0.0)
         info.hysteresis_dissipation = hysteresis_dissipation(f, false);
     } else if (body_.viscoelastic()) {

@@ -170,6 +170,8 @@ inline double relative_change(double diff, double size) {
 // Anderson depth and the configured slip derivative (solver_restart.cpp).
 std::string restart_mismatch(const FrictionRestart& r, std::size_t n, int depth,
                              const std::optional<SlipDerivative>& fixed);
+// The same for an adhesive restart point: n points held here, the Anderson depth.
+std::string adhesive_restart_mismatch(const AdhesiveRestart& r, std::size_t n, int depth);
 
 // Above this friction.coefficient the tresca law's cap acts as a switch at the contact's edge: a
 // failure says so (docs/solver.md, "Adhesion with friction").

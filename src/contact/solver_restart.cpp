@@ -56,6 +56,27 @@ std::string restart_mismatch(const FrictionRestart& r, std::size_t n, int depth,
   return "";
 }
 
+std::string adhesive_restart_mismatch(const AdhesiveRestart& r, std::size_t n, int depth) {
+  if (r.repulsion.size() != n || r.kept.size() != n) return "its fields are not on this grid";
+  if (r.mixer != (depth > 0)) return "it was made with another solver.anderson";
+  if (r.mixer) {
+    const auto m = static_cast<std::size_t>(depth);
+    if (r.mixer_gram.size() != m * m || r.mixer_slots.size() > m || r.df.size() != r.mixer_slots.size() ||
+        r.dx.size() != r.mixer_slots.size())
+      return "its mixing history was made with another solver.anderson";
+    for (const std::int32_t sl : r.mixer_slots)
+      if (sl < 0 || static_cast<std::size_t>(sl) >= m)
+        return "its mixing history was made with another solver.anderson";
+    if (r.xprev.size() != n || r.fprev.size() != n) return "its mixing history is not on this grid";
+    for (std::size_t k = 0; k < r.df.size(); ++k)
+      if (r.df[k].size() != n || r.dx[k].size() != n) return "its mixing history is not on this grid";
+  }
+  if (r.step < 0 || r.used < 0 || r.pre_iterations < 0 || r.iterations < 0 || r.adhesion_steps < 0 ||
+      r.viscoelastic_steps < 0)
+    return "its counts are negative";
+  return "";
+}
+
 }  // namespace contact_detail
 
 }  // namespace gfmd

@@ -227,6 +227,7 @@ void ContactSolver::poll(const ContactFields* f, const std::function<void()>& se
     last_checkpoint_ = now;
     checkpoint_(*f);
     restart_.reset();
+    adh_restart_.reset();
     if (unsettle) unsettle();
   }
 }

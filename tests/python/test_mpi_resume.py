@@ -113,3 +113,29 @@ def test_adhesive_sliding_interrupted_resumes_on_another_process_count(tmp_path)
         assert b["adhesion_steps"] == a["adhesion_steps"]  # counted from the restart point on
         assert b["tangential_force"] == a["tangential_force"]
         assert b["normal_force"] == a["normal_force"]
+
+
+def test_frictionless_adhesive_interrupted_resumes_with_the_serial_bits(tmp_path):
+    """A frictionless adhesive run on the tensile branch (examples/adhesive_sliding_sphere.toml
+    without friction at approach -0.004 R, 256 x 250) stopped inside its adhesive steps under -np 2
+    keeps their restart point (the repulsive pressure at the step's start, the traction's mixing
+    history and safeguard); resumed under -np 3 it takes the serial run's steps and ends with its
+    bits."""
+    text = open(os.path.join(ROOT, "examples", "adhesive_sliding_sphere.toml")).read()
+    case = tmp_path / "adh.toml"
+    case.write_text(text.replace("nx = 128", "nx = 256\nny = 250").replace("lx = 1.5", "lx = 1.5\nly = 1.46484375")
+                    .replace("coefficient = 3.0", "coefficient = 0.0").replace("approach = 0.0", "approach = -0.004")
+                    + "\n[solver]\nthreads = 1\n")
+    out = tmp_path / "mpi"
+    err = interrupt_after_first_checkpoint(case, out)
+    if (out / "summary.json").exists():
+        pytest.skip("the run finished before it could be interrupted")
+    assert (out / "checkpoint.bin").exists(), err
+    p = run(case, out, 3, ["--resume"])
+    assert p.returncode == 0, p.stderr
+    assert run(case, tmp_path / "serial").returncode == 0
+    a, b = summary(tmp_path / "serial"), summary(out)
+    assert a["normal_force"] < 0 and b["resumed"]["iterations_before"] > 0
+    for k in ("normal_force", "adhesive_force", "adhesion_steps", "relative_contact_area", "approach"):
+        assert b[k] == a[k], k
+    assert b["iterations"] >= a["iterations"]

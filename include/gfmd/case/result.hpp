@@ -33,6 +33,8 @@ struct SolveResume {
   // net pressure (the warm start of the adhesive steps), and the reference's.
   bool adhesive = false;
   RealField adhesion;
+  // A frictionless adhesive solve stopped inside its adhesive steps: where they stood.
+  std::optional<AdhesiveRestart> adhesive_restart;
 };
 
 // Work done before a checkpoint: a resumed run reports cumulative counts.

@@ -35,7 +35,9 @@ class CheckpointStream {
   // reference_info: the converged reference's (its pressure is the first state field);
   // friction: the restart point's numbers (its fields follow). Either may be null. adhesive:
   // adhesive tractions follow (resume_fields).
-  void add_state(const SolveInfo* reference_info, const FrictionRestart* friction, bool adhesive = false);
+  // adhesive_restart: a frictionless adhesive solve's restart point (its fields follow).
+  void add_state(const SolveInfo* reference_info, const FrictionRestart* friction, bool adhesive = false,
+                 const AdhesiveRestart* adhesive_restart = nullptr);
   void commit();
 
  private:
@@ -50,20 +52,23 @@ class CheckpointStream {
 // A checkpoint state's per-point fields in file order: the reference's pressure (if any) and,
 // with adhesion, its adhesive traction; with adhesion the fields' adhesive traction; then the
 // friction restart's support, splitting variable (have_z), the mixer's last iterate and
-// residual and each slot's df and dx (with a mixer). Fields as they are (not resized). The
-// adhesive tractions are listed where given (non-null).
+// residual and each slot's df and dx (with a mixer); then an adhesive restart point's repulsive
+// pressure, kept image and (with a mixer) last iterate, residual and each slot's df and dx.
+// Fields as they are (not resized). The adhesive tractions are listed where given (non-null).
 std::vector<const RealField*> resume_fields(const RealField* reference_pressure,
                                             const RealField* reference_adhesion, const RealField* adhesion,
-                                            const FrictionRestart* friction);
+                                            const FrictionRestart* friction,
+                                            const AdhesiveRestart* adhesive_restart = nullptr);
 std::vector<RealField*> resume_fields(RealField* reference_pressure, RealField* reference_adhesion,
-                                      RealField* adhesion, FrictionRestart* friction);
+                                      RealField* adhesion, FrictionRestart* friction,
+                                      AdhesiveRestart* adhesive_restart = nullptr);
 // Those of a state, as read (the adhesive tractions where state.adhesive).
 std::vector<RealField*> resume_fields(SolveResume& state);
 std::vector<const RealField*> resume_fields(const SolveResume& state);
 // The state's numbers (the same on every process) as bytes and back (a distributed run
 // hands rank 0's to the others); decode returns false on damaged bytes.
 std::string encode_resume_numbers(const SolveInfo* reference_info, const FrictionRestart* friction,
-                                  bool adhesive = false);
+                                  bool adhesive = false, const AdhesiveRestart* adhesive_restart = nullptr);
 bool decode_resume_numbers(const std::string& bytes, SolveResume& state);
 
 // The summary.json in dir if it holds a converged solve of exactly this input.

@@ -135,6 +135,19 @@ class AndersonGuard {
   // After a Mix step: whether the new iterate is an extrapolation (the mixer had a history).
   void mixed(bool extrapolated) { mixed_ = extrapolated; }
   void restart() { *this = AndersonGuard{}; }
+  // The decisions' state (a checkpoint's restart point) and back.
+  struct State {
+    double kept_change = std::numeric_limits<double>::infinity();
+    bool mixed = false;
+    std::int32_t rejected = 0, plain_left = 0;
+  };
+  [[nodiscard]] State state() const { return {kept_change_, mixed_, rejected_, plain_left_}; }
+  void restore(const State& s) {
+    kept_change_ = s.kept_change;
+    mixed_ = s.mixed;
+    rejected_ = s.rejected;
+    plain_left_ = s.plain_left;
+  }
 
  private:
   static constexpr int kPlainSteps = 5;
@@ -160,6 +173,13 @@ class GuardedAnderson {
   // x: the iterate, image: G(x), change: the step's relative change (the caller's measure of
   // |G(x) - x|). Writes the next iterate into x, clipped to [lo, hi].
   void advance(RealField& x, const RealField& image, double change, double lo, double hi);
+  // The state between steps (a checkpoint's restart point): the mixer (null at depth 0), the
+  // image of the last iterate kept and the safeguard's decisions; restored through the same.
+  [[nodiscard]] AndersonMixer* mixer() const { return mixer_.get(); }
+  [[nodiscard]] RealField& kept() { return kept_; }
+  [[nodiscard]] const RealField& kept() const { return kept_; }
+  [[nodiscard]] AndersonGuard& guard() { return guard_; }
+  [[nodiscard]] const AndersonGuard& guard() const { return guard_; }
 
  private:
   std::unique_ptr<AndersonMixer> mixer_;

@@ -229,6 +229,38 @@ struct FrictionRestart {
   // as two floats packed into each double (pack_floats).
   std::vector<RealField> df, dx;
 };
+// The restart point of a frictionless adhesive solve: its adhesive steps at the start of the step
+// in progress, everything the later steps read, so that a solve resumed from it (solve's
+// `adhesive_resume`) takes the uninterrupted solve's steps and gives its bits. The traction a
+// and the net pressure are the ContactFields that go with it (the checkpoint's adhesion and
+// pressure); the repulsive pressure the step starts from is kept here, since p_rep - a + a need
+// not give p_rep's bits. Per-point data: fields over the points held here, as FrictionRestart's.
+struct AdhesiveRestart {
+  // The same on every process.
+  std::int32_t step = 0;            // adhesive steps done in the solve's loop
+  std::int32_t used = 0;            // their CG iterations
+  std::int32_t pre_iterations = 0;  // the first-touch solve's (a tensile load's cold start)
+  std::int32_t iterations = 0;      // the solve's inner iterations by then (ContactSolver's count)
+  std::int32_t adhesion_steps = 0;  // SolveInfo::adhesion_steps by then (the first-touch ones too)
+  std::int32_t viscoelastic_steps = 0;
+  double change = 1.0;  // the traction's last relative change
+  // Plastic saturation under load control: the last approach found (the next bracket's start).
+  bool capped_found = false;
+  double capped_delta = 0.0;
+  double gw_mean_ref = 0.0, g_mean_ref = 0.0;  // the normal solve's references
+  AndersonGuard::State guard;
+  // The traction's Anderson mixing (solver.anderson > 0).
+  bool mixer = false;
+  bool mixer_have_prev = false;
+  std::vector<std::int32_t> mixer_slots;  // ring slots in use, oldest first
+  std::vector<double> mixer_gram;         // depth x depth
+  // Per point held here.
+  RealField repulsion;            // the repulsive pressure at the step's start
+  RealField kept;                 // the safeguard's kept image (empty before its first mixing)
+  RealField xprev, fprev;         // the mixer's last iterate and residual
+  std::vector<RealField> df, dx;  // per slot of mixer_slots: the differences (floats, held exactly)
+};
+
 // Two floats in the bits of one double, and back (FrictionRestart::df, dx).
 double pack_floats(float x, float y);
 void unpack_floats(double packed, float& x, float& y);
@@ -264,7 +296,10 @@ class ContactSolver {
   // A friction solve resumed from a restart point (restart_point() of an interrupted solve of
   // the same problem, on this grid): `fields` hold its pressure and traction. The solve then
   // goes on from there, with the interrupted solve's steps and bits. nullptr: solve().
-  SolveInfo solve(const LoadParams& load, ContactFields& fields, const FrictionRestart* resume);
+  // A frictionless adhesive solve resumed from its restart point (adhesive_restart_point() of an
+  // interrupted solve of the same problem): `fields` hold its net pressure and adhesive traction.
+  SolveInfo solve(const LoadParams& load, ContactFields& fields, const FrictionRestart* resume,
+                  const AdhesiveRestart* adhesive_resume = nullptr);
   // The restart point, while a checkpoint is written (the checkpoint callback) and after an
   // interruption (until the next solve): the friction loop at the start of the step it was in,
   // its pressure and traction in `fields` (pressure, tx, ty) and the rest in `state`. nullptr
@@ -274,6 +309,14 @@ class ContactSolver {
     FrictionRestart state;
   };
   [[nodiscard]] const RestartPoint* restart_point() const { return restart_.get(); }
+  // The same for a frictionless adhesive solve stopped inside its adhesive steps (after the
+  // first-touch solve of a tensile load): its net pressure and traction in `fields` (pressure,
+  // adhesion; tx = ty = 0), the rest in `state`. nullptr otherwise.
+  struct AdhesiveRestartPoint {
+    ContactFields fields;
+    AdhesiveRestart state;
+  };
+  [[nodiscard]] const AdhesiveRestartPoint* adhesive_restart_point() const { return adh_restart_.get(); }
   // The final state of a converged solve given by its pressure and tractions (p, tx, ty in
   // fields) and its info (a checkpoint's frictionless reference): the displacements, the gap
   // and the residual check as solve() makes them. false on the device (not available there).
@@ -317,8 +360,14 @@ class ContactSolver {
   // In the friction loop: w_extra, the friction's normal displacement C_z.tau, held fixed, and
   // a budget of max_it CG iterations (-1: solver.max_iterations). The result's `converged` is
   // the whole adhesive solve's (info.converged, info.status).
+  // Frictionless at the top (restartable): it keeps a restart point for checkpoints and stops,
+  // and `resume` goes on from one.
   PKResult solve_adhesive(const LoadParams& load, ContactFields& f, double tol, SolveInfo& info,
-                          const RealField* w_extra = nullptr, int max_it = -1);
+                          const RealField* w_extra = nullptr, int max_it = -1, bool restartable = false,
+                          const AdhesiveRestart* resume = nullptr);
+  // The adhesive steps' mixing (its safeguard and history) into a restart point and back.
+  void save_adhesive_mixing(AdhesiveRestart& st) const;
+  void restore_adhesive_mixing(const AdhesiveRestart& st);
   // A viscoelastic body (viscoelastic.cpp): the response C_zz E0/E(omega) split into a
   // symmetric part (czz_n_, each mode's elastic compliance at its storage modulus) that the
   // Polonsky-Keer solve takes and the rest, whose displacement from the last pressure is held
@@ -446,6 +495,7 @@ class ContactSolver {
   // The friction loop's restart point: made by restart_maker_ (set while the loop runs) when
   // a checkpoint or a stop is due.
   std::unique_ptr<RestartPoint> restart_;
+  std::unique_ptr<AdhesiveRestartPoint> adh_restart_;  // the adhesive steps' (frictionless)
   std::function<void()> restart_maker_;
   double checkpoint_interval_s_ = 0.0;
   double last_checkpoint_ = 0.0;
