@@ -204,7 +204,8 @@ std::string encode_resume_numbers(const SolveInfo* ref, const FrictionRestart* f
       b.put(v);
     for (double v : {ar->change, ar->capped_delta, ar->guard.kept_change, ar->gw_mean_ref, ar->g_mean_ref})
       b.put(v);
-    for (bool v : {ar->capped_found, ar->guard.mixed, ar->mixer, ar->mixer_have_prev}) put_bool(b, v);
+    for (bool v : {ar->capped_found, ar->capped_acted, ar->guard.mixed, ar->mixer, ar->mixer_have_prev})
+      put_bool(b, v);
     b.put_vector(ar->mixer_slots);
     b.put_vector(ar->mixer_gram);
   }
@@ -272,7 +273,8 @@ bool decode_resume_numbers(const std::string& bytes, SolveResume& state) {
       ok = ok && u.get(*v) && *v >= 0;
     for (double* v : {&a.change, &a.capped_delta, &a.guard.kept_change, &a.gw_mean_ref, &a.g_mean_ref})
       ok = ok && u.get(*v);
-    for (bool* v : {&a.capped_found, &a.guard.mixed, &a.mixer, &a.mixer_have_prev}) ok = ok && u.get(*v);
+    for (bool* v : {&a.capped_found, &a.capped_acted, &a.guard.mixed, &a.mixer, &a.mixer_have_prev})
+      ok = ok && u.get(*v);
     ok = ok && u.get_vector(a.mixer_slots) && u.get_vector(a.mixer_gram);
     if (!ok || !std::isfinite(a.change) || !std::isfinite(a.capped_delta) ||
         std::isnan(a.guard.kept_change) || !std::isfinite(a.gw_mean_ref) || !std::isfinite(a.g_mean_ref))

@@ -170,6 +170,7 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
     info.adhesion_steps = resume->adhesion_steps;
     info.viscoelastic_steps = resume->viscoelastic_steps;
     capped_found_ = resume->capped_found;
+    capped_acted_ = resume->capped_acted;
     capped_delta_ = resume->capped_delta;
     gw_mean_ref_ = resume->gw_mean_ref;
     g_mean_ref_ = resume->g_mean_ref;
@@ -181,7 +182,7 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
   struct Top {
     int step, used, iterations, adhesion_steps, viscoelastic_steps;
     double change;
-    bool capped_found;
+    bool capped_found, capped_acted;
     double capped_delta, gw, g;
   } top{};
   RealField p_top;
@@ -204,6 +205,7 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
       st.viscoelastic_steps = top.viscoelastic_steps;
       st.change = top.change;
       st.capped_found = top.capped_found;
+      st.capped_acted = top.capped_acted;
       st.capped_delta = top.capped_delta;
       st.gw_mean_ref = top.gw;
       st.g_mean_ref = top.g;
@@ -219,8 +221,9 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
   info.status = "";
   for (int step = first_step;; ++step) {
     if (keep_top) {
-      top = Top{step,   used,          total_it_,     info.adhesion_steps, info.viscoelastic_steps,
-                change, capped_found_, capped_delta_, gw_mean_ref_,        g_mean_ref_};
+      top = Top{step,       used,          total_it_,     info.adhesion_steps, info.viscoelastic_steps,
+                change,     capped_found_, capped_acted_, capped_delta_,       gw_mean_ref_,
+                g_mean_ref_};
       p_top = p;
     }
     ++info.adhesion_steps;

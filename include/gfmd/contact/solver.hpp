@@ -245,7 +245,7 @@ struct AdhesiveRestart {
   std::int32_t viscoelastic_steps = 0;
   double change = 1.0;  // the traction's last relative change
   // Plastic saturation under load control: the last approach found (the next bracket's start).
-  bool capped_found = false;
+  bool capped_found = false, capped_acted = false;
   double capped_delta = 0.0;
   double gw_mean_ref = 0.0, g_mean_ref = 0.0;  // the normal solve's references
   AndersonGuard::State guard;
@@ -441,6 +441,8 @@ class ContactSolver {
   double g0_rms_ = 0.0;
   double gw_mean_ref_ = 0.0;      // solve_normal: last mean of g0 - w on the contact set
   double g_mean_ref_ = 0.0;       // solve_normal: last mean of the separation there (load control)
+  bool cap_off_ = false;          // solve_normal_pk ignores the cap (solve_normal's uncapped trial)
+  bool capped_acted_ = false;     // the last capped load-controlled solve had points at the cap
   double capped_delta_ = 0.0;     // solve_normal_capped_load: the last approach found
   bool capped_found_ = false;     // whether capped_delta_ holds one
   SpecField s1_, s2_, s3_;        // half-spectrum scratch
