@@ -88,14 +88,16 @@ def test_interrupted_run_resumes_on_another_process_count(tmp_path):
     assert p.returncode == 0 and p.stdout.count("nothing to do") == 1
 
 
-def test_adhesive_sliding_interrupted_resumes_on_another_process_count(tmp_path):
-    """An adhesive sliding run (examples/adhesive_sliding_sphere.toml, 256 x 250) stopped under
-    -np 2 writes the adhesive tractions with its checkpoint (gathered on rank 0) and resumes under
-    -np 3 along its branch; stopped in the sliding solve it ends with the serial run's bits."""
+def adhesive_stopped_and_resumed(tmp_path, replace=()):
+    """examples/adhesive_sliding_sphere.toml on 256 x 250 (with the (old, new) text replacements) run
+    under -np 2, stopped after its first checkpoint and resumed under -np 3, and run serially:
+    the serial and the resumed summaries (skips where the run ended before it could be stopped)."""
     text = open(os.path.join(ROOT, "examples", "adhesive_sliding_sphere.toml")).read()
+    text = text.replace("nx = 128", "nx = 256\nny = 250").replace("lx = 1.5", "lx = 1.5\nly = 1.46484375")
+    for old, new in replace:
+        text = text.replace(old, new)
     case = tmp_path / "adh.toml"
-    case.write_text(text.replace("nx = 128", "nx = 256\nny = 250").replace("lx = 1.5", "lx = 1.5\nly = 1.46484375")
-                    + "\n[solver]\nthreads = 1\n")
+    case.write_text(text + "\n[solver]\nthreads = 1\n")
     out = tmp_path / "mpi"
     err = interrupt_after_first_checkpoint(case, out)
     if (out / "summary.json").exists():
@@ -104,7 +106,14 @@ def test_adhesive_sliding_interrupted_resumes_on_another_process_count(tmp_path)
     p = run(case, out, 3, ["--resume"])
     assert p.returncode == 0, p.stderr
     assert run(case, tmp_path / "serial").returncode == 0
-    a, b = summary(tmp_path / "serial"), summary(out)
+    return summary(tmp_path / "serial"), summary(out)
+
+
+def test_adhesive_sliding_interrupted_resumes_on_another_process_count(tmp_path):
+    """An adhesive sliding run stopped under -np 2 writes the adhesive tractions with its
+    checkpoint (gathered on rank 0) and resumes under -np 3 along its branch; stopped in the
+    sliding solve it ends with the serial run's bits."""
+    a, b = adhesive_stopped_and_resumed(tmp_path)
     assert b["resumed"]["iterations_before"] > 0
     assert b["normal_force"] == pytest.approx(a["normal_force"], rel=1e-6)
     assert b["adhesive_force"] == pytest.approx(a["adhesive_force"], rel=1e-6)
@@ -116,25 +125,12 @@ def test_adhesive_sliding_interrupted_resumes_on_another_process_count(tmp_path)
 
 
 def test_frictionless_adhesive_interrupted_resumes_with_the_serial_bits(tmp_path):
-    """A frictionless adhesive run on the tensile branch (examples/adhesive_sliding_sphere.toml
-    without friction at approach -0.004 R, 256 x 250) stopped inside its adhesive steps under -np 2
-    keeps their restart point (the repulsive pressure at the step's start, the traction's mixing
-    history and safeguard); resumed under -np 3 it takes the serial run's steps and ends with its
-    bits."""
-    text = open(os.path.join(ROOT, "examples", "adhesive_sliding_sphere.toml")).read()
-    case = tmp_path / "adh.toml"
-    case.write_text(text.replace("nx = 128", "nx = 256\nny = 250").replace("lx = 1.5", "lx = 1.5\nly = 1.46484375")
-                    .replace("coefficient = 3.0", "coefficient = 0.0").replace("approach = 0.0", "approach = -0.004")
-                    + "\n[solver]\nthreads = 1\n")
-    out = tmp_path / "mpi"
-    err = interrupt_after_first_checkpoint(case, out)
-    if (out / "summary.json").exists():
-        pytest.skip("the run finished before it could be interrupted")
-    assert (out / "checkpoint.bin").exists(), err
-    p = run(case, out, 3, ["--resume"])
-    assert p.returncode == 0, p.stderr
-    assert run(case, tmp_path / "serial").returncode == 0
-    a, b = summary(tmp_path / "serial"), summary(out)
+    """A frictionless adhesive run on the tensile branch (without friction, at approach -0.004 R)
+    stopped inside its adhesive steps under -np 2 keeps their restart point (the repulsive pressure
+    at the step's start, the traction's mixing history and safeguard); resumed under -np 3 it takes
+    the serial run's steps and ends with its bits."""
+    a, b = adhesive_stopped_and_resumed(tmp_path, [("coefficient = 3.0", "coefficient = 0.0"),
+                                                   ("approach = 0.0", "approach = -0.004")])
     assert a["normal_force"] < 0 and b["resumed"]["iterations_before"] > 0
     for k in ("normal_force", "adhesive_force", "adhesion_steps", "relative_contact_area", "approach"):
         assert b[k] == a[k], k
