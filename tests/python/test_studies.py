@@ -24,6 +24,18 @@ def rows(path):
         return list(csv.reader(f))
 
 
+def study_curves(out, name):
+    """A quick sweep study's table as {(series, quantity): [y in the order of x]} (with seeds:
+    their mean)."""
+    table = rows(out / name / "quick" / (name + ".csv"))
+    points = {}
+    for r in table[1:]:
+        d = dict(zip(table[0], r))
+        if d.get("seed", "mean") == "mean":
+            points.setdefault((d["series"], d["quantity"]), {})[float(d["x"])] = float(d["y"])
+    return {k: [c[x] for x in sorted(c)] for k, c in points.items()}
+
+
 @pytest.fixture(scope="module")
 def out(tmp_path_factory):
     return tmp_path_factory.mktemp("studies")
@@ -291,17 +303,10 @@ def test_visco_coupling_rough_quick_signs(out):
     # for h = 0.05 lambda_l, -0.0082 to -0.0042 on the half-space; the hysteresis peaks at 0.05.
     # This quick run (128^2, two seeds): +0.016 ... +0.0046 and -0.0082 ... -0.0041; peak 0.055.
     run_study("visco_coupling_rough", out)
-    table = rows(out / "visco_coupling_rough" / "quick" / "visco_coupling_rough.csv")
-    head = table[0]
-    mean = {}
-    for r in table[1:]:
-        d = dict(zip(head, r))
-        if d["seed"] == "mean":
-            mean.setdefault((d["series"], d["quantity"]), {})[float(d["x"])] = float(d["y"])
+    curves = study_curves(out, "visco_coupling_rough")
 
     def curve(series, q="total_friction_coefficient"):
-        c = mean[(series, q)]
-        return [c[x] for x in sorted(c)]
+        return curves[(series, q)]
     thin_c, thin_u = curve("ν = 0.49, h = 0.05 λ_l, coupled"), curve("ν = 0.49, h = 0.05 λ_l, uncoupled")
     half_c, half_u = curve("ν = 0.25, half-space, coupled"), curve("ν = 0.25, half-space, uncoupled")
     assert len(thin_c) == 5
@@ -320,16 +325,10 @@ def test_visco_rolling_quick(out):
     # rises from the relaxed to the glassy end (the body ten times stiffer); on the compressible
     # body the coupling's own slip drives it the other way (full: -0.134 relaxed, -0.117 glassy).
     run_study("visco_rolling", out)
-    table = rows(out / "visco_rolling" / "quick" / "visco_rolling.csv")
-    head = table[0]
-    curves = {}
-    for r in table[1:]:
-        d = dict(zip(head, r))
-        curves.setdefault((d["series"], d["quantity"]), {})[float(d["x"])] = float(d["y"])
+    curves = study_curves(out, "visco_rolling")
 
     def curve(series, q):
-        c = curves[(series, q)]
-        return [c[x] for x in sorted(c)]
+        return curves[(series, q)]
     names = ["ν = 0.5, half-space", "ν = 0.3, half-space, coupled", "ν = 0.3, half-space, uncoupled"]
     for name in names:
         h = curve(name, "hysteresis_friction")
