@@ -506,3 +506,30 @@ TEST(Viscoelastic, AFailureSaysWhyTheViscoelasticSolveDidNotSettle) {
         << r.info.status;
   }
 }
+
+// A stiff glassy modulus (E_inf = 1000 E0) near the loss peak with the hard wall: the splitting
+// cycles (the contact edge's cells switch between contact and gap; docs/solver.md). The failure
+// says so and names what settles instead of suggesting more steps, and that does settle: the
+// harmonic interaction, on the same case.
+TEST(Viscoelastic, AHardWallThatCyclesNamesTheHarmonicInteraction) {
+  const std::vector<std::string> sets = {"grid.nx=128",
+                                         "grid.lx=4.0",
+                                         "elastic.poisson=0.5",
+                                         "elastic.high_frequency_modulus=1000",
+                                         "friction.velocity=1e-4",
+                                         "load.force=0.01",
+                                         "solver.max_outer=100"};
+  std::vector<std::string> hard = sets;
+  hard.push_back("interaction.model=\"hardwall\"");
+  const CaseResult r = run_case(parse_config(kSlsSphere, "visco.toml", hard));
+  EXPECT_FALSE(r.info.converged);
+  EXPECT_NE(r.info.status.find("the harmonic interaction (interaction.model = \"harmonic\") settles there"),
+            std::string::npos)
+      << r.info.status;
+  EXPECT_EQ(r.info.status.find("raise solver.max_outer"), std::string::npos) << r.info.status;
+  std::vector<std::string> soft = sets;
+  soft.push_back("interaction.model=\"harmonic\"");
+  const CaseResult h = run_case(parse_config(kSlsSphere, "visco.toml", soft));
+  EXPECT_TRUE(h.info.converged) << h.info.status;
+  EXPECT_GT(h.observables.hysteresis_friction, 0.01);
+}

@@ -196,6 +196,10 @@ inline std::string narrow_cohesive_zones(double cells) {
   return os.str();
 }
 
+// A viscoelastic splitting that stops with its pressure still changing by more than this per step
+// has not stalled slowly: it cycles (with the hard wall, its failure says what settles instead).
+inline constexpr double kViscoStallChange = 1e-3;
+
 inline std::string outer_status(double change, double tol, bool inner_ok, double inner_tol, int used,
                                 int step, const SolverParams& sp, const char* what) {
   if (change <= tol && inner_ok && inner_tol <= tol) return "converged";
