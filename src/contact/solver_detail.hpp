@@ -200,14 +200,20 @@ inline std::string narrow_cohesive_zones(double cells) {
 // has not stalled slowly: it cycles (with the hard wall, its failure says what settles instead).
 inline constexpr double kViscoStallChange = 1e-3;
 
+// The status of an outer fixed point after a step ("" while it goes on). `cycling`: what to do
+// when the fixed point cycles, said instead of raising solver.max_outer (which would not help) and
+// after the iteration limit; null: none known.
 inline std::string outer_status(double change, double tol, bool inner_ok, double inner_tol, int used,
-                                int step, const SolverParams& sp, const char* what) {
+                                int step, const SolverParams& sp, const char* what,
+                                const char* cycling = nullptr) {
   if (change <= tol && inner_ok && inner_tol <= tol) return "converged";
-  if (used >= sp.max_iterations) return "not converged: iteration limit reached";
+  const std::string advice = cycling ? std::string("; ") + cycling : std::string();
+  if (used >= sp.max_iterations) return "not converged: iteration limit reached" + advice;
   if (step + 1 < sp.max_outer) return "";
   std::ostringstream os;
   os << "not converged: " << what << " did not settle in solver.max_outer = " << sp.max_outer
-     << " steps (relative change " << change << " in the last); raise solver.max_outer";
+     << " steps (relative change " << change << " in the last)"
+     << (cycling ? advice : std::string("; raise solver.max_outer"));
   return os.str();
 }
 
