@@ -38,15 +38,25 @@ inline double field_difference(const RealField& a, const RealField& b) {
 
 inline double relative(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); }
 
-// Solves the case on the host ("threads") and on the device with the same settings and
-// checks that fields and observables agree to `bound` (relative).
-inline void compare_with_host(const std::string& toml, std::vector<std::string> sets, double bound = 1e-10) {
+// The case solved on the host ("threads") and then on the device with the same settings (no
+// fields.nc): {host, device}.
+struct HostAndDevice {
+  CaseResult host, device;
+};
+inline HostAndDevice solve_on_host_and_device(const std::string& toml, std::vector<std::string> sets) {
   sets.emplace_back("output.fields=false");
   std::vector<std::string> host_sets = sets, dev_sets = sets;
   host_sets.emplace_back("solver.backend=\"threads\"");
   dev_sets.emplace_back("solver.backend=\"cuda\"");
-  const CaseResult h = solve(toml, host_sets);
-  const CaseResult d = solve(toml, dev_sets);
+  HostAndDevice r{solve(toml, host_sets), {}};
+  r.device = solve(toml, dev_sets);
+  return r;
+}
+
+// Solves the case on the host ("threads") and on the device with the same settings and
+// checks that fields and observables agree to `bound` (relative).
+inline void compare_with_host(const std::string& toml, std::vector<std::string> sets, double bound = 1e-10) {
+  const auto [h, d] = solve_on_host_and_device(toml, std::move(sets));
   EXPECT_EQ(d.config.backend, "cuda");
   EXPECT_GT(d.info.device_bytes, 0U);
   const ContactFields& a = d.fields;

@@ -23,13 +23,8 @@ constexpr double kBound = 1e-7;
 // The case on the host ("threads") and on the device: fields, forces, energies and the
 // adhesive observables to kBound; the adhesive steps within a few of the host's.
 void compare_adhesive(const std::string& toml, std::vector<std::string> sets) {
-  sets.emplace_back("output.fields=false");
   sets.emplace_back("solver.tolerance=1e-10");
-  std::vector<std::string> host_sets = sets, dev_sets = sets;
-  host_sets.emplace_back("solver.backend=\"threads\"");
-  dev_sets.emplace_back("solver.backend=\"cuda\"");
-  const CaseResult h = solve(toml, host_sets);
-  const CaseResult d = solve(toml, dev_sets);
+  const auto [h, d] = solve_on_host_and_device(toml, std::move(sets));
   ASSERT_EQ(d.config.backend, "cuda");
   ASSERT_TRUE(h.observables.adhesive && d.observables.adhesive);
   const double dp = field_difference(d.fields.pressure, h.fields.pressure);
