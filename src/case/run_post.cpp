@@ -122,7 +122,13 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
   };
   // The CUDA backend evaluates the stresses (surface, both post-analyses, subsurface planes)
   // on the device where they fit its memory (docs/gpu.md).
-  const bool on_device = backend().name() == "cuda";
+  // The solved displacement is not the body's own elastic one for a viscoelastic body in motion
+  // (times E0/E(omega) per mode) or, in rolling under an elastic indenter, in-plane (the pair's):
+  // then the stress comes from the tractions through the body's own elastic response
+  // (traction_stress), which with nu constant is the viscoelastic body's too.
+  const bool own_displacement =
+      !(cfg.visco.enabled() && cfg.visco.velocity != 0.0) && !(cfg.indenter.body && cfg.friction.rolling());
+  const bool on_device = backend().name() == "cuda" && own_displacement;
   DeviceStressRequest ask;
   ask.high_tension_fraction = cfg.stress.high_tension_fraction;
   std::optional<DeviceStressResult> dev;
@@ -142,7 +148,8 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
     r.stress_summary = dev->summary;
     if (!cfg.stress.post_analysis.empty()) r.area_above_half_max = dev->above_half;
   } else {
-    r.stress = surface_stress(fft, cfg.elastic, r.fields);
+    r.stress = own_displacement ? surface_stress(fft, cfg.elastic, r.fields)
+                                : traction_stress(fft, cfg.elastic, r.fields);
     r.principal = principal(r.stress, keep_fields ? PrincipalParts::All : PrincipalParts::SummaryOnly);
     r.stress_summary = summarize(g, r.principal, cfg.stress.high_tension_fraction);
     if (!cfg.stress.post_analysis.empty())
@@ -167,6 +174,17 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
       rf.uy = r.fields.uy;
     }
     const ElasticBody body(g, cfg.elastic, {}, cfg.indenter.body ? &*cfg.indenter.body : nullptr);
+    if (!own_displacement && !rf.pressure.empty()) {
+      // The paper's kind reads the frictionless in-plane displacement: the body's own elastic one.
+      const ElasticBody alone(g, cfg.elastic);
+      SpecField P = fft.spec_field(), UX = fft.spec_field(), UY = fft.spec_field();
+      fft.forward(rf.pressure.data(), P.data());
+      alone.displacement(nullptr, nullptr, P.data(), UX.data(), UY.data(), nullptr, 1.0, -1.0);
+      rf.ux = fft.real_field();
+      rf.uy = fft.real_field();
+      fft.backward(UX.data(), rf.ux.data());
+      fft.backward(UY.data(), rf.uy.data());
+    }
     if (!r.reference && cfg.friction.coefficient > 0) {
       FrictionParams none = cfg.friction;
       none.coefficient = 0.0;

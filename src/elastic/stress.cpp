@@ -128,31 +128,27 @@ StressField paper_post_analysis_stress(const FFT& fft, const ElasticParams& el,
   return surface_stress(fft, el, st);
 }
 
-StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const RealField& pressure,
-                                 double mu, double angle_deg) {
-  const Grid& g = fft.grid();
-  if (g.nx != body.grid().nx || g.ny != body.grid().ny || g.lx != body.grid().lx || g.ly != body.grid().ly)
-    throw std::invalid_argument("post_analysis_stress: FFT and body are on different grids");
-  const std::size_t n = g.local_size();
-  require_size(pressure, n, "pressure");
-  const double a = angle_deg * std::numbers::pi / 180.0;
-  const double ex = std::cos(a), ey = std::sin(a);
-  ContactFields st;
-  st.pressure = pressure;
-  st.tx = fft.real_field();
-  st.ty = fft.real_field();
+namespace {
+// surface_stress of the state with the tractions of st (tx, ty and -pressure) and the body's
+// displacement from them.
+StressField stress_of_tractions(const FFT& fft, const ElasticBody& body, ContactFields& st) {
+  const std::size_t n = fft.grid().local_size();
+  const bool has_tx = present(st.tx, fft.grid(), "tx"), has_ty = present(st.ty, fft.grid(), "ty");
   RealField tz = fft.real_field();
-  for (std::size_t k = 0; k < n; ++k) {
-    st.tx[k] = mu * pressure[k] * ex;
-    st.ty[k] = mu * pressure[k] * ey;
-    tz[k] = -pressure[k];
+  for (std::size_t k = 0; k < n; ++k) tz[k] = -st.pressure[k];
+  SpecField TX, TY, TZ = fft.spec_field();
+  if (has_tx) {
+    TX = fft.spec_field();
+    fft.forward(st.tx.data(), TX.data());
   }
-  SpecField TX = fft.spec_field(), TY = fft.spec_field(), TZ = fft.spec_field();
-  fft.forward(st.tx.data(), TX.data());
-  fft.forward(st.ty.data(), TY.data());
+  if (has_ty) {
+    TY = fft.spec_field();
+    fft.forward(st.ty.data(), TY.data());
+  }
   fft.forward(tz.data(), TZ.data());
   SpecField UX = fft.spec_field(), UY = fft.spec_field(), UZ = fft.spec_field();
-  body.displacement(TX.data(), TY.data(), TZ.data(), UX.data(), UY.data(), UZ.data());
+  body.displacement(has_tx ? TX.data() : nullptr, has_ty ? TY.data() : nullptr, TZ.data(), UX.data(),
+                    UY.data(), UZ.data());
   st.ux = fft.real_field();
   st.uy = fft.real_field();
   st.uz = fft.real_field();
@@ -160,6 +156,41 @@ StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const 
   fft.backward(UY.data(), st.uy.data());
   fft.backward(UZ.data(), st.uz.data());
   return surface_stress(fft, body.params(), st);
+}
+
+void check_same_grid(const FFT& fft, const Grid& b, const char* who) {
+  const Grid& g = fft.grid();
+  if (g.nx != b.nx || g.ny != b.ny || g.lx != b.lx || g.ly != b.ly)
+    throw std::invalid_argument(std::string(who) + ": FFT and body are on different grids");
+}
+}  // namespace
+
+StressField traction_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f) {
+  require_size(f.pressure, fft.grid().local_size(), "pressure");
+  const ElasticBody body(fft.grid(), el);
+  ContactFields st;
+  st.pressure = f.pressure;
+  st.tx = f.tx;
+  st.ty = f.ty;
+  return stress_of_tractions(fft, body, st);
+}
+
+StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const RealField& pressure,
+                                 double mu, double angle_deg) {
+  check_same_grid(fft, body.grid(), "post_analysis_stress");
+  const std::size_t n = fft.grid().local_size();
+  require_size(pressure, n, "pressure");
+  const double a = angle_deg * std::numbers::pi / 180.0;
+  const double ex = std::cos(a), ey = std::sin(a);
+  ContactFields st;
+  st.pressure = pressure;
+  st.tx = fft.real_field();
+  st.ty = fft.real_field();
+  for (std::size_t k = 0; k < n; ++k) {
+    st.tx[k] = mu * pressure[k] * ex;
+    st.ty[k] = mu * pressure[k] * ey;
+  }
+  return stress_of_tractions(fft, body, st);
 }
 
 // ---- principal stresses ----------------------------------------------------------------

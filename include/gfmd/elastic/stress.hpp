@@ -47,6 +47,13 @@ struct DisplacementField {
 // displacements), so the mean in-plane stress is nu/(1-nu) times the mean sigma_zz.
 StressField surface_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f);
 
+// The surface stress the tractions of f (tx, ty may be empty; -pressure) cause on the body `el`
+// describes, through its own elastic displacement recomputed from them (f's displacements are
+// not read): for states whose displacement is not the body's own elastic one, a viscoelastic body
+// in motion (each mode's E(omega) times its displacement is E0 times the elastic one, nu
+// constant) and a body rolling under an elastic indenter (f's in-plane displacement is the pair's).
+StressField traction_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f);
+
 // Consistent post-analysis reference ("consistent"): the given (frictionless) pressure p plus the
 // traction mu p e_s of uniform slip on the body, e_s = (cos a, sin a) the sliding
 // direction of the indenter (a = angle_deg); the displacements are recomputed from
