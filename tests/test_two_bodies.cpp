@@ -17,6 +17,7 @@
 #include "gfmd/contact/solver.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/elastic/elastic.hpp"
+#include "gfmd/elastic/stress.hpp"
 #include "test_util.hpp"
 
 using namespace gfmd;
@@ -232,6 +233,67 @@ TEST(TwoBodies, IdenticalBodiesRollWithKalkersCreepCoefficient) {
   }
 }
 
+// Two elastic bodies rolling with a small creepage (a layer under a dissimilar elastic indenter,
+// an egg-crate in full contact): the driving work per speed, the creepage's tangential force plus
+// the pressure against the indenter's profile, is the interface's slip dissipation (to 1e-6; the
+// surface is periodic, so the slopes are exact). Both bodies' material passes through the contact,
+// so the pressure's work on the indenter's deformation is not part of the drive (on its deformed
+// face the balance was off by 4e-3 before 2026-11-28). The body's surface stress comes from its
+// own displacement, not the pair's relative one that fields.nc holds in rolling: it equals the
+// stress of the plane at depth 0 from the tractions (subsurface_stress, another code path), where
+// Hooke's law on the relative displacement is far off.
+TEST(TwoBodies, RollingPairsBalanceTheirWorkAndStressTheBody) {
+  const char* crate = R"(
+[grid]
+nx = 64
+lx = 1.0
+[elastic]
+poisson = 0.3
+thickness = 0.3
+[indenter]
+type = "eggcrate"
+amplitude = 0.005
+contact_modulus = 2.0
+poisson = 0.45
+[load]
+pressure = 0.2
+[interaction]
+model = "hardwall"
+[friction]
+coefficient = 0.3
+creepage = 0.002
+reference = false
+[solver]
+tolerance = 1e-10
+[output]
+analysis = false
+)";
+  const CaseResult r = solve(crate);
+  const Observables& o = r.observables;
+  ASSERT_EQ(o.relative_contact_area, 1.0);
+  EXPECT_GT(o.stick_fraction, 0.05);
+  EXPECT_LT(o.stick_fraction, 0.95);
+  EXPECT_LT(o.energy_balance_error_exact, 1e-6);
+  const FFT fft(r.config.grid);
+  const StressField below = subsurface_stress(fft, r.config.elastic, r.fields, 0.0);
+  const StressField relative = surface_stress(fft, r.config.elastic, r.fields);
+  double top = 0.0, d = 0.0, wrong = 0.0;
+  for (std::size_t i = 0; i < below.xx.size(); ++i) {
+    top = std::max(top, std::abs(below.xx[i]));
+    d = std::max(d, std::abs(below.xx[i] - r.stress.xx[i]));
+    wrong = std::max(wrong, std::abs(below.xx[i] - relative.xx[i]));
+  }
+  std::printf(
+      "rolling pair: sigma_xx %.2e of its largest value off the plane's (the relative displacement's: "
+      "%.2e)\n",
+      d / top, wrong / top);
+  EXPECT_LT(d, 1e-6 * top);
+  EXPECT_GT(wrong, 0.01 * top);  // 2.3 % here
+  // Sliding (the indenter's material at rest in the contact): the deformed face is what it pushes.
+  const CaseResult s = solve(crate, {"friction.creepage=1"});
+  EXPECT_LT(s.observables.energy_balance_error_exact, 1e-6);
+}
+
 TEST(TwoBodies, KeysAreCheckedAndTheDeviceSaysWhatItLacks) {
   const auto problem = [](const std::vector<std::string>& sets) {
     return gfmd::testing::config_problem(kSliding, sets);
@@ -241,11 +303,11 @@ TEST(TwoBodies, KeysAreCheckedAndTheDeviceSaysWhatItLacks) {
   EXPECT_NE(problem({"indenter.contact_modulus=1", "indenter.poisson=0.6"}).find("indenter.poisson"),
             std::string::npos);
   EXPECT_EQ(problem({"indenter.contact_modulus=1", "friction.creepage=0.01"}), "") << "two bodies roll";
-  EXPECT_NE(problem({"indenter.contact_modulus=1", "elastic.viscoelastic=\"sls\"",
+  EXPECT_EQ(problem({"indenter.contact_modulus=1", "elastic.viscoelastic=\"sls\"",
                      "elastic.high_frequency_modulus=10", "elastic.relaxation_time=1",
-                     "friction.regularization=0.01", "friction.velocity=0.1"})
-                .find("indenter.contact_modulus"),
-            std::string::npos);
+                     "friction.regularization=0.01", "friction.velocity=0.1"}),
+            "")
+      << "a viscoelastic body under an elastic indenter";
   EXPECT_EQ(problem({"indenter.contact_modulus=2", "indenter.poisson=0.3", "indenter.thickness=0.5"}), "");
   const Config c = parse_config(kSliding, "t.toml", {"indenter.contact_modulus=2", "indenter.thickness=0.5"});
   EXPECT_EQ(c.to_json()["indenter"]["contact_modulus"], 2.0);

@@ -97,8 +97,6 @@ void read_indenter_body(Section& ind, Config& c) {
   ElasticParams b = homogeneous_body(es, nu, h, c.elastic.coupling);
   read_body_stack(ind, b);
   if (!ind.check([&] { b.validate(); })) return;
-  if (c.visco.enabled())
-    ind.error("contact_modulus", "an elastic indenter on a viscoelastic body is not implemented");
   c.indenter.body = b;
 }
 

@@ -78,7 +78,6 @@ std::array<double, 4> ContactSolver::slip_tractions(const ContactFields& f, Real
   const SlipDerivative deriv = deriv_;
   body_.inplane_slope(s2_.data(), s3_.data(), s1_.data(), ex, ey, s1_.data(), s2_.data(), scale, -scale,
                       deriv, slip_symbols());
-  body_.apply_response(s1_.data(), s2_.data(), nullptr);  // a viscoelastic body's (identity otherwise)
   fft_.backward_unscaled_destroying(s1_.data(), r1_.data());
   fft_.backward_unscaled_destroying(s2_.data(), r2_.data());
   const double mu = fric_.coefficient;
@@ -175,7 +174,6 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
   fft_.forward(p.data(), s1_.data());
   body_.inplane_slope(nullptr, nullptr, s1_.data(), ex, ey, s2_.data(), s3_.data(), scale, -scale * gamma,
                       deriv, slip_symbols());
-  body_.apply_response(s2_.data(), s3_.data(), nullptr);  // a viscoelastic body's (identity otherwise)
   fft_.backward_unscaled_destroying(s2_.data(), bx_.data());
   fft_.backward_unscaled_destroying(s3_.data(), by_.data());
   if (!have_z_) {
@@ -184,7 +182,6 @@ ContactSolver::TangentialResult ContactSolver::solve_tangential(const RealField&
     fft_.forward(ty.data(), s3_.data());
     body_.inplane_slope(s2_.data(), s3_.data(), nullptr, ex, ey, s2_.data(), s3_.data(), scale * gamma, 0.0,
                         deriv, slip_symbols());
-    body_.apply_response(s2_.data(), s3_.data(), nullptr);
     fft_.backward_unscaled_destroying(s2_.data(), yx.data());
     fft_.backward_unscaled_destroying(s3_.data(), yy.data());
     parallel_for(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t s_i) {
@@ -339,7 +336,6 @@ void ContactSolver::friction_normal_displacement(const RealField& tx, const Real
   transform_tractions(tx, ty);
   body_.displacement(s2_.data(), s3_.data(), nullptr, nullptr, nullptr, s1_.data(),
                      1.0 / static_cast<double>(grid_.size()));
-  body_.apply_response(nullptr, nullptr, s1_.data());
   fft_.backward_unscaled_destroying(s1_.data(), w.data());
 }
 

@@ -48,7 +48,8 @@ void slip_velocity(const FFT& fft, const FrictionParams& fric, const RealField& 
 }
 
 Observables compute_observables(const FFT& fft, const Topography& topo, const FrictionParams& fric,
-                                const ContactFields& f, const SolveInfo& info, const RealField* face) {
+                                const ContactFields& f, const SolveInfo& info, const RealField* face,
+                                const ContactFields* indenter) {
   const Grid& g = fft.grid();
   const double n = static_cast<double>(g.size());
   const double da = g.cell_area();
@@ -89,13 +90,23 @@ Observables compute_observables(const FFT& fft, const Topography& topo, const Fr
   if (info.viscoelastic_steps > 0) {
     // The work the tractions t = (tau, -p) do on the body per sliding speed, -sum t.(e_s.grad u) dA:
     // all of it the body's hysteresis in steady state (zero for an elastic body).
+    // Under an elastic indenter f's u_z is the pair's, u_body + u'_z (u'_z the indenter's own, in
+    // its frame, whose z is reversed), and in rolling so are u_x, u_y: u_body - u'_x (the in-plane
+    // axes shared); in sliding they are the body's own. The hysteresis is the work on the body's own.
+    const bool pair_inplane = indenter && fric.rolling();
+    const auto own = [&](const RealField& pair, const RealField* ind, double sign) {
+      RealField u = pair;
+      if (ind)
+        for (std::size_t i = 0; i < u.size(); ++i) u[i] += sign * (*ind)[i];
+      return u;
+    };
     RealField du;
-    directional_derivative(fft, ex, ey, f.uz, du);
+    directional_derivative(fft, ex, ey, own(f.uz, indenter ? &indenter->uz : nullptr, -1.0), du);
     double work = grid_sum(g, [&](std::size_t i) { return f.pressure[i] * du[i]; });
     if (fric.coefficient > 0) {
       RealField dux, duy;
-      directional_derivative(fft, ex, ey, f.ux, dux);
-      directional_derivative(fft, ex, ey, f.uy, duy);
+      directional_derivative(fft, ex, ey, own(f.ux, pair_inplane ? &indenter->ux : nullptr, 1.0), dux);
+      directional_derivative(fft, ex, ey, own(f.uy, pair_inplane ? &indenter->uy : nullptr, 1.0), duy);
       work -= grid_sum(g, [&](std::size_t i) { return f.tx[i] * dux[i] + f.ty[i] * duy[i]; });
     }
     o.viscoelastic = true;

@@ -31,9 +31,11 @@ using namespace contact_detail;
 
 double ContactSolver::hysteresis_dissipation(const ContactFields& f, bool friction) {
   // Parseval over the half spectrum: each mode off the kx = 0 and Nyquist columns stands for
-  // itself and its conjugate (weight 2). Per mode the elastic response's Hermitian form t* C t
-  // of the tractions t = (tau_x, tau_y, -p) times (q.e_s) Im c. The wave numbers are the
-  // derivative's (0 on the Nyquist lines), as in the response factors.
+  // itself and its conjugate (weight 2). Per mode (q.e_s) Im(t* R t) of the tractions
+  // t = (tau_x, tau_y, -p) and the complex response R: on a body alone R = c C with C Hermitian,
+  // so Im(t* R t) = Im c (t* C t); an elastic indenter's part of R is Hermitian and adds nothing
+  // (it stores, it does not dissipate). The wave numbers are the derivative's (0 on the Nyquist
+  // lines), as in the response factors.
   fft_.forward(f.pressure.data(), s1_.data());
   if (friction) {
     fft_.forward(f.tx.data(), s2_.data());
@@ -50,16 +52,16 @@ double ContactSolver::hysteresis_dissipation(const ContactFields& f, bool fricti
       const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
       const double qs = grid_.qx_deriv(ikx) * ex + grid_.qy_deriv(iky) * ey;
       if (qs == 0.0) continue;
-      double form = body_.mode(k).czz * std::norm(s1_[k]);
+      double loss = body_.normal_response(k).imag() * std::norm(s1_[k]);
       if (friction) {
-        const std::array<cplx, 9> c = body_.compliance(ikx, iky);
+        const std::array<cplx, 9> c = body_.response_compliance(ikx, iky);
         const std::array<cplx, 3> t{s2_[k], s3_[k], -s1_[k]};
-        form = 0.0;
+        loss = 0.0;
         for (int a = 0; a < 3; ++a)
-          for (int b = 0; b < 3; ++b) form += (std::conj(t[a]) * c[3 * a + b] * t[b]).real();
+          for (int b = 0; b < 3; ++b) loss += (std::conj(t[a]) * c[3 * a + b] * t[b]).imag();
       }
       const bool self = ikx == 0 || (grid_.nx % 2 == 0 && ikx == grid_.nx / 2);
-      sum += (self ? 1.0 : 2.0) * qs * body_.response(k).imag() * form;
+      sum += (self ? 1.0 : 2.0) * qs * loss;
     }
     rows[static_cast<std::size_t>(row)] = sum;
   });

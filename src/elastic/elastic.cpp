@@ -139,9 +139,6 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
     throw ParameterError("viscoelastic", "a layered or coated viscoelastic body is not implemented");
   if (indenter) {
     indenter->validate();
-    if (visco_.enabled())
-      throw ParameterError("viscoelastic",
-                           "a viscoelastic body under an elastic indenter is not implemented");
     indenter_ = *indenter;
     own_.resize(modes_.size());
   }
@@ -205,14 +202,38 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
   if (visco_.enabled()) response_ = viscoelastic_factors(grid, visco_, es);
 }
 
-void ElasticBody::apply_response(cplx* a, cplx* b, cplx* c) const {
-  if (response_.empty()) return;
-  parallel_for(static_cast<std::ptrdiff_t>(response_.size()), [&](std::ptrdiff_t k) {
-    const cplx r = response_[k];
-    if (a) a[k] *= r;
-    if (b) b[k] *= r;
-    if (c) c[k] *= r;
-  });
+namespace {
+ResponseMode scaled(cplx c, const ComplianceMode& m) {
+  return {c * m.cxx, c * m.cyy, c * m.cxy, c * m.czz, c * m.cxz, c * m.cyz};
+}
+}  // namespace
+
+ResponseMode ElasticBody::response_mode(std::size_t k) const {
+  const ComplianceMode& m = modes_[k];
+  if (!moving()) return scaled(1.0, m);
+  const cplx c = response_[k];
+  if (own_.empty()) return scaled(c, m);
+  // The body's own part times its factor; the indenter's (the pair's less the body's) elastic.
+  const ComplianceMode& o = own_[k];
+  return {c * o.cxx + (m.cxx - o.cxx), c * o.cyy + (m.cyy - o.cyy), c * o.cxy + (m.cxy - o.cxy),
+          c * o.czz + (m.czz - o.czz), c * o.cxz + (m.cxz - o.cxz), c * o.cyz + (m.cyz - o.cyz)};
+}
+
+ResponseMode ElasticBody::slip_response(std::size_t k) const {
+  if (own_.empty() || roll_both_ || !moving()) return response_mode(k);
+  return scaled(response_[k], own_[k]);
+}
+
+cplx ElasticBody::normal_response(std::size_t k) const {
+  if (!moving()) return modes_[k].czz;
+  if (own_.empty()) return response_[k] * modes_[k].czz;
+  return response_[k] * own_[k].czz + (modes_[k].czz - own_[k].czz);
+}
+
+std::array<cplx, 9> ElasticBody::response_compliance(int ikx, int iky) const {
+  const ResponseMode m = response_mode(static_cast<std::size_t>(iky - grid_.y0) * grid_.nxh() + ikx);
+  const cplx i(0.0, 1.0);
+  return {m.cxx, m.cxy, i * m.cxz, m.cxy, m.cyy, i * m.cyz, -i * m.cxz, -i * m.cyz, m.czz};
 }
 
 std::array<cplx, 9> ElasticBody::compliance(int ikx, int iky) const {
@@ -265,8 +286,10 @@ std::array<cplx, 9> ElasticBody::stiffness(int ikx, int iky) const {
 namespace {
 // i c z for real c, without a general complex product (which also checks for NaN/inf).
 inline cplx times_i(double c, cplx z) { return {-c * z.imag(), c * z.real()}; }
+inline cplx times_i(cplx c, cplx z) { return cplx(0.0, 1.0) * c * z; }
 // In-plane displacement (u_x, u_y) of one mode under the tractions (x, y, z).
-inline std::array<cplx, 2> inplane(const ComplianceMode& m, cplx x, cplx y, cplx z) {
+template <class Mode>
+inline std::array<cplx, 2> inplane(const Mode& m, cplx x, cplx y, cplx z) {
   return {m.cxx * x + m.cxy * y + times_i(m.cxz, z), m.cxy * x + m.cyy * y + times_i(m.cyz, z)};
 }
 }  // namespace
@@ -275,10 +298,24 @@ void ElasticBody::displacement(const cplx* tx, const cplx* ty, const cplx* tz, c
                                double scale, double scale_z) const {
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(modes_.size());
   const std::vector<ComplianceMode>& slip = slip_modes();
+  const bool moving = this->moving();
   parallel_for(n, [&](std::ptrdiff_t k) {
     const ComplianceMode& m = modes_[k];
     const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
                z = tz ? scale_z * tz[k] : cplx(0.0);
+    if (moving) {  // the complex response of a viscoelastic body in motion
+      const auto kk = static_cast<std::size_t>(k);
+      if (ux || uy) {
+        const auto u = inplane(slip_response(kk), x, y, z);
+        if (ux) ux[k] = u[0];
+        if (uy) uy[k] = u[1];
+      }
+      if (uz) {
+        const ResponseMode r = response_mode(kk);
+        uz[k] = r.czz * z - times_i(r.cxz, x) - times_i(r.cyz, y);
+      }
+      return;
+    }
     if (ux || uy) {
       const auto u = inplane(slip[k], x, y, z);
       if (ux) ux[k] = u[0];
@@ -382,10 +419,11 @@ std::vector<cplx> ElasticBody::slip_symbols(double ex, double ey, SlipDerivative
 void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, double ex, double ey,
                                 cplx* dux, cplx* duy, double scale, double scale_z, SlipDerivative deriv,
                                 const cplx* symbols) const {
+  const bool moving = this->moving();
   const auto load = [&](std::size_t k, const ComplianceMode& m) {
     const cplx x = tx ? scale * tx[k] : cplx(0.0), y = ty ? scale * ty[k] : cplx(0.0),
                z = tz ? scale_z * tz[k] : cplx(0.0);
-    return inplane(m, x, y, z);
+    return moving ? inplane(slip_response(k), x, y, z) : inplane(m, x, y, z);
   };
   if (deriv == SlipDerivative::Spectral) {
     for_each_slope_mode(grid_, slip_modes(), ex, ey,
@@ -407,11 +445,21 @@ void ElasticBody::inplane_slope(const cplx* tx, const cplx* ty, const cplx* tz, 
 double ElasticBody::slip_operator_norm(double ex, double ey, SlipDerivative deriv) const {
   // max over modes of |D| times the largest eigenvalue of C_tt (real symmetric 2x2).
   std::vector<double> rows(static_cast<std::size_t>(grid_.rows()), 0.0);
-  // A viscoelastic body's operator is D c C_tt (c = E0/E(omega) per mode): |c| times the elastic one's.
+  // A viscoelastic body in motion: |D| times the largest singular value of its complex C_tt
+  // (|c| times the elastic one's on a body alone).
+  const bool moving = this->moving();
   const auto take = [&](int row, std::size_t k, const ComplianceMode& m, double absd) {
-    const double tr = 0.5 * (m.cxx + m.cyy), df = 0.5 * (m.cxx - m.cyy);
     double& r = rows[static_cast<std::size_t>(row)];
-    if (!response_.empty()) absd *= std::abs(response_[k]);
+    if (moving) {
+      const ResponseMode c = slip_response(k);
+      // sigma_max^2 = (|C|_F^2 + sqrt(|C|_F^4 - 4 |det C|^2)) / 2 for a 2x2 matrix.
+      const double f2 = std::norm(c.cxx) + std::norm(c.cyy) + 2.0 * std::norm(c.cxy);
+      const double det = std::abs(c.cxx * c.cyy - c.cxy * c.cxy);
+      const double s2 = 0.5 * (f2 + std::sqrt(std::max(0.0, f2 * f2 - 4.0 * det * det)));
+      r = std::max(r, absd * std::sqrt(s2));
+      return;
+    }
+    const double tr = 0.5 * (m.cxx + m.cyy), df = 0.5 * (m.cxx - m.cyy);
     r = std::max(r, absd * (tr + std::sqrt(df * df + m.cxy * m.cxy)));
   };
   if (deriv == SlipDerivative::Spectral)
@@ -429,25 +477,27 @@ double ElasticBody::slip_operator_norm(double ex, double ey, SlipDerivative deri
 void ElasticBody::slip_resolvent(cplx* x, cplx* y, double ex, double ey, double gamma, double scale,
                                  SlipDerivative deriv, const cplx* symbols) const {
   // M = I - g D C with Re D <= 0: M's Hermitian part I - g Re(D) C >= I, so det M != 0. On a
-  // viscoelastic body D c takes D's place (c = E0/E(omega) per mode), and Re(D c) <= 0 too:
-  // omega = -(q.e_s) v0, so Im c has the sign of q.e_s, as Im D has.
-  const auto general = [&](std::size_t k, const ComplianceMode& m, cplx gd) {
+  // viscoelastic body in motion C is its complex C_tt: c C_tt(E0) with c = E0/E(omega) per mode,
+  // and Re(D c) <= 0 too (omega = -(q.e_s) v0, so Im c has the sign of q.e_s, as Im D has);
+  // under an elastic indenter in rolling the indenter's elastic C_tt is added, which keeps
+  // M's Hermitian part >= I.
+  const auto general = [&](std::size_t k, const auto& m, cplx gd) {
     const cplx a = scale * x[k], b = scale * y[k];
     const cplx m11 = 1.0 - gd * m.cyy, m22 = 1.0 - gd * m.cxx, m12 = gd * m.cxy;  // adjugate of M
     const cplx inv = 1.0 / (m11 * m22 - m12 * m12);
     x[k] = inv * (m11 * a + m12 * b);
     y[k] = inv * (m12 * a + m22 * b);
   };
-  if (!response_.empty() && visco_.velocity != 0.0) {  // at rest c = 1: the elastic branch below
+  if (moving()) {  // at rest c = 1: the elastic branch below
     if (deriv == SlipDerivative::Spectral)
       for_each_slope_mode(grid_, slip_modes(), ex, ey,
-                          [&](int, std::size_t k, const ComplianceMode& m, double d) {
-                            general(k, m, gamma * cplx(0.0, d) * response_[k]);
+                          [&](int, std::size_t k, const ComplianceMode&, double d) {
+                            general(k, slip_response(k), gamma * cplx(0.0, d));
                           });
     else
       for_each_upwind_mode(grid_, slip_modes(), ex, ey, deriv, symbols,
-                           [&](int, std::size_t k, const ComplianceMode& m, cplx d) {
-                             general(k, m, gamma * d * response_[k]);
+                           [&](int, std::size_t k, const ComplianceMode&, cplx d) {
+                             general(k, slip_response(k), gamma * d);
                            });
     return;
   }

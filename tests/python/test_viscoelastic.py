@@ -137,3 +137,20 @@ def test_plastic_saturation_on_a_viscoelastic_body():
     assert t["converged"] and t["plastic_area_fraction"] > 0 and t["adhesive_force"] > 0
     on_indenter = -float(np.sum(sticky.pressure * dh)) * (4.0 / 256) ** 2
     assert on_indenter == pytest.approx(t["hysteresis_dissipation"], rel=2e-2)
+
+
+def test_a_viscoelastic_body_under_an_elastic_indenter():
+    # Frictionless, an elastic half-space indenter (E_i* = 2) on a standard linear solid (E0* = 1,
+    # E_inf* = 10, tau = 1; the same nu) acts as a spring in series: the rigid sphere on the
+    # standard linear solid E0' = 2/3, E_inf' = 5/3, tau' = 4 (tests/test_viscoelastic_pair.cpp
+    # derives it). With the hard wall the hysteresis friction is that solid's to 1e-6.
+    top = gfmd.Topography.hertz(nx=64, lx=2.0, radius=1.0)
+    run = dict(force=0.01, velocity=0.1, interaction="hardwall", tolerance=1e-10)
+    pair = gfmd.solve(top, gfmd.ViscoelasticBody(poisson=0.3, high_frequency_modulus=10.0, relaxation_time=1.0),
+                      indenter_body=gfmd.ElasticBody(contact_modulus=2.0, poisson=0.3), **run).summary
+    one = gfmd.solve(top, gfmd.ViscoelasticBody(contact_modulus=2.0 / 3.0, poisson=0.3,
+                                                 high_frequency_modulus=5.0 / 3.0, relaxation_time=4.0), **run).summary
+    assert pair["converged"] and one["converged"]
+    assert one["hysteresis_friction"] > 1e-3
+    assert pair["hysteresis_friction"] == pytest.approx(one["hysteresis_friction"], rel=1e-6)
+    assert pair["hysteresis_balance_error"] < 1e-9

@@ -108,9 +108,11 @@ void slip_velocity(const FFT& fft, const FrictionParams& fric, const RealField& 
                    RealField& vx, RealField& vy);
 
 // face: the heights whose slope the pressure pushes on in the downhill force, an elastic
-// indenter's deformed face (null: topo.h, a rigid indenter's).
+// indenter's deformed face (null: topo.h, a rigid indenter's). indenter: an elastic indenter's
+// own fields (its displacement in its frame, run_detail::indenter_fields): f's displacement is
+// then the pair's, and a viscoelastic body's hysteresis is worked out on the body's own.
 Observables compute_observables(const FFT& fft, const Topography& topo, const FrictionParams& fric,
                                 const ContactFields& f, const SolveInfo& info,
-                                const RealField* face = nullptr);
+                                const RealField* face = nullptr, const ContactFields* indenter = nullptr);
 
 }  // namespace gfmd

@@ -97,6 +97,13 @@ struct ComplianceMode {
   double cxx, cyy, cxy, czz, cxz, cyz;
 };
 
+// A mode's response when it is complex and not Hermitian (a viscoelastic body in steady
+// sliding, alone or under an elastic indenter): the entries mean what ComplianceMode's do,
+// u_x = cxx t_x + cxy t_y + i cxz t_z, u_z = -i cxz t_x - i cyz t_y + czz t_z, each complex.
+struct ResponseMode {
+  cplx cxx, cyy, cxy, czz, cxz, cyz;
+};
+
 // The symbol D(q) of (e.grad) at mode (ikx, iky) (iky global) of the r2c half spectrum. On
 // the Nyquist lines of an even grid an upwind symbol is the mean over the aliases of the
 // mode (+-q there are one mode), so that real fields stay real.
@@ -142,15 +149,22 @@ class ElasticBody {
   [[nodiscard]] std::array<cplx, 9> stiffness(int ikx, int iky) const;
   [[nodiscard]] std::array<cplx, 9> compliance(int ikx, int iky) const;
 
-  // A viscoelastic body's response per mode: its displacement spectra are the elastic ones
-  // (the calls below, made with the relaxed modulus) times response(k) = E0/E(omega(q)).
-  // Stresses from given tractions do not depend on E with nu constant: the elastic calls give
-  // them. An elastic body has no factors (viscoelastic() false).
+  // A viscoelastic body's response per mode: the body's own compliance (made with the relaxed
+  // modulus) times response(k) = E0/E(omega(q)); under an elastic indenter the indenter's part
+  // (elastic: its material rests in the contact) is added to that. displacement(),
+  // inplane_slope(), slip_resolvent() and slip_operator_norm() include it: a caller sees one
+  // complex, non-Hermitian response per mode. Stresses from given tractions do not depend on E
+  // with nu constant: the elastic calls give them. An elastic body has no factors (viscoelastic()
+  // false); at rest (visco().velocity = 0) every factor is 1 and the elastic arithmetic is used.
   [[nodiscard]] bool viscoelastic() const { return !response_.empty(); }
   [[nodiscard]] const ViscoelasticParams& visco() const { return visco_; }
   [[nodiscard]] cplx response(std::size_t k) const { return response_.empty() ? cplx(1.0) : response_[k]; }
-  // Multiplies each given spectrum (null = skipped) by the response, in place.
-  void apply_response(cplx* a, cplx* b, cplx* c) const;
+  // The mode's full response (the pair's under an elastic indenter) with the factors applied.
+  [[nodiscard]] ResponseMode response_mode(std::size_t k) const;
+  // Its normal part: the complex compliance u_z / t_z (czz on an elastic body or at rest).
+  [[nodiscard]] cplx normal_response(std::size_t k) const;
+  // response_mode as a full 3x3 lab-frame matrix (row-major), as compliance() gives the elastic one.
+  [[nodiscard]] std::array<cplx, 9> response_compliance(int ikx, int iky) const;
 
   // Displacement spectra from traction spectra, times `scale` (any of tx, ty, tz may be
   // null = zero; any of ux, uy, uz null = not wanted). Outputs may alias inputs (each mode
@@ -195,6 +209,11 @@ class ElasticBody {
     return own_.empty() || roll_both_ ? modes_ : own_;
   }
   bool roll_both_ = false;
+  // A viscoelastic body in motion (factors other than 1): the complex paths below.
+  [[nodiscard]] bool moving() const { return !response_.empty() && visco_.velocity != 0.0; }
+  // The response the slip sees (response_mode, or the body's own times its factor under a
+  // sliding elastic indenter).
+  [[nodiscard]] ResponseMode slip_response(std::size_t k) const;
 
   std::vector<ComplianceMode> modes_;
   std::vector<ComplianceMode> own_;  // the body's own modes under an elastic indenter; else empty
