@@ -206,8 +206,6 @@ void read_elastic(Section& el, Config& c, const std::string& base_dir) {
   c.elastic.coupling = el.boolean("coupling", true);
   read_body_stack(el, c.elastic);
   read_viscoelastic(el, c.visco, base_dir);
-  if (c.visco.enabled() && c.elastic.layered())
-    el.error("viscoelastic", "a layered or coated viscoelastic body is not implemented");
   if (c.visco.model == ViscoelasticParams::Model::MasterCurve && c.visco.master_relaxed_modulus() > 0) {
     // The table's relaxed modulus is the body's E0* (the unit of pressures).
     const double e0 = c.visco.master_relaxed_modulus();

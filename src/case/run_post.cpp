@@ -149,7 +149,7 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
     if (!cfg.stress.post_analysis.empty()) r.area_above_half_max = dev->above_half;
   } else {
     r.stress = own_displacement ? surface_stress(fft, cfg.elastic, r.fields)
-                                : traction_stress(fft, cfg.elastic, r.fields);
+                                : traction_stress(fft, cfg.elastic, r.fields, cfg.visco);
     r.principal = principal(r.stress, keep_fields ? PrincipalParts::All : PrincipalParts::SummaryOnly);
     r.stress_summary = summarize(g, r.principal, cfg.stress.high_tension_fraction);
     if (!cfg.stress.post_analysis.empty())

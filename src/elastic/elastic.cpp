@@ -135,8 +135,6 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
     : grid_(grid), params_(params), modes_(grid.spectral_size()), visco_(visco) {
   params_.validate();
   visco_.validate(params_.contact_modulus);
-  if (visco_.enabled() && params_.layered())
-    throw ParameterError("viscoelastic", "a layered or coated viscoelastic body is not implemented");
   if (indenter) {
     indenter->validate();
     indenter_ = *indenter;
@@ -200,6 +198,35 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
     }
   }
   if (visco_.enabled()) response_ = viscoelastic_factors(grid, visco_, es);
+  if (visco_.enabled() && visco_.velocity != 0.0 && params_.layered()) {
+    // A viscoelastic top layer over elastic layers or a substrate: no common factor; each mode's
+    // compliance from the transfer matrices with the top layer's E(omega) = E0 / c.
+    layered_response_.resize(modes_.size());
+    const std::vector<ComplianceMode>& own = own_.empty() ? modes_ : own_;
+    for_rows(grid.rows(), [&](int row) {
+      const int iky = grid.y0 + row;
+      for (int ikx = 0; ikx < nxh; ++ikx) {
+        const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
+        const double qx = grid.qx(ikx), qy = grid.qy(iky), q = std::hypot(qx, qy);
+        const ComplianceMode& o = own[k];
+        if (q == 0.0) {  // steady: the elastic mean compliances
+          layered_response_[k] = {o.cxx, o.cyy, o.cxy, o.czz, o.cxz, o.cyz};
+          continue;
+        }
+        const ComplexRotatedCompliance r = layered_compliance(q, params_, es / response_[k]);
+        const double c = qx / q, s = qy / q;
+        const bool nyq_x = grid.nx % 2 == 0 && ikx == grid.nx / 2,
+                   nyq_y = grid.ny % 2 == 0 && iky == grid.ny / 2;
+        const cplx c13 = params_.coupling ? r.c13 : cplx(0.0);
+        layered_response_[k] = {c * c * r.c11 + s * s * r.c22,
+                                s * s * r.c11 + c * c * r.c22,
+                                (nyq_x || nyq_y) ? cplx(0.0) : c * s * (r.c11 - r.c22),
+                                r.c33,
+                                nyq_x ? cplx(0.0) : c * c13,
+                                nyq_y ? cplx(0.0) : s * c13};
+      }
+    });
+  }
 }
 
 namespace {
@@ -208,26 +235,30 @@ ResponseMode scaled(cplx c, const ComplianceMode& m) {
 }
 }  // namespace
 
+ResponseMode ElasticBody::own_response(std::size_t k) const {
+  if (!layered_response_.empty()) return layered_response_[k];
+  return scaled(response_[k], own_.empty() ? modes_[k] : own_[k]);
+}
+
 ResponseMode ElasticBody::response_mode(std::size_t k) const {
   const ComplianceMode& m = modes_[k];
   if (!moving()) return scaled(1.0, m);
-  const cplx c = response_[k];
-  if (own_.empty()) return scaled(c, m);
-  // The body's own part times its factor; the indenter's (the pair's less the body's) elastic.
+  const ResponseMode r = own_response(k);
+  if (own_.empty()) return r;
+  // The body's own response; the indenter's part (the pair's less the body's) elastic.
   const ComplianceMode& o = own_[k];
-  return {c * o.cxx + (m.cxx - o.cxx), c * o.cyy + (m.cyy - o.cyy), c * o.cxy + (m.cxy - o.cxy),
-          c * o.czz + (m.czz - o.czz), c * o.cxz + (m.cxz - o.cxz), c * o.cyz + (m.cyz - o.cyz)};
+  return {r.cxx + (m.cxx - o.cxx), r.cyy + (m.cyy - o.cyy), r.cxy + (m.cxy - o.cxy),
+          r.czz + (m.czz - o.czz), r.cxz + (m.cxz - o.cxz), r.cyz + (m.cyz - o.cyz)};
 }
 
 ResponseMode ElasticBody::slip_response(std::size_t k) const {
   if (own_.empty() || roll_both_ || !moving()) return response_mode(k);
-  return scaled(response_[k], own_[k]);
+  return own_response(k);
 }
 
 cplx ElasticBody::normal_response(std::size_t k) const {
   if (!moving()) return modes_[k].czz;
-  if (own_.empty()) return response_[k] * modes_[k].czz;
-  return response_[k] * own_[k].czz + (modes_[k].czz - own_[k].czz);
+  return response_mode(k).czz;
 }
 
 std::array<cplx, 9> ElasticBody::response_compliance(int ikx, int iky) const {

@@ -10,27 +10,36 @@ namespace gfmd {
 
 namespace {
 
-using Mat4 = std::array<std::array<double, 4>, 4>;
-using Cols = std::array<std::array<double, 2>, 4>;  // a 4x2 matrix: two state vectors side by side
+// The matrices below are written for a real material and, with a complex modulus (a viscoelastic
+// top layer at one frequency: the correspondence principle), for a complex one; T is double or cplx.
+template <class T>
+using Mat4T = std::array<std::array<T, 4>, 4>;
+template <class T>
+using ColsT = std::array<std::array<T, 2>, 4>;  // a 4x2 matrix: two state vectors side by side
+using Mat4 = Mat4T<double>;
+using Cols = ColsT<double>;
 
-Mat4 mul(const Mat4& a, const Mat4& b) {
-  Mat4 c{};
+template <class T>
+Mat4T<T> mul(const Mat4T<T>& a, const Mat4T<T>& b) {
+  Mat4T<T> c{};
   for (int i = 0; i < 4; ++i)
     for (int k = 0; k < 4; ++k)
       for (int j = 0; j < 4; ++j) c[i][j] += a[i][k] * b[k][j];
   return c;
 }
 
-Mat4 add_identity(Mat4 m, double diag, double scale = 1.0) {  // scale m + diag I
+template <class T>
+Mat4T<T> add_identity(Mat4T<T> m, double diag, double scale = 1.0) {  // scale m + diag I
   for (int i = 0; i < 4; ++i) {
-    for (double& v : m[i]) v *= scale;
+    for (T& v : m[i]) v *= scale;
     m[i][i] += diag;
   }
   return m;
 }
 
-Cols times(const Mat4& a, const Cols& w) {
-  Cols r{};
+template <class T>
+ColsT<T> times(const Mat4T<T>& a, const ColsT<T>& w) {
+  ColsT<T> r{};
   for (int i = 0; i < 4; ++i)
     for (int k = 0; k < 4; ++k)
       for (int j = 0; j < 2; ++j) r[i][j] += a[i][k] * w[k][j];
@@ -45,31 +54,39 @@ Cols times(const Mat4& a, const Cols& w) {
 //   exp(M x) = e^x P+ (I + x (M - I)) + e^-x P- (I + x (M + I)),
 // P+ = (2I - M)(M + I)^2/4 and P- = (2I + M)(M - I)^2/4 the projectors (partial fractions
 // of 1/((s-1)^2 (s+1)^2)). The antiplane system (U2, S23/q) has d = [[0, 1/G], [G, 0]].
-struct Material {
-  Mat4 grow, grow_n, decay, decay_n;   // P+, P+(M - I), P-, P-(M + I)
-  double g = 0.0, nu = 0.0, es = 0.0;  // shear modulus, Poisson ratio, E*
+// A complex G leaves the eigenvalues, and so the projector form, as they are.
+template <class T>
+struct MaterialT {
+  Mat4T<T> grow, grow_n, decay, decay_n;  // P+, P+(M - I), P-, P-(M + I)
+  T g = 0.0;                              // shear modulus
+  double nu = 0.0;                        // Poisson ratio
+  T es = 0.0;                             // E*
 };
+using Material = MaterialT<double>;
 
-Material material(double contact_modulus, double nu) {
-  const double g = contact_modulus * (1.0 - nu) / 2.0;
+template <class T>
+MaterialT<T> material(T contact_modulus, double nu) {
+  const T g = contact_modulus * (1.0 - nu) / 2.0;
   const double a = nu / (1.0 - nu), b = (1.0 - 2.0 * nu) / (2.0 * (1.0 - nu));
-  const Mat4 m = {{{0.0, -1.0, 1.0 / g, 0.0},
-                   {a, 0.0, 0.0, b / g},
-                   {2.0 * g / (1.0 - nu), 0.0, 0.0, -a},
-                   {0.0, 0.0, 1.0, 0.0}}};
-  const Mat4 mp = add_identity(m, 1.0), mm = add_identity(m, -1.0);
-  Mat4 pp = mul(add_identity(m, 2.0, -1.0), mul(mp, mp));
-  Mat4 pm = mul(add_identity(m, 2.0), mul(mm, mm));
-  for (Mat4* p : {&pp, &pm})
+  const T one(1.0), zero(0.0);
+  const Mat4T<T> m = {{{zero, T(-1.0), 1.0 / g, zero},
+                       {T(a), zero, zero, b / g},
+                       {2.0 * g / (1.0 - nu), zero, zero, T(-a)},
+                       {zero, zero, one, zero}}};
+  const Mat4T<T> mp = add_identity(m, 1.0), mm = add_identity(m, -1.0);
+  Mat4T<T> pp = mul(add_identity(m, 2.0, -1.0), mul(mp, mp));
+  Mat4T<T> pm = mul(add_identity(m, 2.0), mul(mm, mm));
+  for (Mat4T<T>* p : {&pp, &pm})
     for (auto& row : *p)
-      for (double& v : row) v *= 0.25;
+      for (T& v : row) v *= 0.25;
   return {pp, mul(pp, mm), pm, mul(pm, mp), g, nu, contact_modulus};
 }
 
 // The states of a half-space of this material (those that decay with depth, i.e. grow with
 // z: the range of P+), spanned by P+ applied to unit surface displacements.
-Cols half_space_states(const Material& mat) {
-  Cols w{};
+template <class T>
+ColsT<T> half_space_states(const MaterialT<T>& mat) {
+  ColsT<T> w{};
   for (int i = 0; i < 4; ++i) {
     w[i][0] = mat.grow[i][0];
     w[i][1] = mat.grow[i][1];
@@ -84,14 +101,15 @@ constexpr double kOpaque = 40.0;
 // scaled to order one: with log_scale, exactly exp(M x) w = e^log_scale r (log_scale increased
 // by x and the log of the scale); without, up to a factor (only their span matters), and a
 // layer beyond kOpaque leaves the span of its own half-space.
-Cols layer_step(const Material& mat, double x, const Cols& w, double* log_scale) {
+template <class T>
+ColsT<T> layer_step(const MaterialT<T>& mat, double x, const ColsT<T>& w, double* log_scale) {
   if (!log_scale && x > kOpaque) return half_space_states(mat);
   const double e2 = std::exp(-2.0 * x);  // exp(M x) = e^x (P+ (I + x (M - I)) + e^-2x P- (...))
-  Mat4 t{};
+  Mat4T<T> t{};
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j)
       t[i][j] = mat.grow[i][j] + x * mat.grow_n[i][j] + e2 * (mat.decay[i][j] + x * mat.decay_n[i][j]);
-  Cols r = times(t, w);
+  ColsT<T> r = times(t, w);
   double big = 0.0;
   for (const auto& row : r) big = std::max({big, std::abs(row[0]), std::abs(row[1])});
   if (big > 0.0)
@@ -103,25 +121,30 @@ Cols layer_step(const Material& mat, double x, const Cols& w, double* log_scale)
   return r;
 }
 
-struct Stack {
-  std::vector<Material> mats;  // top first
-  std::vector<double> thick;   // top first
+template <class T>
+struct StackT {
+  std::vector<MaterialT<T>> mats;  // top first
+  std::vector<double> thick;       // top first
   bool substrate = false;
-  Material base;  // the substrate's material when substrate
+  MaterialT<T> base;  // the substrate's material when substrate
 };
+using Stack = StackT<double>;
 
-Stack stack_of(const ElasticParams& el) {
-  Stack s;
-  s.mats.push_back(material(el.contact_modulus, el.poisson));
+// The stack of `el`, its top layer's modulus `top` (el.contact_modulus, or a complex one).
+template <class T>
+StackT<T> stack_of(const ElasticParams& el, T top) {
+  StackT<T> s;
+  s.mats.push_back(material(top, el.poisson));
   s.thick.push_back(el.thickness);
   for (const ElasticLayer& l : el.layers) {
-    s.mats.push_back(material(l.contact_modulus, l.poisson));
+    s.mats.push_back(material(T(l.contact_modulus), l.poisson));
     s.thick.push_back(l.thickness);
   }
   s.substrate = el.on_substrate();
-  if (s.substrate) s.base = material(el.substrate_contact_modulus, el.substrate_poisson);
+  if (s.substrate) s.base = material(T(el.substrate_contact_modulus), el.substrate_poisson);
   return s;
 }
+Stack stack_of(const ElasticParams& el) { return stack_of(el, el.contact_modulus); }
 
 }  // namespace
 
@@ -134,7 +157,8 @@ struct Place {
   double below_top;
 };
 
-Place place_of(const Stack& s, double depth) {
+template <class T>
+Place place_of(const StackT<T>& s, double depth) {
   double top = 0.0;
   for (std::size_t i = 0; i < s.mats.size(); ++i) {
     if (depth <= top + s.thick[i] || (i + 1 == s.mats.size() && !s.substrate))
@@ -149,9 +173,10 @@ const Material& material_at(const Stack& s, std::size_t layer) {
 }
 
 // The plane-strain states at a place that the body below it admits (their span), from the base up.
-Cols states_at(const Stack& s, double q, Place p) {
+template <class T>
+ColsT<T> states_at(const StackT<T>& s, double q, Place p) {
   if (p.layer == s.mats.size()) return half_space_states(s.base);  // any depth of the substrate
-  Cols w{};
+  ColsT<T> w{};
   if (s.substrate) {
     w = half_space_states(s.base);
   } else {  // a rigid base: no displacement, any traction
@@ -166,42 +191,57 @@ Cols states_at(const Stack& s, double q, Place p) {
 }
 
 // Antiplane states (U2, S23/q): d/dx = [[0, 1/G], [G, 0]], exp = [[ch, sh/G], [G sh, ch]].
-using Pair = std::array<double, 2>;
+template <class T>
+using PairT = std::array<T, 2>;
+using Pair = PairT<double>;
 
-Pair anti_step(double g, double x, Pair w, double* log_scale) {
-  if (!log_scale && x > kOpaque) return {1.0, g};  // the span only: a half-space of this material
+template <class T>
+PairT<T> anti_step(T g, double x, PairT<T> w, double* log_scale) {
+  if (!log_scale && x > kOpaque) return {T(1.0), g};  // the span only: a half-space of this material
   const double e2 = std::exp(-2.0 * x), ch = 0.5 * (1.0 + e2), sh = 0.5 * (1.0 - e2);  // e^-x cosh, sinh
-  const Pair r = {ch * w[0] + sh * w[1] / g, g * sh * w[0] + ch * w[1]};
+  const PairT<T> r = {ch * w[0] + sh * w[1] / g, g * sh * w[0] + ch * w[1]};
   const double big = std::max(std::abs(r[0]), std::abs(r[1]));
   if (log_scale) *log_scale += x + std::log(big);
   return {r[0] / big, r[1] / big};
 }
 
-Pair anti_states_at(const Stack& s, double q, Place p) {
-  if (p.layer == s.mats.size()) return {1.0, s.base.g};
-  Pair w = s.substrate ? Pair{1.0, s.base.g} : Pair{0.0, 1.0};
+template <class T>
+PairT<T> anti_states_at(const StackT<T>& s, double q, Place p) {
+  if (p.layer == s.mats.size()) return {T(1.0), s.base.g};
+  PairT<T> w = s.substrate ? PairT<T>{T(1.0), s.base.g} : PairT<T>{T(0.0), T(1.0)};
   for (std::size_t i = s.mats.size(); i-- > p.layer + 1;)
     w = anti_step(s.mats[i].g, q * s.thick[i], w, nullptr);
   const double h = s.thick[p.layer];
-  if (h == std::numeric_limits<double>::infinity()) return {1.0, s.mats[p.layer].g};
+  if (h == std::numeric_limits<double>::infinity()) return {T(1.0), s.mats[p.layer].g};
   return anti_step(s.mats[p.layer].g, q * (h - p.below_top), w, nullptr);
 }
 
 }  // namespace
 
+namespace {
+// C = X Y^-1 / q from the surface states (X their displacement rows, Y their traction rows S/q),
+// c22 = U2 / (q s23) from the antiplane ones.
+template <class T>
+std::array<T, 4> surface_compliance(double q, const StackT<T>& s) {
+  const ColsT<T> w = states_at(s, q, {0, 0.0});
+  const T det = w[2][0] * w[3][1] - w[2][1] * w[3][0];
+  const T y00 = w[3][1] / det, y01 = -w[2][1] / det, y10 = -w[3][0] / det, y11 = w[2][0] / det;
+  const PairT<T> a = anti_states_at(s, q, {0, 0.0});
+  return {(w[0][0] * y00 + w[0][1] * y10) / q,   // c11
+          a[0] / (a[1] * q),                     // c22
+          (w[1][0] * y01 + w[1][1] * y11) / q,   // c33
+          (w[0][0] * y01 + w[0][1] * y11) / q};  // c13 = (X Y^-1)_{10}: the matrix is symmetric
+}
+}  // namespace
+
 RotatedCompliance layered_compliance(double q, const ElasticParams& el) {
-  const Stack s = stack_of(el);
-  // U = C S: with X the displacement rows of w and Y its traction rows (S/q), C = X Y^-1 / q.
-  const Cols w = states_at(s, q, {0, 0.0});
-  const double det = w[2][0] * w[3][1] - w[2][1] * w[3][0];
-  const double y00 = w[3][1] / det, y01 = -w[2][1] / det, y10 = -w[3][0] / det, y11 = w[2][0] / det;
-  RotatedCompliance c{};
-  c.c11 = (w[0][0] * y00 + w[0][1] * y10) / q;
-  c.c13 = (w[0][0] * y01 + w[0][1] * y11) / q;  // = (X Y^-1)_{10}: the matrix is symmetric
-  c.c33 = (w[1][0] * y01 + w[1][1] * y11) / q;
-  const Pair a = anti_states_at(s, q, {0, 0.0});  // c22 = U2 / (q s23)
-  c.c22 = a[0] / (a[1] * q);
-  return c;
+  const std::array<double, 4> c = surface_compliance(q, stack_of(el));
+  return {c[0], c[1], c[2], c[3]};
+}
+
+ComplexRotatedCompliance layered_compliance(double q, const ElasticParams& el, cplx top_modulus) {
+  const std::array<cplx, 4> c = surface_compliance(q, stack_of(el, top_modulus));
+  return {c[0], c[1], c[2], c[3]};
 }
 
 ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el) {

@@ -61,7 +61,11 @@ namespace gfmd {
 
 using namespace stress_detail;
 
-StressField surface_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f) {
+namespace {
+// surface_stress with each mode's strain times factor[k] (null: none), the top layer's
+// E(omega)/E0 of a viscoelastic body.
+StressField surface_stress_scaled(const FFT& fft, const ElasticParams& el, const ContactFields& f,
+                                  const cplx* factor) {
   el.validate();
   const Grid& g = fft.grid();
   const std::size_t n = g.local_size();
@@ -83,6 +87,7 @@ StressField surface_stress(const FFT& fft, const ElasticParams& el, const Contac
         const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
         const double qx = g.qx_deriv(ikx);
         W[k] = comp == 0 ? i * qx * U[k] : comp == 1 ? i * qy * V[k] : i * qy * U[k] + i * qx * V[k];
+        if (factor) W[k] *= factor[k];
       }
     });
     fft.backward(W.data(), out.data());
@@ -105,6 +110,11 @@ StressField surface_stress(const FFT& fft, const ElasticParams& el, const Contac
     s.yz[k] = has_ty ? f.ty[k] : 0.0;
   });
   return s;
+}
+}  // namespace
+
+StressField surface_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f) {
+  return surface_stress_scaled(fft, el, f, nullptr);
 }
 
 StressField paper_post_analysis_stress(const FFT& fft, const ElasticParams& el,
@@ -165,14 +175,22 @@ void check_same_grid(const FFT& fft, const Grid& b, const char* who) {
 }
 }  // namespace
 
-StressField traction_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f) {
+StressField traction_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f,
+                            const ViscoelasticParams& visco) {
   require_size(f.pressure, fft.grid().local_size(), "pressure");
-  const ElasticBody body(fft.grid(), el);
   ContactFields st;
   st.pressure = f.pressure;
   st.tx = f.tx;
   st.ty = f.ty;
-  return stress_of_tractions(fft, body, st);
+  if (!(visco.enabled() && visco.velocity != 0.0 && el.layered()))
+    return stress_of_tractions(fft, ElasticBody(fft.grid(), el), st);
+  // A layered body's modes have no common factor: its own complex response, then Hooke's law of
+  // the top layer at each mode's E(omega) = E0 / c.
+  const ElasticBody body(fft.grid(), el, visco);
+  (void)stress_of_tractions(fft, body, st);  // fills st.ux, st.uy
+  std::vector<cplx> modulus(body.modes().size());
+  for (std::size_t k = 0; k < modulus.size(); ++k) modulus[k] = 1.0 / body.response(k);
+  return surface_stress_scaled(fft, el, st, modulus.data());
 }
 
 StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const RealField& pressure,

@@ -150,12 +150,13 @@ class ElasticBody {
   [[nodiscard]] std::array<cplx, 9> compliance(int ikx, int iky) const;
 
   // A viscoelastic body's response per mode: the body's own compliance (made with the relaxed
-  // modulus) times response(k) = E0/E(omega(q)); under an elastic indenter the indenter's part
-  // (elastic: its material rests in the contact) is added to that. displacement(),
-  // inplane_slope(), slip_resolvent() and slip_operator_norm() include it: a caller sees one
-  // complex, non-Hermitian response per mode. Stresses from given tractions do not depend on E
-  // with nu constant: the elastic calls give them. An elastic body has no factors (viscoelastic()
-  // false); at rest (visco().velocity = 0) every factor is 1 and the elastic arithmetic is used.
+  // modulus) times response(k) = E0/E(omega(q)) (a layered body, whose top layer is the
+  // viscoelastic one: its transfer matrices with E(omega) there); under an elastic indenter the indenter's
+  // part (elastic: its material rests in the contact) is added to that. displacement(), inplane_slope(),
+  // slip_resolvent() and slip_operator_norm() include it: a caller sees one complex, non-Hermitian response
+  // per mode. Stresses from given tractions do not depend on E with nu constant: the elastic calls give them.
+  // An elastic body has no factors (viscoelastic() false); at rest (visco().velocity = 0) every factor is 1
+  // and the elastic arithmetic is used.
   [[nodiscard]] bool viscoelastic() const { return !response_.empty(); }
   [[nodiscard]] const ViscoelasticParams& visco() const { return visco_; }
   [[nodiscard]] cplx response(std::size_t k) const { return response_.empty() ? cplx(1.0) : response_[k]; }
@@ -211,15 +212,19 @@ class ElasticBody {
   bool roll_both_ = false;
   // A viscoelastic body in motion (factors other than 1): the complex paths below.
   [[nodiscard]] bool moving() const { return !response_.empty() && visco_.velocity != 0.0; }
-  // The response the slip sees (response_mode, or the body's own times its factor under a
-  // sliding elastic indenter).
+  // The response the slip sees (response_mode, or the body's own under a sliding elastic indenter).
   [[nodiscard]] ResponseMode slip_response(std::size_t k) const;
+  // The body's own response in motion: its elastic compliance times the factor, or for a layered
+  // body (a viscoelastic top layer) the transfer matrices' at each mode's frequency.
+  [[nodiscard]] ResponseMode own_response(std::size_t k) const;
 
   std::vector<ComplianceMode> modes_;
   std::vector<ComplianceMode> own_;  // the body's own modes under an elastic indenter; else empty
   std::optional<ElasticParams> indenter_;
   ViscoelasticParams visco_;
   std::vector<cplx> response_;  // E0/E(omega) per mode held here; empty: elastic
+  // A layered viscoelastic body in motion: its own response per mode (96 bytes a mode); else empty.
+  std::vector<ResponseMode> layered_response_;
   double c0_zz_ = 0.0, c0_t_ = 0.0;
 };
 

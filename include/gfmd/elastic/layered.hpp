@@ -30,6 +30,15 @@ struct RotatedCompliance {
 // in-plane stresses, which jump there). At depth 0 the displacement is layered_compliance.
 [[nodiscard]] ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el);
 
+// The same with the top layer's E* complex (a viscoelastic top layer at one frequency, E(omega)
+// by the correspondence principle, nu constant), the layers beneath and the substrate elastic:
+// u1 = c11 t1 + i c13 t3, u2 = c22 t2, u3 = -i c13 t1 + c33 t3 with complex entries.
+struct ComplexRotatedCompliance {
+  cplx c11, c22, c33, c13;
+};
+[[nodiscard]] ComplexRotatedCompliance layered_compliance(double q, const ElasticParams& el,
+                                                          cplx top_modulus);
+
 // The q = 0 compliances of a layered body: zero on a half-space substrate (its mean
 // displacement is pinned as a half-space's is), else the sums over the layers of
 // h (1-2nu)/((1-nu)^2 E*) (normal) and h/G (in-plane).

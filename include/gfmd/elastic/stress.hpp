@@ -52,7 +52,11 @@ StressField surface_stress(const FFT& fft, const ElasticParams& el, const Contac
 // not read): for states whose displacement is not the body's own elastic one, a viscoelastic body
 // in motion (each mode's E(omega) times its displacement is E0 times the elastic one, nu
 // constant) and a body rolling under an elastic indenter (f's in-plane displacement is the pair's).
-StressField traction_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f);
+// A layered viscoelastic body in motion (`visco`, its top layer the viscoelastic one): its own
+// displacement from the tractions through its complex response, and the strains of each mode
+// times E(omega)/E0 of the top layer in Hooke's law.
+StressField traction_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f,
+                            const ViscoelasticParams& visco = {});
 
 // Consistent post-analysis reference ("consistent"): the given (frictionless) pressure p plus the
 // traction mu p e_s of uniform slip on the body, e_s = (cos a, sin a) the sliding

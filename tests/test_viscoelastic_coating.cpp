@@ -1,0 +1,183 @@
+// A viscoelastic coating (the top layer a standard linear solid) on an elastic substrate or over
+// elastic layers: the complex transfer matrices against the closed form of a layer, the limit of
+// a rigid substrate against the homogeneous viscoelastic layer, the state at rest, the energy
+// balance, and the refused subsurface planes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "gfmd/case/config.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/elastic/elastic.hpp"
+#include "gfmd/elastic/layered.hpp"
+#include "test_util.hpp"
+
+using namespace gfmd;
+using gfmd::testing::config_problem;
+using gfmd::testing::solve;
+
+namespace {
+
+// A sphere (R = 1) sliding frictionless over a coating (SLS: E0* = 1, E_inf* = 10, tau = 1,
+// nu = 0.3, h = 0.05 R) bonded to an elastic substrate (E2* = 2, nu = 0.25), F = 0.005 E0* R^2.
+const char* kCoated = R"(
+[grid]
+nx = 128
+lx = 2.0
+[elastic]
+contact_modulus = 1.0
+poisson = 0.3
+thickness = 0.05
+substrate_contact_modulus = 2.0
+substrate_poisson = 0.25
+viscoelastic = "sls"
+high_frequency_modulus = 10.0
+relaxation_time = 1.0
+[indenter]
+type = "hertz"
+radius = 1.0
+[load]
+force = 0.005
+[interaction]
+model = "hardwall"
+[friction]
+velocity = 0.1
+[solver]
+tolerance = 1e-10
+[output]
+analysis = false
+)";
+
+double max_abs(const RealField& a) {
+  double m = 0.0;
+  for (double v : a) m = std::max(m, std::abs(v));
+  return m;
+}
+double max_abs_diff(const RealField& a, const RealField& b) {
+  double d = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
+  return d;
+}
+
+}  // namespace
+
+// The transfer matrices with a complex modulus: for a single layer on a rigid base they are the
+// closed form (SPEC section 2) times E0/E by the correspondence principle, to 1e-12, at qh from
+// 1e-3 to 60 and loss angles up to 80 degrees.
+TEST(ViscoelasticCoating, ComplexTransferMatricesAreTheClosedFormTimesTheFactor) {
+  for (const double nu : {0.0, 0.3, 0.49}) {
+    const ElasticParams layer = homogeneous_body(1.0, nu, 0.5);
+    for (const double q : {2e-3, 0.3, 4.0, 120.0})
+      for (const std::complex<double> e :
+           {std::complex<double>(1.0, 0.0), std::polar(3.0, 0.5), std::polar(7.0, 1.4)}) {
+        const RotatedCompliance r = layered_compliance(q, layer);
+        const ComplexRotatedCompliance c = layered_compliance(q, layer, e);
+        const std::complex<double> f = 1.0 / e;
+        const double scale = std::abs(f) * std::max({std::abs(r.c11), std::abs(r.c22), std::abs(r.c33)});
+        EXPECT_LT(std::abs(c.c11 - f * r.c11), 1e-12 * scale) << nu << " " << q << " " << e;
+        EXPECT_LT(std::abs(c.c22 - f * r.c22), 1e-12 * scale) << nu << " " << q << " " << e;
+        EXPECT_LT(std::abs(c.c33 - f * r.c33), 1e-12 * scale) << nu << " " << q << " " << e;
+        EXPECT_LT(std::abs(c.c13 - f * r.c13), 1e-12 * scale) << nu << " " << q << " " << e;
+      }
+  }
+}
+
+// At rest the coating is the elastic coated body, bit for bit.
+TEST(ViscoelasticCoating, AtRestItIsTheElasticCoating) {
+  const CaseResult ve = solve(kCoated, {"friction.velocity=0"});
+  std::string plain(kCoated);
+  for (const char* k : {"viscoelastic = \"sls\"\n", "high_frequency_modulus = 10.0\n",
+                        "relaxation_time = 1.0\n", "velocity = 0.1\n"})
+    plain.erase(plain.find(k), std::string(k).size());
+  const CaseResult el = solve(plain);
+  EXPECT_EQ(ve.fields.pressure, el.fields.pressure);
+  EXPECT_EQ(ve.observables.hysteresis_dissipation, 0.0);
+}
+
+// A nearly rigid substrate (E2* = 1e7 E0*) is the rigid base: the coating then is the homogeneous
+// viscoelastic layer, whose modes are the closed form times E0/E(omega) (another code path). The
+// pressure to 1e-6 of its peak, the hysteresis friction and the peak tensile stress to 1e-5 (the
+// substrate's compliance is 1e-7 of the coating's), at the loss peak; the friction balances (1e-9).
+TEST(ViscoelasticCoating, ARigidSubstrateIsTheViscoelasticLayer) {
+  const CaseResult coated = solve(kCoated, {"elastic.substrate_contact_modulus=1e7"});
+  std::string plain(kCoated);
+  for (const char* k : {"substrate_contact_modulus = 2.0\n", "substrate_poisson = 0.25\n"})
+    plain.erase(plain.find(k), std::string(k).size());
+  const CaseResult layer = solve(plain);
+  ASSERT_GT(layer.observables.hysteresis_friction, 1e-3);
+  const double peak = max_abs(layer.fields.pressure);
+  std::printf(
+      "rigid substrate: pressure %.2e of its peak, mu_h %.8g against %.8g, tension %.8g against %.8g\n",
+      max_abs_diff(coated.fields.pressure, layer.fields.pressure) / peak,
+      coated.observables.hysteresis_friction, layer.observables.hysteresis_friction,
+      coated.stress_summary->max_tensile_stress, layer.stress_summary->max_tensile_stress);
+  EXPECT_LT(max_abs_diff(coated.fields.pressure, layer.fields.pressure), 1e-6 * peak);
+  EXPECT_NEAR(coated.observables.hysteresis_friction / layer.observables.hysteresis_friction, 1.0, 1e-5);
+  EXPECT_NEAR(coated.stress_summary->max_tensile_stress / layer.stress_summary->max_tensile_stress, 1.0,
+              1e-5);
+  EXPECT_LT(coated.observables.hysteresis_balance_error, 1e-9);
+}
+
+// On a softer substrate the coating sliding frictionless dissipates what its pressure's asymmetry
+// drives (the spectral and the field sums agree to 1e-9) and less than on a rigid base at this
+// speed; with Coulomb's law an egg-crate in full contact balances its work to 1e-6, with stick in
+// rolling too.
+TEST(ViscoelasticCoating, ItBalancesItsWork) {
+  const CaseResult soft = solve(kCoated);
+  EXPECT_GT(soft.observables.hysteresis_friction, 1e-3);
+  EXPECT_LT(soft.observables.hysteresis_balance_error, 1e-9);
+  const CaseResult stiff = solve(kCoated, {"elastic.substrate_contact_modulus=1e7"});
+  EXPECT_NE(soft.observables.hysteresis_friction, stiff.observables.hysteresis_friction);
+  const char* crate = R"(
+[grid]
+nx = 64
+lx = 1.0
+[elastic]
+contact_modulus = 1.0
+poisson = 0.3
+thickness = 0.1
+substrate_contact_modulus = 0.5
+substrate_poisson = 0.45
+layers = [{contact_modulus = 3.0, poisson = 0.2, thickness = 0.05}]
+viscoelastic = "sls"
+high_frequency_modulus = 10.0
+relaxation_time = 1.0
+[indenter]
+type = "eggcrate"
+amplitude = 0.005
+[load]
+pressure = 0.2
+[interaction]
+model = "hardwall"
+[friction]
+coefficient = 0.3
+velocity = 0.16
+reference = false
+[solver]
+tolerance = 1e-10
+[output]
+analysis = false
+)";
+  for (const char* creepage : {"friction.creepage=1", "friction.creepage=0.002"}) {
+    const CaseResult r = solve(crate, {creepage});
+    const Observables& o = r.observables;
+    std::printf("%s: mu_total %.6g, mu_h %.6g, stick %.3f, balance %.1e (exact), %.1e (hysteresis)\n",
+                creepage, o.total_friction_coefficient, o.hysteresis_friction, o.stick_fraction,
+                o.energy_balance_error_exact, o.hysteresis_balance_error);
+    ASSERT_EQ(o.relative_contact_area, 1.0);
+    EXPECT_GT(o.hysteresis_friction, 1e-5) << creepage;
+    EXPECT_LT(o.energy_balance_error_exact, 1e-6) << creepage;
+    EXPECT_LT(o.hysteresis_balance_error, 1e-9) << creepage;
+  }
+}
+
+// Planes below a moving viscoelastic coating's surface are refused, naming the key; at rest they are not.
+TEST(ViscoelasticCoating, ItsSubsurfacePlanesAreRefusedInMotion) {
+  EXPECT_NE(config_problem(kCoated, {"stress.depths=[0.02]"}).find("stress.depths"), std::string::npos);
+  EXPECT_EQ(config_problem(kCoated, {"stress.depths=[0.02]", "friction.velocity=0"}), "");
+}
