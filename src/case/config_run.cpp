@@ -142,12 +142,6 @@ void read_stress(Section& st, Config& c) {
         else
           c.stress.depths.push_back(d);
       }
-      if (!c.stress.depths.empty() && c.visco.enabled() && c.visco.velocity != 0 && c.elastic.layered())
-        st.error(
-            "depths",
-            "planes below the surface of a layered viscoelastic body in motion are not implemented (their "
-            "stresses depend on the layers' moduli at each mode's frequency); its surface stress is "
-            "computed");
     }
   }
   st.finish();

@@ -235,7 +235,8 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
         }
         r.stress_on_device = false;
       }
-      pf = principal(subsurface_stress(fft, cfg.elastic, r.fields, d), PrincipalParts::SummaryOnly);
+      pf =
+          principal(subsurface_stress(fft, cfg.elastic, r.fields, d, cfg.visco), PrincipalParts::SummaryOnly);
     } catch (const ParameterError& e) {
       throw InputError("stress.depths", e.why() + " (depth " + format_number(d) + ")");
     }

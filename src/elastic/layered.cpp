@@ -244,11 +244,69 @@ ComplexRotatedCompliance layered_compliance(double q, const ElasticParams& el, c
   return {c[0], c[1], c[2], c[3]};
 }
 
+namespace {
+// The response of a mode q > 0 at the place p of the stack s (layered_mode_response).
+template <class T>
+ModeResponse plane_response(const StackT<T>& s, double q, Place p) {
+  const MaterialT<T>& mat = p.layer < s.mats.size() ? s.mats[p.layer] : s.base;
+  const double nu = mat.nu;
+  const T g = mat.g;
+  ModeResponse r;
+  // Plane strain: the states at the depth (span w) lifted to the surface (v = exp(..) w up to
+  // e^log_scale); the surface traction fixes the combination, s(d) = w (v_S)^-1 S_top.
+  const ColsT<T> w = states_at(s, q, p);
+  double log_scale = 0.0;
+  ColsT<T> v = layer_step(mat, q * p.below_top, w, &log_scale);
+  for (std::size_t i = std::min(p.layer, s.mats.size()); i-- > 0;)
+    v = layer_step(s.mats[i], q * s.thick[i], v, &log_scale);
+  const T det = v[2][0] * v[3][1] - v[2][1] * v[3][0];
+  const double f = std::exp(-log_scale);
+  const T i00 = v[3][1] / det, i01 = -v[2][1] / det, i10 = -v[3][0] / det, i11 = v[2][0] / det;
+  T R[4][2];  // s(d) = R (S_top / q)
+  for (int i = 0; i < 4; ++i) {
+    R[i][0] = f * (w[i][0] * i00 + w[i][1] * i10);
+    R[i][1] = f * (w[i][0] * i01 + w[i][1] * i11);
+  }
+  const cplx I(0.0, 1.0);
+  const T kk = 2.0 * g / (1.0 - nu);
+  const double nn = nu / (1.0 - nu);
+  // t1 = 1 (S13 = -i): u1 = R00/q, u3 = -i R10/q, sigma13 = R20, sigma33 = -i R30,
+  // sigma11 = i (kk R00 - nn R30); t3 = 1 (S33 = 1): u1 = i R01/q, u3 = R11/q,
+  // sigma13 = i R21, sigma33 = R31, sigma11 = -kk R01 + nn R31. Plane strain: s22 = nu (s11 + s33).
+  const cplx s11[2] = {I * (kk * R[0][0] - nn * R[3][0]), -kk * R[0][1] + nn * R[3][1]};
+  const cplx s33[2] = {-I * R[3][0], R[3][1]};
+  for (int k = 0; k < 2; ++k) {
+    const int col = k == 0 ? 0 : 2;
+    r.stress[0][col] = s11[k];
+    r.stress[2][col] = s33[k];
+    r.stress[1][col] = nu * (s11[k] + s33[k]);
+  }
+  r.stress[4][0] = R[2][0];
+  r.stress[4][2] = I * R[2][1];
+  r.disp[0][0] = R[0][0] / q;
+  r.disp[0][2] = I * R[0][1] / q;
+  r.disp[2][0] = -I * R[1][0] / q;
+  r.disp[2][2] = R[1][1] / q;
+  // Antiplane (t2 = 1): u2 = U2, sigma23 = S23, sigma12 = i q G u2.
+  const PairT<T> a = anti_states_at(s, q, p);
+  double alog = 0.0;
+  PairT<T> b = anti_step(mat.g, q * p.below_top, a, &alog);
+  for (std::size_t i = std::min(p.layer, s.mats.size()); i-- > 0;)
+    b = anti_step(s.mats[i].g, q * s.thick[i], b, &alog);
+  const T fa = std::exp(-alog) / b[1];  // s(d) = a (S23_top/q) / b[1] up to e^-alog
+  r.disp[1][1] = fa * a[0] / q;
+  r.stress[5][1] = fa * a[1];
+  r.stress[3][1] = I * g * fa * a[0];
+  return r;
+}
+
+}  // namespace
+
 ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el) {
   const Stack s = stack_of(el);
   const Place p = place_of(s, depth);
   const Material& mat = material_at(s, p.layer);
-  const double nu = mat.nu, g = mat.g;
+  const double nu = mat.nu;
   ModeResponse r;
   if (q == 0.0) {
     // Uniform traction: uniform sigma_13, sigma_23, sigma_33 and uniaxial strain in each layer
@@ -277,51 +335,13 @@ ModeResponse layered_mode_response(double q, double depth, const ElasticParams& 
     r.disp[2][2] = n_per;
     return r;
   }
-  // Plane strain: the states at the depth (span w) lifted to the surface (v = exp(..) w up to
-  // e^log_scale); the surface traction fixes the combination, s(d) = w (v_S)^-1 S_top.
-  const Cols w = states_at(s, q, p);
-  double log_scale = 0.0;
-  Cols v = layer_step(mat, q * p.below_top, w, &log_scale);
-  for (std::size_t i = std::min(p.layer, s.mats.size()); i-- > 0;)
-    v = layer_step(s.mats[i], q * s.thick[i], v, &log_scale);
-  const double det = v[2][0] * v[3][1] - v[2][1] * v[3][0];
-  const double f = std::exp(-log_scale);
-  const double i00 = v[3][1] / det, i01 = -v[2][1] / det, i10 = -v[3][0] / det, i11 = v[2][0] / det;
-  double R[4][2];  // s(d) = R (S_top / q)
-  for (int i = 0; i < 4; ++i) {
-    R[i][0] = f * (w[i][0] * i00 + w[i][1] * i10);
-    R[i][1] = f * (w[i][0] * i01 + w[i][1] * i11);
-  }
-  const cplx I(0.0, 1.0);
-  const double kk = 2.0 * g / (1.0 - nu), nn = nu / (1.0 - nu);
-  // t1 = 1 (S13 = -i): u1 = R00/q, u3 = -i R10/q, sigma13 = R20, sigma33 = -i R30,
-  // sigma11 = i (kk R00 - nn R30); t3 = 1 (S33 = 1): u1 = i R01/q, u3 = R11/q,
-  // sigma13 = i R21, sigma33 = R31, sigma11 = -kk R01 + nn R31. Plane strain: s22 = nu (s11 + s33).
-  const cplx s11[2] = {I * (kk * R[0][0] - nn * R[3][0]), -kk * R[0][1] + nn * R[3][1]};
-  const cplx s33[2] = {-I * R[3][0], R[3][1]};
-  for (int k = 0; k < 2; ++k) {
-    const int col = k == 0 ? 0 : 2;
-    r.stress[0][col] = s11[k];
-    r.stress[2][col] = s33[k];
-    r.stress[1][col] = nu * (s11[k] + s33[k]);
-  }
-  r.stress[4][0] = R[2][0];
-  r.stress[4][2] = I * R[2][1];
-  r.disp[0][0] = R[0][0] / q;
-  r.disp[0][2] = I * R[0][1] / q;
-  r.disp[2][0] = -I * R[1][0] / q;
-  r.disp[2][2] = R[1][1] / q;
-  // Antiplane (t2 = 1): u2 = U2, sigma23 = S23, sigma12 = i q G u2.
-  const Pair a = anti_states_at(s, q, p);
-  double alog = 0.0;
-  Pair b = anti_step(mat.g, q * p.below_top, a, &alog);
-  for (std::size_t i = std::min(p.layer, s.mats.size()); i-- > 0;)
-    b = anti_step(s.mats[i].g, q * s.thick[i], b, &alog);
-  const double fa = std::exp(-alog) / b[1];  // s(d) = a (S23_top/q) / b[1] up to e^-alog
-  r.disp[1][1] = fa * a[0] / q;
-  r.stress[5][1] = fa * a[1];
-  r.stress[3][1] = I * g * fa * a[0];
-  return r;
+  return plane_response(s, q, p);
+}
+
+ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el, cplx top_modulus) {
+  if (q == 0.0) return layered_mode_response(q, depth, el);  // steady: elastic
+  const StackT<cplx> s = stack_of(el, top_modulus);
+  return plane_response(s, q, place_of(s, depth));
 }
 
 double layered_mean_normal_compliance(const ElasticParams& el) {

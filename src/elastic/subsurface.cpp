@@ -46,8 +46,10 @@ void to_lab(const ModeResponse& r, double c, double s, cplx tx, cplx ty, cplx tz
 }
 
 // Spectral evaluation of the response on the whole grid; sig (6 spectra) and/or u (3).
+// top: each mode's complex top-layer modulus of a layered viscoelastic body (null: elastic).
 void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFields& f, double depth,
-                        std::array<SpecField, 6>* sig, std::array<SpecField, 3>* u) {
+                        std::array<SpecField, 6>* sig, std::array<SpecField, 3>* u,
+                        const cplx* top = nullptr) {
   el.validate();
   check_depth(el, depth);
   const Grid& g = fft.grid();
@@ -77,7 +79,7 @@ void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFi
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
       const double qx = g.qx(ikx), qy = g.qy(iky), q = std::hypot(qx, qy);
-      const ModeResponse r = mode_response(q, depth, el);
+      const ModeResponse r = top ? layered_mode_response(q, depth, el, top[k]) : mode_response(q, depth, el);
       const double c = q > 0 ? qx / q : 1.0, s = q > 0 ? qy / q : 0.0;
       const cplx tx = has_tx ? TX[k] : cplx(0.0), ty = has_ty ? TY[k] : cplx(0.0), tzk = TZ[k];
       // On a Nyquist line the mode q and its mirror are the same mode: keep the part of
@@ -149,9 +151,17 @@ ModeResponse mode_response(double q, double depth, const ElasticParams& el) {
   return r;
 }
 
-StressField subsurface_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f, double depth) {
+StressField subsurface_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f, double depth,
+                              const ViscoelasticParams& visco) {
   std::array<SpecField, 6> sig;
-  subsurface_spectra(fft, el, f, depth, &sig, nullptr);
+  if (visco.enabled() && visco.velocity != 0.0 && el.layered()) {
+    // A layered viscoelastic body in motion: the top layer's E(omega) = E0 / c per mode.
+    std::vector<cplx> top = viscoelastic_factors(fft.grid(), visco, el.contact_modulus);
+    for (cplx& c : top) c = el.contact_modulus / c;
+    subsurface_spectra(fft, el, f, depth, &sig, nullptr, top.data());
+  } else {
+    subsurface_spectra(fft, el, f, depth, &sig, nullptr);
+  }
   StressField s = make_stress(fft.grid().local_size());
   RealField* out[6] = {&s.xx, &s.yy, &s.zz, &s.xy, &s.xz, &s.yz};
   for (int m = 0; m < 6; ++m) fft.backward(sig[m].data(), out[m]->data());

@@ -39,6 +39,11 @@ struct ComplexRotatedCompliance {
 [[nodiscard]] ComplexRotatedCompliance layered_compliance(double q, const ElasticParams& el,
                                                           cplx top_modulus);
 
+// layered_mode_response with the top layer's E* complex (as layered_compliance's overload); at
+// q = 0 the elastic one.
+[[nodiscard]] ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el,
+                                                 cplx top_modulus);
+
 // The q = 0 compliances of a layered body: zero on a half-space substrate (its mean
 // displacement is pinned as a half-space's is), else the sums over the layers of
 // h (1-2nu)/((1-nu)^2 E*) (normal) and h/G (in-plane).

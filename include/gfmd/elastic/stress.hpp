@@ -126,7 +126,11 @@ ModeResponse mode_response(double q, double depth, const ElasticParams& el);
 // Nyquist lines (there the odd parts of the response are dropped, as in ElasticBody,
 // instead of the derivative), and the displacement equals ElasticBody::displacement.
 // Throws ParameterError("depth") for a depth outside the body.
-StressField subsurface_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f, double depth);
+// With `visco` moving a layered body (its top layer viscoelastic) each mode's response is the
+// transfer matrices' at that mode's E(omega); a homogeneous body's stresses from tractions do not
+// depend on E (nu constant), so there `visco` changes nothing.
+StressField subsurface_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f, double depth,
+                              const ViscoelasticParams& visco = {});
 DisplacementField subsurface_displacement(const FFT& fft, const ElasticParams& el, const ContactFields& f,
                                           double depth);
 
