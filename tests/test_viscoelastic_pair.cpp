@@ -7,6 +7,8 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -223,4 +225,22 @@ analysis = false
   EXPECT_LT(r.observables.stick_fraction, 0.95);
   EXPECT_LT(r.observables.energy_balance_error_exact, 1e-6);
   EXPECT_LT(r.observables.hysteresis_balance_error, 1e-9);
+}
+
+// The shipped examples run as their comments say (a viscoelastic body under an elastic ball, and a
+// viscoelastic coating on a substrate): converged, the hysteresis near its peak, the two sums of
+// it equal, the coating's planes computed.
+TEST(ViscoelasticPair, TheExamplesRunAsTheirCommentsSay) {
+  for (const char* name : {"visco_pair_sphere", "visco_coated_sphere"}) {
+    std::ifstream in(std::string(GFMD_SOURCE_DIR) + "/examples/" + name + ".toml");
+    ASSERT_TRUE(in) << name;
+    std::stringstream text;
+    text << in.rdbuf();
+    const CaseResult r = solve(text.str(), {"output.png=false", "output.fields=false"});
+    EXPECT_GT(r.observables.hysteresis_friction, 0.01) << name;
+    EXPECT_LT(r.observables.hysteresis_balance_error, 1e-9) << name;
+    EXPECT_LT(r.observables.energy_balance_error_exact, 1e-3) << name;
+    const std::size_t planes = std::string(name) == "visco_coated_sphere" ? 2 : 0;
+    EXPECT_EQ(r.subsurface.size(), planes) << name;
+  }
 }
