@@ -77,7 +77,7 @@ TEST(ViscoelasticCoating, ComplexTransferMatricesAreTheClosedFormTimesTheFactor)
       for (const std::complex<double> e :
            {std::complex<double>(1.0, 0.0), std::polar(3.0, 0.5), std::polar(7.0, 1.4)}) {
         const RotatedCompliance r = layered_compliance(q, layer);
-        const ComplexRotatedCompliance c = layered_compliance(q, layer, e);
+        const ComplexRotatedCompliance c = layered_compliance(q, layer, e, 1.0);
         const std::complex<double> f = 1.0 / e;
         const double scale = std::abs(f) * std::max({std::abs(r.c11), std::abs(r.c22), std::abs(r.c33)});
         EXPECT_LT(std::abs(c.c11 - f * r.c11), 1e-12 * scale) << nu << " " << q << " " << e;
@@ -214,4 +214,138 @@ TEST(ViscoelasticCoating, ItsSubsurfacePlanesFollowEachModesModulus) {
   const StressField elastic = subsurface_stress(fft, soft.config.elastic, soft.fields, 0.03);
   const StressField visco = subsurface_stress(fft, soft.config.elastic, soft.fields, 0.03, soft.config.visco);
   EXPECT_GT(max_abs_diff(elastic.xx, visco.xx), 0.01 * max_abs(visco.xx));
+}
+
+// elastic.viscoelastic_part = "all": every layer's and the substrate's modulus times the one ratio
+// E(omega)/E0, so the transfer matrices with all moduli scaled are the elastic ones times E0/E (to
+// 1e-12), and a coating of the substrate's own material is the viscoelastic half-space (the factor
+// path; the pressure to 1e-9 of its peak, the hysteresis friction to 1e-8).
+TEST(ViscoelasticCoating, ViscoelasticThroughoutIsTheElasticStackTimesTheFactor) {
+  ElasticParams stack = homogeneous_body(1.0, 0.3, 0.05);
+  stack.layers = {{3.0, 0.2, 0.02}};
+  stack.substrate_contact_modulus = 0.5;
+  stack.substrate_poisson = 0.45;
+  for (const double q : {0.5, 20.0, 300.0})
+    for (const std::complex<double> e : {std::polar(2.0, 0.3), std::polar(9.0, 1.2)}) {
+      const RotatedCompliance r = layered_compliance(q, stack);
+      const ComplexRotatedCompliance c = layered_compliance(q, stack, e, 0.5 * e, true);
+      const std::complex<double> f = 1.0 / e;
+      const double scale = std::abs(f) * std::max({std::abs(r.c11), std::abs(r.c22), std::abs(r.c33)});
+      EXPECT_LT(std::abs(c.c11 - f * r.c11), 1e-12 * scale) << q << " " << e;
+      EXPECT_LT(std::abs(c.c22 - f * r.c22), 1e-12 * scale) << q << " " << e;
+      EXPECT_LT(std::abs(c.c33 - f * r.c33), 1e-12 * scale) << q << " " << e;
+      EXPECT_LT(std::abs(c.c13 - f * r.c13), 1e-12 * scale) << q << " " << e;
+    }
+  const CaseResult all =
+      solve(kCoated, {"elastic.substrate_contact_modulus=1", "elastic.substrate_poisson=0.3",
+                      "elastic.viscoelastic_part=\"all\""});
+  std::string plain(kCoated);
+  for (const char* k :
+       {"substrate_contact_modulus = 2.0\n", "substrate_poisson = 0.25\n", "thickness = 0.05\n"})
+    plain.erase(plain.find(k), std::string(k).size());
+  const CaseResult half = solve(plain);
+  EXPECT_LT(max_abs_diff(all.fields.pressure, half.fields.pressure), 1e-9 * max_abs(half.fields.pressure));
+  EXPECT_NEAR(all.observables.hysteresis_friction / half.observables.hysteresis_friction, 1.0, 1e-8);
+}
+
+// elastic.viscoelastic_part = "substrate": an elastic coating (a hard film) on a viscoelastic
+// substrate (its relaxed modulus substrate_contact_modulus). A film 1e7 times thinner than the
+// cell is the viscoelastic half-space of the substrate's material (the hysteresis friction to
+// 1e-3: the film's share is first order in q h); a film thicker than 40/q_min hides the substrate
+// (no hysteresis); between, an egg-crate in full contact balances its work to 1e-6 sliding and
+// rolling with stick, and the surface stress is the plane's at depth 0 (5e-3, the Nyquist lines
+// apart); the substrate's planes are given.
+TEST(ViscoelasticCoating, AnElasticFilmOnAViscoelasticSubstrate) {
+  const std::vector<std::string> substrate{"elastic.viscoelastic_part=\"substrate\"",
+                                           "elastic.substrate_contact_modulus=1",
+                                           "elastic.substrate_poisson=0.3"};
+  const auto with = [&](std::vector<std::string> more) {
+    more.insert(more.end(), substrate.begin(), substrate.end());
+    return more;
+  };
+  const CaseResult thin = solve(kCoated, with({"elastic.thickness=2e-7", "elastic.contact_modulus=3"}));
+  std::string plain(kCoated);
+  for (const char* k :
+       {"substrate_contact_modulus = 2.0\n", "substrate_poisson = 0.25\n", "thickness = 0.05\n"})
+    plain.erase(plain.find(k), std::string(k).size());
+  const CaseResult half = solve(plain);
+  std::printf("thin film: mu_h %.6g against the half-space's %.6g\n", thin.observables.hysteresis_friction,
+              half.observables.hysteresis_friction);
+  EXPECT_NEAR(thin.observables.hysteresis_friction / half.observables.hysteresis_friction, 1.0, 1e-3);
+  const CaseResult thick = solve(kCoated, with({"elastic.thickness=15"}));
+  EXPECT_LT(std::abs(thick.observables.hysteresis_friction), 1e-12);
+  const CaseResult film = solve(kCoated, with({"elastic.contact_modulus=5", "stress.depths=[0.0, 0.1]"}));
+  ASSERT_GT(film.observables.hysteresis_friction, 1e-3);
+  EXPECT_LT(film.observables.hysteresis_balance_error, 1e-9);
+  ASSERT_EQ(film.subsurface.size(), 2u);
+  const FFT fft(film.config.grid);
+  const StressField plane = subsurface_stress(fft, film.config.elastic, film.fields, 0.0, film.config.visco);
+  EXPECT_LT(max_abs_diff(plane.xx, film.stress.xx), 5e-3 * max_abs(film.stress.xx));
+  const char* crate = R"(
+[grid]
+nx = 64
+lx = 1.0
+[elastic]
+contact_modulus = 5.0
+poisson = 0.3
+thickness = 0.05
+substrate_contact_modulus = 1.0
+substrate_poisson = 0.45
+viscoelastic = "sls"
+viscoelastic_part = "substrate"
+high_frequency_modulus = 10.0
+relaxation_time = 1.0
+[indenter]
+type = "eggcrate"
+amplitude = 0.005
+[load]
+pressure = 0.2
+[interaction]
+model = "hardwall"
+[friction]
+coefficient = 0.3
+velocity = 0.16
+reference = false
+[solver]
+tolerance = 1e-10
+[output]
+analysis = false
+)";
+  for (const char* creepage : {"friction.creepage=1", "friction.creepage=0.002"}) {
+    const CaseResult r = solve(crate, {creepage});
+    const Observables& o = r.observables;
+    std::printf("film, %s: mu_h %.6g, stick %.3f, balance %.1e (exact), %.1e (hysteresis)\n", creepage,
+                o.hysteresis_friction, o.stick_fraction, o.energy_balance_error_exact,
+                o.hysteresis_balance_error);
+    ASSERT_EQ(o.relative_contact_area, 1.0);
+    EXPECT_GT(o.hysteresis_friction, 1e-5) << creepage;
+    EXPECT_LT(o.energy_balance_error_exact, 1e-6) << creepage;
+    EXPECT_LT(o.hysteresis_balance_error, 1e-9) << creepage;
+  }
+}
+
+// The part's key is checked: a substrate part needs a substrate, the names are three, and the key
+// belongs to a viscoelastic body.
+TEST(ViscoelasticCoating, ThePartIsChecked) {
+  using gfmd::testing::config_problem;
+  std::string homogeneous(kCoated);
+  for (const char* k : {"substrate_contact_modulus = 2.0\n", "substrate_poisson = 0.25\n"})
+    homogeneous.erase(homogeneous.find(k), std::string(k).size());
+  EXPECT_NE(config_problem(homogeneous, {"elastic.viscoelastic_part=\"substrate\""})
+                .find("elastic.viscoelastic_part"),
+            std::string::npos);
+  EXPECT_NE(
+      config_problem(kCoated, {"elastic.viscoelastic_part=\"middle\""}).find("elastic.viscoelastic_part"),
+      std::string::npos);
+  EXPECT_NE(config_problem(kCoated, {"elastic.viscoelastic=\"none\"", "elastic.viscoelastic_part=\"all\""})
+                .find("elastic.viscoelastic_part"),
+            std::string::npos);
+  // The substrate's relaxed modulus bounds the glassy one.
+  EXPECT_NE(config_problem(
+                kCoated, {"elastic.viscoelastic_part=\"substrate\"", "elastic.substrate_contact_modulus=20"})
+                .find("high_frequency_modulus"),
+            std::string::npos);
+  const Config c = parse_config(kCoated, "t.toml", {"elastic.viscoelastic_part=\"substrate\""});
+  EXPECT_EQ(c.to_json()["elastic"]["viscoelastic_part"], "substrate");
+  EXPECT_FALSE(parse_config(kCoated, "t.toml").to_json()["elastic"].contains("viscoelastic_part"));
 }

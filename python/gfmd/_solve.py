@@ -72,8 +72,9 @@ class ViscoelasticBody(ElasticBody):
     tau_i (E(omega) = E0 + sum E_i i omega tau_i / (1 + i omega tau_i)), or a measured
     master_curve (a file of omega, E', E''; its first E' is E0) with an optional temperature shift
     (shift = the [elastic] keys: temperature, reference_temperature, wlf_c1, wlf_c2 or
-    activation_temperature). Poisson's ratio is constant. The sliding speed is the solve's
-    velocity= (length per time unit of tau):
+    activation_temperature). Poisson's ratio is constant. On a layered body part= says which part
+    is viscoelastic: "top" (the default), "substrate" (a hard coating on a polymer) or "all". The
+    sliding speed is the solve's velocity= (length per time unit of tau):
 
         body = gfmd.ViscoelasticBody(poisson=0.5, high_frequency_modulus=10.0, relaxation_time=1.0)
         r = gfmd.solve(top, body, force=0.01, velocity=0.02)
@@ -87,6 +88,8 @@ class ViscoelasticBody(ElasticBody):
     master_curve: Optional[str] = None  # a file of omega, E', E'' (elastic.master_curve); sets contact_modulus
     shift: Optional[dict] = None  # the master curve's temperature shift: the [elastic] keys, e.g.
     # {"temperature": 30, "reference_temperature": 20, "wlf_c1": 8.86, "wlf_c2": 101.6}
+    part: str = "top"  # of a layered body: "top" (the top layer), "substrate" (its relaxed modulus is
+    # substrate_contact_modulus; the layers above elastic) or "all" (elastic.viscoelastic_part)
 
     def __post_init__(self):
         super().__post_init__()
@@ -129,9 +132,13 @@ def _body_lines(body: ElasticBody) -> list:
         lines = [ln for ln in lines if not ln.startswith("contact_modulus")]
         lines += ['viscoelastic = "master_curve"',
                   f"master_curve = {_toml_value('master_curve', os.path.abspath(body.master_curve))}"]
+        if body.part != "top":
+            lines.append(f"viscoelastic_part = {_toml_value('viscoelastic_part', body.part)}")
         lines += [f"{k} = {_toml_value(k, v)}" for k, v in (body.shift or {}).items()]
     elif isinstance(body, ViscoelasticBody):
         lines.append(f'viscoelastic = "{body.model}"')
+        if body.part != "top":
+            lines.append(f"viscoelastic_part = {_toml_value('viscoelastic_part', body.part)}")
         for k in (("high_frequency_modulus", "relaxation_time") if body.model == "sls" else ("prony_moduli",
                                                                                                "prony_times")):
             v = getattr(body, k)

@@ -41,6 +41,8 @@ nlohmann::json Config::to_json() const {
   config_detail::write_body_stack(elastic, j["elastic"]);
   if (visco.enabled()) {  // absent: elastic (as before the key)
     j["elastic"]["viscoelastic"] = viscoelastic_model_name(visco.model);
+    if (visco.part != ViscoelasticParams::Part::Top)  // absent: the top layer (as before the key)
+      j["elastic"]["viscoelastic_part"] = viscoelastic_part_name(visco.part);
     if (visco.model == ViscoelasticParams::Model::StandardLinearSolid) {
       j["elastic"]["high_frequency_modulus"] = visco.high_frequency_modulus;
       j["elastic"]["relaxation_time"] = visco.relaxation_time;

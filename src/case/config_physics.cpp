@@ -128,6 +128,17 @@ void read_viscoelastic(Section& el, ViscoelasticParams& v, const std::string& ba
   needs("relaxation_time", tau, Model::StandardLinearSolid);
   needs("prony_moduli", !v.prony_moduli.empty(), Model::Prony);
   needs("prony_times", !v.prony_times.empty(), Model::Prony);
+  if (el.has("viscoelastic_part")) {
+    const std::string part = el.string("viscoelastic_part", "top");
+    if (!v.enabled())
+      el.error("viscoelastic_part", "belongs to a viscoelastic body (elastic.viscoelastic)");
+    else if (part == "substrate")
+      v.part = ViscoelasticParams::Part::Substrate;
+    else if (part == "all")
+      v.part = ViscoelasticParams::Part::All;
+    else if (part != "top")
+      el.error("viscoelastic_part", "must be \"top\", \"substrate\" or \"all\", got \"" + part + "\"");
+  }
 }
 
 }  // namespace
@@ -206,8 +217,10 @@ void read_elastic(Section& el, Config& c, const std::string& base_dir) {
   c.elastic.coupling = el.boolean("coupling", true);
   read_body_stack(el, c.elastic);
   read_viscoelastic(el, c.visco, base_dir);
-  if (c.visco.model == ViscoelasticParams::Model::MasterCurve && c.visco.master_relaxed_modulus() > 0) {
-    // The table's relaxed modulus is the body's E0* (the unit of pressures).
+  if (c.visco.model == ViscoelasticParams::Model::MasterCurve && c.visco.master_relaxed_modulus() > 0 &&
+      c.visco.part != ViscoelasticParams::Part::Substrate) {
+    // The table's relaxed modulus is the body's E0* (the unit of pressures). (A viscoelastic
+    // substrate's is substrate_contact_modulus, given and checked against the table.)
     const double e0 = c.visco.master_relaxed_modulus();
     if (el.has("contact_modulus") && !(std::abs(c.elastic.contact_modulus - e0) <= 1e-12 * e0))
       el.error("contact_modulus", "is set by the master curve (its first storage modulus, " +
@@ -215,7 +228,10 @@ void read_elastic(Section& el, Config& c, const std::string& base_dir) {
     c.elastic.contact_modulus = c.visco.master_relaxed_modulus();
   }
   el.finish();
-  el.check([&] { c.visco.validate(c.elastic.contact_modulus); });  // its speed is [friction]'s, checked there
+  if (c.visco.part == ViscoelasticParams::Part::Substrate && !c.elastic.on_substrate())
+    el.error("viscoelastic_part", "\"substrate\" needs an elastic substrate (substrate_contact_modulus)");
+  else
+    el.check([&] { c.visco.validate(relaxed_modulus(c.elastic, c.visco)); });  // its speed is [friction]'s
 }
 
 void read_friction(Section& fr, Config& c) {

@@ -134,7 +134,10 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
                          const ElasticParams* indenter)
     : grid_(grid), params_(params), modes_(grid.spectral_size()), visco_(visco) {
   params_.validate();
-  visco_.validate(params_.contact_modulus);
+  if (visco_.enabled() && visco_.part == ViscoelasticParams::Part::Substrate && !params_.on_substrate())
+    throw ParameterError("viscoelastic_part",
+                         "\"substrate\" needs an elastic substrate (substrate_contact_modulus)");
+  visco_.validate(relaxed_modulus(params_, visco_));
   if (indenter) {
     indenter->validate();
     indenter_ = *indenter;
@@ -197,10 +200,15 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
       own_[0].cxx = own_[0].cyy = own_t;
     }
   }
-  if (visco_.enabled()) response_ = viscoelastic_factors(grid, visco_, es);
-  if (visco_.enabled() && visco_.velocity != 0.0 && params_.layered()) {
-    // A viscoelastic top layer over elastic layers or a substrate: no common factor; each mode's
-    // compliance from the transfer matrices with the top layer's E(omega) = E0 / c.
+  if (visco_.enabled()) response_ = viscoelastic_factors(grid, visco_, relaxed_modulus(params_, visco_));
+  if (visco_.enabled() && visco_.velocity != 0.0 && params_.layered() &&
+      visco_.part != ViscoelasticParams::Part::All) {
+    // A viscoelastic top layer over elastic layers or a substrate, or a viscoelastic substrate
+    // under elastic layers: no common factor; each mode's compliance from the transfer matrices
+    // with that part's E(omega) = E0 / c. (Viscoelastic throughout, every modulus has the one
+    // ratio: the factor path.)
+    const bool top_part = visco_.part == ViscoelasticParams::Part::Top;
+    const double es2 = params_.substrate_contact_modulus;
     layered_response_.resize(modes_.size());
     const std::vector<ComplianceMode>& own = own_.empty() ? modes_ : own_;
     for_rows(grid.rows(), [&](int row) {
@@ -213,7 +221,8 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
           layered_response_[k] = {o.cxx, o.cyy, o.cxy, o.czz, o.cxz, o.cyz};
           continue;
         }
-        const ComplexRotatedCompliance r = layered_compliance(q, params_, es / response_[k]);
+        const ComplexRotatedCompliance r = layered_compliance(
+            q, params_, top_part ? es / response_[k] : cplx(es), top_part ? cplx(es2) : es2 / response_[k]);
         const double c = qx / q, s = qy / q;
         const bool nyq_x = grid.nx % 2 == 0 && ikx == grid.nx / 2,
                    nyq_y = grid.ny % 2 == 0 && iky == grid.ny / 2;

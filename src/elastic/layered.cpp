@@ -130,21 +130,25 @@ struct StackT {
 };
 using Stack = StackT<double>;
 
-// The stack of `el`, its top layer's modulus `top` (el.contact_modulus, or a complex one).
+// The stack of `el` with its top layer's modulus `top` and its substrate's `sub` (el's, or
+// complex ones); scale_layers: the layers between them times top / el.contact_modulus.
 template <class T>
-StackT<T> stack_of(const ElasticParams& el, T top) {
+StackT<T> stack_of(const ElasticParams& el, T top, T sub, bool scale_layers = false) {
   StackT<T> s;
   s.mats.push_back(material(top, el.poisson));
   s.thick.push_back(el.thickness);
+  const T ratio = scale_layers ? T(top / el.contact_modulus) : T(1.0);
   for (const ElasticLayer& l : el.layers) {
-    s.mats.push_back(material(T(l.contact_modulus), l.poisson));
+    s.mats.push_back(material(scale_layers ? T(l.contact_modulus * ratio) : T(l.contact_modulus), l.poisson));
     s.thick.push_back(l.thickness);
   }
   s.substrate = el.on_substrate();
-  if (s.substrate) s.base = material(T(el.substrate_contact_modulus), el.substrate_poisson);
+  if (s.substrate) s.base = material(sub, el.substrate_poisson);
   return s;
 }
-Stack stack_of(const ElasticParams& el) { return stack_of(el, el.contact_modulus); }
+Stack stack_of(const ElasticParams& el) {
+  return stack_of(el, el.contact_modulus, el.substrate_contact_modulus);
+}
 
 }  // namespace
 
@@ -239,8 +243,10 @@ RotatedCompliance layered_compliance(double q, const ElasticParams& el) {
   return {c[0], c[1], c[2], c[3]};
 }
 
-ComplexRotatedCompliance layered_compliance(double q, const ElasticParams& el, cplx top_modulus) {
-  const std::array<cplx, 4> c = surface_compliance(q, stack_of(el, top_modulus));
+ComplexRotatedCompliance layered_compliance(double q, const ElasticParams& el, cplx top_modulus,
+                                            cplx substrate_modulus, bool scale_layers) {
+  const std::array<cplx, 4> c =
+      surface_compliance(q, stack_of(el, top_modulus, substrate_modulus, scale_layers));
   return {c[0], c[1], c[2], c[3]};
 }
 
@@ -338,9 +344,10 @@ ModeResponse layered_mode_response(double q, double depth, const ElasticParams& 
   return plane_response(s, q, p);
 }
 
-ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el, cplx top_modulus) {
+ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el, cplx top_modulus,
+                                   cplx substrate_modulus, bool scale_layers) {
   if (q == 0.0) return layered_mode_response(q, depth, el);  // steady: elastic
-  const StackT<cplx> s = stack_of(el, top_modulus);
+  const StackT<cplx> s = stack_of(el, top_modulus, substrate_modulus, scale_layers);
   return plane_response(s, q, place_of(s, depth));
 }
 

@@ -182,12 +182,14 @@ StressField traction_stress(const FFT& fft, const ElasticParams& el, const Conta
   st.pressure = f.pressure;
   st.tx = f.tx;
   st.ty = f.ty;
-  if (!(visco.enabled() && visco.velocity != 0.0 && el.layered()))
+  using Part = ViscoelasticParams::Part;
+  if (!(visco.enabled() && visco.velocity != 0.0 && el.layered() && visco.part != Part::All))
     return stress_of_tractions(fft, ElasticBody(fft.grid(), el), st);
   // A layered body's modes have no common factor: its own complex response, then Hooke's law of
-  // the top layer at each mode's E(omega) = E0 / c.
+  // the top layer (at each mode's E(omega) = E0 / c if it is the viscoelastic part).
   const ElasticBody body(fft.grid(), el, visco);
-  (void)stress_of_tractions(fft, body, st);  // fills st.ux, st.uy
+  const StressField elastic_top = stress_of_tractions(fft, body, st);  // fills st.ux, st.uy
+  if (visco.part == Part::Substrate) return elastic_top;
   std::vector<cplx> modulus(body.modes().size());
   for (std::size_t k = 0; k < modulus.size(); ++k) modulus[k] = 1.0 / body.response(k);
   return surface_stress_scaled(fft, el, st, modulus.data());

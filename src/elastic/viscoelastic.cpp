@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <numbers>
 #include <sstream>
+#include <string>
 
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
@@ -26,6 +27,18 @@ const char* viscoelastic_model_name(ViscoelasticParams::Model m) {
       break;
   }
   return "none";
+}
+
+const char* viscoelastic_part_name(ViscoelasticParams::Part p) {
+  switch (p) {
+    case ViscoelasticParams::Part::Substrate:
+      return "substrate";
+    case ViscoelasticParams::Part::All:
+      return "all";
+    case ViscoelasticParams::Part::Top:
+      break;
+  }
+  return "top";
 }
 
 std::complex<double> ViscoelasticParams::modulus_ratio(double omega, double relaxed_modulus) const {
@@ -135,8 +148,10 @@ void ViscoelasticParams::validate(double relaxed_modulus) const {
   if (model == Model::StandardLinearSolid) {
     if (!(high_frequency_modulus >= relaxed_modulus) || !std::isfinite(high_frequency_modulus))
       throw ParameterError("high_frequency_modulus",
-                           "the glassy modulus E_inf must be finite and at least the relaxed one "
-                           "(elastic.contact_modulus)");
+                           std::string("the glassy modulus E_inf must be finite and at least the relaxed one "
+                                       "(elastic.") +
+                               (part == Part::Substrate ? "substrate_contact_modulus" : "contact_modulus") +
+                               ")");
     if (!(relaxation_time > 0) || !std::isfinite(relaxation_time))
       throw ParameterError("relaxation_time", "must be a positive finite time");
   } else if (model == Model::MasterCurve) {
@@ -151,7 +166,7 @@ void ViscoelasticParams::validate(double relaxed_modulus) const {
     if (!(shift_factor > 0) || !std::isfinite(shift_factor))
       throw ParameterError("temperature", "the shift factor a_T must be positive and finite");
     if (std::abs(relaxed_modulus - master_relaxed_modulus()) > 1e-12 * master_relaxed_modulus())
-      throw ParameterError("contact_modulus",
+      throw ParameterError(part == Part::Substrate ? "substrate_contact_modulus" : "contact_modulus",
                            "must be the master curve's relaxed modulus, its first storage modulus");
   } else {
     if (prony_moduli.empty()) throw ParameterError("prony_moduli", "must list at least one modulus");

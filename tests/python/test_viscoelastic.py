@@ -173,3 +173,20 @@ def test_a_viscoelastic_coating_on_an_elastic_substrate():
     assert rest["max_pressure"] == elastic["max_pressure"]
     planes = gfmd.solve(top, visco, velocity=0.1, stress_depths=[0.02, 0.05], **run).summary
     assert [p["depth"] for p in planes["subsurface"]] == [0.02, 0.05]
+
+
+def test_a_hard_film_on_a_viscoelastic_substrate():
+    # part="substrate": an elastic film (E* = 5, h = 0.05 R) on a standard-linear-solid substrate
+    # (E0* = 1, E_inf* = 10, tau = 1): the hysteresis comes from the substrate, and a film thicker
+    # than the cell hides it.
+    top = gfmd.Topography.hertz(nx=64, lx=2.0, radius=1.0)
+    film = dict(contact_modulus=5.0, poisson=0.3, substrate_contact_modulus=1.0, substrate_poisson=0.45,
+                high_frequency_modulus=10.0, relaxation_time=1.0, part="substrate")
+    run = dict(force=0.005, velocity=0.1, interaction="hardwall", tolerance=1e-10)
+    r = gfmd.solve(top, gfmd.ViscoelasticBody(thickness=0.05, **film), **run).summary
+    assert r["converged"] and r["hysteresis_friction"] > 1e-3 and r["hysteresis_balance_error"] < 1e-9
+    hidden = gfmd.solve(top, gfmd.ViscoelasticBody(thickness=15.0, **film), **run).summary
+    assert abs(hidden["hysteresis_friction"]) < 1e-12
+    with pytest.raises(gfmd.InputError, match="viscoelastic_part"):
+        gfmd.solve(top, gfmd.ViscoelasticBody(poisson=0.3, high_frequency_modulus=10.0, relaxation_time=1.0,
+                                              part="substrate"), **run)

@@ -71,6 +71,12 @@ inline ElasticParams homogeneous_body(double contact_modulus, double poisson,
   return e;
 }
 
+// The relaxed modulus E0 of the part of `e` that `v` makes viscoelastic (its top layer's, or its
+// substrate's with viscoelastic_part = "substrate").
+[[nodiscard]] inline double relaxed_modulus(const ElasticParams& e, const ViscoelasticParams& v) {
+  return v.part == ViscoelasticParams::Part::Substrate ? e.substrate_contact_modulus : e.contact_modulus;
+}
+
 // Dimensionless Phi in the frame where q points along axis 1 (SPEC §2):
 // Phi'11 = p11, Phi'22 = p22, Phi'33 = p33, Phi'13 = i*p13, Phi'31 = -i*p13.
 struct PhiRotated {

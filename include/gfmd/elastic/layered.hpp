@@ -31,18 +31,22 @@ struct RotatedCompliance {
 [[nodiscard]] ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el);
 
 // The same with the top layer's E* complex (a viscoelastic top layer at one frequency, E(omega)
-// by the correspondence principle, nu constant), the layers beneath and the substrate elastic:
+// by the correspondence principle, nu constant):
 // u1 = c11 t1 + i c13 t3, u2 = c22 t2, u3 = -i c13 t1 + c33 t3 with complex entries.
 struct ComplexRotatedCompliance {
   cplx c11, c22, c33, c13;
 };
-[[nodiscard]] ComplexRotatedCompliance layered_compliance(double q, const ElasticParams& el,
-                                                          cplx top_modulus);
+// The substrate's E* may be complex too (substrate_modulus; ignored on a rigid base), and with
+// scale_layers the layers between them take the top's ratio top_modulus / contact_modulus (a body
+// viscoelastic throughout).
+[[nodiscard]] ComplexRotatedCompliance layered_compliance(double q, const ElasticParams& el, cplx top_modulus,
+                                                          cplx substrate_modulus, bool scale_layers = false);
 
 // layered_mode_response with the top layer's E* complex (as layered_compliance's overload); at
 // q = 0 the elastic one.
 [[nodiscard]] ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el,
-                                                 cplx top_modulus);
+                                                 cplx top_modulus, cplx substrate_modulus,
+                                                 bool scale_layers = false);
 
 // The q = 0 compliances of a layered body: zero on a half-space substrate (its mean
 // displacement is pinned as a half-space's is), else the sums over the layers of

@@ -42,6 +42,13 @@ struct ViscoelasticParams {
   // Where the table came from and the shift's keys as given (the case's record of them).
   std::string curve_file;
   std::vector<std::pair<std::string, double>> shift_keys;
+  // Which part of a layered body is viscoelastic (elastic.viscoelastic_part): the top layer (its
+  // contact_modulus the relaxed E0), the substrate (substrate_contact_modulus the relaxed E0; the
+  // layers above it elastic: a hard coating on a polymer), or all of it (every layer's and the
+  // substrate's modulus times the one ratio E(omega)/E0 of the top layer's). A homogeneous body is
+  // its top layer.
+  enum class Part { Top, Substrate, All };
+  Part part = Part::Top;
   // Sliding speed v0 (length per time unit of tau) and direction (degrees from +x; the
   // friction's sliding direction).
   double velocity = 0.0;
@@ -59,6 +66,7 @@ struct ViscoelasticParams {
 };
 
 [[nodiscard]] const char* viscoelastic_model_name(ViscoelasticParams::Model m);
+[[nodiscard]] const char* viscoelastic_part_name(ViscoelasticParams::Part p);
 
 // A master curve's table from text (`name` the file, for messages): rows of three numbers,
 // omega, E' and E'' (comma, semicolon, tab or space separated), '#' comments and blank lines
