@@ -600,6 +600,19 @@ TEST(Viscoelastic, ItsSurfaceStressIsThatOfItsTractions) {
     EXPECT_LT(d, 1e-9 * big);
   }
   EXPECT_NEAR(fast.stress_summary->max_tensile_stress / el.stress_summary->max_tensile_stress, 1.0, 1e-9);
+  // The post-analyses (Coulomb's traction added to the frictionless solution) too, both kinds:
+  // from the tractions, not from the viscoelastic displacement.
+  const std::vector<std::string> post{"friction.coefficient=0.3", "friction.regularization=0.01",
+                                      "stress.post_analysis=[\"consistent\", \"paper\"]"};
+  const CaseResult fast_post = gfmd::testing::solve(kCylinder, post);
+  const CaseResult el_post = gfmd::testing::solve(plain, post);
+  ASSERT_EQ(fast_post.post_analyses.size(), 2u);
+  ASSERT_EQ(el_post.post_analyses.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k)
+    EXPECT_NEAR(fast_post.post_analyses[k].summary.max_tensile_stress /
+                    el_post.post_analyses[k].summary.max_tensile_stress,
+                1.0, 1e-6)
+        << fast_post.post_analyses[k].kind;
   // Near the loss peak (omega tau = 1 at the contact's half-width 0.04 R): against the plane.
   const CaseResult peak = gfmd::testing::solve(kCylinder, {"friction.velocity=0.04"});
   ASSERT_GT(peak.observables.hysteresis_friction, 1e-3);

@@ -174,21 +174,12 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
       rf.uy = r.fields.uy;
     }
     const ElasticBody body(g, cfg.elastic, {}, cfg.indenter.body ? &*cfg.indenter.body : nullptr);
-    if (!own_displacement && !rf.pressure.empty()) {
-      // The paper's kind reads the frictionless in-plane displacement: the body's own elastic one.
-      const ElasticBody alone(g, cfg.elastic);
-      SpecField P = fft.spec_field(), UX = fft.spec_field(), UY = fft.spec_field();
-      fft.forward(rf.pressure.data(), P.data());
-      alone.displacement(nullptr, nullptr, P.data(), UX.data(), UY.data(), nullptr, 1.0, -1.0);
-      rf.ux = fft.real_field();
-      rf.uy = fft.real_field();
-      fft.backward(UX.data(), rf.ux.data());
-      fft.backward(UY.data(), rf.uy.data());
-    }
     if (!r.reference && cfg.friction.coefficient > 0) {
       FrictionParams none = cfg.friction;
       none.coefficient = 0.0;
-      ContactSolver ref(body, topo, cfg.interaction, none, cfg.solver);
+      // The body as solved (a viscoelastic one in motion too); `body` serves the stresses.
+      const ElasticBody solved(g, cfg.elastic, cfg.visco, cfg.indenter.body ? &*cfg.indenter.body : nullptr);
+      ContactSolver ref(solved, topo, cfg.interaction, none, cfg.solver);
       const SolveInfo info = ref.solve(cfg.load, rf);
       if (!info.converged) throw SolveError("post-analysis reference: " + info.status);
     }
@@ -210,8 +201,32 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
       }
       PrincipalField pp;
       {
-        const StressField ps = kind == "paper" ? paper_post_analysis_stress(fft, cfg.elastic, rf, mu, angle)
-                                               : post_analysis_stress(fft, body, rf.pressure, mu, angle);
+        StressField ps;
+        if (own_displacement) {
+          ps = kind == "paper" ? paper_post_analysis_stress(fft, cfg.elastic, rf, mu, angle)
+                               : post_analysis_stress(fft, body, rf.pressure, mu, angle);
+        } else {
+          // The solved displacement is not the body's own elastic one: both kinds from tractions,
+          // the paper's with the friction written into the shear tractions only.
+          const double a = angle * std::numbers::pi / 180.0;
+          const double ex = std::cos(a), ey = std::sin(a);
+          ContactFields st;
+          st.pressure = rf.pressure;
+          RealField tx(rf.pressure.size()), ty(rf.pressure.size());
+          for (std::size_t i = 0; i < tx.size(); ++i) {
+            tx[i] = mu * rf.pressure[i] * ex;
+            ty[i] = mu * rf.pressure[i] * ey;
+          }
+          if (kind != "paper") {
+            st.tx = tx;
+            st.ty = ty;
+          }
+          ps = traction_stress(fft, cfg.elastic, st, cfg.visco);
+          if (kind == "paper") {
+            ps.xz = std::move(tx);
+            ps.yz = std::move(ty);
+          }
+        }
         pp = principal(ps, PrincipalParts::SummaryOnly);
       }
       CaseResult::PostAnalysis pa;
