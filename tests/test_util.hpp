@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -21,6 +22,7 @@
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/fft.hpp"
+#include "gfmd/elastic/stress.hpp"
 
 namespace gfmd::testing {
 
@@ -151,6 +153,88 @@ inline double max_abs(const RealField& f) {
   double m = 0;
   for (double v : f) m = std::max(m, std::abs(v));
   return m;
+}
+
+inline double max_abs_diff(const RealField& a, const RealField& b) {
+  double d = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
+  return d;
+}
+
+// TOML text with the lines that set `keys` ("key = ..." at a line's start) taken out.
+inline std::string without_keys(const std::string& toml, const std::vector<std::string>& keys) {
+  std::string out;
+  for (std::size_t at = 0; at < toml.size();) {
+    const std::size_t end = std::min(toml.find('\n', at), toml.size());
+    const std::string line = toml.substr(at, end - at);
+    at = end + 1;
+    bool drop = false;
+    for (const std::string& k : keys) drop = drop || line.rfind(k + " =", 0) == 0;
+    if (!drop) out += line + "\n";
+  }
+  return out;
+}
+
+// An egg-crate (h0 = 0.005 L on a cell of side L = 1, 64^2) pressed into full contact at 0.2 E*,
+// the hard wall, Coulomb's set-valued law with mu_c = 0.3, tolerance 1e-10: a periodic surface in
+// full contact, whose slopes are exact, so a work balance closes to the solver's tolerance.
+// `elastic`, `indenter` and `friction` are further lines of those sections.
+inline std::string eggcrate_in_full_contact(const std::string& elastic, const std::string& indenter = "",
+                                            const std::string& friction = "") {
+  return "[grid]\nnx = 64\nlx = 1.0\n[elastic]\n" + elastic +
+         "[indenter]\ntype = \"eggcrate\"\namplitude = 0.005\n" + indenter +
+         "[load]\npressure = 0.2\n[interaction]\nmodel = \"hardwall\"\n[friction]\ncoefficient = 0.3\n" +
+         "reference = false\n" + friction + "[solver]\ntolerance = 1e-10\n[output]\nanalysis = false\n";
+}
+
+// Solves `toml` sliding (friction.creepage = 1) and rolling (0.002: part of the contact sticks),
+// with `sets`: in full contact the driving work balances the dissipation to 1e-6 and a
+// viscoelastic body's hysteresis from the fields and from the spectrum agree to 1e-9 (and is not
+// zero). Returns the two results.
+inline std::array<CaseResult, 2> expect_work_balances(const std::string& toml,
+                                                      std::vector<std::string> sets = {}) {
+  std::array<CaseResult, 2> out;
+  int i = 0;
+  for (const char* creepage : {"friction.creepage=1", "friction.creepage=0.002"}) {
+    std::vector<std::string> s = sets;
+    s.push_back(creepage);
+    CaseResult& r = out[static_cast<std::size_t>(i++)];
+    r = solve(toml, s);
+    const Observables& o = r.observables;
+    std::printf("%s: mu_total %.6g, mu_h %.6g, stick %.3f, balance %.1e (exact), %.1e (hysteresis)\n",
+                creepage, o.total_friction_coefficient, o.hysteresis_friction, o.stick_fraction,
+                o.energy_balance_error_exact, o.hysteresis_balance_error);
+    EXPECT_EQ(o.relative_contact_area, 1.0) << creepage;
+    EXPECT_LT(o.energy_balance_error_exact, 1e-6) << creepage;
+    if (o.viscoelastic) {
+      EXPECT_GT(o.hysteresis_friction, 1e-5) << creepage;
+      EXPECT_LT(o.hysteresis_balance_error, 1e-9) << creepage;
+    }
+  }
+  EXPECT_LT(out[0].observables.stick_fraction, 0.05) << "sliding";
+  EXPECT_GT(out[1].observables.stick_fraction, 0.05) << "rolling";
+  EXPECT_LT(out[1].observables.stick_fraction, 0.95) << "rolling";
+  return out;
+}
+
+// A solved case's surface sigma_xx (r.stress) against the plane at depth 0 computed from its
+// tractions (subsurface_stress, another code path), and Hooke's law on its solved displacement
+// (surface_stress of r.fields) against that plane: both as the largest difference over the
+// plane's largest |sigma_xx|. At depth 0 the two paths differ on the Nyquist lines only.
+struct AgainstPlane {
+  double output, hooke_on_solved;
+};
+inline AgainstPlane surface_stress_against_plane(const CaseResult& r) {
+  const FFT fft(r.config.grid);
+  const StressField below = subsurface_stress(fft, r.config.elastic, r.fields, 0.0, r.config.visco);
+  const StressField hooke = surface_stress(fft, r.config.elastic, r.fields);
+  const double top = max_abs(below.xx);
+  const AgainstPlane a{max_abs_diff(below.xx, r.stress.xx) / top, max_abs_diff(below.xx, hooke.xx) / top};
+  std::printf(
+      "surface sigma_xx against the tractions' plane at depth 0: %.2e (Hooke's law on the solved "
+      "displacement: %.2e)\n",
+      a.output, a.hooke_on_solved);
+  return a;
 }
 
 // Smooth band-limited random field: sum of a few Fourier modes with |k| <= kmax.

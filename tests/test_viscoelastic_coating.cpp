@@ -20,6 +20,8 @@
 #include "test_util.hpp"
 
 using namespace gfmd;
+using gfmd::testing::max_abs;
+using gfmd::testing::max_abs_diff;
 using gfmd::testing::solve;
 
 namespace {
@@ -54,17 +56,6 @@ tolerance = 1e-10
 analysis = false
 )";
 
-double max_abs(const RealField& a) {
-  double m = 0.0;
-  for (double v : a) m = std::max(m, std::abs(v));
-  return m;
-}
-double max_abs_diff(const RealField& a, const RealField& b) {
-  double d = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
-  return d;
-}
-
 }  // namespace
 
 // The transfer matrices with a complex modulus: for a single layer on a rigid base they are the
@@ -91,10 +82,8 @@ TEST(ViscoelasticCoating, ComplexTransferMatricesAreTheClosedFormTimesTheFactor)
 // At rest the coating is the elastic coated body, bit for bit.
 TEST(ViscoelasticCoating, AtRestItIsTheElasticCoating) {
   const CaseResult ve = solve(kCoated, {"friction.velocity=0"});
-  std::string plain(kCoated);
-  for (const char* k : {"viscoelastic = \"sls\"\n", "high_frequency_modulus = 10.0\n",
-                        "relaxation_time = 1.0\n", "velocity = 0.1\n"})
-    plain.erase(plain.find(k), std::string(k).size());
+  std::string plain = gfmd::testing::without_keys(
+      kCoated, {"viscoelastic", "high_frequency_modulus", "relaxation_time", "velocity"});
   const CaseResult el = solve(plain);
   EXPECT_EQ(ve.fields.pressure, el.fields.pressure);
   EXPECT_EQ(ve.observables.hysteresis_dissipation, 0.0);
@@ -106,9 +95,8 @@ TEST(ViscoelasticCoating, AtRestItIsTheElasticCoating) {
 // substrate's compliance is 1e-7 of the coating's), at the loss peak; the friction balances (1e-9).
 TEST(ViscoelasticCoating, ARigidSubstrateIsTheViscoelasticLayer) {
   const CaseResult coated = solve(kCoated, {"elastic.substrate_contact_modulus=1e7"});
-  std::string plain(kCoated);
-  for (const char* k : {"substrate_contact_modulus = 2.0\n", "substrate_poisson = 0.25\n"})
-    plain.erase(plain.find(k), std::string(k).size());
+  const std::string plain =
+      gfmd::testing::without_keys(kCoated, {"substrate_contact_modulus", "substrate_poisson"});
   const CaseResult layer = solve(plain);
   ASSERT_GT(layer.observables.hysteresis_friction, 1e-3);
   const double peak = max_abs(layer.fields.pressure);
@@ -134,47 +122,11 @@ TEST(ViscoelasticCoating, ItBalancesItsWork) {
   EXPECT_LT(soft.observables.hysteresis_balance_error, 1e-9);
   const CaseResult stiff = solve(kCoated, {"elastic.substrate_contact_modulus=1e7"});
   EXPECT_NE(soft.observables.hysteresis_friction, stiff.observables.hysteresis_friction);
-  const char* crate = R"(
-[grid]
-nx = 64
-lx = 1.0
-[elastic]
-contact_modulus = 1.0
-poisson = 0.3
-thickness = 0.1
-substrate_contact_modulus = 0.5
-substrate_poisson = 0.45
-layers = [{contact_modulus = 3.0, poisson = 0.2, thickness = 0.05}]
-viscoelastic = "sls"
-high_frequency_modulus = 10.0
-relaxation_time = 1.0
-[indenter]
-type = "eggcrate"
-amplitude = 0.005
-[load]
-pressure = 0.2
-[interaction]
-model = "hardwall"
-[friction]
-coefficient = 0.3
-velocity = 0.16
-reference = false
-[solver]
-tolerance = 1e-10
-[output]
-analysis = false
-)";
-  for (const char* creepage : {"friction.creepage=1", "friction.creepage=0.002"}) {
-    const CaseResult r = solve(crate, {creepage});
-    const Observables& o = r.observables;
-    std::printf("%s: mu_total %.6g, mu_h %.6g, stick %.3f, balance %.1e (exact), %.1e (hysteresis)\n",
-                creepage, o.total_friction_coefficient, o.hysteresis_friction, o.stick_fraction,
-                o.energy_balance_error_exact, o.hysteresis_balance_error);
-    ASSERT_EQ(o.relative_contact_area, 1.0);
-    EXPECT_GT(o.hysteresis_friction, 1e-5) << creepage;
-    EXPECT_LT(o.energy_balance_error_exact, 1e-6) << creepage;
-    EXPECT_LT(o.hysteresis_balance_error, 1e-9) << creepage;
-  }
+  gfmd::testing::expect_work_balances(gfmd::testing::eggcrate_in_full_contact(
+      "contact_modulus = 1.0\npoisson = 0.3\nthickness = 0.1\nsubstrate_contact_modulus = 0.5\n"
+      "substrate_poisson = 0.45\nlayers = [{contact_modulus = 3.0, poisson = 0.2, thickness = 0.05}]\n"
+      "viscoelastic = \"sls\"\nhigh_frequency_modulus = 10.0\nrelaxation_time = 1.0\n",
+      "", "velocity = 0.16\n"));
 }
 
 // The planes below a moving coating: their stresses come from the transfer matrices at each
@@ -184,9 +136,8 @@ analysis = false
 // layer at E(omega)) to 5e-3, the Nyquist lines apart.
 TEST(ViscoelasticCoating, ItsSubsurfacePlanesFollowEachModesModulus) {
   const CaseResult coated = solve(kCoated, {"elastic.substrate_contact_modulus=1e7"});
-  std::string plain(kCoated);
-  for (const char* k : {"substrate_contact_modulus = 2.0\n", "substrate_poisson = 0.25\n"})
-    plain.erase(plain.find(k), std::string(k).size());
+  const std::string plain =
+      gfmd::testing::without_keys(kCoated, {"substrate_contact_modulus", "substrate_poisson"});
   const CaseResult layer = solve(plain);
   const FFT fft(coated.config.grid);
   for (const double depth : {0.02, 0.05}) {
@@ -205,11 +156,7 @@ TEST(ViscoelasticCoating, ItsSubsurfacePlanesFollowEachModesModulus) {
   }
   const CaseResult soft = solve(kCoated, {"stress.depths=[0.0, 0.03]"});
   ASSERT_EQ(soft.subsurface.size(), 2u);
-  const StressField plane = subsurface_stress(fft, soft.config.elastic, soft.fields, 0.0, soft.config.visco);
-  const double top = max_abs(soft.stress.xx);
-  const double d = max_abs_diff(plane.xx, soft.stress.xx);
-  std::printf("soft substrate: the plane at depth 0 against the surface stress %.2e\n", d / top);
-  EXPECT_LT(d, 5e-3 * top);
+  EXPECT_LT(gfmd::testing::surface_stress_against_plane(soft).output, 5e-3);
   // The elastic planes (E0 everywhere) are not these: the coating's modulus matters.
   const StressField elastic = subsurface_stress(fft, soft.config.elastic, soft.fields, 0.03);
   const StressField visco = subsurface_stress(fft, soft.config.elastic, soft.fields, 0.03, soft.config.visco);
@@ -239,10 +186,8 @@ TEST(ViscoelasticCoating, ViscoelasticThroughoutIsTheElasticStackTimesTheFactor)
   const CaseResult all =
       solve(kCoated, {"elastic.substrate_contact_modulus=1", "elastic.substrate_poisson=0.3",
                       "elastic.viscoelastic_part=\"all\""});
-  std::string plain(kCoated);
-  for (const char* k :
-       {"substrate_contact_modulus = 2.0\n", "substrate_poisson = 0.25\n", "thickness = 0.05\n"})
-    plain.erase(plain.find(k), std::string(k).size());
+  const std::string plain =
+      gfmd::testing::without_keys(kCoated, {"substrate_contact_modulus", "substrate_poisson", "thickness"});
   const CaseResult half = solve(plain);
   EXPECT_LT(max_abs_diff(all.fields.pressure, half.fields.pressure), 1e-9 * max_abs(half.fields.pressure));
   EXPECT_NEAR(all.observables.hysteresis_friction / half.observables.hysteresis_friction, 1.0, 1e-8);
@@ -264,10 +209,8 @@ TEST(ViscoelasticCoating, AnElasticFilmOnAViscoelasticSubstrate) {
     return more;
   };
   const CaseResult thin = solve(kCoated, with({"elastic.thickness=2e-7", "elastic.contact_modulus=3"}));
-  std::string plain(kCoated);
-  for (const char* k :
-       {"substrate_contact_modulus = 2.0\n", "substrate_poisson = 0.25\n", "thickness = 0.05\n"})
-    plain.erase(plain.find(k), std::string(k).size());
+  const std::string plain =
+      gfmd::testing::without_keys(kCoated, {"substrate_contact_modulus", "substrate_poisson", "thickness"});
   const CaseResult half = solve(plain);
   std::printf("thin film: mu_h %.6g against the half-space's %.6g\n", thin.observables.hysteresis_friction,
               half.observables.hysteresis_friction);
@@ -279,58 +222,20 @@ TEST(ViscoelasticCoating, AnElasticFilmOnAViscoelasticSubstrate) {
   EXPECT_LT(film.observables.hysteresis_balance_error, 1e-9);
   ASSERT_EQ(film.subsurface.size(), 2u);
   const FFT fft(film.config.grid);
-  const StressField plane = subsurface_stress(fft, film.config.elastic, film.fields, 0.0, film.config.visco);
-  EXPECT_LT(max_abs_diff(plane.xx, film.stress.xx), 5e-3 * max_abs(film.stress.xx));
-  const char* crate = R"(
-[grid]
-nx = 64
-lx = 1.0
-[elastic]
-contact_modulus = 5.0
-poisson = 0.3
-thickness = 0.05
-substrate_contact_modulus = 1.0
-substrate_poisson = 0.45
-viscoelastic = "sls"
-viscoelastic_part = "substrate"
-high_frequency_modulus = 10.0
-relaxation_time = 1.0
-[indenter]
-type = "eggcrate"
-amplitude = 0.005
-[load]
-pressure = 0.2
-[interaction]
-model = "hardwall"
-[friction]
-coefficient = 0.3
-velocity = 0.16
-reference = false
-[solver]
-tolerance = 1e-10
-[output]
-analysis = false
-)";
-  for (const char* creepage : {"friction.creepage=1", "friction.creepage=0.002"}) {
-    const CaseResult r = solve(crate, {creepage});
-    const Observables& o = r.observables;
-    std::printf("film, %s: mu_h %.6g, stick %.3f, balance %.1e (exact), %.1e (hysteresis)\n", creepage,
-                o.hysteresis_friction, o.stick_fraction, o.energy_balance_error_exact,
-                o.hysteresis_balance_error);
-    ASSERT_EQ(o.relative_contact_area, 1.0);
-    EXPECT_GT(o.hysteresis_friction, 1e-5) << creepage;
-    EXPECT_LT(o.energy_balance_error_exact, 1e-6) << creepage;
-    EXPECT_LT(o.hysteresis_balance_error, 1e-9) << creepage;
-  }
+  EXPECT_LT(gfmd::testing::surface_stress_against_plane(film).output, 5e-3);
+  gfmd::testing::expect_work_balances(gfmd::testing::eggcrate_in_full_contact(
+      "contact_modulus = 5.0\npoisson = 0.3\nthickness = 0.05\nsubstrate_contact_modulus = 1.0\n"
+      "substrate_poisson = 0.45\nviscoelastic = \"sls\"\nviscoelastic_part = \"substrate\"\n"
+      "high_frequency_modulus = 10.0\nrelaxation_time = 1.0\n",
+      "", "velocity = 0.16\n"));
 }
 
 // The part's key is checked: a substrate part needs a substrate, the names are three, and the key
 // belongs to a viscoelastic body.
 TEST(ViscoelasticCoating, ThePartIsChecked) {
   using gfmd::testing::config_problem;
-  std::string homogeneous(kCoated);
-  for (const char* k : {"substrate_contact_modulus = 2.0\n", "substrate_poisson = 0.25\n"})
-    homogeneous.erase(homogeneous.find(k), std::string(k).size());
+  const std::string homogeneous =
+      gfmd::testing::without_keys(kCoated, {"substrate_contact_modulus", "substrate_poisson"});
   EXPECT_NE(config_problem(homogeneous, {"elastic.viscoelastic_part=\"substrate\""})
                 .find("elastic.viscoelastic_part"),
             std::string::npos);
