@@ -68,7 +68,7 @@ TEST(ViscoelasticCoating, ComplexTransferMatricesAreTheClosedFormTimesTheFactor)
       for (const std::complex<double> e :
            {std::complex<double>(1.0, 0.0), std::polar(3.0, 0.5), std::polar(7.0, 1.4)}) {
         const RotatedCompliance r = layered_compliance(q, layer);
-        const ComplexRotatedCompliance c = layered_compliance(q, layer, e, 1.0);
+        const ComplexRotatedCompliance c = layered_compliance(q, layer, {e, 1.0});
         const std::complex<double> f = 1.0 / e;
         const double scale = std::abs(f) * std::max({std::abs(r.c11), std::abs(r.c22), std::abs(r.c33)});
         EXPECT_LT(std::abs(c.c11 - f * r.c11), 1e-12 * scale) << nu << " " << q << " " << e;
@@ -175,7 +175,7 @@ TEST(ViscoelasticCoating, ViscoelasticThroughoutIsTheElasticStackTimesTheFactor)
   for (const double q : {0.5, 20.0, 300.0})
     for (const std::complex<double> e : {std::polar(2.0, 0.3), std::polar(9.0, 1.2)}) {
       const RotatedCompliance r = layered_compliance(q, stack);
-      const ComplexRotatedCompliance c = layered_compliance(q, stack, e, 0.5 * e, true);
+      const ComplexRotatedCompliance c = layered_compliance(q, stack, {e, 3.0 * e, 0.5 * e});
       const std::complex<double> f = 1.0 / e;
       const double scale = std::abs(f) * std::max({std::abs(r.c11), std::abs(r.c22), std::abs(r.c33)});
       EXPECT_LT(std::abs(c.c11 - f * r.c11), 1e-12 * scale) << q << " " << e;
@@ -253,4 +253,50 @@ TEST(ViscoelasticCoating, ThePartIsChecked) {
   const Config c = parse_config(kCoated, "t.toml", {"elastic.viscoelastic_part=\"substrate\""});
   EXPECT_EQ(c.to_json()["elastic"]["viscoelastic_part"], "substrate");
   EXPECT_FALSE(parse_config(kCoated, "t.toml").to_json()["elastic"].contains("viscoelastic_part"));
+}
+
+// elastic.viscoelastic_part = "layers[0]": a viscoelastic interlayer (E0* = 1, E_inf* = 10,
+// h = 0.05 R) between an elastic film and an elastic substrate (E2* = 2). Under a film 2e-7 R
+// thin it is the viscoelastic coating on that substrate (the "top" part, another path): the
+// hysteresis friction to 1e-4; under a film of E* = 5, h = 0.01 R it balances its work on an
+// egg-crate sliding and rolling, its surface stress is the plane's at depth 0 (the film's Hooke's
+// law, 5e-3, the Nyquist lines apart), and its planes are given; the layer's index is checked.
+TEST(ViscoelasticCoating, AViscoelasticInterlayer) {
+  const auto interlayer = [](const std::string& film_modulus, const std::string& film_thickness) {
+    return std::vector<std::string>{
+        "elastic.contact_modulus=" + film_modulus, "elastic.thickness=" + film_thickness,
+        "elastic.layers=[{contact_modulus = 1.0, poisson = 0.3, thickness = 0.05}]",
+        "elastic.viscoelastic_part=\"layers[0]\""};
+  };
+  const CaseResult thin = solve(kCoated, interlayer("5", "2e-7"));
+  const CaseResult top = solve(kCoated);
+  std::printf("under a 2e-7 R film: mu_h %.7g against the coating's %.7g\n",
+              thin.observables.hysteresis_friction, top.observables.hysteresis_friction);
+  EXPECT_NEAR(thin.observables.hysteresis_friction / top.observables.hysteresis_friction, 1.0, 1e-4);
+  std::vector<std::string> planes = interlayer("5", "0.01");
+  planes.push_back("stress.depths=[0.0, 0.03]");
+  const CaseResult film = solve(kCoated, planes);
+  EXPECT_GT(film.observables.hysteresis_friction, 1e-3);
+  EXPECT_LT(film.observables.hysteresis_balance_error, 1e-9);
+  EXPECT_EQ(film.subsurface.size(), 2u);
+  EXPECT_LT(gfmd::testing::surface_stress_against_plane(film).output, 5e-3);
+  gfmd::testing::expect_work_balances(gfmd::testing::eggcrate_in_full_contact(
+      "contact_modulus = 5.0\npoisson = 0.3\nthickness = 0.01\nsubstrate_contact_modulus = 2.0\n"
+      "substrate_poisson = 0.45\nlayers = [{contact_modulus = 1.0, poisson = 0.3, thickness = 0.05}]\n"
+      "viscoelastic = \"sls\"\nviscoelastic_part = \"layers[0]\"\nhigh_frequency_modulus = 10.0\n"
+      "relaxation_time = 1.0\n",
+      "", "velocity = 0.16\n"));
+  using gfmd::testing::config_problem;
+  std::vector<std::string> beyond = interlayer("5", "0.01");
+  beyond.back() = "elastic.viscoelastic_part=\"layers[1]\"";
+  EXPECT_NE(config_problem(kCoated, beyond).find("elastic.viscoelastic_part"), std::string::npos);
+  std::vector<std::string> bad = interlayer("5", "0.01");
+  bad.back() = "elastic.viscoelastic_part=\"layers[x]\"";
+  EXPECT_NE(config_problem(kCoated, bad).find("elastic.viscoelastic_part"), std::string::npos);
+  const Config c = parse_config(kCoated, "t.toml", interlayer("5", "0.01"));
+  EXPECT_EQ(c.to_json()["elastic"]["viscoelastic_part"], "layers[0]");
+  // The layer's modulus is the relaxed one the glassy modulus must exceed.
+  std::vector<std::string> soft = interlayer("5", "0.01");
+  soft[2] = "elastic.layers=[{contact_modulus = 20.0, poisson = 0.3, thickness = 0.05}]";
+  EXPECT_NE(config_problem(kCoated, soft).find("high_frequency_modulus"), std::string::npos);
 }

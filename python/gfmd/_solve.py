@@ -73,7 +73,8 @@ class ViscoelasticBody(ElasticBody):
     master_curve (a file of omega, E', E''; its first E' is E0) with an optional temperature shift
     (shift = the [elastic] keys: temperature, reference_temperature, wlf_c1, wlf_c2 or
     activation_temperature). Poisson's ratio is constant. On a layered body part= says which part
-    is viscoelastic: "top" (the default), "substrate" (a hard coating on a polymer) or "all". The
+    is viscoelastic: "top" (the default), "layers[i]", "substrate" (a hard coating on a polymer)
+    or "all". The
     sliding speed is the solve's velocity= (length per time unit of tau):
 
         body = gfmd.ViscoelasticBody(poisson=0.5, high_frequency_modulus=10.0, relaxation_time=1.0)
@@ -88,8 +89,9 @@ class ViscoelasticBody(ElasticBody):
     master_curve: Optional[str] = None  # a file of omega, E', E'' (elastic.master_curve); sets contact_modulus
     shift: Optional[dict] = None  # the master curve's temperature shift: the [elastic] keys, e.g.
     # {"temperature": 30, "reference_temperature": 20, "wlf_c1": 8.86, "wlf_c2": 101.6}
-    part: str = "top"  # of a layered body: "top" (the top layer), "substrate" (its relaxed modulus is
-    # substrate_contact_modulus; the layers above elastic) or "all" (elastic.viscoelastic_part)
+    part: str = "top"  # of a layered body: "top" (the top layer), "layers[i]" (a layer beneath it, its
+    # modulus the relaxed one), "substrate" (its relaxed modulus is substrate_contact_modulus; the
+    # layers above elastic) or "all" (elastic.viscoelastic_part)
 
     def __post_init__(self):
         super().__post_init__()

@@ -1,6 +1,7 @@
 // The physics sections of a case file: [elastic] (with a viscoelastic body's keys),
 // [friction] and [interaction], each read into the Config and checked key by key (private to
 // the config part; src/case/config.cpp runs them in order).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -98,6 +99,16 @@ void read_master_curve(Section& el, ViscoelasticParams& v, const std::string& ba
   }
 }
 
+// "layers[i]" (i a decimal index below 1000) -> i, else -1.
+int layer_index(const std::string& s) {
+  if (s.size() < 9 || s.rfind("layers[", 0) != 0 || s.back() != ']') return -1;
+  const std::string digits = s.substr(7, s.size() - 8);
+  if (digits.empty() || digits.size() > 3 ||
+      !std::all_of(digits.begin(), digits.end(), [](char ch) { return ch >= '0' && ch <= '9'; }))
+    return -1;
+  return std::stoi(digits);
+}
+
 // elastic.viscoelastic and its keys (the relaxed modulus is elastic.contact_modulus).
 void read_viscoelastic(Section& el, ViscoelasticParams& v, const std::string& base_dir) {
   using Model = ViscoelasticParams::Model;
@@ -136,8 +147,13 @@ void read_viscoelastic(Section& el, ViscoelasticParams& v, const std::string& ba
       v.part = ViscoelasticParams::Part::Substrate;
     else if (part == "all")
       v.part = ViscoelasticParams::Part::All;
-    else if (part != "top")
-      el.error("viscoelastic_part", "must be \"top\", \"substrate\" or \"all\", got \"" + part + "\"");
+    else if (const int i = layer_index(part); i >= 0) {
+      v.part = ViscoelasticParams::Part::Layer;
+      v.layer = i;
+    } else if (part != "top")
+      el.error("viscoelastic_part",
+               "must be \"top\", \"layers[i]\" (a layer beneath it), \"substrate\" or \"all\", got \"" +
+                   part + "\"");
   }
 }
 
@@ -217,8 +233,9 @@ void read_elastic(Section& el, Config& c, const std::string& base_dir) {
   c.elastic.coupling = el.boolean("coupling", true);
   read_body_stack(el, c.elastic);
   read_viscoelastic(el, c.visco, base_dir);
+  using Part = ViscoelasticParams::Part;
   if (c.visco.model == ViscoelasticParams::Model::MasterCurve && c.visco.master_relaxed_modulus() > 0 &&
-      c.visco.part != ViscoelasticParams::Part::Substrate) {
+      (c.visco.part == Part::Top || c.visco.part == Part::All)) {
     // The table's relaxed modulus is the body's E0* (the unit of pressures). (A viscoelastic
     // substrate's is substrate_contact_modulus, given and checked against the table.)
     const double e0 = c.visco.master_relaxed_modulus();
@@ -228,8 +245,11 @@ void read_elastic(Section& el, Config& c, const std::string& base_dir) {
     c.elastic.contact_modulus = c.visco.master_relaxed_modulus();
   }
   el.finish();
-  if (c.visco.part == ViscoelasticParams::Part::Substrate && !c.elastic.on_substrate())
+  if (c.visco.part == Part::Substrate && !c.elastic.on_substrate())
     el.error("viscoelastic_part", "\"substrate\" needs an elastic substrate (substrate_contact_modulus)");
+  else if (c.visco.part == Part::Layer && static_cast<std::size_t>(c.visco.layer) >= c.elastic.layers.size())
+    el.error("viscoelastic_part", "names layers[" + std::to_string(c.visco.layer) +
+                                      "], but elastic.layers has " + std::to_string(c.elastic.layers.size()));
   else
     el.check([&] { c.visco.validate(relaxed_modulus(c.elastic, c.visco)); });  // its speed is [friction]'s
 }

@@ -137,13 +137,15 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
   if (visco_.enabled() && visco_.part == ViscoelasticParams::Part::Substrate && !params_.on_substrate())
     throw ParameterError("viscoelastic_part",
                          "\"substrate\" needs an elastic substrate (substrate_contact_modulus)");
+  if (visco_.enabled() && visco_.part == ViscoelasticParams::Part::Layer &&
+      !(visco_.layer >= 0 && static_cast<std::size_t>(visco_.layer) < params_.layers.size()))
+    throw ParameterError("viscoelastic_part", "names a layer the body does not have (elastic.layers)");
   visco_.validate(relaxed_modulus(params_, visco_));
   if (indenter) {
     indenter->validate();
     indenter_ = *indenter;
     own_.resize(modes_.size());
   }
-  const double es = params_.contact_modulus;
   const int nxh = grid.nxh();
   // The rows of the half spectrum held here (all of them unless the grid is a slab).
   for_rows(grid.rows(), [&](int row) {
@@ -203,12 +205,9 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
   if (visco_.enabled()) response_ = viscoelastic_factors(grid, visco_, relaxed_modulus(params_, visco_));
   if (visco_.enabled() && visco_.velocity != 0.0 && params_.layered() &&
       visco_.part != ViscoelasticParams::Part::All) {
-    // A viscoelastic top layer over elastic layers or a substrate, or a viscoelastic substrate
-    // under elastic layers: no common factor; each mode's compliance from the transfer matrices
-    // with that part's E(omega) = E0 / c. (Viscoelastic throughout, every modulus has the one
-    // ratio: the factor path.)
-    const bool top_part = visco_.part == ViscoelasticParams::Part::Top;
-    const double es2 = params_.substrate_contact_modulus;
+    // One viscoelastic part (the top layer, a layer or the substrate) among elastic ones: no common
+    // factor; each mode's compliance from the transfer matrices with that part's E(omega) = E0 / c.
+    // (Viscoelastic throughout, every modulus has the one ratio: the factor path.)
     layered_response_.resize(modes_.size());
     const std::vector<ComplianceMode>& own = own_.empty() ? modes_ : own_;
     for_rows(grid.rows(), [&](int row) {
@@ -221,8 +220,8 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
           layered_response_[k] = {o.cxx, o.cyy, o.cxy, o.czz, o.cxz, o.cyz};
           continue;
         }
-        const ComplexRotatedCompliance r = layered_compliance(
-            q, params_, top_part ? es / response_[k] : cplx(es), top_part ? cplx(es2) : es2 / response_[k]);
+        const ComplexRotatedCompliance r =
+            layered_compliance(q, params_, stack_moduli(params_, visco_, response_[k]));
         const double c = qx / q, s = qy / q;
         const bool nyq_x = grid.nx % 2 == 0 && ikx == grid.nx / 2,
                    nyq_y = grid.ny % 2 == 0 && iky == grid.ny / 2;

@@ -130,24 +130,26 @@ struct StackT {
 };
 using Stack = StackT<double>;
 
-// The stack of `el` with its top layer's modulus `top` and its substrate's `sub` (el's, or
-// complex ones); scale_layers: the layers between them times top / el.contact_modulus.
+// The stack of `el` with each material's E* given (T = cplx: complex moduli at one frequency) in
+// the order top layer, layers top to bottom, substrate (ignored on a rigid base).
 template <class T>
-StackT<T> stack_of(const ElasticParams& el, T top, T sub, bool scale_layers = false) {
+StackT<T> stack_of(const ElasticParams& el, const T* moduli) {
   StackT<T> s;
-  s.mats.push_back(material(top, el.poisson));
+  s.mats.push_back(material(moduli[0], el.poisson));
   s.thick.push_back(el.thickness);
-  const T ratio = scale_layers ? T(top / el.contact_modulus) : T(1.0);
-  for (const ElasticLayer& l : el.layers) {
-    s.mats.push_back(material(scale_layers ? T(l.contact_modulus * ratio) : T(l.contact_modulus), l.poisson));
-    s.thick.push_back(l.thickness);
+  for (std::size_t i = 0; i < el.layers.size(); ++i) {
+    s.mats.push_back(material(moduli[i + 1], el.layers[i].poisson));
+    s.thick.push_back(el.layers[i].thickness);
   }
   s.substrate = el.on_substrate();
-  if (s.substrate) s.base = material(sub, el.substrate_poisson);
+  if (s.substrate) s.base = material(moduli[el.layers.size() + 1], el.substrate_poisson);
   return s;
 }
 Stack stack_of(const ElasticParams& el) {
-  return stack_of(el, el.contact_modulus, el.substrate_contact_modulus);
+  std::vector<double> m{el.contact_modulus};
+  for (const ElasticLayer& l : el.layers) m.push_back(l.contact_modulus);
+  m.push_back(el.substrate_contact_modulus);
+  return stack_of(el, m.data());
 }
 
 }  // namespace
@@ -243,10 +245,9 @@ RotatedCompliance layered_compliance(double q, const ElasticParams& el) {
   return {c[0], c[1], c[2], c[3]};
 }
 
-ComplexRotatedCompliance layered_compliance(double q, const ElasticParams& el, cplx top_modulus,
-                                            cplx substrate_modulus, bool scale_layers) {
-  const std::array<cplx, 4> c =
-      surface_compliance(q, stack_of(el, top_modulus, substrate_modulus, scale_layers));
+ComplexRotatedCompliance layered_compliance(double q, const ElasticParams& el,
+                                            const std::vector<cplx>& moduli) {
+  const std::array<cplx, 4> c = surface_compliance(q, stack_of(el, moduli.data()));
   return {c[0], c[1], c[2], c[3]};
 }
 
@@ -344,11 +345,27 @@ ModeResponse layered_mode_response(double q, double depth, const ElasticParams& 
   return plane_response(s, q, p);
 }
 
-ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el, cplx top_modulus,
-                                   cplx substrate_modulus, bool scale_layers) {
+ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el,
+                                   const std::vector<cplx>& moduli) {
   if (q == 0.0) return layered_mode_response(q, depth, el);  // steady: elastic
-  const StackT<cplx> s = stack_of(el, top_modulus, substrate_modulus, scale_layers);
+  const StackT<cplx> s = stack_of(el, moduli.data());
   return plane_response(s, q, place_of(s, depth));
+}
+
+std::vector<cplx> stack_moduli(const ElasticParams& el, const ViscoelasticParams& v, cplx c) {
+  using Part = ViscoelasticParams::Part;
+  std::vector<cplx> m{el.contact_modulus};
+  for (const ElasticLayer& l : el.layers) m.emplace_back(l.contact_modulus);
+  m.emplace_back(el.substrate_contact_modulus);
+  if (v.part == Part::All) {
+    for (cplx& e : m) e /= c;
+  } else {
+    const std::size_t i = v.part == Part::Top         ? 0
+                          : v.part == Part::Substrate ? m.size() - 1
+                                                      : static_cast<std::size_t>(v.layer) + 1;
+    m[i] /= c;
+  }
+  return m;
 }
 
 double layered_mean_normal_compliance(const ElasticParams& el) {

@@ -189,7 +189,7 @@ StressField traction_stress(const FFT& fft, const ElasticParams& el, const Conta
   // the top layer (at each mode's E(omega) = E0 / c if it is the viscoelastic part).
   const ElasticBody body(fft.grid(), el, visco);
   const StressField elastic_top = stress_of_tractions(fft, body, st);  // fills st.ux, st.uy
-  if (visco.part == Part::Substrate) return elastic_top;
+  if (visco.part != Part::Top) return elastic_top;  // an elastic top layer over the viscoelastic part
   std::vector<cplx> modulus(body.modes().size());
   for (std::size_t k = 0; k < modulus.size(); ++k) modulus[k] = 1.0 / body.response(k);
   return surface_stress_scaled(fft, el, st, modulus.data());

@@ -46,11 +46,11 @@ void to_lab(const ModeResponse& r, double c, double s, cplx tx, cplx ty, cplx tz
 }
 
 // Spectral evaluation of the response on the whole grid; sig (6 spectra) and/or u (3).
-// top, sub: each mode's complex top-layer and substrate moduli of a layered viscoelastic body
+// visco, factors: a layered body with one viscoelastic part in motion and its per-mode factors c
 // (null: elastic).
 void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFields& f, double depth,
-                        std::array<SpecField, 6>* sig, std::array<SpecField, 3>* u, const cplx* top = nullptr,
-                        const cplx* sub = nullptr) {
+                        std::array<SpecField, 6>* sig, std::array<SpecField, 3>* u,
+                        const ViscoelasticParams* visco = nullptr, const cplx* factors = nullptr) {
   el.validate();
   check_depth(el, depth);
   const Grid& g = fft.grid();
@@ -80,8 +80,9 @@ void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFi
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
       const double qx = g.qx(ikx), qy = g.qy(iky), q = std::hypot(qx, qy);
-      const ModeResponse r =
-          top ? layered_mode_response(q, depth, el, top[k], sub[k]) : mode_response(q, depth, el);
+      const ModeResponse r = factors
+                                 ? layered_mode_response(q, depth, el, stack_moduli(el, *visco, factors[k]))
+                                 : mode_response(q, depth, el);
       const double c = q > 0 ? qx / q : 1.0, s = q > 0 ? qy / q : 0.0;
       const cplx tx = has_tx ? TX[k] : cplx(0.0), ty = has_ty ? TY[k] : cplx(0.0), tzk = TZ[k];
       // On a Nyquist line the mode q and its mirror are the same mode: keep the part of
@@ -162,10 +163,7 @@ StressField subsurface_stress(const FFT& fft, const ElasticParams& el, const Con
     // (Viscoelastic throughout, every modulus has one ratio: the stresses from tractions are the
     // elastic ones.)
     const std::vector<cplx> c = viscoelastic_factors(fft.grid(), visco, relaxed_modulus(el, visco));
-    std::vector<cplx> top(c.size(), el.contact_modulus), sub(c.size(), el.substrate_contact_modulus);
-    std::vector<cplx>& part = visco.part == Part::Top ? top : sub;
-    for (std::size_t k = 0; k < c.size(); ++k) part[k] /= c[k];
-    subsurface_spectra(fft, el, f, depth, &sig, nullptr, top.data(), sub.data());
+    subsurface_spectra(fft, el, f, depth, &sig, nullptr, &visco, c.data());
   } else {
     subsurface_spectra(fft, el, f, depth, &sig, nullptr);
   }

@@ -29,12 +29,20 @@ const char* viscoelastic_model_name(ViscoelasticParams::Model m) {
   return "none";
 }
 
+std::string ViscoelasticParams::relaxed_key() const {
+  if (part == Part::Substrate) return "substrate_contact_modulus";
+  if (part == Part::Layer) return "layers[" + std::to_string(layer) + "].contact_modulus";
+  return "contact_modulus";
+}
+
 const char* viscoelastic_part_name(ViscoelasticParams::Part p) {
   switch (p) {
     case ViscoelasticParams::Part::Substrate:
       return "substrate";
     case ViscoelasticParams::Part::All:
       return "all";
+    case ViscoelasticParams::Part::Layer:
+      return "layers[i]";
     case ViscoelasticParams::Part::Top:
       break;
   }
@@ -150,8 +158,7 @@ void ViscoelasticParams::validate(double relaxed_modulus) const {
       throw ParameterError("high_frequency_modulus",
                            std::string("the glassy modulus E_inf must be finite and at least the relaxed one "
                                        "(elastic.") +
-                               (part == Part::Substrate ? "substrate_contact_modulus" : "contact_modulus") +
-                               ")");
+                               relaxed_key() + ")");
     if (!(relaxation_time > 0) || !std::isfinite(relaxation_time))
       throw ParameterError("relaxation_time", "must be a positive finite time");
   } else if (model == Model::MasterCurve) {
@@ -166,7 +173,7 @@ void ViscoelasticParams::validate(double relaxed_modulus) const {
     if (!(shift_factor > 0) || !std::isfinite(shift_factor))
       throw ParameterError("temperature", "the shift factor a_T must be positive and finite");
     if (std::abs(relaxed_modulus - master_relaxed_modulus()) > 1e-12 * master_relaxed_modulus())
-      throw ParameterError(part == Part::Substrate ? "substrate_contact_modulus" : "contact_modulus",
+      throw ParameterError(relaxed_key(),
                            "must be the master curve's relaxed modulus, its first storage modulus");
   } else {
     if (prony_moduli.empty()) throw ParameterError("prony_moduli", "must list at least one modulus");

@@ -190,3 +190,14 @@ def test_a_hard_film_on_a_viscoelastic_substrate():
     with pytest.raises(gfmd.InputError, match="viscoelastic_part"):
         gfmd.solve(top, gfmd.ViscoelasticBody(poisson=0.3, high_frequency_modulus=10.0, relaxation_time=1.0,
                                               part="substrate"), **run)
+
+
+def test_a_viscoelastic_interlayer():
+    # part="layers[0]": a viscoelastic interlayer (E0* = 1, h = 0.05 R) under an elastic film
+    # (E* = 5, h = 0.01 R) on an elastic substrate: the hysteresis is the interlayer's.
+    top = gfmd.Topography.hertz(nx=64, lx=2.0, radius=1.0)
+    body = gfmd.ViscoelasticBody(contact_modulus=5.0, poisson=0.3, thickness=0.01, layers=((1.0, 0.3, 0.05),),
+                                 substrate_contact_modulus=2.0, substrate_poisson=0.25,
+                                 high_frequency_modulus=10.0, relaxation_time=1.0, part="layers[0]")
+    r = gfmd.solve(top, body, force=0.005, velocity=0.1, interaction="hardwall", tolerance=1e-10).summary
+    assert r["converged"] and r["hysteresis_friction"] > 1e-3 and r["hysteresis_balance_error"] < 1e-9

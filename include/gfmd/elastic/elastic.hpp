@@ -71,10 +71,14 @@ inline ElasticParams homogeneous_body(double contact_modulus, double poisson,
   return e;
 }
 
-// The relaxed modulus E0 of the part of `e` that `v` makes viscoelastic (its top layer's, or its
-// substrate's with viscoelastic_part = "substrate").
+// The relaxed modulus E0 of the part of `e` that `v` makes viscoelastic (its top layer's, a
+// layer's or its substrate's).
 [[nodiscard]] inline double relaxed_modulus(const ElasticParams& e, const ViscoelasticParams& v) {
-  return v.part == ViscoelasticParams::Part::Substrate ? e.substrate_contact_modulus : e.contact_modulus;
+  if (v.part == ViscoelasticParams::Part::Substrate) return e.substrate_contact_modulus;
+  if (v.part == ViscoelasticParams::Part::Layer && v.layer >= 0 &&
+      static_cast<std::size_t>(v.layer) < e.layers.size())
+    return e.layers[static_cast<std::size_t>(v.layer)].contact_modulus;
+  return e.contact_modulus;
 }
 
 // Dimensionless Phi in the frame where q points along axis 1 (SPEC §2):

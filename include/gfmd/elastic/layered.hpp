@@ -7,6 +7,8 @@
 // overflow is needed for any q h.
 #pragma once
 
+#include <vector>
+
 #include "gfmd/elastic/elastic.hpp"
 #include "gfmd/elastic/stress.hpp"
 
@@ -30,23 +32,25 @@ struct RotatedCompliance {
 // in-plane stresses, which jump there). At depth 0 the displacement is layered_compliance.
 [[nodiscard]] ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el);
 
-// The same with the top layer's E* complex (a viscoelastic top layer at one frequency, E(omega)
-// by the correspondence principle, nu constant):
+// The same with each material's E* complex (a viscoelastic part at one frequency, E(omega) by the
+// correspondence principle, nu constant), `moduli` in the order top layer, layers top to bottom,
+// substrate (its entry ignored on a rigid base; stack_moduli gives them):
 // u1 = c11 t1 + i c13 t3, u2 = c22 t2, u3 = -i c13 t1 + c33 t3 with complex entries.
 struct ComplexRotatedCompliance {
   cplx c11, c22, c33, c13;
 };
-// The substrate's E* may be complex too (substrate_modulus; ignored on a rigid base), and with
-// scale_layers the layers between them take the top's ratio top_modulus / contact_modulus (a body
-// viscoelastic throughout).
-[[nodiscard]] ComplexRotatedCompliance layered_compliance(double q, const ElasticParams& el, cplx top_modulus,
-                                                          cplx substrate_modulus, bool scale_layers = false);
+[[nodiscard]] ComplexRotatedCompliance layered_compliance(double q, const ElasticParams& el,
+                                                          const std::vector<cplx>& moduli);
 
-// layered_mode_response with the top layer's E* complex (as layered_compliance's overload); at
+// layered_mode_response with each material's E* complex (as layered_compliance's overload); at
 // q = 0 the elastic one.
 [[nodiscard]] ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el,
-                                                 cplx top_modulus, cplx substrate_modulus,
-                                                 bool scale_layers = false);
+                                                 const std::vector<cplx>& moduli);
+
+// Each material's E* (top, layers, substrate) of `el` at a mode whose response factor is c =
+// E0/E(omega): the part `v` makes viscoelastic has E0_part / c (every material for "all"), the
+// others their own.
+[[nodiscard]] std::vector<cplx> stack_moduli(const ElasticParams& el, const ViscoelasticParams& v, cplx c);
 
 // The q = 0 compliances of a layered body: zero on a half-space substrate (its mean
 // displacement is pinned as a half-space's is), else the sums over the layers of

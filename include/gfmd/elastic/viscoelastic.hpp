@@ -43,18 +43,22 @@ struct ViscoelasticParams {
   std::string curve_file;
   std::vector<std::pair<std::string, double>> shift_keys;
   // Which part of a layered body is viscoelastic (elastic.viscoelastic_part): the top layer (its
-  // contact_modulus the relaxed E0), the substrate (substrate_contact_modulus the relaxed E0; the
-  // layers above it elastic: a hard coating on a polymer), or all of it (every layer's and the
-  // substrate's modulus times the one ratio E(omega)/E0 of the top layer's). A homogeneous body is
-  // its top layer.
-  enum class Part { Top, Substrate, All };
+  // contact_modulus the relaxed E0), one of the layers beneath it ("layers[i]": its
+  // contact_modulus the relaxed E0; an adhesive interlayer), the substrate
+  // (substrate_contact_modulus the relaxed E0: a hard coating on a polymer), or all of it (every
+  // layer's and the substrate's modulus times the one ratio E(omega)/E0 of the top layer's). The
+  // other parts stay elastic. A homogeneous body is its top layer.
+  enum class Part { Top, Layer, Substrate, All };
   Part part = Part::Top;
+  int layer = 0;  // with Part::Layer: its index in ElasticParams::layers
   // Sliding speed v0 (length per time unit of tau) and direction (degrees from +x; the
   // friction's sliding direction).
   double velocity = 0.0;
   double direction_deg = 0.0;
 
   [[nodiscard]] bool enabled() const { return model != Model::None; }
+  // The key of the relaxed modulus E0 (its part's contact_modulus), as errors name it.
+  [[nodiscard]] std::string relaxed_key() const;
   [[nodiscard]] double master_relaxed_modulus() const {
     return curve_storage.empty() ? 0.0 : curve_storage.front();
   }
