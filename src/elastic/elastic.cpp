@@ -123,6 +123,22 @@ std::pair<double, double> mean_compliances(const ElasticParams& p) {
   return {p.thickness * (1.0 - 2.0 * nu) / (om * om * p.contact_modulus), p.thickness / p.shear_modulus()};
 }
 
+// A rotated compliance (real or complex entries) in lab axes, (c, s) = q/|q|. The uncoupled
+// reference drops the cross-compliance (C'13 = i c13) and keeps the direct ones, so a frictionless
+// solve is the same with and without coupling. On the Nyquist lines the odd parts (xy, xz, yz)
+// have no consistent sign (q and -q are the same mode there), so they are dropped like derivatives.
+template <class Mode, class Rotated>
+Mode to_lab(const Rotated& r, double c, double s, bool nyq_x, bool nyq_y, bool coupling) {
+  using T = decltype(r.c11);
+  const T zero(0.0), c13 = coupling ? r.c13 : zero;
+  return {c * c * r.c11 + s * s * r.c22,
+          s * s * r.c11 + c * c * r.c22,
+          (nyq_x || nyq_y) ? zero : c * s * (r.c11 - r.c22),
+          r.c33,
+          nyq_x ? zero : c * c13,
+          nyq_y ? zero : s * c13};
+}
+
 // The pair's relative compliance u_body - u_indenter: the indenter's surface faces the other
 // way (its z and its traction reversed), so its direct terms add and its coupling subtracts.
 RotatedCompliance relative(const RotatedCompliance& body, const RotatedCompliance& indenter) {
@@ -160,22 +176,10 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
         continue;
       }
       const double c = qx / q, s = qy / q;
-      // On the Nyquist lines the odd parts (xy, xz, yz) have no consistent sign
-      // (q and -q are the same mode there), so they are dropped like derivatives.
       const bool nyq_x = grid.nx % 2 == 0 && ikx == grid.nx / 2,
                  nyq_y = grid.ny % 2 == 0 && iky == grid.ny / 2;
       const auto lab = [&](const RotatedCompliance& r) {
-        // Uncoupled reference: the cross-compliance is dropped, the direct ones are kept,
-        // so a frictionless solve is the same with and without coupling.
-        const double c13 = params_.coupling ? r.c13 : 0.0;  // C'13 = i * c13
-        ComplianceMode m;
-        m.cxx = c * c * r.c11 + s * s * r.c22;
-        m.cyy = s * s * r.c11 + c * c * r.c22;
-        m.czz = r.c33;
-        m.cxy = (nyq_x || nyq_y) ? 0.0 : c * s * (r.c11 - r.c22);
-        m.cxz = nyq_x ? 0.0 : c * c13;
-        m.cyz = nyq_y ? 0.0 : s * c13;
-        return m;
+        return to_lab<ComplianceMode>(r, c, s, nyq_x, nyq_y, params_.coupling);
       };
       const RotatedCompliance own = rotated_compliance(q, params_);
       if (indenter) {
@@ -222,16 +226,8 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
         }
         const ComplexRotatedCompliance r =
             layered_compliance(q, params_, stack_moduli(params_, visco_, response_[k]));
-        const double c = qx / q, s = qy / q;
-        const bool nyq_x = grid.nx % 2 == 0 && ikx == grid.nx / 2,
-                   nyq_y = grid.ny % 2 == 0 && iky == grid.ny / 2;
-        const cplx c13 = params_.coupling ? r.c13 : cplx(0.0);
-        layered_response_[k] = {c * c * r.c11 + s * s * r.c22,
-                                s * s * r.c11 + c * c * r.c22,
-                                (nyq_x || nyq_y) ? cplx(0.0) : c * s * (r.c11 - r.c22),
-                                r.c33,
-                                nyq_x ? cplx(0.0) : c * c13,
-                                nyq_y ? cplx(0.0) : s * c13};
+        layered_response_[k] = to_lab<ResponseMode>(r, qx / q, qy / q, grid.nx % 2 == 0 && ikx == grid.nx / 2,
+                                                    grid.ny % 2 == 0 && iky == grid.ny / 2, params_.coupling);
       }
     });
   }
@@ -344,15 +340,14 @@ void ElasticBody::displacement(const cplx* tx, const cplx* ty, const cplx* tz, c
                z = tz ? scale_z * tz[k] : cplx(0.0);
     if (moving) {  // the complex response of a viscoelastic body in motion
       const auto kk = static_cast<std::size_t>(k);
+      const ResponseMode r = response_mode(kk);
       if (ux || uy) {
-        const auto u = inplane(slip_response(kk), x, y, z);
+        // The slip's response is this one but under a sliding elastic indenter (slip_response).
+        const auto u = inplane(own_.empty() || roll_both_ ? r : own_response(kk), x, y, z);
         if (ux) ux[k] = u[0];
         if (uy) uy[k] = u[1];
       }
-      if (uz) {
-        const ResponseMode r = response_mode(kk);
-        uz[k] = r.czz * z - times_i(r.cxz, x) - times_i(r.cyz, y);
-      }
+      if (uz) uz[k] = r.czz * z - times_i(r.cxz, x) - times_i(r.cyz, y);
       return;
     }
     if (ux || uy) {

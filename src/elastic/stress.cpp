@@ -139,9 +139,8 @@ StressField paper_post_analysis_stress(const FFT& fft, const ElasticParams& el,
 }
 
 namespace {
-// surface_stress of the state with the tractions of st (tx, ty and -pressure) and the body's
-// displacement from them.
-StressField stress_of_tractions(const FFT& fft, const ElasticBody& body, ContactFields& st) {
+// st.ux, st.uy, st.uz: the body's displacement from the tractions of st (tx, ty and -pressure).
+void displace_by_tractions(const FFT& fft, const ElasticBody& body, ContactFields& st) {
   const std::size_t n = fft.grid().local_size();
   const bool has_tx = present(st.tx, fft.grid(), "tx"), has_ty = present(st.ty, fft.grid(), "ty");
   RealField tz = fft.real_field();
@@ -165,6 +164,11 @@ StressField stress_of_tractions(const FFT& fft, const ElasticBody& body, Contact
   fft.backward(UX.data(), st.ux.data());
   fft.backward(UY.data(), st.uy.data());
   fft.backward(UZ.data(), st.uz.data());
+}
+
+// surface_stress of the state with the tractions of st and the body's displacement from them.
+StressField stress_of_tractions(const FFT& fft, const ElasticBody& body, ContactFields& st) {
+  displace_by_tractions(fft, body, st);
   return surface_stress(fft, body.params(), st);
 }
 
@@ -188,8 +192,8 @@ StressField traction_stress(const FFT& fft, const ElasticParams& el, const Conta
   // A layered body's modes have no common factor: its own complex response, then Hooke's law of
   // the top layer (at each mode's E(omega) = E0 / c if it is the viscoelastic part).
   const ElasticBody body(fft.grid(), el, visco);
-  const StressField elastic_top = stress_of_tractions(fft, body, st);  // fills st.ux, st.uy
-  if (visco.part != Part::Top) return elastic_top;  // an elastic top layer over the viscoelastic part
+  if (visco.part != Part::Top) return stress_of_tractions(fft, body, st);  // an elastic top layer
+  displace_by_tractions(fft, body, st);
   std::vector<cplx> modulus(body.modes().size());
   for (std::size_t k = 0; k < modulus.size(); ++k) modulus[k] = 1.0 / body.response(k);
   return surface_stress_scaled(fft, el, st, modulus.data());
