@@ -254,8 +254,14 @@ struct ProgressRelay {
 // from the previous solve's solution (Python's gfmd.ContactSolver; gfmd.solve is one solve).
 class CaseSolver {
  public:
+  // The case as tables (a dict of sections, each a dict of keys: what gfmd.ContactSolver builds),
+  // read by the case file's rules without passing through text; problems name "gfmd.solve".
+  CaseSolver(const py::dict& tables, const py::object& heights, double lx, double ly)
+      : CaseSolver(gfmd::config_from_tables(py_to_json(tables, ""), "gfmd.solve"), heights, lx, ly) {}
+  // The case as TOML text (kept for scripts written against it).
   CaseSolver(const std::string& toml, const py::object& heights, double lx, double ly)
-      : cfg_(gfmd::parse_config(toml, "<gfmd.solve>")) {
+      : CaseSolver(gfmd::parse_config(toml, "<gfmd.solve>"), heights, lx, ly) {}
+  CaseSolver(gfmd::Config cfg, const py::object& heights, double lx, double ly) : cfg_(std::move(cfg)) {
     if (!heights.is_none())
       topo_ = std::make_shared<const gfmd::Topography>(
           heights_to_topography(heights.cast<py::array_t<double, py::array::c_style>>(), lx, ly, "array"));
@@ -412,6 +418,8 @@ PYBIND11_MODULE(_core, m) {
       .def("flow", &flow_of, py::arg("angles"), py::arg("tolerance") = 1e-10, py::arg("solver") = "auto")
       .def_property_readonly("toml", [](const Solution& s) { return s.r.config.to_toml(); });
   py::class_<CaseSolver>(m, "CaseSolver")
+      .def(py::init<const py::dict&, const py::object&, double, double>(), py::arg("case"),
+           py::arg("heights"), py::arg("lx"), py::arg("ly"))
       .def(py::init<const std::string&, const py::object&, double, double>(), py::arg("toml"),
            py::arg("heights"), py::arg("lx"), py::arg("ly"))
       .def("solve", &CaseSolver::solve, py::arg("load"), py::arg("value"), py::arg("progress"),

@@ -6,6 +6,7 @@
 #include <signal.h>
 
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -22,6 +23,39 @@ namespace py = pybind11;
 
 inline py::object json_to_py(const nlohmann::json& j) {
   return py::module_::import("json").attr("loads")(j.dump());
+}
+
+// A Python value of plain types (dict with str keys, list, tuple, bool, int, float, str; what
+// the gfmd package builds a case from) as JSON, floats kept exactly (inf too); `key` names it in
+// errors. Anything else is refused naming its key.
+inline nlohmann::json py_to_json(const py::handle& v, const std::string& key, int depth = 0) {
+  if (depth > 64) throw gfmd::InputError(key, "nested too deeply");
+  if (py::isinstance<py::bool_>(v)) return v.cast<bool>();
+  if (py::isinstance<py::int_>(v)) {
+    try {
+      return v.cast<std::int64_t>();
+    } catch (const py::cast_error&) {
+      throw gfmd::InputError(key, "an integer beyond the 64-bit range");
+    }
+  }
+  if (py::isinstance<py::float_>(v)) return v.cast<double>();
+  if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+  if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
+    nlohmann::json a = nlohmann::json::array();
+    std::size_t i = 0;
+    for (const py::handle e : v) a.push_back(py_to_json(e, key + "[" + std::to_string(i++) + "]", depth + 1));
+    return a;
+  }
+  if (py::isinstance<py::dict>(v)) {
+    nlohmann::json o = nlohmann::json::object();
+    for (const auto& [k, e] : v.cast<py::dict>()) {
+      if (!py::isinstance<py::str>(k)) throw gfmd::InputError(key, "a table's keys must be strings");
+      const std::string name = k.cast<std::string>();
+      o[name] = py_to_json(e, key.empty() ? name : key + "." + name, depth + 1);
+    }
+    return o;
+  }
+  throw gfmd::InputError(key, "unsupported value " + py::repr(v).cast<std::string>());
 }
 
 // Ctrl-C during a solve: while the solve runs without the GIL, Python's own SIGINT handler

@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 import os
 import numbers
-import re
 import warnings
 from dataclasses import dataclass
 from typing import Callable, Iterable, Iterator, Optional
@@ -111,43 +110,42 @@ class ViscoelasticBody(ElasticBody):
         return "sls" if self.high_frequency_modulus is not None or self.relaxation_time is not None else "prony"
 
 
-def _material_lines(body: ElasticBody) -> list:
+def _material_keys(body: ElasticBody) -> dict:
     """A body's material keys, [elastic]'s and an elastic indenter's alike: its top layer, then
     the substrate and layers beneath it."""
-    lines = [f"contact_modulus = {_toml_value('contact_modulus', body.contact_modulus)}",
-             f"poisson = {_toml_value('poisson', body.poisson)}",
-             f"thickness = {_toml_value('thickness', body.thickness)}"]
+    keys = {"contact_modulus": _plain("contact_modulus", body.contact_modulus),
+            "poisson": _plain("poisson", body.poisson), "thickness": _plain("thickness", body.thickness)}
     if math.isfinite(body.substrate_contact_modulus):
-        lines += [f"substrate_contact_modulus = {_toml_value('substrate_contact_modulus', body.substrate_contact_modulus)}",
-                  f"substrate_poisson = {_toml_value('substrate_poisson', body.substrate_poisson)}"]
+        keys["substrate_contact_modulus"] = _plain("substrate_contact_modulus", body.substrate_contact_modulus)
+        keys["substrate_poisson"] = _plain("substrate_poisson", body.substrate_poisson)
     if body.layers:
-        tables = ", ".join(f"{{contact_modulus = {e!r}, poisson = {nu!r}, thickness = {h!r}}}" for e, nu, h in body.layers)
-        lines.append(f"layers = [{tables}]")
-    return lines
+        keys["layers"] = [{"contact_modulus": e, "poisson": nu, "thickness": h} for e, nu, h in body.layers]
+    return keys
 
 
-def _body_lines(body: ElasticBody) -> list:
-    """The [elastic] lines of a gfmd.ElasticBody or gfmd.ViscoelasticBody."""
-    lines = ["[elastic]"] + _material_lines(body) + [f"coupling = {_toml_value('coupling', body.coupling)}"]
+def _elastic_table(body: ElasticBody) -> dict:
+    """The [elastic] table of a gfmd.ElasticBody or gfmd.ViscoelasticBody."""
+    table = _material_keys(body)
+    table["coupling"] = _plain("coupling", body.coupling)
     if isinstance(body, ViscoelasticBody) and body.model == "master_curve":
         # The table sets the relaxed modulus: contact_modulus is left to it.
-        lines = [ln for ln in lines if not ln.startswith("contact_modulus")]
-        lines += ['viscoelastic = "master_curve"',
-                  f"master_curve = {_toml_value('master_curve', os.path.abspath(body.master_curve))}"]
+        del table["contact_modulus"]
+        table["viscoelastic"] = "master_curve"
+        table["master_curve"] = _plain("master_curve", os.path.abspath(body.master_curve))
         if body.part != "top":
-            lines.append(f"viscoelastic_part = {_toml_value('viscoelastic_part', body.part)}")
-        lines += [f"{k} = {_toml_value(k, v)}" for k, v in (body.shift or {}).items()]
+            table["viscoelastic_part"] = _plain("viscoelastic_part", body.part)
+        table.update({k: _plain(k, v) for k, v in (body.shift or {}).items()})
     elif isinstance(body, ViscoelasticBody):
-        lines.append(f'viscoelastic = "{body.model}"')
+        table["viscoelastic"] = body.model
         if body.part != "top":
-            lines.append(f"viscoelastic_part = {_toml_value('viscoelastic_part', body.part)}")
+            table["viscoelastic_part"] = _plain("viscoelastic_part", body.part)
         for k in (("high_frequency_modulus", "relaxation_time") if body.model == "sls" else ("prony_moduli",
                                                                                                "prony_times")):
             v = getattr(body, k)
             if v is None:
                 raise InputError(f"ViscoelasticBody.{k}: is needed with a standard linear solid")
-            lines.append(f"{k} = {_toml_value(k, list(v) if isinstance(v, (tuple, list)) else v)}")
-    return lines
+            table[k] = _plain(k, list(v) if isinstance(v, (tuple, list)) else v)
+    return table
 
 
 # The interaction models given by name (those without keys of their own: the repulsions), from the
@@ -184,17 +182,15 @@ class Adhesive:
             raise InputError(f"Adhesive.repulsion: one of {', '.join(_REPULSIONS)}, got {self.repulsion!r}")
 
 
-def _interaction_lines(interaction) -> list:
-    """The [interaction] lines of a model name or a gfmd.Adhesive."""
+def _interaction_table(interaction) -> dict:
+    """The [interaction] table of a model name or a gfmd.Adhesive."""
     if isinstance(interaction, Adhesive):
-        return ["[interaction]", 'model = "adhesive"',
-                f"work_of_adhesion = {_toml_value('work_of_adhesion', interaction.work_of_adhesion)}",
-                f"range = {_toml_value('range', interaction.range)}",
-                f"repulsion = {_toml_value('repulsion', interaction.repulsion)}"]
+        return {"model": "adhesive", "work_of_adhesion": _plain("work_of_adhesion", interaction.work_of_adhesion),
+                "range": _plain("range", interaction.range), "repulsion": _plain("repulsion", interaction.repulsion)}
     if not isinstance(interaction, str):
         names = ", ".join(f'"{n}"' for n in _REPULSIONS)
         raise InputError(f"interaction: {names} or a gfmd.Adhesive (got {interaction!r})")
-    return ["[interaction]", f"model = {_toml_value('interaction', interaction)}"]
+    return {"model": interaction}
 
 
 _SOLVER_KEYS = {"tolerance", "max_iterations", "max_outer", "max_tangential", "anderson", "mixing", "threads",
@@ -204,20 +200,22 @@ _FRICTION_KEYS = {"regularization", "creepage", "lateral_creepage", "slip_deriva
                   "stick_acceleration", "reference", "law", "velocity"} | {k for law in _core.friction_laws() for k in law["keys"]}
 
 
-def _toml_value(name: str, v) -> str:
+def _plain(name: str, v):
+    """v as a plain bool, int, float, str or list of them (what a case's keys hold); name: the
+    argument, named in the error for anything else or NaN."""
     if isinstance(v, bool):
-        return "true" if v else "false"
+        return v
     if isinstance(v, numbers.Integral):
-        return str(int(v))
+        return int(v)
     if isinstance(v, numbers.Real):
         f = float(v)
         if math.isnan(f):
             raise InputError(f"{name}: must not be NaN")
-        return "inf" if f == math.inf else ("-inf" if f == -math.inf else repr(f))
+        return f
     if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        return v
     if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_toml_value(name, x) for x in v) + "]"
+        return [_plain(name, x) for x in v]
     raise InputError(f"{name}: unsupported value {v!r}")
 
 
@@ -243,12 +241,6 @@ def _progress_arg(progress):
     return progress, None
 
 
-def _gfmd_solve_error(e: InputError) -> InputError:
-    # The case text is made here from the arguments: its line numbers mean nothing to the caller.
-    text = re.sub(r" \[<gfmd\.solve>:\d+\]", "", str(e))
-    return InputError(text.replace("<gfmd.solve>: ", "gfmd.solve: ", 1))
-
-
 class ContactSolver:
     """A contact problem set up once and solved at one load after another, each solve starting
     from the previous one's solution (a warm start: fewer iterations along a load path).
@@ -272,7 +264,7 @@ class ContactSolver:
         body = ElasticBody() if body is None else body
         if not isinstance(body, ElasticBody):
             raise InputError(f"body: must be a gfmd.ElasticBody (got {type(body).__name__})")
-        indenter = []  # an elastic indenter: [indenter] contact_modulus, poisson, thickness, substrate, layers
+        indenter = {"type": "array"}  # an elastic indenter: its material keys too
         if indenter_body is not None:
             if type(indenter_body) is not ElasticBody:
                 raise InputError("indenter_body: must be a gfmd.ElasticBody (an elastic indenter; got "
@@ -280,31 +272,30 @@ class ContactSolver:
             if indenter_body.coupling != body.coupling:
                 raise InputError("indenter_body.coupling: the pair has one coupling, the body's "
                                  f"({body.coupling}); give both the same")
-            indenter = _material_lines(indenter_body)
+            indenter.update(_material_keys(indenter_body))
         unknown = sorted(set(options) - _SOLVER_KEYS - _FRICTION_KEYS)
         if unknown:
             raise InputError(f"{unknown[0]}: unknown keyword argument of gfmd.solve (solver options: "
                              f"{', '.join(sorted(_SOLVER_KEYS))}; friction options: "
                              f"{', '.join(sorted(_FRICTION_KEYS))})")
-        # The load is set by each solve; approach = 0 stands in while the case is read.
-        lines = ["[grid]", f"nx = {topography.nx}", f"ny = {topography.ny}", f"lx = {topography.lx!r}",
-                 f"ly = {topography.ly!r}"] + _body_lines(body) + [
-                 "[indenter]", 'type = "array"'] + indenter + ["[load]", "approach = 0.0",
-                 "[friction]", f"coefficient = {_toml_value('friction', friction)}",
-                 f"direction = {_toml_value('direction', direction)}"]
-        lines += [f"{k} = {_toml_value(k, v)}" for k, v in options.items() if k in _FRICTION_KEYS]
-        lines += _interaction_lines(interaction)
+        # The case as tables, read by the case file's rules (no text in between). The load is set
+        # by each solve; approach = 0 stands in while the case is read.
+        interaction_table = _interaction_table(interaction)
         if not (isinstance(hardness, numbers.Real) and not isinstance(hardness, bool) and hardness == math.inf):
-            lines += [f"hardness = {_toml_value('hardness', hardness)}"]
-        lines += ["[solver]"]
-        lines += [f"{k} = {_toml_value(k, v)}" for k, v in options.items() if k in _SOLVER_KEYS]
-        depths = list(stress_depths)
-        lines += ["[stress]", f"depths = {_toml_value('stress_depths', depths)}", "[output]", "png = false"]
-        try:
-            self._case = _core.CaseSolver("\n".join(lines) + "\n", topography.heights, topography.lx,
-                                          topography.ly)
-        except InputError as e:
-            raise _gfmd_solve_error(e) from None
+            interaction_table["hardness"] = _plain("hardness", hardness)
+        case = {
+            "grid": {"nx": topography.nx, "ny": topography.ny, "lx": float(topography.lx), "ly": float(topography.ly)},
+            "elastic": _elastic_table(body),
+            "indenter": indenter,
+            "load": {"approach": 0.0},
+            "friction": {"coefficient": _plain("friction", friction), "direction": _plain("direction", direction),
+                         **{k: _plain(k, v) for k, v in options.items() if k in _FRICTION_KEYS}},
+            "interaction": interaction_table,
+            "solver": {k: _plain(k, v) for k, v in options.items() if k in _SOLVER_KEYS},
+            "stress": {"depths": _plain("stress_depths", list(stress_depths))},
+            "output": {"png": False},
+        }
+        self._case = _core.CaseSolver(case, topography.heights, topography.lx, topography.ly)
         self.topography = topography
         self.body = body
         self.last: Optional[Result] = None  # the previous solve's Result
@@ -324,8 +315,6 @@ class ContactSolver:
         progress, bar = _progress_arg(progress)
         try:
             solution = self._case.solve(kind, value, progress, _flag("warm", warm))
-        except InputError as e:
-            raise _gfmd_solve_error(e) from None
         finally:
             if bar is not None:
                 bar.close()

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <limits>
 #include <sstream>
@@ -305,6 +306,61 @@ Config parse_config(const std::string& text, const std::string& name,
   } catch (const std::exception& e) {
     throw InputError(name, std::string("not valid TOML: ") + e.what());
   }
+  for (const auto& o : overrides) apply_override(root, o);
+  return build(root, name, base_dir);
+}
+
+namespace {
+
+// One value of a case given as tables (config_from_tables) as the TOML parser would have made
+// it, without a place in a file; `key` names it in errors ("elastic.layers[0].poisson").
+toml::value toml_from_json(const nlohmann::json& j, const std::string& key, int depth) {
+  if (depth > kMaxTomlNesting)
+    throw InputError(key, "nested deeper than " + std::to_string(kMaxTomlNesting) + " levels");
+  switch (j.type()) {
+    case nlohmann::json::value_t::boolean:
+      return toml::value(j.get<bool>());
+    case nlohmann::json::value_t::number_integer:
+      return toml::value(j.get<std::int64_t>());
+    case nlohmann::json::value_t::number_unsigned: {
+      const auto u = j.get<std::uint64_t>();
+      if (u > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+        throw InputError(key, "an integer beyond the 64-bit range");
+      return toml::value(static_cast<std::int64_t>(u));
+    }
+    case nlohmann::json::value_t::number_float: {
+      const double v = j.get<double>();
+      if (std::isnan(v)) throw InputError(key, "must not be NaN");
+      return toml::value(v);
+    }
+    case nlohmann::json::value_t::string:
+      return toml::value(j.get<std::string>());
+    case nlohmann::json::value_t::array: {
+      toml::array a;
+      std::size_t i = 0;
+      for (const auto& e : j)
+        a.push_back(toml_from_json(e, key + "[" + std::to_string(i++) + "]", depth + 1));
+      return toml::value(std::move(a));
+    }
+    case nlohmann::json::value_t::object: {
+      toml::table t;
+      for (const auto& [k, v] : j.items())
+        t[k] = toml_from_json(v, key.empty() ? k : key + "." + k, depth + 1);
+      return toml::value(std::move(t));
+    }
+    default:
+      throw InputError(key.empty() ? "case" : key,
+                       "not a value a case file can hold (a number, string, "
+                       "boolean, list or table)");
+  }
+}
+
+}  // namespace
+
+Config config_from_tables(const nlohmann::json& tables, const std::string& name,
+                          const std::vector<std::string>& overrides, const std::string& base_dir) {
+  if (!tables.is_object()) throw InputError(name, "the case must be a table of sections");
+  toml::value root = toml_from_json(tables, "", 0);
   for (const auto& o : overrides) apply_override(root, o);
   return build(root, name, base_dir);
 }

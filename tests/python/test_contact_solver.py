@@ -2,6 +2,7 @@
 each solve warm-started from the previous solution; gfmd.indenter_types and
 Topography.indenter / flatpunch (the indenter registry seen from Python)."""
 import math
+import re
 
 import numpy as np
 import pytest
@@ -164,3 +165,30 @@ def test_hardness_caps_the_pressure_from_python():
     assert "plastic_area_fraction" not in e.summary
     with pytest.raises(gfmd.InputError, match="interaction.hardness: must be positive"):
         gfmd.solve(t, force=0.01, hardness=-1.0)
+
+
+def test_a_case_reaches_the_solver_as_tables_not_text(tmp_path):
+    # The solver gets the case as tables (no TOML text in between): a file whose directory name
+    # holds a quote, a backslash, a newline and a TOML line is read as the path it is, and a
+    # problem names its key without line numbers of a text the caller never wrote.
+    odd = tmp_path / 'a"b\\c\n[solver]\ntolerance = 0.5 #'
+    odd.mkdir()
+    path = odd / "sls.csv"
+    rows = ["omega,storage,loss"]
+    for k in range(81):
+        w = 10.0 ** (-4 + k / 10)
+        e = 10 - 9 / (1 + 1j * w)
+        rows.append(f"{w!r},{e.real!r},{e.imag!r}")
+    path.write_text("\n".join(rows) + "\n")
+    top = gfmd.Topography.hertz(32, 1.0, 1.0)
+    body = gfmd.ViscoelasticBody(poisson=0.5, master_curve=str(path))
+    s = gfmd.solve(top, body, force=0.01, velocity=0.02, tolerance=1e-8).summary
+    assert s["converged"]
+    assert s["input"]["elastic"]["master_curve"] == str(path)
+    assert s["input"]["solver"]["tolerance"] == 1e-8
+    with pytest.raises(gfmd.InputError) as e:
+        gfmd.solve(top, approach=0.01, tolerance=-1.0)
+    assert "solver.tolerance" in str(e.value) and "gfmd.solve" in str(e.value)
+    assert not re.search(r":\d+\]", str(e.value))
+    with pytest.raises(gfmd.InputError, match="tolerance: must not be NaN"):
+        gfmd.ContactSolver(top, tolerance=math.nan)

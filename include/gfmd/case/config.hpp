@@ -126,6 +126,12 @@ struct Config {
 Config load_config(const std::string& path, const std::vector<std::string>& overrides = {});
 Config parse_config(const std::string& toml_text, const std::string& name,
                     const std::vector<std::string>& overrides = {}, const std::string& base_dir = ".");
+// The same for a case held as tables instead of text (a JSON object of sections, each an object
+// of keys, as summary.json's "input" holds them): read by the same rules, each problem naming
+// its key (no file or line). Integers stay integers; NaN is refused naming its key. The Python
+// library passes its cases this way (python/_core.cpp, CaseSolver).
+Config config_from_tables(const nlohmann::json& tables, const std::string& name,
+                          const std::vector<std::string>& overrides = {}, const std::string& base_dir = ".");
 
 // The case's load (c.load) against the limits a case file's [load] is held to: the key
 // ("force", "pressure", "approach") and why, or two empty strings; check_load throws it as
