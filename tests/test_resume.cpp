@@ -156,7 +156,7 @@ TEST(Resume, AdhesiveSlidingGoesOnWhereItStopped) {
   const Config cfg = adhesive_sliding();
   const Resumed x = stop_and_resume(cfg, 12, "adhesive");
   ASSERT_TRUE(x.before.state && x.before.state->adhesive);
-  EXPECT_GE(x.fresh.info.outer_iterations, 18);
+  EXPECT_GE(x.fresh.info.outer_iterations, 14);  // the stop (step 12) inside the solve
   expect_same_solve(x);
   EXPECT_TRUE(x.resumed.fields.adhesion == x.fresh.fields.adhesion);
   EXPECT_EQ(x.resumed.observables.adhesive_force, x.fresh.observables.adhesive_force);
@@ -196,11 +196,12 @@ TEST(Resume, FrictionlessAdhesiveSolveGoesOnWhereItStopped) {
     fs::create_directories(dir);
     const std::string ck = (dir / "checkpoint.bin").string();
     RunOptions o;
-    int it = 0;
-    o.progress = [&it](const Progress& p) { it = std::max(it, p.iteration); };
-    o.stop_request = [&it, &fresh] { return it >= fresh.info.iterations / 2; };
+    // Stopped halfway through its CG iterations: the request is polled once per iteration
+    // that has not converged (progress reports come only every 50).
+    int polls = 0;
+    o.stop_request = [&polls, &fresh] { return ++polls >= fresh.info.iterations / 2; };
     o.checkpoint_path = ck;
-    EXPECT_THROW(run_case(cfg, o), Interrupted);
+    EXPECT_THROW(run_case(cfg, o), Interrupted) << fresh.info.iterations << " iterations";
     ContactFields warm;
     CheckpointProgress before;
     ASSERT_TRUE(read_checkpoint(ck, cfg, warm, &before));

@@ -254,9 +254,9 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
         break;
       }
     }
-    // Each repulsive solve to a tenth of the traction's last change (no tighter than the
-    // tolerance): early steps are far from the answer anyway.
-    const double inner_tol = std::max(tol, 0.1 * change);
+    // Each repulsive solve to the traction's last change (no tighter than the tolerance): the
+    // steps are as many either way (the cohesive zones move over them), tighter solves only cost.
+    const double inner_tol = adhesive_inner_tolerance(tol, change);
     pk = solve_repulsive(inner, w, p, inner_tol, std::max(1, within.max_iterations - used), info);
     used += pk.iterations;
     // The gap of this step's state, C_zz (p - a) - C_z.tau + p/k + g0 - delta, and the law on it.

@@ -106,7 +106,7 @@ CudaSolve::PK CudaSolve::solve_adhesive(const LoadParams& load, double tol, Solv
         break;
       }
     }
-    const double inner_tol = std::max(tol, 0.1 * change);
+    const double inner_tol = adhesive_inner_tolerance(tol, change);
     {
       const Phase ph(this, 0);
       pk = solve_normal(inner, false, inner_tol, std::max(1, within.max_iterations - used));

@@ -166,6 +166,13 @@ class FrictionSteps {
 inline double relative_change(double diff, double size) {
   return size > 0 ? diff / size : (diff > 0 ? 1.0 : 0.0);
 }
+// The tolerance of an adhesive step's repulsive solve: the traction's last relative change (no
+// tighter than the solve's `tol`); host and device alike. The steps' count is set by how fast the
+// cohesive zones move, not by the inner accuracy (a rough contact at 512²: about 100 steps
+// with the inner solves to a tenth of the change, to the change, or cut at three CG iterations),
+// so a tighter inner solve only costs iterations: 3.6x those of the change's at 512², 3.4x at
+// 2048² (BENCHMARKS.md, "Adhesion").
+inline double adhesive_inner_tolerance(double tol, double change) { return std::max(tol, change); }
 // Why a restart point does not fit this solve ("" when it does): n points held here, the
 // Anderson depth and the configured slip derivative (solver_restart.cpp).
 std::string restart_mismatch(const FrictionRestart& r, std::size_t n, int depth,
