@@ -28,6 +28,7 @@
 #include "gfmd/case/run_directory.hpp"
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/elastic/body.hpp"
 #include "gfmd/elastic/elastic.hpp"
 #include "gfmd/io/height_map.hpp"
 #include "gfmd/surface/spectrum.hpp"
@@ -444,6 +445,19 @@ PYBIND11_MODULE(_core, m) {
         return out;
       },
       "The friction laws (friction.law): [{'name', 'purpose', 'keys', 'set_valued_stick', 'on_device'}]");
+  m.def(
+      "body_types",
+      [] {
+        py::list out;
+        for (const gfmd::BodyType* t : gfmd::body_types()) {
+          py::dict d;
+          d["name"] = t->name;
+          d["purpose"] = t->purpose;
+          out.append(d);
+        }
+        return out;
+      },
+      "The kinds of body the [elastic] keys select (elastic/body.hpp): [{'name', 'purpose'}]");
   m.def(
       "interaction_models",
       [] {

@@ -22,6 +22,12 @@ def friction_laws() -> list:
     return _core.friction_laws()
 
 
+def body_types() -> list:
+    """The kinds of body under the surface ([{'name', 'purpose'}]): which one a gfmd.ElasticBody is
+    follows from its keys ("layered" with layers or a substrate, "homogeneous" otherwise)."""
+    return _core.body_types()
+
+
 def interaction_models() -> list:
     """The interaction models (interaction.model; gfmd.solve(..., interaction=...)): [{'name', 'purpose',
     'keys', 'repulsion_key', 'on_device'}], in the order the docs list them; a model with keys is
@@ -37,5 +43,5 @@ def indenter_types() -> list:
 __all__ = [
     "Adhesive", "ContactSolver", "ElasticBody", "ViscoelasticBody", "InputError", "Result", "SolveError", "Topography", "_FRICTION_KEYS", "_SOLVER_KEYS",
     "_core", "_count", "_flag", "_heights", "_package_file", "_positive", "_progress_bar",
-    "_warn_implausible", "curve", "ensemble", "friction_laws", "indenter_types", "interaction_models", "load_path", "percolation", "run", "run_toml", "solve", "study", "sweep",
+    "_warn_implausible", "body_types", "curve", "ensemble", "friction_laws", "indenter_types", "interaction_models", "load_path", "percolation", "run", "run_toml", "solve", "study", "sweep",
 ]

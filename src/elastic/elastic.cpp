@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <sstream>
 
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/mpi.hpp"
+#include "gfmd/elastic/body.hpp"
 #include "gfmd/elastic/layered.hpp"
 
 namespace gfmd {
@@ -104,25 +106,6 @@ PhiRotated phi_rotated(double x, double nu) {
 }
 
 namespace {
-// The rotated compliance of the body `p` at |q| = q > 0: the closed form of SPEC §2 for a
-// homogeneous body, the transfer matrices for a layered one.
-RotatedCompliance rotated_compliance(double q, const ElasticParams& p) {
-  if (p.layered()) return layered_compliance(q, p);
-  const double es = p.contact_modulus;
-  const PhiRotated f =
-      phi_rotated(p.half_space() ? std::numeric_limits<double>::infinity() : q * p.thickness, p.poisson);
-  const double det = f.p11 * f.p33 - f.p13 * f.p13;
-  return {f.p33 / (det * q * es), 1.0 / (f.p22 * q * es), f.p11 / (det * q * es), -f.p13 / (det * q * es)};
-}
-
-// The q = 0 compliances (normal, in-plane) of the body `p`: zero on a half-space.
-std::pair<double, double> mean_compliances(const ElasticParams& p) {
-  if (p.layered()) return {layered_mean_normal_compliance(p), layered_mean_inplane_compliance(p)};
-  if (p.half_space()) return {0.0, 0.0};
-  const double nu = p.poisson, om = 1.0 - nu;
-  return {p.thickness * (1.0 - 2.0 * nu) / (om * om * p.contact_modulus), p.thickness / p.shear_modulus()};
-}
-
 // A rotated compliance (real or complex entries) in lab axes, (c, s) = q/|q|. The uncoupled
 // reference drops the cross-compliance (C'13 = i c13) and keeps the direct ones, so a frictionless
 // solve is the same with and without coupling. On the Nyquist lines the odd parts (xy, xz, yz)
@@ -157,8 +140,12 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
       !(visco_.layer >= 0 && static_cast<std::size_t>(visco_.layer) < params_.layers.size()))
     throw ParameterError("viscoelastic_part", "names a layer the body does not have (elastic.layers)");
   visco_.validate(relaxed_modulus(params_, visco_));
+  // The kinds of body (body.hpp) supply the per-mode compliances; this turns them into lab-frame
+  // tables.
+  const std::unique_ptr<Body> body = make_body(params_);
+  std::unique_ptr<Body> indenter_body;
   if (indenter) {
-    indenter->validate();
+    indenter_body = make_body(*indenter);
     indenter_ = *indenter;
     own_.resize(modes_.size());
   }
@@ -181,20 +168,20 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
       const auto lab = [&](const RotatedCompliance& r) {
         return to_lab<ComplianceMode>(r, c, s, nyq_x, nyq_y, params_.coupling);
       };
-      const RotatedCompliance own = rotated_compliance(q, params_);
+      const RotatedCompliance own = body->compliance(q);
       if (indenter) {
         own_[k] = lab(own);
-        modes_[k] = lab(relative(own, rotated_compliance(q, *indenter)));
+        modes_[k] = lab(relative(own, indenter_body->compliance(q)));
       } else {
         modes_[k] = lab(own);
       }
     }
   });
-  const auto [own_zz, own_t] = mean_compliances(params_);
+  const auto [own_zz, own_t] = body->mean_compliances();
   c0_zz_ = own_zz;
   c0_t_ = own_t;
   if (indenter) {
-    const auto [ind_zz, ind_t] = mean_compliances(*indenter);
+    const auto [ind_zz, ind_t] = indenter_body->mean_compliances();
     c0_zz_ += ind_zz;
     c0_t_ += ind_t;
   }
@@ -224,8 +211,7 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
           layered_response_[k] = {o.cxx, o.cyy, o.cxy, o.czz, o.cxz, o.cyz};
           continue;
         }
-        const ComplexRotatedCompliance r =
-            layered_compliance(q, params_, stack_moduli(params_, visco_, response_[k]));
+        const ComplexRotatedCompliance r = body->compliance(q, stack_moduli(params_, visco_, response_[k]));
         layered_response_[k] = to_lab<ResponseMode>(r, qx / q, qy / q, grid.nx % 2 == 0 && ikx == grid.nx / 2,
                                                     grid.ny % 2 == 0 && iky == grid.ny / 2, params_.coupling);
       }
@@ -292,8 +278,8 @@ std::array<cplx, 9> ElasticBody::stiffness(int ikx, int iky) const {
   }
   PhiRotated p{};
   if (params_.layered() || indenter_) {  // the inverse of the (relative) compliance, in units of q E*
-    RotatedCompliance r = rotated_compliance(q, params_);
-    if (indenter_) r = relative(r, rotated_compliance(q, *indenter_));
+    RotatedCompliance r = make_body(params_)->compliance(q);
+    if (indenter_) r = relative(r, make_body(*indenter_)->compliance(q));
     const double f = q * params_.contact_modulus, det = r.c11 * r.c33 - r.c13 * r.c13;
     p = PhiRotated{r.c33 / (det * f), 1.0 / (r.c22 * f), r.c11 / (det * f), -r.c13 / (det * f)};
   } else {

@@ -10,6 +10,7 @@
 
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/elastic/body.hpp"
 #include "gfmd/elastic/layered.hpp"
 #include "gfmd/elastic/stress.hpp"
 #include "stress_detail.hpp"
@@ -51,7 +52,7 @@ void to_lab(const ModeResponse& r, double c, double s, cplx tx, cplx ty, cplx tz
 void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFields& f, double depth,
                         std::array<SpecField, 6>* sig, std::array<SpecField, 3>* u,
                         const ViscoelasticParams* visco = nullptr, const cplx* factors = nullptr) {
-  el.validate();
+  const std::unique_ptr<Body> body = make_body(el);  // validates el
   check_depth(el, depth);
   const Grid& g = fft.grid();
   const std::size_t n = g.local_size();
@@ -80,9 +81,8 @@ void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFi
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
       const double qx = g.qx(ikx), qy = g.qy(iky), q = std::hypot(qx, qy);
-      const ModeResponse r = factors
-                                 ? layered_mode_response(q, depth, el, stack_moduli(el, *visco, factors[k]))
-                                 : mode_response(q, depth, el);
+      const ModeResponse r = factors ? body->mode_response(q, depth, stack_moduli(el, *visco, factors[k]))
+                                     : body->mode_response(q, depth);
       const double c = q > 0 ? qx / q : 1.0, s = q > 0 ? qy / q : 0.0;
       const cplx tx = has_tx ? TX[k] : cplx(0.0), ty = has_ty ? TY[k] : cplx(0.0), tzk = TZ[k];
       // On a Nyquist line the mode q and its mirror are the same mode: keep the part of
@@ -110,48 +110,7 @@ void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFi
 }  // namespace
 
 ModeResponse mode_response(double q, double depth, const ElasticParams& el) {
-  if (el.layered()) return layered_mode_response(q, depth, el);
-  const double nu = el.poisson, es = el.contact_modulus, om = 1.0 - nu;
-  const double G = el.shear_modulus();
-  const bool half = el.half_space();
-  const double h = el.thickness;
-  const cplx i(0.0, 1.0);
-  ModeResponse r;
-  if (q == 0.0) {
-    // Uniform traction: uniform stress, uniaxial strain (no mean in-plane strain).
-    r.stress[0][2] = r.stress[1][2] = nu / om;
-    r.stress[2][2] = 1.0;
-    r.stress[4][0] = 1.0;
-    r.stress[5][1] = 1.0;
-    // Uniform strain eps_xz = t1/(2G), eps_zz = t3/(lambda+2G); displacement pinned at the
-    // rigid base (layer) or, as in ElasticBody, zero at the surface (half-space).
-    const double z = half ? -depth : std::max(0.0, h - depth);
-    r.disp[0][0] = r.disp[1][1] = z / G;
-    r.disp[2][2] = z * (1.0 - 2.0 * nu) / (om * om * es);
-    return r;
-  }
-  // antiplane: sigma_23 = tau t2, sigma_12 = i rho t2, u2 = rho t2 / (G q)
-  const Mode m = mode_plane(q, depth, nu, half, h);
-  const Plane& p = m.p;
-  const double tau = m.tau, rho = m.rho;
-  // Plane strain inputs S0 = -i t1, N0 = t3.
-  r.stress[0][0] = -i * p.X[0];
-  r.stress[0][2] = p.X[1];
-  r.stress[1][0] = -i * p.Y[0];
-  r.stress[1][2] = p.Y[1];
-  r.stress[2][0] = -i * p.N[0];
-  r.stress[2][2] = p.N[1];
-  r.stress[4][0] = p.S[0];  // sigma_13 = i S = S_S t1 + i S_N t3
-  r.stress[4][2] = i * p.S[1];
-  r.stress[3][1] = i * rho;                   // sigma_12
-  r.stress[5][1] = tau;                       // sigma_23
-  const double u_unit = 1.0 / (2.0 * G * q);  // U, W are 2 G q times the displacement
-  r.disp[0][0] = p.U[0] * u_unit;             // u1 = i U
-  r.disp[0][2] = i * p.U[1] * u_unit;
-  r.disp[2][0] = -i * p.W[0] * u_unit;  // u3 = W
-  r.disp[2][2] = p.W[1] * u_unit;
-  r.disp[1][1] = rho / (G * q);
-  return r;
+  return make_body(el)->mode_response(q, depth);
 }
 
 StressField subsurface_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f, double depth,

@@ -192,3 +192,11 @@ def test_a_case_reaches_the_solver_as_tables_not_text(tmp_path):
     assert not re.search(r":\d+\]", str(e.value))
     with pytest.raises(gfmd.InputError, match="tolerance: must not be NaN"):
         gfmd.ContactSolver(top, tolerance=math.nan)
+
+
+def test_body_kinds_from_python():
+    # The registry of body kinds (elastic/body.hpp), as the friction laws' and interactions' are.
+    kinds = {b["name"]: b for b in gfmd.body_types()}
+    assert {"homogeneous", "layered"} <= set(kinds)
+    assert all(b["purpose"] for b in kinds.values())
+    assert len(kinds) == len(gfmd.body_types())

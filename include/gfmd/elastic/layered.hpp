@@ -9,20 +9,15 @@
 
 #include <vector>
 
+#include "gfmd/elastic/body.hpp"
 #include "gfmd/elastic/elastic.hpp"
 #include "gfmd/elastic/stress.hpp"
 
 namespace gfmd {
 
-// The rotated compliance of one mode |q| > 0 (the frame of elastic.hpp's PhiRotated):
-// u1 = c11 t1 + i c13 t3, u2 = c22 t2, u3 = -i c13 t1 + c33 t3.
-struct RotatedCompliance {
-  double c11, c22, c33, c13;
-};
-
 // The compliance at |q| = q of the body `el` describes (layered or not), exact for every q.
-// For a homogeneous body it equals ElasticBody's (tests compare them); ElasticBody uses it for
-// layered bodies only, so a homogeneous body keeps its closed form's bits.
+// For a homogeneous body it equals the closed form's (tests compare them); the layered body kind
+// (body_layered.cpp) uses it, so a homogeneous body keeps its closed form's bits.
 [[nodiscard]] RotatedCompliance layered_compliance(double q, const ElasticParams& el);
 
 // The response at a depth below the surface of a layered body to one surface-traction mode
@@ -36,9 +31,6 @@ struct RotatedCompliance {
 // correspondence principle, nu constant), `moduli` in the order top layer, layers top to bottom,
 // substrate (its entry ignored on a rigid base; stack_moduli gives them):
 // u1 = c11 t1 + i c13 t3, u2 = c22 t2, u3 = -i c13 t1 + c33 t3 with complex entries.
-struct ComplexRotatedCompliance {
-  cplx c11, c22, c33, c13;
-};
 [[nodiscard]] ComplexRotatedCompliance layered_compliance(double q, const ElasticParams& el,
                                                           const std::vector<cplx>& moduli);
 

@@ -1,0 +1,27 @@
+// The body kinds' table: one line per kind (body_<name>.cpp). See include/gfmd/elastic/body.hpp.
+#include "gfmd/elastic/body.hpp"
+
+#include "gfmd/core/error.hpp"
+
+namespace gfmd {
+
+const std::vector<const BodyType*>& body_types() {
+  static const std::vector<const BodyType*> table = {
+      &homogeneous_body_type(),  //
+      &layered_body_type(),      //
+  };
+  return table;
+}
+
+const BodyType& body_type_of(const ElasticParams& el) {
+  for (const BodyType* t : body_types())
+    if (t->describes(el)) return *t;
+  throw ParameterError("elastic", "no registered kind of body describes these parameters");
+}
+
+std::unique_ptr<Body> make_body(const ElasticParams& el) {
+  el.validate();
+  return body_type_of(el).make(el);
+}
+
+}  // namespace gfmd
