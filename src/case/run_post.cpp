@@ -18,6 +18,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
@@ -208,18 +209,11 @@ void compute_stresses(CaseResult& r, const FFT& fft, const Topography& topo, boo
         } else {
           // The solved displacement is not the body's own elastic one: both kinds from tractions,
           // the paper's with the friction written into the shear tractions only.
-          const double a = angle * std::numbers::pi / 180.0;
-          const double ex = std::cos(a), ey = std::sin(a);
-          ContactFields st;
-          st.pressure = rf.pressure;
-          RealField tx(rf.pressure.size()), ty(rf.pressure.size());
-          for (std::size_t i = 0; i < tx.size(); ++i) {
-            tx[i] = mu * rf.pressure[i] * ex;
-            ty[i] = mu * rf.pressure[i] * ey;
-          }
-          if (kind != "paper") {
-            st.tx = tx;
-            st.ty = ty;
+          ContactFields st = uniform_slip_tractions(rf.pressure, mu, angle);
+          RealField tx, ty;
+          if (kind == "paper") {
+            tx = std::exchange(st.tx, RealField());
+            ty = std::exchange(st.ty, RealField());
           }
           ps = traction_stress(fft, cfg.elastic, st, cfg.visco);
           if (kind == "paper") {

@@ -199,21 +199,26 @@ StressField traction_stress(const FFT& fft, const ElasticParams& el, const Conta
   return surface_stress_scaled(fft, el, st, modulus.data());
 }
 
-StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const RealField& pressure,
-                                 double mu, double angle_deg) {
-  check_same_grid(fft, body.grid(), "post_analysis_stress");
-  const std::size_t n = fft.grid().local_size();
-  require_size(pressure, n, "pressure");
+ContactFields uniform_slip_tractions(const RealField& pressure, double mu, double angle_deg) {
   const double a = angle_deg * std::numbers::pi / 180.0;
   const double ex = std::cos(a), ey = std::sin(a);
+  const std::size_t n = pressure.size();
   ContactFields st;
   st.pressure = pressure;
-  st.tx = fft.real_field();
-  st.ty = fft.real_field();
+  st.tx.resize(n);
+  st.ty.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
     st.tx[k] = mu * pressure[k] * ex;
     st.ty[k] = mu * pressure[k] * ey;
   }
+  return st;
+}
+
+StressField post_analysis_stress(const FFT& fft, const ElasticBody& body, const RealField& pressure,
+                                 double mu, double angle_deg) {
+  check_same_grid(fft, body.grid(), "post_analysis_stress");
+  require_size(pressure, fft.grid().local_size(), "pressure");
+  ContactFields st = uniform_slip_tractions(pressure, mu, angle_deg);
   return stress_of_tractions(fft, body, st);
 }
 

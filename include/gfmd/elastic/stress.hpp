@@ -58,6 +58,10 @@ StressField surface_stress(const FFT& fft, const ElasticParams& el, const Contac
 StressField traction_stress(const FFT& fft, const ElasticParams& el, const ContactFields& f,
                             const ViscoelasticParams& visco = {});
 
+// The tractions of uniform slip on a frictionless solution: its pressure p and mu p e_s in-plane,
+// e_s = (cos a, sin a) (a = angle_deg): what both post-analyses add to it.
+ContactFields uniform_slip_tractions(const RealField& pressure, double mu, double angle_deg);
+
 // Consistent post-analysis reference ("consistent"): the given (frictionless) pressure p plus the
 // traction mu p e_s of uniform slip on the body, e_s = (cos a, sin a) the sliding
 // direction of the indenter (a = angle_deg); the displacements are recomputed from
