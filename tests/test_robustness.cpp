@@ -222,6 +222,40 @@ TEST(Robustness, InterruptedSweepKeepsFinishedPointsAndResumes) {
   fs::remove_all(dir);
 }
 
+// A sweep reads its case file once: a file edited while the sweep runs (a user preparing the
+// next study) changes none of its points; every point is the text the sweep started from.
+TEST(Robustness, ASweepReadsItsCaseFileOnce) {
+  const fs::path dir = fs::temp_directory_path() / ("gfmd_sweep_once_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string text = std::string(kSliding) +
+                           "[output]\nfields = false\npng = false\n[sweep]\n"
+                           "parameter = \"load.force\"\nvalues = [0.002, 0.005, 0.01]\n";
+  std::ofstream(dir / "case.toml") << text;
+  const std::string path = (dir / "case.toml").string();
+  const Config cfg = load_config(path);
+  SweepOptions o;
+  o.on_point = [&](int done, int, const std::string&) {
+    if (done == 1) {  // after the first point: another coefficient of friction in the file
+      std::string edited = text;
+      const std::string was = "coefficient = 1.0";
+      const std::size_t at = edited.find(was);
+      ASSERT_NE(at, std::string::npos);
+      edited.replace(at, was.size(), "coefficient = 0.123");
+      std::ofstream(dir / "case.toml") << edited;
+    }
+  };
+  const nlohmann::json j = run_sweep(path, cfg, (dir / "out").string(), o);
+  ASSERT_EQ(j["points"].get<int>(), 3);
+  for (int i = 0; i < 3; ++i) {
+    std::ifstream in(dir / "out" / sweep_point_name(static_cast<std::size_t>(i)) / "summary.json");
+    const auto s = nlohmann::json::parse(in);
+    EXPECT_EQ(s["input"]["friction"]["coefficient"], cfg.friction.coefficient) << "point " << i;
+  }
+  EXPECT_NE(cfg.friction.coefficient, 0.123);
+  fs::remove_all(dir);
+}
+
 TEST(Robustness, RangeSumsDoNotDependOnThreads) {
   // range_sums adds fixed blocks in order: the same bits with 1 and 2 threads, and the
   // exact sum of a series whose partial sums are representable.

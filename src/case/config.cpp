@@ -307,7 +307,10 @@ Config parse_config(const std::string& text, const std::string& name,
     throw InputError(name, std::string("not valid TOML: ") + e.what());
   }
   for (const auto& o : overrides) apply_override(root, o);
-  return build(root, name, base_dir);
+  Config c = build(root, name, base_dir);
+  c.source_text = text;
+  c.source_dir = base_dir;
+  return c;
 }
 
 namespace {
@@ -363,6 +366,12 @@ Config config_from_tables(const nlohmann::json& tables, const std::string& name,
   toml::value root = toml_from_json(tables, "", 0);
   for (const auto& o : overrides) apply_override(root, o);
   return build(root, name, base_dir);
+}
+
+Config reparse_config(const Config& base, const std::vector<std::string>& overrides) {
+  if (base.source_text.empty())
+    throw InputError(base.source.empty() ? "case" : base.source, "not read from a case file's text");
+  return parse_config(base.source_text, base.source, overrides, base.source_dir);
 }
 
 Config load_config(const std::string& path, const std::vector<std::string>& overrides) {

@@ -132,8 +132,7 @@ nlohmann::json column_meanings(const std::vector<std::string>& tags) {
 }
 
 // The summaries of the curve's finished points, in order, up to the first one missing.
-std::vector<nlohmann::json> finished_points(const std::string& case_path, const Config& cfg,
-                                            const std::vector<std::string>& user_sets,
+std::vector<nlohmann::json> finished_points(const Config& cfg, const std::vector<std::string>& user_sets,
                                             const std::string& pdir) {
   std::vector<nlohmann::json> out;
   std::vector<std::string> sets = user_sets;
@@ -141,7 +140,7 @@ std::vector<nlohmann::json> finished_points(const std::string& case_path, const 
   sets.emplace_back();
   for (std::size_t i = 0; i < cfg.sweep.values.size(); ++i) {
     sets.back() = load_override(cfg.sweep.parameter, cfg.sweep.values[i]);
-    auto s = finished_summary((fs::path(pdir) / sweep_point_name(i)).string(), load_config(case_path, sets));
+    auto s = finished_summary((fs::path(pdir) / sweep_point_name(i)).string(), reparse_config(cfg, sets));
     if (!s) break;
     out.push_back(std::move(*s));
   }
@@ -151,7 +150,7 @@ std::vector<nlohmann::json> finished_points(const std::string& case_path, const 
 nlohmann::json write_curve_tables(const std::string& case_path, const Config& cfg, const std::string& dir,
                                   const std::vector<std::string>& user_sets) {
   const std::string pdir = (fs::path(dir) / kPointsDir).string();
-  const std::vector<nlohmann::json> summaries = finished_points(case_path, cfg, user_sets, pdir);
+  const std::vector<nlohmann::json> summaries = finished_points(cfg, user_sets, pdir);
   const std::vector<std::string> tags = direction_tags(cfg);
   const std::vector<std::string> cols = curve_columns(tags);
   const std::vector<double>& ps = cfg.sweep.values;

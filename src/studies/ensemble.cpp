@@ -58,7 +58,7 @@ nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir
         ss.push_back("indenter.seed=" + std::to_string(seed));
         ss.push_back("flow.direction=\"both\"");
         if (variant == 1) ss.push_back("friction.coefficient=0");
-        const Config c = load_config(case_path, ss);
+        const Config c = reparse_config(probe, ss);  // the text the ensemble started from
         const std::string name = (variant ? "frictionless_seed_" : "seed_") + std::to_string(seed);
         if (mpi::from_root(mpi::root() && opts.stop_request && opts.stop_request() ? 1 : 0) == 1)
           throw Interrupted("interrupted before " + name);

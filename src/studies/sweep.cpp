@@ -210,7 +210,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   const auto point_config = [&](int i) {
     std::vector<std::string> sets = opts.overrides;
     sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
-    return load_config(case_path, sets);
+    return reparse_config(base, sets);  // the text the sweep started from, not the file now
   };
   bool reuse = true;
   if (base.interaction.adhesive() && root)

@@ -113,6 +113,10 @@ struct Config {
   FlowConfig flow;
   SweepConfig sweep;
   std::string source;  // the case file's path ("" for a string)
+  // The text it was read from and the folder its relative paths are taken from (not recorded in
+  // summary.json): a study's points are made from this text (reparse_config), not from the file
+  // as it is when each point starts.
+  std::string source_text, source_dir;
 
   // The full input with defaults filled in (recorded in summary.json).
   [[nodiscard]] nlohmann::json to_json() const;
@@ -126,6 +130,10 @@ struct Config {
 Config load_config(const std::string& path, const std::vector<std::string>& overrides = {});
 Config parse_config(const std::string& toml_text, const std::string& name,
                     const std::vector<std::string>& overrides = {}, const std::string& base_dir = ".");
+// The configuration `base` was read from (its source_text, parse_config's), with other
+// overrides: a sweep's, a curve's or an ensemble's points. A case file edited while a study runs
+// changes none of its points. Throws InputError if `base` was not read from text.
+Config reparse_config(const Config& base, const std::vector<std::string>& overrides);
 // The same for a case held as tables instead of text (a JSON object of sections, each an object
 // of keys, as summary.json's "input" holds them): read by the same rules, each problem naming
 // its key (no file or line). Integers stay integers; NaN is refused naming its key. The Python
