@@ -28,7 +28,6 @@
 #include "gfmd/case/run_directory.hpp"
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
-#include "gfmd/elastic/body.hpp"
 #include "gfmd/elastic/elastic.hpp"
 #include "gfmd/io/height_map.hpp"
 #include "gfmd/surface/spectrum.hpp"
@@ -427,71 +426,7 @@ PYBIND11_MODULE(_core, m) {
            py::arg("warm") = true)
       .def("reset", &CaseSolver::reset)
       .def_property_readonly("warm", &CaseSolver::warm);
-  m.def(
-      "friction_laws",
-      [] {
-        py::list out;
-        for (const gfmd::FrictionLawType* t : gfmd::friction_law_types()) {
-          py::dict d;
-          d["name"] = t->name;
-          d["purpose"] = t->purpose;
-          std::vector<std::string> keys;
-          for (const auto& k : t->keys) keys.push_back(k.name);
-          d["keys"] = keys;
-          d["set_valued_stick"] = t->set_valued_stick;
-          d["on_device"] = t->on_device;
-          out.append(d);
-        }
-        return out;
-      },
-      "The friction laws (friction.law): [{'name', 'purpose', 'keys', 'set_valued_stick', 'on_device'}]");
-  m.def(
-      "body_types",
-      [] {
-        py::list out;
-        for (const gfmd::BodyType* t : gfmd::body_types()) {
-          py::dict d;
-          d["name"] = t->name;
-          d["purpose"] = t->purpose;
-          out.append(d);
-        }
-        return out;
-      },
-      "The kinds of body the [elastic] keys select (elastic/body.hpp): [{'name', 'purpose'}]");
-  m.def(
-      "interaction_models",
-      [] {
-        py::list out;
-        for (const gfmd::InteractionType* t : gfmd::interaction_types()) {
-          py::dict d;
-          d["name"] = t->name;
-          d["purpose"] = t->purpose;
-          std::vector<std::string> keys;
-          for (const auto& k : t->keys) keys.push_back(k.name);
-          if (t->repulsion_key) keys.emplace_back("repulsion");
-          d["keys"] = keys;
-          d["repulsion_key"] = t->repulsion_key;
-          d["on_device"] = t->on_device;
-          out.append(d);
-        }
-        return out;
-      },
-      "The interaction models (interaction.model): [{'name', 'purpose', 'keys', 'repulsion_key', "
-      "'on_device'}]");
-  m.def(
-      "indenter_types",
-      [] {
-        py::list out;
-        for (const gfmd::IndenterTypeInfo& t : gfmd::indenter_types()) {
-          py::dict d;
-          d["name"] = t.name;
-          d["purpose"] = t.purpose;
-          d["keys"] = t.keys;
-          out.append(d);
-        }
-        return out;
-      },
-      "The indenter types a case file may give: [{'name', 'purpose', 'keys'}]");
+  bind_registries(m);  // friction_laws, body_types, interaction_models, indenter_types (_core_registries.cpp)
   m.def(
       "make_indenter",
       [](const std::string& type, int nx, int ny, double lx, double ly, const py::dict& keys) {

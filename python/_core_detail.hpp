@@ -111,5 +111,7 @@ std::string run_plot_script(const std::string& name, const std::vector<std::stri
 
 // Registers sweep_case, percolation_case, curve_case and ensemble_case (python/_core_studies.cpp).
 void bind_studies(py::module_& m);
+// friction_laws, body_types, interaction_models, indenter_types (python/_core_registries.cpp).
+void bind_registries(py::module_& m);
 
 }  // namespace gfmd_python
