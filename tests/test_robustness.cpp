@@ -18,6 +18,7 @@
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/reduce.hpp"
 #include "gfmd/studies/sweep.hpp"
+#include "gfmd/surface/topography.hpp"
 
 using namespace gfmd;
 namespace fs = std::filesystem;
@@ -253,6 +254,48 @@ TEST(Robustness, ASweepReadsItsCaseFileOnce) {
     EXPECT_EQ(s["input"]["friction"]["coefficient"], cfg.friction.coefficient) << "point " << i;
   }
   EXPECT_NE(cfg.friction.coefficient, 0.123);
+  fs::remove_all(dir);
+}
+
+// A sweep over the load of a measured surface reads its heights once: a height file written
+// again after the first point (a user re-exporting the map with another filter, same size) changes
+// no point; every point is the surface the sweep started with.
+TEST(Robustness, ASweepReadsItsHeightsOnce) {
+  const fs::path dir = fs::temp_directory_path() / ("gfmd_sweep_heights_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const Topography t = make_hertz(Grid{64, 64, 1.6, 1.6}, 1.0, 1.0);
+  const auto write_heights = [&](double scale) {
+    std::ofstream f(dir / "heights.txt");
+    f.precision(17);
+    f << "# lx = 1.6\n# ly = 1.6\n";
+    for (int iy = 0; iy < 64; ++iy) {
+      for (int ix = 0; ix < 64; ++ix)
+        f << (ix ? " " : "") << scale * t.h[static_cast<std::size_t>(iy) * 64 + ix];
+      f << "\n";
+    }
+  };
+  write_heights(1.0);
+  std::ofstream(dir / "case.toml") << "[elastic]\npoisson = 0.25\n[indenter]\ntype = \"file\"\n"
+                                      "path = \"heights.txt\"\n[load]\nforce = 0.005\n[output]\n"
+                                      "fields = false\npng = false\n[sweep]\nparameter = \"load.force\"\n"
+                                      "values = [0.005, 0.01, 0.02]\n";
+  const std::string path = (dir / "case.toml").string();
+  const Config cfg = load_config(path);
+  SweepOptions o;
+  o.on_point = [&](int done, int, const std::string&) {
+    if (done == 1) write_heights(2.0);
+  };
+  const nlohmann::json j = run_sweep(path, cfg, (dir / "out").string(), o);
+  EXPECT_EQ(j["points"].get<int>(), 3);
+  std::vector<double> rms;
+  for (int i = 0; i < 3; ++i) {
+    std::ifstream in(dir / "out" / sweep_point_name(static_cast<std::size_t>(i)) / "summary.json");
+    rms.push_back(nlohmann::json::parse(in)["topography"]["rms_height"].get<double>());
+  }
+  EXPECT_GT(rms[0], 0.0);
+  EXPECT_EQ(rms[1], rms[0]);
+  EXPECT_EQ(rms[2], rms[0]);
   fs::remove_all(dir);
 }
 

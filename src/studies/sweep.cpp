@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <set>
@@ -221,6 +222,13 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
               finished_summary((fs::path(dir) / name).string(), cfg).has_value();
     }
   reuse = mpi::from_root(reuse ? 1 : 0) == 1;
+  // The indenter's heights, made once for every point when the swept key is neither the
+  // indenter's nor the grid's: a height file is read once (edited or removed while the sweep
+  // runs, it changes no point) and a generated surface is not drawn again for each point.
+  const bool one_surface = sw.parameter.rfind("indenter.", 0) != 0 && sw.parameter.rfind("grid.", 0) != 0 &&
+                           base.indenter.type != "array";
+  std::shared_ptr<const Topography> surface;
+  MapReport surface_report;
   for (int i = 0; i < total; ++i) {
     const std::string name = sweep_point_name(static_cast<std::size_t>(i));
     // Stop requests are honoured between points too (points that need no iterations never
@@ -249,6 +257,8 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       continue;
     }
     RunOptions ro;
+    if (one_surface && !surface)
+      surface = std::make_shared<const Topography>(make_topography_here(cfg, &surface_report));
     ro.progress = opts.progress;
     ro.stop_request = opts.stop_request;
     ro.checkpoint_interval_s = opts.checkpoint_interval_s;
@@ -272,6 +282,10 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     // status.json of the point and of the sweep say where an interrupted sweep stopped (the
     // point keeps its checkpoint; the same command continues from it).
     const auto solve_point = [&] {
+      if (surface) {  // run_case takes it over: a copy for each solve (a retry too)
+        ro.made_surface = std::make_shared<Topography>(*surface);
+        ro.made_report = surface_report;
+      }
       try {
         return run_case(cfg, ro);
       } catch (const Interrupted& e) {
