@@ -13,10 +13,13 @@
 #include "gfmd/core/error.hpp"
 #include "gfmd/elastic/body.hpp"
 #include "gfmd/elastic/layered.hpp"
+#include "test_util.hpp"
 
 namespace {
 
 using namespace gfmd;
+using gfmd::testing::difference;
+using gfmd::testing::largest;
 
 ElasticParams layer(double h) {
   ElasticParams el;
@@ -40,23 +43,6 @@ double difference(const ComplexRotatedCompliance& a, const ComplexRotatedComplia
   return std::max(
       {std::abs(a.c11 - b.c11), std::abs(a.c22 - b.c22), std::abs(a.c33 - b.c33), std::abs(a.c13 - b.c13)});
 }
-double largest(const ModeResponse& r) {
-  double m = 0;
-  for (const auto& row : r.stress)
-    for (const cplx v : row) m = std::max(m, std::abs(v));
-  for (const auto& row : r.disp)
-    for (const cplx v : row) m = std::max(m, std::abs(v));
-  return m;
-}
-double difference(const ModeResponse& a, const ModeResponse& b) {
-  double m = 0;
-  for (int i = 0; i < 6; ++i)
-    for (int k = 0; k < 3; ++k) m = std::max(m, std::abs(a.stress[i][k] - b.stress[i][k]));
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) m = std::max(m, std::abs(a.disp[i][k] - b.disp[i][k]));
-  return m;
-}
-
 TEST(Body, EachElasticSectionIsExactlyOneRegisteredKind) {
   std::set<std::string> names;
   for (const BodyType* t : body_types()) {

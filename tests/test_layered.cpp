@@ -18,6 +18,8 @@
 #include "test_util.hpp"
 
 using namespace gfmd;
+using gfmd::testing::difference;
+using gfmd::testing::largest;
 using gfmd::testing::solve;
 
 namespace {
@@ -271,26 +273,6 @@ TEST(Layered, CaseKeysAreChecked) {
                "elastic.substrate_contact_modulus=0.5"}),
       "");
 }
-
-namespace {
-double largest(const ModeResponse& r) {
-  double m = 0.0;
-  for (const auto& row : r.stress)
-    for (cplx v : row) m = std::max(m, std::abs(v));
-  for (const auto& row : r.disp)
-    for (cplx v : row) m = std::max(m, std::abs(v));
-  return m;
-}
-
-double difference(const ModeResponse& a, const ModeResponse& b) {
-  double m = 0.0;
-  for (int i = 0; i < 6; ++i)
-    for (int k = 0; k < 3; ++k) m = std::max(m, std::abs(a.stress[i][k] - b.stress[i][k]));
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) m = std::max(m, std::abs(a.disp[i][k] - b.disp[i][k]));
-  return m;
-}
-}  // namespace
 
 TEST(Layered, PlanesBelowOneMaterialAreTheHomogeneousBodys) {
   // The stress and displacement of each mode at depth (above, on and below the interface, and

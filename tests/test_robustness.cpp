@@ -175,15 +175,25 @@ coefficient = 1.0
   EXPECT_NEAR(one.observables.friction_coefficient, two.observables.friction_coefficient, 1e-12);
 }
 
-TEST(Robustness, InterruptedSweepKeepsFinishedPointsAndResumes) {
-  const fs::path dir = fs::temp_directory_path() / ("gfmd_sweep_resume_" + std::to_string(getpid()));
+namespace {
+// kSliding swept over three forces, without field outputs.
+const std::string kSlidingSweep = std::string(kSliding) +
+                                  "[output]\nfields = false\npng = false\n[sweep]\n"
+                                  "parameter = \"load.force\"\nvalues = [0.002, 0.005, 0.01]\n";
+
+// A fresh directory holding case.toml with `text`; the case file's path.
+std::string write_case(const fs::path& dir, const std::string& text) {
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const std::string text = std::string(kSliding) +
-                           "[output]\nfields = false\npng = false\n[sweep]\n"
-                           "parameter = \"load.force\"\nvalues = [0.002, 0.005, 0.01]\n";
   std::ofstream(dir / "case.toml") << text;
-  const std::string path = (dir / "case.toml").string();
+  return (dir / "case.toml").string();
+}
+}  // namespace
+
+TEST(Robustness, InterruptedSweepKeepsFinishedPointsAndResumes) {
+  const fs::path dir = fs::temp_directory_path() / ("gfmd_sweep_resume_" + std::to_string(getpid()));
+  const std::string text = kSlidingSweep;
+  const std::string path = write_case(dir, text);
   const Config cfg = load_config(path);
   SweepOptions o;
   int points_done = 0;
@@ -227,13 +237,8 @@ TEST(Robustness, InterruptedSweepKeepsFinishedPointsAndResumes) {
 // next study) changes none of its points; every point is the text the sweep started from.
 TEST(Robustness, ASweepReadsItsCaseFileOnce) {
   const fs::path dir = fs::temp_directory_path() / ("gfmd_sweep_once_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const std::string text = std::string(kSliding) +
-                           "[output]\nfields = false\npng = false\n[sweep]\n"
-                           "parameter = \"load.force\"\nvalues = [0.002, 0.005, 0.01]\n";
-  std::ofstream(dir / "case.toml") << text;
-  const std::string path = (dir / "case.toml").string();
+  const std::string text = kSlidingSweep;
+  const std::string path = write_case(dir, text);
   const Config cfg = load_config(path);
   SweepOptions o;
   o.on_point = [&](int done, int, const std::string&) {

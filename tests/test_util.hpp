@@ -149,6 +149,25 @@ struct Lcg {
   }
 };
 
+// The largest entry of one mode's response at depth (stresses and displacements per traction),
+// and the largest difference of two.
+inline double largest(const ModeResponse& r) {
+  double m = 0.0;
+  for (const auto& row : r.stress)
+    for (cplx v : row) m = std::max(m, std::abs(v));
+  for (const auto& row : r.disp)
+    for (cplx v : row) m = std::max(m, std::abs(v));
+  return m;
+}
+inline double difference(const ModeResponse& a, const ModeResponse& b) {
+  double m = 0.0;
+  for (int i = 0; i < 6; ++i)
+    for (int k = 0; k < 3; ++k) m = std::max(m, std::abs(a.stress[i][k] - b.stress[i][k]));
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) m = std::max(m, std::abs(a.disp[i][k] - b.disp[i][k]));
+  return m;
+}
+
 inline double max_abs(const RealField& f) {
   double m = 0;
   for (double v : f) m = std::max(m, std::abs(v));

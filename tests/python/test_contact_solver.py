@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import gfmd
+from visco_tables import write_sls_master_curve
 
 
 def rough():
@@ -173,13 +174,7 @@ def test_a_case_reaches_the_solver_as_tables_not_text(tmp_path):
     # problem names its key without line numbers of a text the caller never wrote.
     odd = tmp_path / 'a"b\\c\n[solver]\ntolerance = 0.5 #'
     odd.mkdir()
-    path = odd / "sls.csv"
-    rows = ["omega,storage,loss"]
-    for k in range(81):
-        w = 10.0 ** (-4 + k / 10)
-        e = 10 - 9 / (1 + 1j * w)
-        rows.append(f"{w!r},{e.real!r},{e.imag!r}")
-    path.write_text("\n".join(rows) + "\n")
+    path = write_sls_master_curve(odd / "sls.csv", rows_per_decade=10)
     top = gfmd.Topography.hertz(32, 1.0, 1.0)
     body = gfmd.ViscoelasticBody(poisson=0.5, master_curve=str(path))
     s = gfmd.solve(top, body, force=0.01, velocity=0.02, tolerance=1e-8).summary

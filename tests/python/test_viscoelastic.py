@@ -3,6 +3,7 @@ sliding), against the relaxed elastic solve and the energy balance of the hyster
 import pytest
 
 import gfmd
+from visco_tables import write_sls_master_curve
 
 
 def sphere(nx=64):
@@ -41,13 +42,7 @@ def test_bad_viscoelastic_input_names_the_key():
 def test_a_master_curve_file_is_the_body_it_tabulates(tmp_path):
     # A standard linear solid tabulated at 20 rows per decade: the same friction to the
     # interpolation's error; a WLF shift of the reference temperature is no shift.
-    path = tmp_path / "sls.csv"
-    rows = ["omega,storage,loss"]
-    for k in range(161):
-        w = 10.0 ** (-4 + k / 20)
-        e = 10 - 9 / (1 + 1j * w)
-        rows.append(f"{w!r},{e.real!r},{e.imag!r}")
-    path.write_text("\n".join(rows) + "\n")
+    path = write_sls_master_curve(tmp_path / "sls.csv")
     sls = gfmd.ViscoelasticBody(poisson=0.5, high_frequency_modulus=10.0, relaxation_time=1.0)
     table = gfmd.ViscoelasticBody(poisson=0.5, master_curve=str(path))
     a = gfmd.solve(sphere(), sls, force=0.01, velocity=0.02).summary
