@@ -431,15 +431,7 @@ PYBIND11_MODULE(_core, m) {
       "make_indenter",
       [](const std::string& type, int nx, int ny, double lx, double ly, const py::dict& keys) {
         require_memory(nx, ny, 16.0, "topography (its heights and their copy)");
-        const py::module_ json = py::module_::import("json");
-        const std::string text = py::str(json.attr("dumps")(keys));
-        nlohmann::json parsed;
-        try {
-          parsed = nlohmann::json::parse(text);
-        } catch (const nlohmann::json::exception&) {  // NaN or inf
-          throw gfmd::InputError("indenter",
-                                 "the keys must be finite numbers, strings, booleans or lists of them");
-        }
+        const nlohmann::json parsed = py_to_json(keys, "indenter");
         const gfmd::Topography t = gfmd::make_indenter(type, gfmd::Grid{nx, ny, lx, ly}, parsed, ".");
         return to_array(t.grid, t.h);
       },

@@ -313,11 +313,7 @@ Config parse_config(const std::string& text, const std::string& name,
   return c;
 }
 
-namespace {
-
-// One value of a case given as tables (config_from_tables) as the TOML parser would have made
-// it, without a place in a file; `key` names it in errors ("elastic.layers[0].poisson").
-toml::value toml_from_json(const nlohmann::json& j, const std::string& key, int depth) {
+toml::value config_detail::toml_from_json(const nlohmann::json& j, const std::string& key, int depth) {
   if (depth > kMaxTomlNesting)
     throw InputError(key, "nested deeper than " + std::to_string(kMaxTomlNesting) + " levels");
   switch (j.type()) {
@@ -358,12 +354,10 @@ toml::value toml_from_json(const nlohmann::json& j, const std::string& key, int 
   }
 }
 
-}  // namespace
-
 Config config_from_tables(const nlohmann::json& tables, const std::string& name,
                           const std::vector<std::string>& overrides, const std::string& base_dir) {
   if (!tables.is_object()) throw InputError(name, "the case must be a table of sections");
-  toml::value root = toml_from_json(tables, "", 0);
+  toml::value root = config_detail::toml_from_json(tables, "", 0);
   for (const auto& o : overrides) apply_override(root, o);
   return build(root, name, base_dir);
 }

@@ -237,4 +237,10 @@ void read_stress(Section& st, Config& c);
 void read_flow(Section& fl, Config& c);
 void read_output(Section& out, Config& c);
 
+// One value given as JSON (a case held as tables, config_from_tables; an indenter's keys from
+// Python, make_indenter) as the TOML parser would have made it, without a place in a file: objects
+// become tables; `key` names it in errors ("elastic.layers[0].poisson: must not be NaN"); null
+// and nesting deeper than kMaxTomlNesting are refused.
+toml::value toml_from_json(const nlohmann::json& j, const std::string& key, int depth = 0);
+
 }  // namespace gfmd::config_detail

@@ -192,29 +192,13 @@ std::vector<IndenterTypeInfo> indenter_types() {
   return out;
 }
 
-namespace {
-// A JSON value of an [indenter] key as TOML (numbers, strings, booleans, arrays of them).
-toml::value to_toml_value(const std::string& key, const nlohmann::json& v) {
-  if (v.is_boolean()) return toml::value(v.get<bool>());
-  if (v.is_number_integer() || v.is_number_unsigned()) return toml::value(v.get<toml::integer>());
-  if (v.is_number()) return toml::value(v.get<double>());
-  if (v.is_string()) return toml::value(v.get<std::string>());
-  if (v.is_array()) {
-    toml::array a;
-    for (const auto& e : v) a.push_back(to_toml_value(key, e));
-    return toml::value(a);
-  }
-  throw InputError("indenter." + key, "must be a number, a string, a boolean or a list of them");
-}
-}  // namespace
-
 Topography make_indenter(const std::string& type, const Grid& grid, const nlohmann::json& keys,
                          const std::string& base_dir) {
   if (!keys.is_object()) throw InputError("indenter", "the keys must be a mapping of key to value");
   toml::table section{{"type", toml::value(type)}};
   for (const auto& [k, v] : keys.items()) {
     if (k == "type") throw InputError("indenter.type", "give the type once, as the first argument");
-    section[k] = to_toml_value(k, v);
+    section[k] = config_detail::toml_from_json(v, "indenter." + k, 1);
   }
   const toml::value root(toml::table{{"indenter", toml::value(section)}});
   Config c;

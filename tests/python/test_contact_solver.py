@@ -195,3 +195,12 @@ def test_body_kinds_from_python():
     assert {"homogeneous", "layered"} <= set(kinds)
     assert all(b["purpose"] for b in kinds.values())
     assert len(kinds) == len(gfmd.body_types())
+
+
+def test_indenter_keys_reach_the_reader_as_values():
+    # Topography.indenter's keys go to the case file's [indenter] reader as values (the JSON to
+    # TOML conversion the tables of gfmd.solve use): each problem names its key.
+    for value, why in ((math.nan, "finite"), (math.inf, "finite"), (None, "unsupported"), ({"a": 1}, "table")):
+        with pytest.raises(gfmd.InputError, match=f"indenter.radius.*{why}"):
+            gfmd.Topography.indenter("hertz", 32, 1.0, radius=value)
+    assert gfmd.Topography.indenter("hertz", 32, 1.0, radius=2).nx == 32  # an int is a number
