@@ -14,6 +14,7 @@ or a sweep series stopped early (its finished points are drawn), 1 anything else
 """
 import argparse
 import csv
+import hashlib
 import json
 import math
 import os
@@ -112,11 +113,30 @@ def check_stop():
         raise Interrupted()
 
 
+# Each run reads its case file once (gfmd sweep, curve and run make every point from that
+# text); a study runs gfmd once per series, so a case file edited between two of its runs would
+# mix two cases in one figure. The text each case had at its first run, by path.
+_CASE_DIGESTS = {}
+
+
+def check_case_unchanged(path):
+    """Records the case file's text at its first run in this study; at a later run a changed
+    text ends the study (exit status 1) instead of drawing series of two different cases."""
+    with open(path, "rb") as f:
+        digest = hashlib.sha256(f.read()).hexdigest()
+    if _CASE_DIGESTS.setdefault(os.path.realpath(path), digest) != digest:
+        fail(f"study: {path}: the case file changed while the study ran (its earlier runs were solved "
+             "from the previous text); run the study again (runs of the new text are solved again, "
+             "finished ones of the old text are not reused for it)", 1)
+
+
 def run(cmd, tolerate_not_converged=False, what=""):
     """Runs a gfmd command (argument vector) and waits for it; on SIGINT/SIGTERM it is
     stopped and waited for, then Interrupted is raised. Exit status 2 of the run is bad
     input (a setting of the study or of --set): BadInput naming `what` and the run's reason."""
     check_stop()
+    if len(cmd) > 2 and cmd[1] in ("run", "sweep", "percolation", "curve") and os.path.isfile(cmd[2]):
+        check_case_unchanged(cmd[2])
     if FORCE and len(cmd) > 1 and cmd[1] in ("run", "sweep", "percolation", "curve"):
         cmd = cmd + ["--force"]
     _child["waiting"] = True

@@ -357,3 +357,19 @@ def test_visco_film_quick(out):
         assert all(a > b for a, b in zip(thin, thick)), (thin, thick)
     t = [curves[(n, "max_tensile_stress")] for n in names]
     assert all(t[0][0] > 2 * other[0] for other in t[1:]), t
+
+
+def test_a_study_stops_when_a_case_file_changes_between_its_runs(tmp_path):
+    # study.py runs gfmd once per series; each run reads its case once. A case file edited
+    # between two runs of one study ends it (exit status 1) instead of mixing two cases.
+    import sys
+    sys.path.insert(0, os.path.join(ROOT, "scripts"))
+    import study
+    case = tmp_path / "c.toml"
+    case.write_text("[grid]\nnx = 32\n")
+    study.check_case_unchanged(str(case))
+    study.check_case_unchanged(str(case))  # the same text: nothing happens
+    case.write_text("[grid]\nnx = 64\n")
+    with pytest.raises(SystemExit) as e:
+        study.check_case_unchanged(str(case))
+    assert e.value.code == 1
