@@ -270,12 +270,13 @@ TEST(Robustness, ASweepReadsItsHeightsOnce) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   const Topography t = make_hertz(Grid{64, 64, 1.6, 1.6}, 1.0, 1.0);
-  const auto write_heights = [&](double scale) {
+  // The heights times `scale`, the first `n` rows and columns (a map of another size for n < 64).
+  const auto write_heights = [&](double scale, int n = 64) {
     std::ofstream f(dir / "heights.txt");
     f.precision(17);
-    f << "# lx = 1.6\n# ly = 1.6\n";
-    for (int iy = 0; iy < 64; ++iy) {
-      for (int ix = 0; ix < 64; ++ix)
+    f << "# lx = " << 1.6 * n / 64 << "\n# ly = " << 1.6 * n / 64 << "\n";
+    for (int iy = 0; iy < n; ++iy) {
+      for (int ix = 0; ix < n; ++ix)
         f << (ix ? " " : "") << scale * t.h[static_cast<std::size_t>(iy) * 64 + ix];
       f << "\n";
     }
@@ -301,6 +302,21 @@ TEST(Robustness, ASweepReadsItsHeightsOnce) {
   EXPECT_GT(rms[0], 0.0);
   EXPECT_EQ(rms[1], rms[0]);
   EXPECT_EQ(rms[2], rms[0]);
+  // Rewritten with another size, the file gives the next point another grid: the sweep stops
+  // naming the reason, with the finished point published and nothing mixed.
+  write_heights(1.0);
+  o.on_point = [&](int done, int, const std::string&) {
+    if (done == 1) write_heights(1.0, 48);
+  };
+  try {
+    (void)run_sweep(path, load_config(path), (dir / "resized").string(), o);
+    ADD_FAILURE() << "the sweep went on over a resized height file";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("the grid changed while the sweep ran"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(fs::exists(dir / "resized" / "point_000" / "summary.json"));
+  EXPECT_FALSE(fs::exists(dir / "resized" / "point_001" / "summary.json"));
   fs::remove_all(dir);
 }
 

@@ -259,6 +259,16 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     RunOptions ro;
     if (one_surface && !surface)
       surface = std::make_shared<const Topography>(make_topography_here(cfg, &surface_report));
+    // A height file that states its own size, rewritten with another while the sweep runs, gives
+    // this point another grid than the surface read at the start.
+    if (surface && (cfg.grid.nx != base.grid.nx || cfg.grid.ny != base.grid.ny ||
+                    cfg.grid.lx != base.grid.lx || cfg.grid.ly != base.grid.ly)) {
+      const std::string why = name +
+                              ": the grid changed while the sweep ran (a height file rewritten with "
+                              "another size?); run the sweep again";
+      (void)stop_early("failed", why);
+      throw InputError(case_path, why);
+    }
     ro.progress = opts.progress;
     ro.stop_request = opts.stop_request;
     ro.checkpoint_interval_s = opts.checkpoint_interval_s;
