@@ -25,6 +25,7 @@ centroid over R. Its limits are Hertz's line contact, half-width sqrt(4 F R/(pi 
 
     /usr/bin/python3 scripts/hunter_reference.py                  # the reference over speeds
     /usr/bin/python3 scripts/hunter_reference.py --gfmd --nx 8192,16384,32768 --cell 8
+    /usr/bin/python3 scripts/hunter_reference.py --gfmd --nx 32768 --plot docs/figures/hunter_cylinder.png
 """
 import argparse
 import math
@@ -127,6 +128,8 @@ def main():
     ap.add_argument("--gfmd", action="store_true", help="also solve each speed with gfmd")
     ap.add_argument("--nx", default="8192,16384", help="gfmd's points along x (comma-separated)")
     ap.add_argument("--cell", type=float, default=8.0, help="gfmd's periodic cell length (R)")
+    ap.add_argument("--plot", metavar="PNG", help="draw the resistance and the contact edges against the speed "
+                    "(the reference as lines, gfmd's finest --nx as points with --gfmd)")
     ap.add_argument("--build", default=os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
                                                     "build"))
     a = ap.parse_args()
@@ -141,14 +144,53 @@ def main():
         head += "".join(f" gfmd {n}: mu (error) |" for n in a.nx.split(","))
     print(head)
     print("|" + "---|" * (head.count("|") - 1))
+    drawn = []  # (V tau_c / a0, reference, gfmd at the finest nx or None)
     for v in (float(s) for s in a.speeds.split(",")):
         ref = hunter_reference(force, r_, e0, e_inf, tau, v, a0 / 100, window=3 * a0)
         row = f"| {v * tau_c / a0:.4g} | {ref['mu']:.5f} | [{ref['trailing'] / a0:.3f}, {ref['leading'] / a0:.3f}] a0 |"
+        g = None
         if a.gfmd:
             for n in (int(s) for s in a.nx.split(",")):
                 g = gfmd_cylinder(force, r_, e0, e_inf, tau, v, n, a.cell)
                 row += f" {g['mu']:.5f} ({g['mu'] / ref['mu'] - 1:+.2%}) |"
+        drawn.append((v * tau_c / a0, ref, g))
         print(row, flush=True)
+    if a.plot:
+        plot(drawn, a0, a.plot, a.nx.split(",")[-1] if a.gfmd else None, a.cell)
+
+
+def plot(drawn, a0, path, nx, cell):
+    """Two panels against V tau_c / a0 on a log axis: the rolling resistance, and the contact's
+    edges in units of a0 (the reference's lines, gfmd's points)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from figure_io import save_png
+
+    x = [d[0] for d in drawn]
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(5.5, 6.0), sharex=True)
+    top.plot(x, [d[1]["mu"] for d in drawn], "-", color="k", label="real-space reference (cells a0/100)")
+    bottom.plot(x, [d[1]["leading"] / a0 for d in drawn], "-", color="k", label="reference: leading edge")
+    bottom.plot(x, [d[1]["trailing"] / a0 for d in drawn], "--", color="k", label="reference: trailing edge")
+    if nx is not None:
+        label = f"gfmd, {nx} points on a cell of {cell:g} R"
+        top.plot(x, [d[2]["mu"] for d in drawn], "o", color="C0", label=label)
+        bottom.plot(x, [d[2]["leading"] / a0 for d in drawn], "o", color="C0", label=label)
+        bottom.plot(x, [d[2]["trailing"] / a0 for d in drawn], "o", color="C0", mfc="none")
+    top.set_ylabel("rolling resistance F_x / F_z")
+    top.set_title("Rigid cylinder on a standard linear solid (E_inf = 10 E0)")
+    bottom.set_ylabel("contact edge x / a0 (x: direction of motion)")
+    bottom.set_xlabel("V tau_c / a0 (tau_c = tau E_inf / E0; a0: relaxed half-width)")
+    bottom.set_xscale("log")
+    for ax in (top, bottom):
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    save_png(fig, path, dpi=120)
+    print(f"figure: {path}", file=sys.stderr)
 
 
 if __name__ == "__main__":
