@@ -112,3 +112,38 @@ TEST(Leakage, FlowCommandWritesFlowJson) {
   EXPECT_EQ(j3["flow_factor_x"].get<double>(), 0.0);
   fs::remove_all(d);
 }
+
+TEST(Leakage, APercolationSearchReadsItsHeightsOnce) {
+  // The egg-crate as a height file: the search solves it at several loads; the file rewritten
+  // after the first solve (twice the amplitude) changes none of them: the same threshold and
+  // history, bit for bit, as the search on the file left alone.
+  const fs::path dir = fs::temp_directory_path() / ("gfmd_perc_heights_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const Topography egg = make_topography(parse_config(kEggcrate, "egg.toml"));
+  const auto write_heights = [&](double scale) {
+    std::ofstream f(dir / "heights.txt");
+    f.precision(17);
+    f << "# lx = 1.0\n# ly = 1.0\n";
+    for (int iy = 0; iy < egg.grid.ny; ++iy) {
+      for (int ix = 0; ix < egg.grid.nx; ++ix)
+        f << (ix ? " " : "") << scale * egg.h[static_cast<std::size_t>(iy) * egg.grid.nx + ix];
+      f << "\n";
+    }
+  };
+  const std::string text = "[elastic]\npoisson = 0.25\n[indenter]\ntype = \"file\"\npath = \"" +
+                           (dir / "heights.txt").string() + "\"\n[load]\npressure = 0.01\n";
+  PercolationOptions po;
+  po.area_tolerance = 0.004;
+  write_heights(1.0);
+  const nlohmann::json plain = find_percolation(parse_config(text, "file.toml"), po);
+  int solves = 0;
+  po.log = [&](const std::string&) {
+    if (++solves == 1) write_heights(2.0);
+  };
+  const nlohmann::json rewritten = find_percolation(parse_config(text, "file.toml"), po);
+  EXPECT_GT(solves, 2);
+  EXPECT_EQ(rewritten["critical_relative_contact_area"], plain["critical_relative_contact_area"]);
+  EXPECT_EQ(rewritten["solves"], plain["solves"]);
+  fs::remove_all(dir);
+}
