@@ -25,26 +25,6 @@ using namespace gfmd;
 using namespace gfmd::testing::visco;
 
 // Bad input names the key.
-namespace {
-// A sphere on a standard linear solid (E_inf = 10 E0, tau = 1) sliding at v0 = 0.1, 32^2.
-const std::string kSlsSphere = R"(
-[grid]
-nx = 32
-lx = 2.0
-[elastic]
-viscoelastic = "sls"
-high_frequency_modulus = 10.0
-relaxation_time = 1.0
-[indenter]
-type = "hertz"
-radius = 1.0
-[load]
-force = 0.01
-[friction]
-velocity = 0.1
-)";
-}  // namespace
-
 TEST(Viscoelastic, BadInputNamesTheKey) {
   const std::string& base = kSlsSphere;
   const auto problem = [&](const std::vector<std::string>& sets) {
@@ -63,35 +43,16 @@ TEST(Viscoelastic, BadInputNamesTheKey) {
   EXPECT_EQ(problem({"friction.coefficient=0.3", "friction.regularization=0.01"}), "");
   EXPECT_EQ(problem({"interaction.hardness=0.5"}),
             "");  // plastic saturation: tests/python/test_viscoelastic.py
-  const std::string prony = R"(
-[grid]
-nx = 32
-lx = 2.0
-[elastic]
-viscoelastic = "prony"
-prony_moduli = [1.0, 2.0]
-prony_times = [0.1]
-[indenter]
-type = "hertz"
-radius = 1.0
-[load]
-force = 0.01
-)";
-  EXPECT_NE(gfmd::testing::config_problem(prony, {}).find("elastic.prony_times"), std::string::npos);
+  // A Prony series whose times do not match its moduli (no speed).
+  const std::string prony =
+      gfmd::testing::without_keys(kSlsSphere, {"high_frequency_modulus", "relaxation_time", "velocity"});
+  const std::vector<std::string> prony_sets = {
+      "elastic.viscoelastic=\"prony\"", "elastic.prony_moduli=[1.0, 2.0]", "elastic.prony_times=[0.1]"};
+  EXPECT_NE(gfmd::testing::config_problem(prony, prony_sets).find("elastic.prony_times"), std::string::npos);
   // A speed with an elastic body.
-  const std::string elastic = R"(
-[grid]
-nx = 32
-lx = 2.0
-[indenter]
-type = "hertz"
-radius = 1.0
-[load]
-force = 0.01
-[friction]
-velocity = 1.0
-)";
-  EXPECT_NE(gfmd::testing::config_problem(elastic, {})
+  const std::string elastic =
+      gfmd::testing::without_keys(kSlsSphere, {"viscoelastic", "high_frequency_modulus", "relaxation_time"});
+  EXPECT_NE(gfmd::testing::config_problem(elastic, {"friction.velocity=1.0"})
                 .find("friction.velocity: a sliding speed needs a viscoelastic body"),
             std::string::npos);
 }

@@ -106,23 +106,14 @@ TEST(Viscoelastic, BadMasterCurvesNameTheFileLine) {
   write_file(dir / "decreasing.csv", "omega,E1,E2\n1,1,0.1\n10,2,0.5\n5,3,0.2\n");
   write_file(dir / "two.csv", "1 1\n10 2\n");
   write_file(dir / "negative.csv", "1,1,0.1\n10,-2,0.5\n");
-  const std::string base = R"(
-[grid]
-nx = 32
-lx = 2.0
-[elastic]
-viscoelastic = "master_curve"
-master_curve = "good.csv"
-[indenter]
-type = "hertz"
-radius = 1.0
-[load]
-force = 0.01
-[friction]
-velocity = 0.1
-)";
+  // kSlsSphere with the table good.csv in place of the solid's keys.
+  const std::string base =
+      gfmd::testing::without_keys(kSlsSphere, {"viscoelastic", "high_frequency_modulus", "relaxation_time"});
   const auto problem = [&](const std::vector<std::string>& sets) {
-    return gfmd::testing::config_problem(base, sets, dir.string());
+    std::vector<std::string> all = {"elastic.viscoelastic=\"master_curve\"",
+                                    "elastic.master_curve=\"good.csv\""};
+    all.insert(all.end(), sets.begin(), sets.end());
+    return gfmd::testing::config_problem(base, all, dir.string());
   };
   EXPECT_EQ(problem({}), "");
   {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include "gfmd/contact/observables.hpp"
 #include "gfmd/contact/solver.hpp"
@@ -13,6 +14,25 @@
 namespace gfmd::testing::visco {
 
 constexpr double kPi = std::numbers::pi;
+
+// A sphere on a standard linear solid (E_inf = 10 E0, tau = 1) sliding at v0 = 0.1, 32^2: the
+// case the input checks start from (other models and bodies by without_keys and --set values).
+inline const std::string kSlsSphere = R"(
+[grid]
+nx = 32
+lx = 2.0
+[elastic]
+viscoelastic = "sls"
+high_frequency_modulus = 10.0
+relaxation_time = 1.0
+[indenter]
+type = "hertz"
+radius = 1.0
+[load]
+force = 0.01
+[friction]
+velocity = 0.1
+)";
 
 inline ViscoelasticParams sls(double einf, double tau, double v) {
   ViscoelasticParams p;
