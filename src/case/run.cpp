@@ -153,6 +153,17 @@ Topography make_topography_here(const Config& cfg, MapReport* report) {
   return Topography{slab, mpi::scatter(slab, whole.h), "file"};
 }
 
+MadeSurface MadeSurface::of(const Config& cfg) {
+  MadeSurface m;
+  m.heights = std::make_shared<const Topography>(make_topography_here(cfg, &m.report));
+  return m;
+}
+
+void MadeSurface::lend(RunOptions& ro) const {
+  ro.made_surface = std::make_shared<Topography>(*heights);  // run_case takes it over
+  ro.made_report = report;
+}
+
 void rethrow_from_root(const std::exception_ptr& failure) {
   if (!mpi::distributed()) return;
   enum Kind : int { kNone, kInput, kSolve, kInterrupted, kOther };

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <memory>
+#include <optional>
 #include <vector>
 
 #include "gfmd/case/outputs.hpp"
@@ -27,20 +27,15 @@ nlohmann::json find_percolation(const Config& base, const PercolationOptions& op
   bool have = false;
   // The surface, made once for every load: a height file is read once (rewritten while the
   // search runs, it changes none of its solves) and a generated surface is drawn once.
-  MapReport report;
-  const std::shared_ptr<const Topography> surface =
-      base.indenter.type == "array" ? nullptr
-                                    : std::make_shared<const Topography>(make_topography_here(base, &report));
+  const std::optional<MadeSurface> surface =
+      base.indenter.type == "array" ? std::nullopt : std::optional<MadeSurface>(MadeSurface::of(base));
   const auto eval = [&](double p) {
     Config c = base;
     c.load = LoadParams{LoadMode::Pressure, p};
     c.stress.post_analysis.clear();
     c.stress.depths.clear();
     RunOptions ro;
-    if (surface) {  // run_case takes it over: a copy for each solve
-      ro.made_surface = std::make_shared<Topography>(*surface);
-      ro.made_report = report;
-    }
+    if (surface) surface->lend(ro);
     ro.keep_stress_fields = false;
     ro.stop_request = opt.stop_request;
     if (have) ro.warm_start = &warm;

@@ -15,7 +15,6 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
-#include <memory>
 #include <numbers>
 #include <optional>
 #include <set>
@@ -227,8 +226,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   // runs, it changes no point) and a generated surface is not drawn again for each point.
   const bool one_surface = sw.parameter.rfind("indenter.", 0) != 0 && sw.parameter.rfind("grid.", 0) != 0 &&
                            base.indenter.type != "array";
-  std::shared_ptr<const Topography> surface;
-  MapReport surface_report;
+  std::optional<MadeSurface> surface;
   for (int i = 0; i < total; ++i) {
     const std::string name = sweep_point_name(static_cast<std::size_t>(i));
     // Stop requests are honoured between points too (points that need no iterations never
@@ -257,8 +255,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       continue;
     }
     RunOptions ro;
-    if (one_surface && !surface)
-      surface = std::make_shared<const Topography>(make_topography_here(cfg, &surface_report));
+    if (one_surface && !surface) surface = MadeSurface::of(cfg);
     // A height file that states its own size, rewritten with another while the sweep runs, gives
     // this point another grid than the surface read at the start.
     if (surface && (cfg.grid.nx != base.grid.nx || cfg.grid.ny != base.grid.ny ||
@@ -292,10 +289,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
     // status.json of the point and of the sweep say where an interrupted sweep stopped (the
     // point keeps its checkpoint; the same command continues from it).
     const auto solve_point = [&] {
-      if (surface) {  // run_case takes it over: a copy for each solve (a retry too)
-        ro.made_surface = std::make_shared<Topography>(*surface);
-        ro.made_report = surface_report;
-      }
+      if (surface) surface->lend(ro);  // a copy for each solve, a retry too
       try {
         return run_case(cfg, ro);
       } catch (const Interrupted& e) {

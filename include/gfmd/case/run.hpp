@@ -57,6 +57,16 @@ CaseResult run_case(const Config& cfg, const RunOptions& opts = {});
 // map was read (rank 0). The CLI validates a case's topography with it before writing.
 Topography make_topography_here(const Config& cfg, MapReport* report = nullptr);
 
+// This process's heights of a case made once for many of its solves (a sweep's points, a
+// percolation search's loads): a height file read once, a generated surface drawn once. Each
+// solve takes over a copy (lend: RunOptions::made_surface and made_report), a retried one too.
+struct MadeSurface {
+  std::shared_ptr<const Topography> heights;
+  MapReport report;
+  static MadeSurface of(const Config& cfg);  // make_topography_here (a collective under mpirun)
+  void lend(RunOptions& ro) const;
+};
+
 // Under mpirun: rank 0's error, if it had one (a collective): rethrown on rank 0, and on the
 // others StoppedWithRoot with the exit code that error gives (rank 0 reports it). Nothing
 // happens in a run of one process or when rank 0 had none.
