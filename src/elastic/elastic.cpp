@@ -132,7 +132,9 @@ RotatedCompliance relative(const RotatedCompliance& body, const RotatedComplianc
 ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const ViscoelasticParams& visco,
                          const ElasticParams* indenter)
     : grid_(grid), params_(params), modes_(grid.spectral_size()), visco_(visco) {
-  params_.validate();
+  // The kinds of body (body.hpp) supply the per-mode compliances; this turns them into lab-frame
+  // tables. (make_body validates the parameters.)
+  const std::unique_ptr<Body> body = make_body(params_);
   if (visco_.enabled() && visco_.part == ViscoelasticParams::Part::Substrate && !params_.on_substrate())
     throw ParameterError("viscoelastic_part",
                          "\"substrate\" needs an elastic substrate (substrate_contact_modulus)");
@@ -140,9 +142,6 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
       !(visco_.layer >= 0 && static_cast<std::size_t>(visco_.layer) < params_.layers.size()))
     throw ParameterError("viscoelastic_part", "names a layer the body does not have (elastic.layers)");
   visco_.validate(relaxed_modulus(params_, visco_));
-  // The kinds of body (body.hpp) supply the per-mode compliances; this turns them into lab-frame
-  // tables.
-  const std::unique_ptr<Body> body = make_body(params_);
   std::unique_ptr<Body> indenter_body;
   if (indenter) {
     indenter_body = make_body(*indenter);

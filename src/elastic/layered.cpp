@@ -145,12 +145,15 @@ StackT<T> stack_of(const ElasticParams& el, const T* moduli) {
   if (s.substrate) s.base = material(moduli[el.layers.size() + 1], el.substrate_poisson);
   return s;
 }
-Stack stack_of(const ElasticParams& el) {
-  std::vector<double> m{el.contact_modulus};
-  for (const ElasticLayer& l : el.layers) m.push_back(l.contact_modulus);
-  m.push_back(el.substrate_contact_modulus);
-  return stack_of(el, m.data());
+// Each material's own E* of `el`, in stack order (top, layers, substrate).
+template <class T>
+std::vector<T> own_moduli(const ElasticParams& el) {
+  std::vector<T> m{T(el.contact_modulus)};
+  for (const ElasticLayer& l : el.layers) m.emplace_back(l.contact_modulus);
+  m.emplace_back(el.substrate_contact_modulus);
+  return m;
 }
+Stack stack_of(const ElasticParams& el) { return stack_of(el, own_moduli<double>(el).data()); }
 
 }  // namespace
 
@@ -354,9 +357,7 @@ ModeResponse layered_mode_response(double q, double depth, const ElasticParams& 
 
 std::vector<cplx> stack_moduli(const ElasticParams& el, const ViscoelasticParams& v, cplx c) {
   using Part = ViscoelasticParams::Part;
-  std::vector<cplx> m{el.contact_modulus};
-  for (const ElasticLayer& l : el.layers) m.emplace_back(l.contact_modulus);
-  m.emplace_back(el.substrate_contact_modulus);
+  std::vector<cplx> m = own_moduli<cplx>(el);
   if (v.part == Part::All) {
     for (cplx& e : m) e /= c;
   } else {
