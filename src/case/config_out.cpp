@@ -42,9 +42,7 @@ nlohmann::json Config::to_json() const {
   if (visco.enabled()) {  // absent: elastic (as before the key)
     j["elastic"]["viscoelastic"] = viscoelastic_model_name(visco.model);
     if (visco.part != ViscoelasticParams::Part::Top)  // absent: the top layer (as before the key)
-      j["elastic"]["viscoelastic_part"] = visco.part == ViscoelasticParams::Part::Layer
-                                              ? "layers[" + std::to_string(visco.layer) + "]"
-                                              : std::string(viscoelastic_part_name(visco.part));
+      j["elastic"]["viscoelastic_part"] = visco.part_name();
     if (visco.model == ViscoelasticParams::Model::StandardLinearSolid) {
       j["elastic"]["high_frequency_modulus"] = visco.high_frequency_modulus;
       j["elastic"]["relaxation_time"] = visco.relaxation_time;

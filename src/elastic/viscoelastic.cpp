@@ -31,19 +31,19 @@ const char* viscoelastic_model_name(ViscoelasticParams::Model m) {
 
 std::string ViscoelasticParams::relaxed_key() const {
   if (part == Part::Substrate) return "substrate_contact_modulus";
-  if (part == Part::Layer) return "layers[" + std::to_string(layer) + "].contact_modulus";
+  if (part == Part::Layer) return part_name() + ".contact_modulus";
   return "contact_modulus";
 }
 
-const char* viscoelastic_part_name(ViscoelasticParams::Part p) {
-  switch (p) {
-    case ViscoelasticParams::Part::Substrate:
+std::string ViscoelasticParams::part_name() const {
+  switch (part) {
+    case Part::Substrate:
       return "substrate";
-    case ViscoelasticParams::Part::All:
+    case Part::All:
       return "all";
-    case ViscoelasticParams::Part::Layer:
-      return "layers[i]";
-    case ViscoelasticParams::Part::Top:
+    case Part::Layer:
+      return "layers[" + std::to_string(layer) + "]";
+    case Part::Top:
       break;
   }
   return "top";

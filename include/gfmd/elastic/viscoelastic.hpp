@@ -59,6 +59,9 @@ struct ViscoelasticParams {
   [[nodiscard]] bool enabled() const { return model != Model::None; }
   // The key of the relaxed modulus E0 (its part's contact_modulus), as errors name it.
   [[nodiscard]] std::string relaxed_key() const;
+  // elastic.viscoelastic_part's value for this part: "top", "layers[i]" (its index), "substrate"
+  // or "all".
+  [[nodiscard]] std::string part_name() const;
   [[nodiscard]] double master_relaxed_modulus() const {
     return curve_storage.empty() ? 0.0 : curve_storage.front();
   }
@@ -70,7 +73,6 @@ struct ViscoelasticParams {
 };
 
 [[nodiscard]] const char* viscoelastic_model_name(ViscoelasticParams::Model m);
-[[nodiscard]] const char* viscoelastic_part_name(ViscoelasticParams::Part p);
 
 // A master curve's table from text (`name` the file, for messages): rows of three numbers,
 // omega, E' and E'' (comma, semicolon, tab or space separated), '#' comments and blank lines
