@@ -26,7 +26,8 @@ if "OMP_WAIT_POLICY" not in _os.environ and "GOMP_SPINCOUNT" not in _os.environ:
 
 from ._core import InputError, SolveError, __version__  # noqa: E402
 from ._api import (Adhesive, ContactSolver, ElasticBody, Result, Topography, body_types, curve, ensemble, friction_laws,  # noqa: E402
-                   indenter_types, interaction_models, load_path, percolation, run, run_toml, solve, study, sweep, ViscoelasticBody)
+                   indenter_types, interaction_models, load_path, percolation, run, run_toml, solve, study, sweep, ViscoelasticBody,
+                   ViscoelasticPart)
 
 __all__ = [
     "Adhesive",
@@ -37,6 +38,7 @@ __all__ = [
     "SolveError",
     "Topography",
     "ViscoelasticBody",
+    "ViscoelasticPart",
     "__version__",
     "curve",
     "ensemble",

@@ -63,6 +63,55 @@ class ElasticBody:
             raise InputError(f"ElasticBody.{e}") from None
 
 
+def _check_model(owner: str, m) -> None:
+    """One viscoelastic model given, of a gfmd.ViscoelasticBody or a gfmd.ViscoelasticPart."""
+    given = [m.high_frequency_modulus is not None or m.relaxation_time is not None,
+             bool(m.prony_moduli or m.prony_times), m.master_curve is not None]
+    if sum(given) != 1:
+        raise InputError(f"{owner}: give high_frequency_modulus and relaxation_time (a standard linear "
+                         "solid), prony_moduli and prony_times (a Prony series) or master_curve (a file)")
+    if m.shift is not None and m.master_curve is None:
+        raise InputError(f"{owner}.shift: belongs to a master_curve")
+    # The values are checked as [elastic] is (InputError naming the key) when a solve reads them.
+
+
+def _model_name(m) -> str:
+    if m.master_curve is not None:
+        return "master_curve"
+    return "sls" if m.high_frequency_modulus is not None or m.relaxation_time is not None else "prony"
+
+
+@dataclass(frozen=True)
+class ViscoelasticPart:
+    """A further viscoelastic part of a layered gfmd.ViscoelasticBody, with a model of its own
+    (one table of elastic.viscoelastic_parts): part is "top", "layers[i]" or "substrate" (its
+    relaxed modulus that part's contact modulus), the model's keys as ViscoelasticBody's. A rubber
+    coating on a polymer substrate of another relaxation:
+
+        body = gfmd.ViscoelasticBody(thickness=0.05, substrate_contact_modulus=0.5,
+                                     high_frequency_modulus=10.0, relaxation_time=1.0,
+                                     parts=(gfmd.ViscoelasticPart("substrate", high_frequency_modulus=5.0,
+                                                                  relaxation_time=30.0),))
+    """
+
+    part: str
+    high_frequency_modulus: Optional[float] = None
+    relaxation_time: Optional[float] = None
+    prony_moduli: tuple = ()
+    prony_times: tuple = ()
+    master_curve: Optional[str] = None
+    shift: Optional[dict] = None
+
+    def __post_init__(self):
+        if not isinstance(self.part, str):
+            raise InputError(f"ViscoelasticPart.part: \"top\", \"layers[i]\" or \"substrate\", got {self.part!r}")
+        _check_model("ViscoelasticPart", self)
+
+    @property
+    def model(self) -> str:
+        return _model_name(self)
+
+
 @dataclass(frozen=True)
 class ViscoelasticBody(ElasticBody):
     """A viscoelastic body in steady sliding (elastic.viscoelastic): contact_modulus is the relaxed
@@ -73,7 +122,7 @@ class ViscoelasticBody(ElasticBody):
     (shift = the [elastic] keys: temperature, reference_temperature, wlf_c1, wlf_c2 or
     activation_temperature). Poisson's ratio is constant. On a layered body part= says which part
     is viscoelastic: "top" (the default), "layers[i]", "substrate" (a hard coating on a polymer)
-    or "all". The
+    or "all"; parts= adds further parts with models of their own (gfmd.ViscoelasticPart). The
     sliding speed is the solve's velocity= (length per time unit of tau):
 
         body = gfmd.ViscoelasticBody(poisson=0.5, high_frequency_modulus=10.0, relaxation_time=1.0)
@@ -91,23 +140,19 @@ class ViscoelasticBody(ElasticBody):
     part: str = "top"  # of a layered body: "top" (the top layer), "layers[i]" (a layer beneath it, its
     # modulus the relaxed one), "substrate" (its relaxed modulus is substrate_contact_modulus; the
     # layers above elastic) or "all" (elastic.viscoelastic_part)
+    parts: tuple = ()  # further parts, each a gfmd.ViscoelasticPart (elastic.viscoelastic_parts)
 
     def __post_init__(self):
         super().__post_init__()
-        given = [self.high_frequency_modulus is not None or self.relaxation_time is not None,
-                 bool(self.prony_moduli or self.prony_times), self.master_curve is not None]
-        if sum(given) != 1:
-            raise InputError("ViscoelasticBody: give high_frequency_modulus and relaxation_time (a standard linear "
-                             "solid), prony_moduli and prony_times (a Prony series) or master_curve (a file)")
-        if self.shift is not None and self.master_curve is None:
-            raise InputError("ViscoelasticBody.shift: belongs to a master_curve")
-        # The values are checked as [elastic] is (InputError naming the key) when a solve reads them.
+        _check_model("ViscoelasticBody", self)
+        for i, p in enumerate(self.parts):
+            if not isinstance(p, ViscoelasticPart):
+                raise InputError(f"ViscoelasticBody.parts[{i}]: must be a gfmd.ViscoelasticPart, got {p!r}")
+        object.__setattr__(self, "parts", tuple(self.parts))
 
     @property
     def model(self) -> str:
-        if self.master_curve is not None:
-            return "master_curve"
-        return "sls" if self.high_frequency_modulus is not None or self.relaxation_time is not None else "prony"
+        return _model_name(self)
 
 
 def _material_keys(body: ElasticBody) -> dict:
@@ -123,28 +168,36 @@ def _material_keys(body: ElasticBody) -> dict:
     return keys
 
 
+def _model_keys(m, owner: str, name_part: bool) -> dict:
+    """A viscoelastic part's keys (elastic.viscoelastic and its model's, as in [elastic] and in each
+    table of elastic.viscoelastic_parts); viscoelastic_part if name_part."""
+    keys = {"viscoelastic": m.model}
+    if name_part:
+        keys["viscoelastic_part"] = _plain("viscoelastic_part", m.part)
+    if m.model == "master_curve":
+        keys["master_curve"] = _plain("master_curve", os.path.abspath(m.master_curve))
+        keys.update({k: _plain(k, v) for k, v in (m.shift or {}).items()})
+        return keys
+    for k in (("high_frequency_modulus", "relaxation_time") if m.model == "sls" else ("prony_moduli", "prony_times")):
+        v = getattr(m, k)
+        if v is None:
+            raise InputError(f"{owner}.{k}: is needed with a standard linear solid")
+        keys[k] = _plain(k, list(v) if isinstance(v, (tuple, list)) else v)
+    return keys
+
+
 def _elastic_table(body: ElasticBody) -> dict:
     """The [elastic] table of a gfmd.ElasticBody or gfmd.ViscoelasticBody."""
     table = _material_keys(body)
     table["coupling"] = _plain("coupling", body.coupling)
-    if isinstance(body, ViscoelasticBody) and body.model == "master_curve":
-        # The table sets the relaxed modulus: contact_modulus is left to it.
-        del table["contact_modulus"]
-        table["viscoelastic"] = "master_curve"
-        table["master_curve"] = _plain("master_curve", os.path.abspath(body.master_curve))
-        if body.part != "top":
-            table["viscoelastic_part"] = _plain("viscoelastic_part", body.part)
-        table.update({k: _plain(k, v) for k, v in (body.shift or {}).items()})
-    elif isinstance(body, ViscoelasticBody):
-        table["viscoelastic"] = body.model
-        if body.part != "top":
-            table["viscoelastic_part"] = _plain("viscoelastic_part", body.part)
-        for k in (("high_frequency_modulus", "relaxation_time") if body.model == "sls" else ("prony_moduli",
-                                                                                               "prony_times")):
-            v = getattr(body, k)
-            if v is None:
-                raise InputError(f"ViscoelasticBody.{k}: is needed with a standard linear solid")
-            table[k] = _plain(k, list(v) if isinstance(v, (tuple, list)) else v)
+    if isinstance(body, ViscoelasticBody):
+        model = _model_keys(body, "ViscoelasticBody", body.part != "top")
+        if body.model == "master_curve":  # the table sets the relaxed modulus: contact_modulus is left to it
+            del table["contact_modulus"]
+        table.update(model)
+        if body.parts:
+            table["viscoelastic_parts"] = [_model_keys(p, f"ViscoelasticBody.parts[{i}]", True)
+                                           for i, p in enumerate(body.parts)]
     return table
 
 

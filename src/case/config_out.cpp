@@ -39,19 +39,28 @@ nlohmann::json Config::to_json() const {
   else
     j["elastic"]["thickness"] = elastic.thickness;
   config_detail::write_body_stack(elastic, j["elastic"]);
-  if (visco.enabled()) {  // absent: elastic (as before the key)
-    j["elastic"]["viscoelastic"] = viscoelastic_model_name(visco.model);
-    if (visco.part != ViscoelasticParams::Part::Top)  // absent: the top layer (as before the key)
-      j["elastic"]["viscoelastic_part"] = visco.part_name();
-    if (visco.model == ViscoelasticParams::Model::StandardLinearSolid) {
-      j["elastic"]["high_frequency_modulus"] = visco.high_frequency_modulus;
-      j["elastic"]["relaxation_time"] = visco.relaxation_time;
-    } else if (visco.model == ViscoelasticParams::Model::Prony) {
-      j["elastic"]["prony_moduli"] = visco.prony_moduli;
-      j["elastic"]["prony_times"] = visco.prony_times;
+  // A viscoelastic part's keys (the same in [elastic] and in each of its viscoelastic_parts).
+  const auto part_keys = [](const ViscoelasticParams& v, nlohmann::json& out, bool name_part) {
+    out["viscoelastic"] = viscoelastic_model_name(v.model);
+    if (name_part || v.part != ViscoelasticParams::Part::Top)  // absent: the top layer (as before the key)
+      out["viscoelastic_part"] = v.part_name();
+    if (v.model == ViscoelasticParams::Model::StandardLinearSolid) {
+      out["high_frequency_modulus"] = v.high_frequency_modulus;
+      out["relaxation_time"] = v.relaxation_time;
+    } else if (v.model == ViscoelasticParams::Model::Prony) {
+      out["prony_moduli"] = v.prony_moduli;
+      out["prony_times"] = v.prony_times;
     } else {
-      j["elastic"]["master_curve"] = visco.curve_file;
-      for (const auto& [k, v] : visco.shift_keys) j["elastic"][k] = v;
+      out["master_curve"] = v.curve_file;
+      for (const auto& [k, x] : v.shift_keys) out[k] = x;
+    }
+  };
+  if (visco.enabled()) {  // absent: elastic (as before the key)
+    part_keys(visco, j["elastic"], false);
+    for (const ViscoelasticParams& f : visco.further) {
+      nlohmann::json one;
+      part_keys(f, one, true);
+      j["elastic"]["viscoelastic_parts"].push_back(one);
     }
   }
   j["indenter"] = config_detail::indenter_json(indenter);

@@ -14,6 +14,7 @@
 #include "gfmd/contact/interaction.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
+#include "gfmd/elastic/layered.hpp"
 
 namespace gfmd::config_detail {
 
@@ -56,12 +57,12 @@ void read_master_curve(Section& el, ViscoelasticParams& v, const std::string& ba
   if (v.model != ViscoelasticParams::Model::MasterCurve) {
     for (const char* k : {"master_curve", "temperature", "reference_temperature", "wlf_c1", "wlf_c2",
                           "activation_temperature"})
-      if (el.has(k)) el.error(k, "belongs to elastic.viscoelastic = \"master_curve\"");
+      if (el.has(k)) el.error(k, "belongs to " + el.name() + ".viscoelastic = \"master_curve\"");
     return;
   }
   if (path.empty()) {
     el.error("master_curve",
-             "is needed with elastic.viscoelastic = \"master_curve\" (a file of omega, E', E'')");
+             "is needed with " + el.name() + ".viscoelastic = \"master_curve\" (a file of omega, E', E'')");
     return;
   }
   const std::string file = (std::filesystem::path(base_dir) / path).lexically_normal().string();
@@ -109,8 +110,10 @@ int layer_index(const std::string& s) {
   return std::stoi(digits);
 }
 
-// elastic.viscoelastic and its keys (the relaxed modulus is elastic.contact_modulus).
-void read_viscoelastic(Section& el, ViscoelasticParams& v, const std::string& base_dir) {
+// elastic.viscoelastic and its keys (the relaxed modulus is elastic.contact_modulus); `further`:
+// a table of elastic.viscoelastic_parts (its viscoelastic_part needed).
+void read_viscoelastic(Section& el, ViscoelasticParams& v, const std::string& base_dir,
+                       bool further = false) {
   using Model = ViscoelasticParams::Model;
   const std::string model = el.string("viscoelastic", "none");
   if (model == "sls")
@@ -130,17 +133,20 @@ void read_viscoelastic(Section& el, ViscoelasticParams& v, const std::string& ba
   v.prony_times = positive_list(el, "prony_times");
   const auto needs = [&](const char* key, bool given, Model m) {
     if (given && v.model != m)
-      el.error(key, std::string("belongs to elastic.viscoelastic = \"") + viscoelastic_model_name(m) + "\"");
+      el.error(key, "belongs to " + el.name() + ".viscoelastic = \"" + viscoelastic_model_name(m) + "\"");
     else if (!given && v.model == m)
-      el.error(key,
-               std::string("is needed with elastic.viscoelastic = \"") + viscoelastic_model_name(m) + "\"");
+      el.error(key, "is needed with " + el.name() + ".viscoelastic = \"" + viscoelastic_model_name(m) + "\"");
   };
   needs("high_frequency_modulus", einf, Model::StandardLinearSolid);
   needs("relaxation_time", tau, Model::StandardLinearSolid);
   needs("prony_moduli", !v.prony_moduli.empty(), Model::Prony);
   needs("prony_times", !v.prony_times.empty(), Model::Prony);
-  if (el.has("viscoelastic_part")) {
+  if (el.has("viscoelastic_part") || further) {
     const std::string part = el.string("viscoelastic_part", "top");
+    if (further && !el.has("viscoelastic_part"))
+      el.error("viscoelastic_part",
+               "is needed: which part this model makes viscoelastic (\"top\", "
+               "\"layers[i]\" or \"substrate\")");
     if (!v.enabled())
       el.error("viscoelastic_part", "belongs to a viscoelastic body (elastic.viscoelastic)");
     else if (part == "substrate")
@@ -154,6 +160,40 @@ void read_viscoelastic(Section& el, ViscoelasticParams& v, const std::string& ba
       el.error("viscoelastic_part",
                "must be \"top\", \"layers[i]\" (a layer beneath it), \"substrate\" or \"all\", got \"" +
                    part + "\"");
+  }
+}
+
+// elastic.viscoelastic_parts: further viscoelastic parts of a layered body, an array of tables
+// with the viscoelastic keys of [elastic] (viscoelastic, viscoelastic_part, high_frequency_modulus,
+// relaxation_time, prony_*, master_curve and its shift), one part each.
+void read_further_parts(Section& el, ViscoelasticParams& v, const std::string& base_dir) {
+  const toml::value* parts = el.raw("viscoelastic_parts");
+  if (!parts) return;
+  const std::string what =
+      "must be an array of tables, each with the viscoelastic keys of [elastic] "
+      "(viscoelastic, viscoelastic_part and its model's keys)";
+  if (!v.enabled()) {
+    el.error("viscoelastic_parts", "further viscoelastic parts need a first one (elastic.viscoelastic)");
+  } else if (!parts->is_array()) {
+    el.error("viscoelastic_parts", what + where(*parts));
+  } else if (parts->as_array().size() > kMaxLayers + 1) {
+    el.error("viscoelastic_parts", "at most " + std::to_string(kMaxLayers + 1) + " further parts, got " +
+                                       std::to_string(parts->as_array().size()));
+  } else {
+    std::size_t i = 0;
+    for (const toml::value& t : parts->as_array()) {
+      const std::string name = "viscoelastic_parts[" + std::to_string(i++) + "]";
+      if (!t.is_table()) {
+        el.error(name, what + where(t));
+        return;
+      }
+      Section part = el.child(t, name);
+      ViscoelasticParams p;
+      read_viscoelastic(part, p, base_dir, true);
+      if (!p.enabled()) part.error("viscoelastic", "is needed: \"sls\", \"prony\" or \"master_curve\"");
+      part.finish();
+      v.further.push_back(std::move(p));
+    }
   }
 }
 
@@ -233,25 +273,23 @@ void read_elastic(Section& el, Config& c, const std::string& base_dir) {
   c.elastic.coupling = el.boolean("coupling", true);
   read_body_stack(el, c.elastic);
   read_viscoelastic(el, c.visco, base_dir);
+  read_further_parts(el, c.visco, base_dir);
   using Part = ViscoelasticParams::Part;
-  if (c.visco.model == ViscoelasticParams::Model::MasterCurve && c.visco.master_relaxed_modulus() > 0 &&
-      (c.visco.part == Part::Top || c.visco.part == Part::All)) {
-    // The table's relaxed modulus is the body's E0* (the unit of pressures). (A viscoelastic
-    // substrate's is substrate_contact_modulus, given and checked against the table.)
-    const double e0 = c.visco.master_relaxed_modulus();
-    if (el.has("contact_modulus") && !(std::abs(c.elastic.contact_modulus - e0) <= 1e-12 * e0))
-      el.error("contact_modulus", "is set by the master curve (its first storage modulus, " +
-                                      format_number(e0) + "): leave it out");
-    c.elastic.contact_modulus = c.visco.master_relaxed_modulus();
-  }
+  for (const ViscoelasticParams& p : c.visco.parts())
+    if (p.model == ViscoelasticParams::Model::MasterCurve && p.master_relaxed_modulus() > 0 &&
+        (p.part == Part::Top || p.part == Part::All)) {
+      // The table's relaxed modulus is the body's E0* (the unit of pressures). (A viscoelastic
+      // substrate's or layer's is its own contact modulus, given and checked against the table.)
+      const double e0 = p.master_relaxed_modulus();
+      if (el.has("contact_modulus") && !(std::abs(c.elastic.contact_modulus - e0) <= 1e-12 * e0))
+        el.error("contact_modulus", "is set by the master curve (its first storage modulus, " +
+                                        format_number(e0) + "): leave it out");
+      c.elastic.contact_modulus = e0;
+    }
   el.finish();
-  if (c.visco.part == Part::Substrate && !c.elastic.on_substrate())
-    el.error("viscoelastic_part", "\"substrate\" needs an elastic substrate (substrate_contact_modulus)");
-  else if (c.visco.part == Part::Layer && static_cast<std::size_t>(c.visco.layer) >= c.elastic.layers.size())
-    el.error("viscoelastic_part", "names layers[" + std::to_string(c.visco.layer) +
-                                      "], but elastic.layers has " + std::to_string(c.elastic.layers.size()));
-  else
-    el.check([&] { c.visco.validate(relaxed_modulus(c.elastic, c.visco)); });  // its speed is [friction]'s
+  // Each part in the body and its model checked against its relaxed modulus (its speed is
+  // [friction]'s).
+  el.check([&] { validate_viscoelastic_parts(c.elastic, c.visco); });
 }
 
 void read_friction(Section& fr, Config& c) {

@@ -68,6 +68,11 @@ class Section {
       }
     }
   }
+  // A table inside this one (an array's element, say) read as a section of its own, its problems
+  // reported as "<this section>.<name>.<key>" with this section's.
+  [[nodiscard]] Section child(const toml::value& table, const std::string& name) const {
+    return Section(name_ + "." + name, table, errors_);
+  }
   [[nodiscard]] bool present() const { return tbl_ != nullptr; }
   bool has(const std::string& key) {
     allowed_.push_back(key);
@@ -174,6 +179,8 @@ class Section {
   [[nodiscard]] const std::string& name() const { return name_; }
 
  private:
+  Section(std::string name, const toml::value& table, std::vector<std::string>& errors)
+      : name_(std::move(name)), errors_(errors), tbl_(&table) {}
   double number_impl(const std::string& key, double def, bool allow_inf) {
     const toml::value* v = raw(key);
     if (!v) return def;

@@ -135,13 +135,7 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
   // The kinds of body (body.hpp) supply the per-mode compliances; this turns them into lab-frame
   // tables. (make_body validates the parameters.)
   const std::unique_ptr<Body> body = make_body(params_);
-  if (visco_.enabled() && visco_.part == ViscoelasticParams::Part::Substrate && !params_.on_substrate())
-    throw ParameterError("viscoelastic_part",
-                         "\"substrate\" needs an elastic substrate (substrate_contact_modulus)");
-  if (visco_.enabled() && visco_.part == ViscoelasticParams::Part::Layer &&
-      !(visco_.layer >= 0 && static_cast<std::size_t>(visco_.layer) < params_.layers.size()))
-    throw ParameterError("viscoelastic_part", "names a layer the body does not have (elastic.layers)");
-  visco_.validate(relaxed_modulus(params_, visco_));
+  validate_viscoelastic_parts(params_, visco_);
   std::unique_ptr<Body> indenter_body;
   if (indenter) {
     indenter_body = make_body(*indenter);
@@ -195,9 +189,11 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
   if (visco_.enabled()) response_ = viscoelastic_factors(grid, visco_, relaxed_modulus(params_, visco_));
   if (visco_.enabled() && visco_.velocity != 0.0 && params_.layered() &&
       visco_.part != ViscoelasticParams::Part::All) {
-    // One viscoelastic part (the top layer, a layer or the substrate) among elastic ones: no common
-    // factor; each mode's compliance from the transfer matrices with that part's E(omega) = E0 / c.
-    // (Viscoelastic throughout, every modulus has the one ratio: the factor path.)
+    // Viscoelastic parts (the top layer, layers, the substrate) among elastic ones, or several of
+    // different models: no common factor; each mode's compliance from the transfer matrices with
+    // each part's E(omega) = E0_part / c_part. (Viscoelastic throughout, every modulus has the one
+    // ratio: the factor path.)
+    const ViscoelasticStack stack(grid, params_, visco_);
     layered_response_.resize(modes_.size());
     const std::vector<ComplianceMode>& own = own_.empty() ? modes_ : own_;
     for_rows(grid.rows(), [&](int row) {
@@ -210,7 +206,7 @@ ElasticBody::ElasticBody(const Grid& grid, const ElasticParams& params, const Vi
           layered_response_[k] = {o.cxx, o.cyy, o.cxy, o.czz, o.cxz, o.cyz};
           continue;
         }
-        const ComplexRotatedCompliance r = body->compliance(q, stack_moduli(params_, visco_, response_[k]));
+        const ComplexRotatedCompliance r = body->compliance(q, stack.moduli(k));
         layered_response_[k] = to_lab<ResponseMode>(r, qx / q, qy / q, grid.nx % 2 == 0 && ikx == grid.nx / 2,
                                                     grid.ny % 2 == 0 && iky == grid.ny / 2, params_.coupling);
       }

@@ -4,7 +4,10 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
+
+#include "gfmd/core/error.hpp"
 
 namespace gfmd {
 
@@ -355,18 +358,72 @@ ModeResponse layered_mode_response(double q, double depth, const ElasticParams& 
   return plane_response(s, q, place_of(s, depth));
 }
 
-std::vector<cplx> stack_moduli(const ElasticParams& el, const ViscoelasticParams& v, cplx c) {
+namespace {
+// The index of the material (stack order) a part names; "all" has none (-1).
+int material_of(const ViscoelasticParams& p, const ElasticParams& el) {
   using Part = ViscoelasticParams::Part;
-  std::vector<cplx> m = own_moduli<cplx>(el);
-  if (v.part == Part::All) {
-    for (cplx& e : m) e /= c;
-  } else {
-    const std::size_t i = v.part == Part::Top         ? 0
-                          : v.part == Part::Substrate ? m.size() - 1
-                                                      : static_cast<std::size_t>(v.layer) + 1;
-    m[i] /= c;
+  switch (p.part) {
+    case Part::All:
+      return -1;
+    case Part::Substrate:
+      return static_cast<int>(el.layers.size()) + 1;
+    case Part::Layer:
+      return p.layer + 1;
+    case Part::Top:
+      break;
+  }
+  return 0;
+}
+}  // namespace
+
+ViscoelasticStack::ViscoelasticStack(const Grid& grid, const ElasticParams& el, const ViscoelasticParams& v)
+    : el_(el), parts_(v.parts()) {
+  for (std::size_t i = 0; i < parts_.size(); ++i) {
+    factors_.push_back(viscoelastic_factors(grid, parts_[i], relaxed_modulus(el, parts_[i])));
+    if (material_of(parts_[i], el) <= 0) top_ = static_cast<int>(i);
+  }
+}
+
+std::vector<cplx> ViscoelasticStack::moduli(std::size_t k) const {
+  std::vector<cplx> m = own_moduli<cplx>(el_);
+  for (std::size_t i = 0; i < parts_.size(); ++i) {
+    const cplx c = factors_[i][k];
+    if (const int j = material_of(parts_[i], el_); j < 0)
+      for (cplx& e : m) e /= c;
+    else
+      m[static_cast<std::size_t>(j)] /= c;
   }
   return m;
+}
+
+void validate_viscoelastic_parts(const ElasticParams& el, const ViscoelasticParams& v) {
+  using Part = ViscoelasticParams::Part;
+  const std::vector<ViscoelasticParams> parts = v.parts();
+  std::vector<int> seen;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const ViscoelasticParams& p = parts[i];
+    const std::string prefix = i == 0 ? "" : "viscoelastic_parts[" + std::to_string(i - 1) + "].";
+    const std::string key = prefix + "viscoelastic_part";
+    if (p.part == Part::Substrate && !el.on_substrate())
+      throw ParameterError(key, "\"substrate\" needs an elastic substrate (substrate_contact_modulus)");
+    if (p.part == Part::Layer && !(p.layer >= 0 && static_cast<std::size_t>(p.layer) < el.layers.size()))
+      throw ParameterError(key, "names layers[" + std::to_string(p.layer) + "], but elastic.layers has " +
+                                    std::to_string(el.layers.size()));
+    if (p.part == Part::All && parts.size() > 1)
+      throw ParameterError(key,
+                           "\"all\" makes every part viscoelastic with one model: it cannot be "
+                           "combined with elastic.viscoelastic_parts");
+    const int m = material_of(p, el);
+    if (std::find(seen.begin(), seen.end(), m) != seen.end())
+      throw ParameterError(key, "names \"" + p.part_name() +
+                                    "\", which another viscoelastic part already names (one model per part)");
+    seen.push_back(m);
+    try {
+      p.validate(relaxed_modulus(el, p));
+    } catch (const InputError& e) {
+      throw ParameterError(prefix + e.where(), e.why());
+    }
+  }
 }
 
 double layered_mean_normal_compliance(const ElasticParams& el) {

@@ -55,6 +55,7 @@
 #include "gfmd/core/backend.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/reduce.hpp"
+#include "gfmd/elastic/layered.hpp"
 #include "principal_point.hpp"
 #include "stress_detail.hpp"
 namespace gfmd {
@@ -190,12 +191,13 @@ StressField traction_stress(const FFT& fft, const ElasticParams& el, const Conta
   if (!(visco.enabled() && visco.velocity != 0.0 && el.layered() && visco.part != Part::All))
     return stress_of_tractions(fft, ElasticBody(fft.grid(), el), st);
   // A layered body's modes have no common factor: its own complex response, then Hooke's law of
-  // the top layer (at each mode's E(omega) = E0 / c if it is the viscoelastic part).
+  // the top layer (at each mode's E(omega) = E0 / c if it is a viscoelastic part).
   const ElasticBody body(fft.grid(), el, visco);
-  if (visco.part != Part::Top) return stress_of_tractions(fft, body, st);  // an elastic top layer
+  const ViscoelasticStack stack(fft.grid(), el, visco);
+  if (!stack.top_viscoelastic()) return stress_of_tractions(fft, body, st);  // an elastic top layer
   displace_by_tractions(fft, body, st);
   std::vector<cplx> modulus(body.modes().size());
-  for (std::size_t k = 0; k < modulus.size(); ++k) modulus[k] = 1.0 / body.response(k);
+  for (std::size_t k = 0; k < modulus.size(); ++k) modulus[k] = 1.0 / stack.top_factor(k);
   return surface_stress_scaled(fft, el, st, modulus.data());
 }
 

@@ -47,11 +47,10 @@ void to_lab(const ModeResponse& r, double c, double s, cplx tx, cplx ty, cplx tz
 }
 
 // Spectral evaluation of the response on the whole grid; sig (6 spectra) and/or u (3).
-// visco, factors: a layered body with one viscoelastic part in motion and its per-mode factors c
-// (null: elastic).
+// stack: a layered body's viscoelastic parts in motion and their per-mode factors (null: elastic).
 void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFields& f, double depth,
                         std::array<SpecField, 6>* sig, std::array<SpecField, 3>* u,
-                        const ViscoelasticParams* visco = nullptr, const cplx* factors = nullptr) {
+                        const ViscoelasticStack* stack = nullptr) {
   const std::unique_ptr<Body> body = make_body(el);  // validates el
   check_depth(el, depth);
   const Grid& g = fft.grid();
@@ -81,8 +80,8 @@ void subsurface_spectra(const FFT& fft, const ElasticParams& el, const ContactFi
     for (int ikx = 0; ikx < nxh; ++ikx) {
       const std::size_t k = static_cast<std::size_t>(row) * nxh + ikx;
       const double qx = g.qx(ikx), qy = g.qy(iky), q = std::hypot(qx, qy);
-      const ModeResponse r = factors ? body->mode_response(q, depth, stack_moduli(el, *visco, factors[k]))
-                                     : body->mode_response(q, depth);
+      const ModeResponse r =
+          stack ? body->mode_response(q, depth, stack->moduli(k)) : body->mode_response(q, depth);
       const double c = q > 0 ? qx / q : 1.0, s = q > 0 ? qy / q : 0.0;
       const cplx tx = has_tx ? TX[k] : cplx(0.0), ty = has_ty ? TY[k] : cplx(0.0), tzk = TZ[k];
       // On a Nyquist line the mode q and its mirror are the same mode: keep the part of
@@ -118,11 +117,11 @@ StressField subsurface_stress(const FFT& fft, const ElasticParams& el, const Con
   std::array<SpecField, 6> sig;
   using Part = ViscoelasticParams::Part;
   if (visco.enabled() && visco.velocity != 0.0 && el.layered() && visco.part != Part::All) {
-    // A layered viscoelastic body in motion: its viscoelastic part's E(omega) = E0 / c per mode.
+    // A layered viscoelastic body in motion: each viscoelastic part's E(omega) = E0 / c per mode.
     // (Viscoelastic throughout, every modulus has one ratio: the stresses from tractions are the
     // elastic ones.)
-    const std::vector<cplx> c = viscoelastic_factors(fft.grid(), visco, relaxed_modulus(el, visco));
-    subsurface_spectra(fft, el, f, depth, &sig, nullptr, &visco, c.data());
+    const ViscoelasticStack stack(fft.grid(), el, visco);
+    subsurface_spectra(fft, el, f, depth, &sig, nullptr, &stack);
   } else {
     subsurface_spectra(fft, el, f, depth, &sig, nullptr);
   }

@@ -49,6 +49,21 @@ std::string ViscoelasticParams::part_name() const {
   return "top";
 }
 
+std::vector<ViscoelasticParams> ViscoelasticParams::parts() const {
+  std::vector<ViscoelasticParams> all;
+  if (!enabled()) return all;
+  all.reserve(1 + further.size());
+  all.push_back(*this);
+  all.back().further.clear();
+  for (const ViscoelasticParams& f : further) {
+    all.push_back(f);
+    all.back().further.clear();
+    all.back().velocity = velocity;
+    all.back().direction_deg = direction_deg;
+  }
+  return all;
+}
+
 std::complex<double> ViscoelasticParams::modulus_ratio(double omega, double relaxed_modulus) const {
   // Called once per mode and alias when a body is made: no allocation here.
   std::complex<double> e(relaxed_modulus, 0.0);

@@ -196,3 +196,64 @@ def test_a_viscoelastic_interlayer():
                                  high_frequency_modulus=10.0, relaxation_time=1.0, part="layers[0]")
     r = gfmd.solve(top, body, force=0.005, velocity=0.1, interaction="hardwall", tolerance=1e-10).summary
     assert r["converged"] and r["hysteresis_friction"] > 1e-3 and r["hysteresis_balance_error"] < 1e-9
+
+
+def test_two_viscoelastic_parts_of_different_models():
+    # parts=: an elastic film (E* = 5, h = 0.01 R) over a standard-linear-solid interlayer
+    # (E0* = 1, tau = 1) on a substrate of another relaxation (E0* = 0.5, E_inf* = 5, tau = 30):
+    # the case file's elastic.viscoelastic_parts, the same numbers; the substrate's relaxation
+    # changes the hysteresis, which balances; a part's bad key is named.
+    top = gfmd.Topography.hertz(nx=64, lx=2.0, radius=1.0)
+    stack = dict(contact_modulus=5.0, poisson=0.3, thickness=0.01, layers=((1.0, 0.3, 0.05),),
+                 substrate_contact_modulus=0.5, substrate_poisson=0.45)
+    layer = dict(high_frequency_modulus=10.0, relaxation_time=1.0, part="layers[0]")
+    substrate = gfmd.ViscoelasticPart("substrate", high_frequency_modulus=5.0, relaxation_time=30.0)
+    run = dict(force=0.005, velocity=0.1, interaction="hardwall", tolerance=1e-10)
+    both = gfmd.solve(top, gfmd.ViscoelasticBody(parts=(substrate,), **stack, **layer), **run).summary
+    assert both["converged"] and both["hysteresis_balance_error"] < 1e-9
+    assert both["input"]["elastic"]["viscoelastic_parts"] == [
+        {"viscoelastic": "sls", "viscoelastic_part": "substrate", "high_frequency_modulus": 5.0, "relaxation_time": 30.0}]
+    alone = gfmd.solve(top, gfmd.ViscoelasticBody(**stack, **layer), **run).summary
+    assert alone["hysteresis_friction"] > 1e-4
+    assert abs(both["hysteresis_friction"] / alone["hysteresis_friction"] - 1) > 1e-2  # the substrate's share
+    toml = f"""
+[grid]
+nx = 64
+lx = 2.0
+[elastic]
+contact_modulus = 5.0
+poisson = 0.3
+thickness = 0.01
+layers = [{{contact_modulus = 1.0, poisson = 0.3, thickness = 0.05}}]
+substrate_contact_modulus = 0.5
+substrate_poisson = 0.45
+viscoelastic = "sls"
+viscoelastic_part = "layers[0]"
+high_frequency_modulus = 10.0
+relaxation_time = 1.0
+[[elastic.viscoelastic_parts]]
+viscoelastic = "sls"
+viscoelastic_part = "substrate"
+high_frequency_modulus = 5.0
+relaxation_time = 30.0
+[indenter]
+type = "hertz"
+radius = 1.0
+[load]
+force = 0.005
+[interaction]
+model = "hardwall"
+[friction]
+velocity = 0.1
+[solver]
+tolerance = 1e-10
+"""
+    from_file = gfmd.run_toml(toml)["summary"]
+    assert from_file["hysteresis_friction"] == pytest.approx(both["hysteresis_friction"], rel=1e-12)
+    bad = gfmd.ViscoelasticPart("substrate", high_frequency_modulus=0.1, relaxation_time=30.0)
+    with pytest.raises(gfmd.InputError, match=r"viscoelastic_parts\[0\]\.high_frequency_modulus"):
+        gfmd.solve(top, gfmd.ViscoelasticBody(parts=(bad,), **stack, **layer), **run)
+    with pytest.raises(gfmd.InputError, match="ViscoelasticPart: give"):
+        gfmd.ViscoelasticPart("substrate")
+    with pytest.raises(gfmd.InputError, match=r"parts\[0\]"):
+        gfmd.ViscoelasticBody(parts=("substrate",), **stack, **layer)

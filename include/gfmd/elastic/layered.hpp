@@ -39,10 +39,34 @@ namespace gfmd {
 [[nodiscard]] ModeResponse layered_mode_response(double q, double depth, const ElasticParams& el,
                                                  const std::vector<cplx>& moduli);
 
-// Each material's E* (top, layers, substrate) of `el` at a mode whose response factor is c =
-// E0/E(omega): the part `v` makes viscoelastic has E0_part / c (every material for "all"), the
-// others their own.
-[[nodiscard]] std::vector<cplx> stack_moduli(const ElasticParams& el, const ViscoelasticParams& v, cplx c);
+// A body's viscoelastic parts (v.parts(): elastic.viscoelastic's and each of
+// elastic.viscoelastic_parts') with each one's response factor c = E0_part/E_part(omega) per mode
+// of the spectral rows held here (viscoelastic_factors).
+class ViscoelasticStack {
+ public:
+  ViscoelasticStack(const Grid& grid, const ElasticParams& el, const ViscoelasticParams& v);
+  // Each material's E* (top, layers, substrate: layered_compliance's order) at spectral mode k:
+  // a viscoelastic part's E0_part / c_part, every material's own E* over c for "all", the
+  // elastic ones their own.
+  [[nodiscard]] std::vector<cplx> moduli(std::size_t k) const;
+  // Whether the top layer is viscoelastic (a part "top" or "all"), and its factor at k (1 if not).
+  [[nodiscard]] bool top_viscoelastic() const { return top_ >= 0; }
+  [[nodiscard]] cplx top_factor(std::size_t k) const {
+    return top_ < 0 ? cplx(1.0) : factors_[static_cast<std::size_t>(top_)][k];
+  }
+
+ private:
+  ElasticParams el_;
+  std::vector<ViscoelasticParams> parts_;
+  std::vector<std::vector<cplx>> factors_;  // [part][mode]
+  int top_ = -1;                            // the part that is the top layer, if any
+};
+
+// Throws ParameterError naming the key when a part of `v` is not in `el` (a substrate part
+// without a substrate, a layer the body does not have), two parts are one, "all" has company,
+// or a part's model is bad for its relaxed modulus (ViscoelasticParams::validate). A further
+// part's keys are named "viscoelastic_parts[i].<key>".
+void validate_viscoelastic_parts(const ElasticParams& el, const ViscoelasticParams& v);
 
 // The q = 0 compliances of a layered body: zero on a half-space substrate (its mean
 // displacement is pinned as a half-space's is), else the sums over the layers of

@@ -51,12 +51,21 @@ struct ViscoelasticParams {
   enum class Part { Top, Layer, Substrate, All };
   Part part = Part::Top;
   int layer = 0;  // with Part::Layer: its index in ElasticParams::layers
+  // Further viscoelastic parts of a layered body, each with its own model (and relaxed modulus:
+  // its part's contact_modulus), given by elastic.viscoelastic_parts: a rubber coating on a
+  // polymer substrate of another relaxation. Their parts differ from this one's and from each
+  // other's and none is "all"; they move with this one's velocity and direction (their own are
+  // unused), and have no further parts of their own.
+  std::vector<ViscoelasticParams> further;
   // Sliding speed v0 (length per time unit of tau) and direction (degrees from +x; the
   // friction's sliding direction).
   double velocity = 0.0;
   double direction_deg = 0.0;
 
   [[nodiscard]] bool enabled() const { return model != Model::None; }
+  // Every viscoelastic part: this one, then each of `further`, moving with this one's velocity
+  // and direction (empty for an elastic body).
+  [[nodiscard]] std::vector<ViscoelasticParams> parts() const;
   // The key of the relaxed modulus E0 (its part's contact_modulus), as errors name it.
   [[nodiscard]] std::string relaxed_key() const;
   // elastic.viscoelastic_part's value for this part: "top", "layers[i]" (its index), "substrate"
