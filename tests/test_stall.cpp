@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "gfmd/case/config.hpp"
 #include "gfmd/case/outputs.hpp"
@@ -27,6 +28,45 @@ TEST(StallHistory, DeepensOnceToTwiceTheDepthCapped) {
   EXPECT_FALSE(history_depth_fits(10, 40));
   EXPECT_FALSE(history_depth_fits(20, 10));
   EXPECT_FALSE(history_depth_fits(0, 10));
+}
+
+TEST(StallHistory, DampingGivesUpOnlyWithoutSteadyProgress) {
+  const std::vector<double> none;
+  EXPECT_EQ(damped_mixing(0.5, 0.5, none), 0.25);    // above the floor: half
+  EXPECT_EQ(damped_mixing(0.0625, 0.5, none), 0.0);  // below it with no history: give up
+  // 150 steps whose change halves every 40 steps (steady progress) against 150 that hover.
+  std::vector<double> falling, hovering;
+  for (int i = 0; i < 150; ++i) {
+    falling.push_back(1e-4 * std::pow(0.5, i / 40.0) * (1.0 + 0.3 * (i % 7) / 7.0));
+    hovering.push_back(1e-6 * (1.0 + 0.5 * std::sin(0.7 * i)));
+  }
+  EXPECT_EQ(damped_mixing(0.0625, 0.5, falling), 0.5);  // the configured relaxation again
+  EXPECT_EQ(damped_mixing(0.0625, 0.5, hovering), 0.0);
+  falling.resize(kProgressWindow);  // not longer than the window: no evidence either way
+  EXPECT_EQ(damped_mixing(0.0625, 0.5, falling), 0.0);
+}
+
+// A sphere sliding with adhesion and the tresca law's steep cap (mu_c = 5, tau0 = 0.02 E*, 256^2,
+// approach 0.005 R): its change fell steadily but slowly (halving every ~40 friction steps) and
+// the damping gave up at 235 steps ("oscillating"); going on at the configured relaxation it
+// converges, to the tangential force of a solve at tolerance 1e-10 (which never stalled) within
+// 1e-7.
+TEST(StallHistory, ASlowButSteadyFixedPointIsNotGivenUp) {
+  const std::string example =
+      (std::filesystem::path(GFMD_SOURCE_DIR) / "examples" / "adhesive_sliding_sphere.toml").string();
+  const std::vector<std::string> sets = {
+      "grid.nx=256",         "friction.coefficient=5", "friction.shear_strength=0.02",
+      "load.approach=0.005", "output.fields=false",    "output.png=false"};
+  const CaseResult r = run_case(load_config(example, sets));
+  ASSERT_TRUE(r.info.converged) << r.info.status;
+  EXPECT_GT(r.info.outer_iterations, 235);
+  std::vector<std::string> tight = sets;
+  tight.push_back("solver.tolerance=1e-10");
+  const CaseResult t = run_case(load_config(example, tight));
+  ASSERT_TRUE(t.info.converged) << t.info.status;
+  const double f = summary_json(r).at("tangential_force").get<double>();
+  const double ft = summary_json(t).at("tangential_force").get<double>();
+  EXPECT_NEAR(f / ft, 1.0, 1e-7);
 }
 
 Config stalling_case(const std::vector<std::string>& extra = {}) {

@@ -218,9 +218,9 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
         mixer->resize(2 * supp_len_);
         info.history_depth = depth;
       } else if (next == FrictionSteps::Next::Damp) {
-        omega *= 0.5;
+        omega = damped_mixing(omega, sp_.mixing, hist_change);
         if (mixer) mixer->clear_history();
-        if (omega < 0.04) {
+        if (omega == 0.0) {
           tx_.swap(ntx_);
           ty_.swap(nty_);
           info.status = "not converged: oscillating (friction fixed point does not settle even with damping)";

@@ -441,9 +441,9 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       } else if (next == FrictionSteps::Next::Damp) {
         // Stalled (with the longer history too): damp harder and restart the mixing history;
         // give up once damping no longer helps (a limit cycle of the slip field).
-        omega *= 0.5;
+        omega = damped_mixing(omega, sp_.mixing, hist_change);
         if (mixer) mixer->clear_history();
-        if (omega < 0.04) {
+        if (omega == 0.0) {
           f.tx.swap(tx);
           f.ty.swap(ty);
           info.status = "not converged: oscillating (friction fixed point does not settle even with damping)";

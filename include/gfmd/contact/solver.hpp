@@ -167,6 +167,24 @@ inline int deepened_history(int configured, int depth) {
   if (configured <= 0 || depth != configured || configured >= kDeepHistory) return depth;
   return std::min(2 * configured, kDeepHistory);
 }
+// The friction loop's relaxation after a stall that the longer history did not cure (host and
+// device alike): half the last, where a limit cycle of the slip field calms down; 0 (give up,
+// "oscillating") once that falls below kMinMixing without steady progress. Steady progress, the
+// best change of the last kProgressWindow friction steps (`change`, one per step) below
+// kProgressGain times the best before them, is a slow fixed point, not a cycle, which damping
+// only slows further: a steep tresca cap at an adhesive contact's edge (mu_c = 5, 256^2) gave
+// up at 235 steps with its change still halving every ~40; the relaxation goes back to
+// `configured` (solver.mixing) and the loop goes on, to solver.max_outer at most.
+inline constexpr double kMinMixing = 0.04, kProgressGain = 0.5;
+inline constexpr std::size_t kProgressWindow = 100;
+inline double damped_mixing(double omega, double configured, const std::vector<double>& change) {
+  if (0.5 * omega >= kMinMixing) return 0.5 * omega;
+  if (change.size() <= kProgressWindow) return 0.0;
+  const auto split = change.end() - static_cast<std::ptrdiff_t>(kProgressWindow);
+  const double before = *std::min_element(change.begin(), split);
+  const double recent = *std::min_element(split, change.end());
+  return recent < kProgressGain * before ? configured : 0.0;
+}
 // Whether a mixing history of `depth` can belong to a solve with solver.anderson = configured.
 inline bool history_depth_fits(int configured, int depth) {
   return depth == configured || (configured > 0 && depth == deepened_history(configured, configured));
