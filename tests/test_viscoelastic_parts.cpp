@@ -165,6 +165,28 @@ TEST(ViscoelasticParts, TwoRelaxationsBalanceTheirWork) {
       "", "velocity = 0.16\n"));
 }
 
+// examples/visco_two_parts_sphere.toml: a coating (tau = 1) on a substrate relaxing a thousand
+// times slower (tau = 1000). Its hysteresis friction over speed has two peaks: near v0 = 1e-5 the
+// substrate's (70 times the coating's own there, examples/visco_coated_sphere.toml), then a
+// valley near 1e-4, then the coating's near 1e-2.
+TEST(ViscoelasticParts, TheTwoPartsExampleHasTwoPeaks) {
+  const std::string dir = std::string(GFMD_SOURCE_DIR) + "/examples/";
+  const auto mu_h = [&](const char* name, const char* v) {
+    const Config c = load_config(dir + name, {std::string("friction.velocity=") + v, "output.fields=false",
+                                              "output.png=false", "stress.depths=[]"});
+    const CaseResult r = run_case(c);
+    EXPECT_TRUE(r.info.converged) << name << " " << v << ": " << r.info.status;
+    return r.observables.hysteresis_friction;
+  };
+  const double slow = mu_h("visco_two_parts_sphere.toml", "1e-5");
+  const double valley = mu_h("visco_two_parts_sphere.toml", "1e-4");
+  const double fast = mu_h("visco_two_parts_sphere.toml", "1e-2");
+  std::printf("mu_h at v0 = 1e-5, 1e-4, 1e-2: %.4g, %.4g, %.4g\n", slow, valley, fast);
+  EXPECT_GT(slow, 2.0 * valley);
+  EXPECT_GT(fast, 2.0 * valley);
+  EXPECT_GT(slow, 10.0 * mu_h("visco_coated_sphere.toml", "1e-5"));
+}
+
 // The list is checked key by key (the message names elastic.viscoelastic_parts[i].<key>) and
 // written back into the case's record, which reads as the same case.
 TEST(ViscoelasticParts, TheListIsCheckedAndRecorded) {
