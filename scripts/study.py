@@ -114,20 +114,58 @@ def check_stop():
 
 
 # Each run reads its case file once (gfmd sweep, curve and run make every point from that
-# text); a study runs gfmd once per series, so a case file edited between two of its runs would
-# mix two cases in one figure. The text each case had at its first run, by path.
+# text, and the surface of a height file once); a study runs gfmd once per series, so a case
+# file, a height file or a master curve edited between two of its runs would mix two cases in
+# one figure. The content each had at its first run, by path.
 _CASE_DIGESTS = {}
 
 
-def check_case_unchanged(path):
-    """Records the case file's text at its first run in this study; at a later run a changed
-    text ends the study (exit status 1) instead of drawing series of two different cases."""
+def check_case_unchanged(path, what="case file"):
+    """Records the file's content at its first run in this study; at a later run a changed
+    content ends the study (exit status 1) instead of drawing series of two different cases."""
     with open(path, "rb") as f:
         digest = hashlib.sha256(f.read()).hexdigest()
     if _CASE_DIGESTS.setdefault(os.path.realpath(path), digest) != digest:
-        fail(f"study: {path}: the case file changed while the study ran (its earlier runs were solved "
-             "from the previous text); run the study again (runs of the new text are solved again, "
-             "finished ones of the old text are not reused for it)", 1)
+        fail(f"study: {path}: the {what} changed while the study ran (its earlier runs were solved "
+             "from the previous content); run the study again (runs of the new content are solved again, "
+             "finished ones of the old content are not reused for it)", 1)
+
+
+def input_files(case, cmd):
+    """The files a gfmd run of `case` reads besides it, as (path, what): the height file of a file
+    indenter (indenter.path) and the master curves of a viscoelastic body (elastic.master_curve,
+    and that of each elastic.viscoelastic_parts table), relative to the case file's folder as gfmd
+    reads them; a --set of the run (in cmd) replaces the case's value."""
+    import tomllib
+
+    try:
+        with open(case, "rb") as f:
+            data = tomllib.load(f)
+    except (OSError, ValueError):
+        return []  # gfmd names the problem
+    sets = {}
+    for a, b in zip(cmd, cmd[1:]):
+        if a == "--set" and "=" in b:
+            k, v = b.split("=", 1)
+            sets[k.strip()] = v.strip()
+
+    def value(section, key):
+        if f"{section}.{key}" in sets:
+            try:
+                return tomllib.loads("x = " + sets[f"{section}.{key}"])["x"]
+            except ValueError:
+                return None
+        table = data.get(section)
+        return table.get(key) if isinstance(table, dict) else None
+
+    found = [(value("indenter", "path"), "height file"), (value("elastic", "master_curve"), "master curve file")]
+    parts = value("elastic", "viscoelastic_parts")
+    for part in parts if isinstance(parts, list) else []:
+        if isinstance(part, dict):
+            found.append((part.get("master_curve"), "master curve file"))
+    base = os.path.dirname(os.path.abspath(case))
+    return [(os.path.join(base, p), what) for p, what in found
+            if isinstance(p, str) and p and os.path.isfile(os.path.join(base, p))]
 
 
 def run(cmd, tolerate_not_converged=False, what=""):
@@ -137,6 +175,8 @@ def run(cmd, tolerate_not_converged=False, what=""):
     check_stop()
     if len(cmd) > 2 and cmd[1] in ("run", "sweep", "percolation", "curve") and os.path.isfile(cmd[2]):
         check_case_unchanged(cmd[2])
+        for path, kind in input_files(cmd[2], cmd):
+            check_case_unchanged(path, kind)
     if FORCE and len(cmd) > 1 and cmd[1] in ("run", "sweep", "percolation", "curve"):
         cmd = cmd + ["--force"]
     _child["waiting"] = True

@@ -373,3 +373,28 @@ def test_a_study_stops_when_a_case_file_changes_between_its_runs(tmp_path):
     with pytest.raises(SystemExit) as e:
         study.check_case_unchanged(str(case))
     assert e.value.code == 1
+
+
+def test_a_study_stops_when_a_height_file_changes_between_its_runs(tmp_path):
+    # The files a case reads besides itself (a height file, a master curve; a run's --set of
+    # indenter.path in their place) are held to their first content too.
+    import sys
+    sys.path.insert(0, os.path.join(ROOT, "scripts"))
+    import study
+    (tmp_path / "h.csv").write_text("0 1\n1 0\n")
+    (tmp_path / "other.csv").write_text("0 0\n0 0\n")
+    (tmp_path / "e.txt").write_text("1 1 0.1\n10 5 1\n")
+    case = tmp_path / "c.toml"
+    case.write_text('[indenter]\ntype = "file"\npath = "h.csv"\n[elastic]\nviscoelastic = "sls"\n'
+                    '[[elastic.viscoelastic_parts]]\nmaster_curve = "e.txt"\n')
+    cmd = ["gfmd", "run", str(case)]
+    assert [(os.path.basename(p), w) for p, w in study.input_files(str(case), cmd)] == [
+        ("h.csv", "height file"), ("e.txt", "master curve file")]
+    other = cmd + ["--set", 'indenter.path="other.csv"']
+    assert [os.path.basename(p) for p, _ in study.input_files(str(case), other)] == ["other.csv", "e.txt"]
+    for p, w in study.input_files(str(case), cmd):
+        study.check_case_unchanged(p, w)
+    (tmp_path / "h.csv").write_text("0 2\n1 0\n")
+    with pytest.raises(SystemExit) as e:
+        study.check_case_unchanged(str(tmp_path / "h.csv"), "height file")
+    assert e.value.code == 1
