@@ -193,18 +193,24 @@ VISCO = HERTZ.replace("poisson = 0.3", "poisson = 0.3\nviscoelastic = \"sls\"\nh
 @pytest.mark.parametrize("ranks,friction", [(2, ""), (3, ""), (3, "coefficient = 0.3\nregularization = 0.01\n"),
                                             (3, "coefficient = 0.3\ncreepage = 0.001\n"),
                                             (3, "coefficient = 0.3\ncreepage = 0.001\n# pair\n"),
-                                            (3, "coefficient = 0.3\ncreepage = 0.001\n# coated\n")])
+                                            (3, "coefficient = 0.3\ncreepage = 0.001\n# coated\n"),
+                                            (3, "coefficient = 0.3\ncreepage = 0.001\n# two parts\n")])
 def test_viscoelastic_sliding_any_rank_count(tmp_path, ranks, friction):
     # The response factors on each slab's rows of the spectrum (the y Nyquist row on one of them),
     # the splitting's mixing summed by grid row and the spectral dissipation (with friction, of the
     # tangential tractions too): the serial bits. Rolling with stick: the stick-slip splitting's
     # resolvent with the response, too; under an elastic indenter ("# pair") with the pair's complex
-    # response; on a viscoelastic coating over a substrate ("# coated") with its transfer matrices'.
+    # response; on a viscoelastic coating over a substrate ("# coated") with its transfer matrices';
+    # over a substrate of another relaxation ("# two parts") with each part's factors per slab.
     case = VISCO.replace("[friction]\n", "[friction]\n" + friction)
     if "# pair" in friction:
         case = case.replace("[indenter]\n", "[indenter]\ncontact_modulus = 2.0\npoisson = 0.45\n")
     if "# coated" in friction:  # a viscoelastic coating: its complex transfer matrices per slab
         case = case.replace("[elastic]\n", "[elastic]\nthickness = 0.05\nsubstrate_contact_modulus = 2.0\n")
+    if "# two parts" in friction:
+        case = case.replace("[elastic]\n", "[elastic]\nthickness = 0.05\nsubstrate_contact_modulus = 2.0\n"
+                            "viscoelastic_parts = [{viscoelastic = \"sls\", viscoelastic_part = \"substrate\", "
+                            "high_frequency_modulus = 8.0, relaxation_time = 30.0}]\n")
     a, b = serial_and_distributed(tmp_path, case, ranks)
     assert a["hysteresis_friction"] > 0 and a["hysteresis_balance_error"] < 1e-9
     keys = ["hysteresis_force", "hysteresis_dissipation", "viscoelastic_steps", "centroid_shift"]
