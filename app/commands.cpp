@@ -147,7 +147,7 @@ int cmd_green(const std::vector<double>& nus, double from, double to, int points
 }
 
 int cmd_study(const std::string& study_path, bool quick, const std::string& out_dir,
-              const std::vector<std::string>& sets, bool quiet, bool force, bool draw_only) {
+              const std::vector<std::string>& sets, bool quiet, bool force, bool draw_only, bool runs_only) {
   const std::string script = find_script("study.py");
   if (script.empty()) throw gfmd::InputError("gfmd study", "study.py is not installed next to this program");
   std::vector<std::string> args = {python_interpreter(), script, study_path};
@@ -155,6 +155,7 @@ int cmd_study(const std::string& study_path, bool quick, const std::string& out_
   if (quiet) args.emplace_back("--quiet");
   if (force) args.emplace_back("--force");
   if (draw_only) args.emplace_back("--draw-only");
+  if (runs_only) args.emplace_back("--runs-only");
   if (!out_dir.empty()) {
     args.emplace_back("-o");
     args.push_back(out_dir);

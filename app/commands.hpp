@@ -44,8 +44,10 @@ int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::v
 // Tabulates the dimensionless Green's tensor of SPEC §2 (frame with q along axis 1).
 int cmd_green(const std::vector<double>& nus, double from, double to, int points, const std::string& out);
 // Runs scripts/study.py (the figure studies) with this program's Python; draw_only: its
-// --draw-only (draw from the runs on disk, run nothing).
+// --draw-only (draw from the runs on disk, run nothing); runs_only: its --runs-only (run every
+// series, draw nothing).
 int cmd_study(const std::string& study_path, bool quick, const std::string& out_dir,
-              const std::vector<std::string>& sets, bool quiet, bool force, bool draw_only = false);
+              const std::vector<std::string>& sets, bool quiet, bool force, bool draw_only = false,
+              bool runs_only = false);
 
 }  // namespace gfmd::cli

@@ -176,14 +176,19 @@ int run_main(int argc, char** argv) {
       ->required();
 
   std::string study_path;
-  bool study_quick = false, study_draw_only = false;
+  bool study_quick = false, study_draw_only = false, study_runs_only = false;
   auto* study = app.add_subcommand("study", "run a study of studies/ and draw its figure (matplotlib)");
   study->add_option("study", study_path, "study file (TOML)")->required();
   study->add_flag("--quick", study_quick, "reduced resolution that runs in minutes");
-  study->add_flag(
+  auto* draw_only_flag = study->add_flag(
       "--draw-only", study_draw_only,
       "draw from the runs on disk and run nothing (sweep studies; a point that did not converge is "
       "not retried, a series without runs is left out)");
+  study
+      ->add_flag("--runs-only", study_runs_only,
+                 "run (or reuse) every series and stop: no figure, no matplotlib needed (a machine that "
+                 "computes without drawing; --draw-only draws later)")
+      ->excludes(draw_only_flag);
   study->add_option("-o,--output", out_dir, "output root (default out/studies)")->check(non_empty);
   study->add_flag("-q,--quiet", quiet, "print only errors");
   add_force(study);
@@ -251,7 +256,7 @@ int run_main(int argc, char** argv) {
     if (plot_cmd->parsed()) return cmd_plot(plot_dir);
     if (green->parsed()) return cmd_green(green_nu, green_from, green_to, green_points, out_dir);
     if (study->parsed())
-      return cmd_study(study_path, study_quick, out_dir, sets, quiet, force, study_draw_only);
+      return cmd_study(study_path, study_quick, out_dir, sets, quiet, force, study_draw_only, study_runs_only);
   } catch (const gfmd::InputError& e) {
     // A bare list ("--set load.force=1e-3,2e-3") is a sweep's: say so where another command got one.
     const bool list_given =

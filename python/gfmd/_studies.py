@@ -82,7 +82,7 @@ def _package_file(*parts: str) -> str:
 
 
 def study(study_file: str, quick: bool = False, output: str = os.path.join("out", "studies"),
-          set: Iterable[str] = (), draw_only: bool = False) -> dict:
+          set: Iterable[str] = (), draw_only: bool = False, runs_only: bool = False) -> dict:
     """Runs a figure study (studies/*.toml) as `gfmd study` does: its sweeps or runs (reusing
     finished results), then its figure (PNG, PDF) and the plotted data (CSV) in
     output/<name>/<quick|full>/. Returns study.json (figure path, series, wall time, series
@@ -92,7 +92,9 @@ def study(study_file: str, quick: bool = False, output: str = os.path.join("out"
     study file or a case file given as a study, naming the file and the key. `set`: settings
     for every run of the study, after its own (e.g. 'solver.backend="cuda"'). `draw_only`: draw a
     sweep study from the runs on disk and run nothing (gfmd study --draw-only: a point that did not
-    converge is not retried, a series or seed without runs is left out).
+    converge is not retried, a series or seed without runs is left out). `runs_only`: run (or
+    reuse) every series and draw nothing (gfmd study --runs-only; no figure, and study.json is
+    not written: returns {"study": name, "runs": the output folder}).
     KeyboardInterrupt (Ctrl-C, or a notebook's interrupt) stops the study's runs, waits for
     them and is raised again; the finished runs are reused by the next call."""
     import signal
@@ -107,8 +109,12 @@ def study(study_file: str, quick: bool = False, output: str = os.path.join("out"
         raise InputError("study: the gfmd program is not installed with the package")
     # `gfmd study` itself (it finds study.py beside it and calls itself back for the runs).
     args = [program, "study", path, "-o", str(output)] + (["--quick"] if quick else [])
+    if draw_only and runs_only:
+        raise InputError("runs_only: draw_only and runs_only exclude each other")
     if draw_only:
         args.append("--draw-only")
+    if runs_only:
+        args.append("--runs-only")
     for kv in set:
         args += ["--set", str(kv)]
     # In a process group of its own, so that an interrupt of this process (which may come
@@ -138,5 +144,7 @@ def study(study_file: str, quick: bool = False, output: str = os.path.join("out"
         if p.returncode == 2:  # bad input: the study file, a setting
             raise InputError(tail[len("gfmd study: "):] if tail.startswith("gfmd study: ") else tail)
         raise SolveError(f"study {name}: {tail}")
+    if runs_only:
+        return {"study": name, "runs": os.path.dirname(report)}
     with open(report) as f:
         return json.load(f)

@@ -120,6 +120,22 @@ where = ["a=1"]
     import gfmd
     j = gfmd.study(str(tmp_path / "s.toml"), quick=True, output=str(tmp_path / "out"), draw_only=True)
     assert j["series"] == ["coupled"]
+    # gfmd study --runs-only (and Python's runs_only=True) runs the missing series and draws
+    # nothing; with --draw-only it is refused.
+    (d / "s.png").unlink()
+    p = subprocess.run([ENV["GFMD"], "study", str(tmp_path / "s.toml"), "--quick", "-o", str(tmp_path / "out"),
+                        "--runs-only"], capture_output=True, text=True, env=ENV)
+    assert p.returncode == 0, p.stderr
+    assert (d / "series_01" / "sweep.csv").exists() and (d / "series_00" / "seed_2" / "sweep.csv").exists()
+    assert not (d / "s.png").exists()
+    p = subprocess.run([ENV["GFMD"], "study", str(tmp_path / "s.toml"), "--quick", "--runs-only", "--draw-only"],
+                       capture_output=True, text=True, env=ENV)
+    assert p.returncode != 0 and "--draw-only" in p.stderr
+    assert gfmd.study(str(tmp_path / "s.toml"), quick=True, output=str(tmp_path / "out"),
+                      runs_only=True) == {"study": "s", "runs": str(d)}
+    with pytest.raises(gfmd.InputError, match="exclude each other"):
+        gfmd.study(str(tmp_path / "s.toml"), quick=True, draw_only=True, runs_only=True)
+    assert not (d / "s.png").exists()
 
 
 @pytest.mark.parametrize("seeds,says", [('"3..1"', 'series[1].seeds: "3..1" is not FIRST..LAST'),
