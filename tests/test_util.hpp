@@ -15,6 +15,7 @@
 #include <map>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gfmd/case/config.hpp"
@@ -178,6 +179,18 @@ inline double max_abs_diff(const RealField& a, const RealField& b) {
   double d = 0;
   for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
   return d;
+}
+
+// Two stress planes: the largest difference of their xx, yy, zz and xz components over the
+// largest of the second's.
+inline double stress_difference(const StressField& a, const StressField& b) {
+  double top = 0.0, d = 0.0;
+  for (const auto& [x, y] :
+       {std::pair{&a.xx, &b.xx}, std::pair{&a.yy, &b.yy}, std::pair{&a.zz, &b.zz}, std::pair{&a.xz, &b.xz}}) {
+    top = std::max(top, max_abs(*y));
+    d = std::max(d, max_abs_diff(*x, *y));
+  }
+  return d / top;
 }
 
 // TOML text with the lines that set `keys` ("key = ..." at a line's start) taken out.

@@ -66,17 +66,6 @@ std::string sls_part(const std::string& part, double einf, double tau) {
   return buf;
 }
 
-// The largest difference of two stress fields' normal components over the largest of the second.
-double stress_difference(const StressField& a, const StressField& b) {
-  double top = 0.0, d = 0.0;
-  for (const auto& [x, y] :
-       {std::pair{&a.xx, &b.xx}, std::pair{&a.yy, &b.yy}, std::pair{&a.zz, &b.zz}, std::pair{&a.xz, &b.xz}}) {
-    top = std::max(top, max_abs(*y));
-    d = std::max(d, max_abs_diff(*x, *y));
-  }
-  return d / top;
-}
-
 }  // namespace
 
 // Every material a standard linear solid of the same ratio E_inf/E0 and time: each modulus is its
@@ -107,8 +96,8 @@ TEST(ViscoelasticParts, ProportionalPartsAreTheBodyViscoelasticThroughout) {
         subsurface_stress(fft, three.config.elastic, three.fields, depth, three.config.visco);
     const StressField b = subsurface_stress(fft, all.config.elastic, all.fields, depth, all.config.visco);
     std::printf("depth %.2f: the three parts' plane against \"all\"'s %.2e\n", depth,
-                stress_difference(a, b));
-    EXPECT_LT(stress_difference(a, b), 1e-8) << "depth " << depth;
+                gfmd::testing::stress_difference(a, b));
+    EXPECT_LT(gfmd::testing::stress_difference(a, b), 1e-8) << "depth " << depth;
   }
   // Not proportional (the substrate relaxing 100 times slower), the body is another.
   const CaseResult slow = solve(kStack, {"elastic.viscoelastic_parts=[" + sls_part("layers[0]", 30.0, 1.0) +
