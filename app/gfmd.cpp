@@ -256,7 +256,8 @@ int run_main(int argc, char** argv) {
     if (plot_cmd->parsed()) return cmd_plot(plot_dir);
     if (green->parsed()) return cmd_green(green_nu, green_from, green_to, green_points, out_dir);
     if (study->parsed())
-      return cmd_study(study_path, study_quick, out_dir, sets, quiet, force, study_draw_only, study_runs_only);
+      return cmd_study(study_path, study_quick, out_dir, sets, quiet, force, study_draw_only,
+                       study_runs_only);
   } catch (const gfmd::InputError& e) {
     // A bare list ("--set load.force=1e-3,2e-3") is a sweep's: say so where another command got one.
     const bool list_given =
