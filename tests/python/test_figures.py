@@ -472,8 +472,11 @@ def test_interrupted_plot_maps_changes_nothing(runs, sig):
     draw_all(dirs)
     before = png_state(dirs)
     assert len(before) == 3 * len(dirs)
+    # The signal's default disposition in the script (a background job of a shell without job
+    # control would pass SIG_IGN for SIGINT on, which the script keeps, as a program should).
     p = subprocess.Popen([sys.executable, os.path.join(SCRIPTS, "plot_maps.py"), *SOME, *dirs],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV,
+                         preexec_fn=lambda: signal.signal(sig, signal.SIG_DFL))
     # Once the first figure is drawn (its temporary appears), the rest are still to come.
     while not temporaries(dirs):
         assert p.poll() is None, "finished before it was interrupted: " + p.stderr.read()
