@@ -23,8 +23,6 @@ contact regions smaller than the magnification's wavelength. The modulus is gfmd
 case's viscoelastic keys).
 """
 import argparse
-import csv
-import math
 import os
 import sys
 
@@ -35,6 +33,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BUILD = os.environ.get("GFMD_BUILD_DIR", os.path.join(ROOT, "build"))
 sys.path.insert(0, os.path.join(BUILD, "python"))
 import gfmd  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import figure_io  # noqa: E402  (atomic figure and table writes)
 
 
 def speeds(spec):
@@ -128,11 +129,7 @@ def main():
         rows.append(row)
         print(", ".join(f"{k} {x:.5g}" if isinstance(x, float) else f"{k} {x}" for k, x in row.items()), flush=True)
     if args.csv:
-        with open(args.csv + ".tmp", "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=list(rows[0]))
-            w.writeheader()
-            w.writerows(rows)
-        os.replace(args.csv + ".tmp", args.csv)
+        figure_io.write_csv(args.csv, list(rows[0]), [list(r.values()) for r in rows])
     if args.plot:
         import matplotlib
 
@@ -153,8 +150,7 @@ def main():
         a1.set_ylabel("hysteresis friction μ_h")
         a2.set_ylabel("relative contact area")
         fig.tight_layout()
-        fig.savefig(args.plot + ".tmp.png", dpi=120)
-        os.replace(args.plot + ".tmp.png", args.plot)
+        figure_io.save_png(fig, args.plot, dpi=120)
 
 
 if __name__ == "__main__":

@@ -168,16 +168,21 @@ def input_files(case, cmd):
             if isinstance(p, str) and p and os.path.isfile(os.path.join(base, p))]
 
 
+# The gfmd commands that solve a case file (their second argument): its inputs are checked, and
+# --force applies to them.
+CASE_COMMANDS = ("run", "sweep", "percolation", "curve")
+
+
 def run(cmd, tolerate_not_converged=False, what=""):
     """Runs a gfmd command (argument vector) and waits for it; on SIGINT/SIGTERM it is
     stopped and waited for, then Interrupted is raised. Exit status 2 of the run is bad
     input (a setting of the study or of --set): BadInput naming `what` and the run's reason."""
     check_stop()
-    if len(cmd) > 2 and cmd[1] in ("run", "sweep", "percolation", "curve") and os.path.isfile(cmd[2]):
+    if len(cmd) > 2 and cmd[1] in CASE_COMMANDS and os.path.isfile(cmd[2]):
         check_case_unchanged(cmd[2])
         for path, kind in input_files(cmd[2], cmd):
             check_case_unchanged(path, kind)
-    if FORCE and len(cmd) > 1 and cmd[1] in ("run", "sweep", "percolation", "curve"):
+    if FORCE and len(cmd) > 1 and cmd[1] in CASE_COMMANDS:
         cmd = cmd + ["--force"]
     _child["waiting"] = True
     try:
