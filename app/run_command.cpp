@@ -24,6 +24,7 @@
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/case/run_directory.hpp"
+#include "gfmd/case/run_in_directory.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/core/mpi.hpp"
@@ -97,85 +98,54 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
       if (!told) (void)gfmd::mpi::from_root(kDirectoryFailed);
     }
   } ready;
-  gfmd::RunDirectory rd(out_dir, {dir_flags.force, dir_flags.wait, stop_requested});
-  const std::string ckpt = rd.checkpoint();
-  gfmd::ContactFields warm;
-  gfmd::CheckpointProgress done;
-  bool have_warm = false;
-  if (resume) {
-    if (gfmd::finished_summary(out_dir, cfg)) {
-      if (!quiet)
-        std::printf("%s: already solved in %s/ (summary.json); nothing to do\n", case_path.c_str(),
-                    out_dir.c_str());
-      ready.tell(kNothingToDo);
-      return 0;
-    }
-    const std::string before = gfmd::read_status(out_dir);
-    have_warm = gfmd::read_checkpoint(ckpt, cfg, warm, &done);
-    if (!quiet) {
-      // We hold the lock, so a "running" status was left by a process that died.
-      if (before == "running")
-        std::fprintf(stderr, "the previous run in %s/ did not finish (it crashed or was killed)\n",
-                     out_dir.c_str());
-      std::fprintf(stderr, "%s\n",
-                   have_warm ? "resuming from the checkpoint" : "no usable checkpoint: starting afresh");
-    }
-  }
-  // The results go to a staging area first; the directory's previous result stays until the
-  // new one is complete.
-  if (!have_warm) {
-    std::error_code ec;
-    fs::remove(ckpt, ec);
-  }
-  rd.begin();
-  ready.tell(kDirectoryReady);
   ProgressPrinter pp;
   pp.quiet = quiet;
   pp.verbose = verbose;
-  gfmd::RunOptions opts;
+  gfmd::DirectoryRunOptions opts;
+  opts.resume = resume;
+  opts.directory = {dir_flags.force, dir_flags.wait, stop_requested};
   opts.progress = [&pp](const gfmd::Progress& p) { pp(p); };
-  opts.stop_request = stop_requested;
-  opts.checkpoint_path = ckpt;
   opts.checkpoint_interval_s = checkpoint_s;
-  opts.keep_stress_fields = gfmd::outputs_need_stress_fields(cfg);
-  opts.whole_solution = false;  // the outputs ask for the fields they write (keep_stress_fields)
   opts.made_surface = std::move(surface);
   opts.made_report = std::move(report);
-  if (have_warm) {
-    opts.warm_start = &warm;
-    opts.resumed = done;
-  }
+  // The data files, then the maps and profiles.png drawn from them (output.png).
+  opts.draw = [&cfg](const std::string& staging) {
+    if (cfg.output.png) (void)draw_maps({staging}, {"--profiles"});
+  };
+  opts.on_ready = [&ready](bool nothing_to_do) {
+    ready.tell(nothing_to_do ? kNothingToDo : kDirectoryReady);
+  };
+  opts.log = [quiet](const std::string& m) {
+    if (!quiet) std::fprintf(stderr, "%s\n", m.c_str());
+  };
+  opts.failure_note = [&pp](const std::string& note) {
+    pp.done();
+    std::fprintf(stderr, "gfmd: %s\n", note.c_str());
+  };
   // "; the previous complete result in DIR/ is kept unchanged", where there is one.
   const auto kept = [](const std::string& note) { return note.empty() ? std::string() : "; " + note; };
-  // Every error from here on leaves status.json "failed" with the reason.
-  const auto failed = [&](const std::string& why) {
-    pp.done();
-    return kept(rd.fail(why));
-  };
-  const auto interrupted = [&](const std::string& why) {
-    pp.done();
-    const std::string note = kept(rd.interrupt(why));
-    std::fprintf(stderr, "gfmd: %s: %s; state saved in %s, continue with --resume%s\n", case_path.c_str(),
-                 why.c_str(), ckpt.c_str(), note.c_str());
-    return 4;
-  };
-  gfmd::CaseResult r;
-  try {
-    r = gfmd::run_case(cfg, opts);
-  } catch (const gfmd::Interrupted& e) {
-    return interrupted(e.what());
-  } catch (const std::bad_alloc&) {
-    const std::string note = failed("out of memory during the solve");
-    if (!note.empty()) std::fprintf(stderr, "gfmd: %s\n", note.substr(2).c_str());
-    throw;
-  } catch (const std::exception& e) {
-    const std::string note = failed(e.what());
-    std::error_code ec;
-    fs::remove(ckpt, ec);
-    if (!note.empty()) std::fprintf(stderr, "gfmd: %s\n", note.substr(2).c_str());
-    throw;
-  }
+  const gfmd::DirectoryRun run = gfmd::run_in_directory(cfg, out_dir, std::move(opts));
   pp.done();
+  using Outcome = gfmd::DirectoryRun::Outcome;
+  switch (run.outcome) {
+    case Outcome::AlreadySolved:
+      if (!quiet)
+        std::printf("%s: already solved in %s/ (summary.json); nothing to do\n", case_path.c_str(),
+                    out_dir.c_str());
+      return 0;
+    case Outcome::Interrupted:
+      if (run.saved_state)
+        std::fprintf(stderr, "gfmd: %s: %s; state saved in %s, continue with --resume%s\n", case_path.c_str(),
+                     run.why.c_str(), run.checkpoint.c_str(), kept(run.note).c_str());
+      else
+        std::fprintf(stderr, "gfmd: %s: %s; no results written%s\n", case_path.c_str(), run.why.c_str(),
+                     kept(run.note).c_str());
+      return 4;
+    case Outcome::NotConverged:  // its warnings first, below
+    case Outcome::Solved:
+      break;
+  }
+  const gfmd::CaseResult& r = run.result;
   if (r.map_report)
     for (const std::string& w : r.map_report->warnings)
       std::fprintf(stderr, "gfmd: warning: %s: %s\n", r.map_report->path.c_str(), w.c_str());
@@ -185,40 +155,11 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   if (r.info.converged)
     for (const std::string& w : gfmd::solution_warnings(r.observables))
       std::fprintf(stderr, "gfmd: warning: %s: %s\n", case_path.c_str(), w.c_str());
-  if (!r.info.converged) {
-    char why[512];
-    std::snprintf(why, sizeof why,
-                  "%s after %d iterations (pressure change %.3e, friction change %.3e, tolerance %.1e)",
-                  r.info.status.c_str(), r.info.iterations, r.info.pk_error, r.info.friction_error,
-                  cfg.solver.tolerance);
-    const std::string note = failed(why);
-    std::error_code ec;
-    fs::remove(ckpt, ec);
-    std::fprintf(stderr, "gfmd: error: %s: %s%s; no results written%s\n", case_path.c_str(), why,
-                 sets_note(sets).c_str(), note.c_str());
+  if (run.outcome == Outcome::NotConverged) {
+    std::fprintf(stderr, "gfmd: error: %s: %s%s; no results written%s\n", case_path.c_str(), run.why.c_str(),
+                 sets_note(sets).c_str(), kept(run.note).c_str());
     return 3;
   }
-  // The data files, then the maps and profiles.png drawn from them (output.png), all in the
-  // staging area; published together once complete.
-  try {
-    gfmd::publish_outputs(r, rd.staging(), [&] {
-      if (cfg.output.png) (void)draw_maps({rd.staging()}, {"--profiles"});
-    });
-    if (stop_requested()) throw gfmd::Interrupted("interrupted while drawing the figures");
-    rd.publish();
-  } catch (const gfmd::Interrupted& e) {
-    // The solve had finished: nothing is published, the same command solves it again.
-    pp.done();
-    const std::string note = kept(rd.interrupt(e.what()));
-    std::fprintf(stderr, "gfmd: %s: %s; no results written%s\n", case_path.c_str(), e.what(), note.c_str());
-    return 4;
-  } catch (const std::exception& e) {
-    const std::string note = failed(std::string("writing the outputs: ") + e.what());
-    if (!note.empty()) std::fprintf(stderr, "gfmd: %s\n", note.substr(2).c_str());
-    throw;
-  }
-  std::error_code ec;
-  fs::remove(ckpt, ec);
   if (quiet) return 0;  // -q: only errors
   const auto& o = r.observables;
   std::printf("%s: %s in %d iterations (%.2f s, residual %.2e)\n", case_path.c_str(), r.info.status.c_str(),

@@ -1,0 +1,119 @@
+// A case solved into its run directory (gfmd run -o DIR [--resume]) for every front end.
+#include "gfmd/case/run_in_directory.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <new>
+#include <utility>
+
+#include "gfmd/case/outputs.hpp"
+#include "gfmd/case/run.hpp"
+#include "gfmd/case/run_dir.hpp"
+#include "gfmd/core/error.hpp"
+
+namespace gfmd {
+
+namespace fs = std::filesystem;
+
+DirectoryRun run_in_directory(const Config& cfg, const std::string& dir, DirectoryRunOptions opts) {
+  const auto log = [&](const std::string& m) {
+    if (opts.log && !m.empty()) opts.log(m);
+  };
+  if (!opts.made_surface)
+    opts.made_surface = std::make_shared<Topography>(make_topography_here(cfg, &opts.made_report));
+  const std::function<bool()> stop = opts.directory.stop_request;
+  RunDirectory rd(dir, opts.directory);
+  DirectoryRun out;
+  out.checkpoint = rd.checkpoint();
+  ContactFields warm;
+  CheckpointProgress done;
+  bool have_warm = false;
+  if (opts.resume) {
+    if (auto finished = finished_summary(dir, cfg)) {
+      if (opts.on_ready) opts.on_ready(true);
+      out.outcome = DirectoryRun::Outcome::AlreadySolved;
+      out.finished = std::move(*finished);
+      return out;
+    }
+    const std::string before = read_status(dir);
+    have_warm = read_checkpoint(out.checkpoint, cfg, warm, &done);
+    // This writer holds the lock, so a "running" status was left by a process that died.
+    if (before == "running")
+      log("the previous run in " + dir + "/ did not finish (it crashed or was killed)");
+    log(have_warm ? "resuming from the checkpoint" : "no usable checkpoint: starting afresh");
+  }
+  std::error_code ec;
+  if (!have_warm) fs::remove(out.checkpoint, ec);
+  // The results go to a staging area first; the directory's previous result stays until the
+  // new one is complete.
+  rd.begin();
+  if (opts.on_ready) opts.on_ready(false);
+  RunOptions ro;
+  ro.progress = opts.progress;
+  ro.stop_request = stop;
+  ro.checkpoint_path = out.checkpoint;
+  ro.checkpoint_interval_s = opts.checkpoint_interval_s;
+  ro.keep_stress_fields = outputs_need_stress_fields(cfg);
+  ro.whole_solution = false;  // the outputs ask for the fields they write (keep_stress_fields)
+  ro.made_surface = std::move(opts.made_surface);
+  ro.made_report = std::move(opts.made_report);
+  if (have_warm) {
+    ro.warm_start = &warm;
+    ro.resumed = done;
+  }
+  // Every error from here on leaves status.json "failed" with the reason.
+  const auto failed = [&](const std::string& why) {
+    const std::string note = rd.fail(why);
+    if (opts.failure_note && !note.empty()) opts.failure_note(note);
+  };
+  try {
+    out.result = run_case(cfg, ro);
+  } catch (const Interrupted& e) {
+    out.outcome = DirectoryRun::Outcome::Interrupted;
+    out.why = e.what();
+    out.note = rd.interrupt(e.what());
+    out.saved_state = true;
+    return out;
+  } catch (const std::bad_alloc&) {
+    failed("out of memory during the solve");
+    throw;
+  } catch (const std::exception& e) {
+    failed(e.what());
+    fs::remove(out.checkpoint, ec);
+    throw;
+  }
+  if (!out.result.info.converged) {
+    const auto& i = out.result.info;
+    char why[512];
+    std::snprintf(why, sizeof why,
+                  "%s after %d iterations (pressure change %.3e, friction change %.3e, tolerance %.1e)",
+                  i.status.c_str(), i.iterations, i.pk_error, i.friction_error, cfg.solver.tolerance);
+    out.outcome = DirectoryRun::Outcome::NotConverged;
+    out.why = why;
+    out.note = rd.fail(why);
+    fs::remove(out.checkpoint, ec);
+    return out;
+  }
+  // The data files, then the figures drawn from them, all in the staging area; published
+  // together once complete.
+  try {
+    publish_outputs(out.result, rd.staging(), [&] {
+      if (opts.draw) opts.draw(rd.staging());
+    });
+    if (stop && stop()) throw Interrupted("interrupted while drawing the figures");
+    rd.publish();
+  } catch (const Interrupted& e) {
+    // The solve had finished: nothing is published, the same call solves it again.
+    out.outcome = DirectoryRun::Outcome::Interrupted;
+    out.why = e.what();
+    out.note = rd.interrupt(e.what());
+    return out;
+  } catch (const std::exception& e) {
+    failed(std::string("writing the outputs: ") + e.what());
+    throw;
+  }
+  fs::remove(out.checkpoint, ec);
+  return out;
+}
+
+}  // namespace gfmd
