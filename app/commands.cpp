@@ -31,6 +31,7 @@
 #include "gfmd/io/netcdf.hpp"
 #include "gfmd/studies/curve.hpp"
 #include "gfmd/studies/ensemble.hpp"
+#include "gfmd/studies/green.hpp"
 #include "gfmd/studies/percolation.hpp"
 #include "gfmd/studies/sweep.hpp"
 #include "gfmd/version.hpp"
@@ -121,28 +122,17 @@ int cmd_flow(const std::string& dir, const std::string& direction, double tol, c
 
 // Tabulates the dimensionless Green's tensor of SPEC §2 (frame with q along axis 1).
 int cmd_green(const std::vector<double>& nus, double from, double to, int points, const std::string& out) {
-  if (!(from > 0 && to > from) || points < 2)
+  std::string table;
+  try {
+    table = gfmd::green_table_csv(nus, from, to, points);
+  } catch (const gfmd::InputError& e) {
+    if (e.where() == "poisson") throw gfmd::InputError("gfmd green --poisson", e.why());
     throw gfmd::InputError("gfmd green", "need 0 < --from < --to and --points >= 2");
-  for (double nu : nus) {
-    try {
-      gfmd::homogeneous_body(1.0, nu, 1.0, true).validate();
-    } catch (const gfmd::ParameterError& e) {
-      throw gfmd::InputError("gfmd green --poisson", e.why());
-    }
   }
-  std::ostringstream os;
-  os.precision(12);
-  os << "poisson,qh,phi11,phi22,phi33,im_phi13\n";
-  for (double nu : nus)
-    for (int i = 0; i < points; ++i) {
-      const double qh = from * std::pow(to / from, static_cast<double>(i) / (points - 1));
-      const gfmd::PhiRotated p = gfmd::phi_rotated(qh, nu);
-      os << nu << "," << qh << "," << p.p11 << "," << p.p22 << "," << p.p33 << "," << p.p13 << "\n";
-    }
   if (out.empty() || out == "-")
-    std::fputs(os.str().c_str(), stdout);
+    std::fputs(table.c_str(), stdout);
   else
-    gfmd::write_text_atomic(out, os.str());
+    gfmd::write_text_atomic(out, table);
   return 0;
 }
 

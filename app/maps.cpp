@@ -70,30 +70,6 @@ bool draw_maps(const std::vector<std::string>& dirs, const std::vector<std::stri
   return ok;
 }
 
-// The run directories below dir (point_NNN of a sweep, seed_N of an ensemble) whose maps
-// are still to be drawn: a staging file of the maps, or output.png on, fields.nc there and
-// no pressure.png (points finished earlier whose maps were not drawn are caught up too).
-std::vector<std::string> runs_needing_maps(const std::string& dir) {
-  std::vector<std::string> out;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir, ec)) {
-    if (!e.is_directory(ec) || !has_file(e.path(), "summary.json")) continue;
-    bool need = has_file(e.path(), gfmd::kMapsStagingFile);
-    if (!need && has_file(e.path(), "fields.nc") && !has_file(e.path(), "pressure.png")) {
-      try {
-        const auto j = nlohmann::json::parse(
-            gfmd::read_regular_file((e.path() / "summary.json").string(), 64u << 20, "summary file"));
-        need = j.at("input").at("output").at("png").get<bool>();
-      } catch (const std::exception&) {
-        need = false;
-      }
-    }
-    if (need) out.push_back(e.path().string());
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 namespace {
 // The subdirectories of dir, sorted.
 std::vector<fs::path> subdirs(const fs::path& dir) {

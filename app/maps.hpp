@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "gfmd/case/outputs.hpp"
+
 namespace gfmd::cli {
 
 // Draws the PNG maps of run directories with plot_maps.py (matplotlib) from their fields.nc,
@@ -13,10 +15,8 @@ namespace gfmd::cli {
 // Never throws: a failure is a warning (the data files are complete); returns false then.
 bool draw_maps(const std::vector<std::string>& dirs, const std::vector<std::string>& options);
 
-// The run directories below dir (point_NNN of a sweep, seed_N of an ensemble) whose maps
-// are still to be drawn: a staging file of the maps, or output.png on, fields.nc there and
-// no pressure.png (points finished earlier whose maps were not drawn are caught up too).
-std::vector<std::string> runs_needing_maps(const std::string& dir);
+// The run directories below dir whose maps are still to be drawn (case/outputs.hpp).
+using gfmd::runs_needing_maps;
 
 // gfmd plot DIR: redraws the figures of a run directory (maps from fields.nc, profiles.png
 // from profiles.csv), of a sweep (its sweep_<y>.png plots, the default one if none, and the

@@ -9,12 +9,13 @@
 #include <cstdint>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "gfmd/core/error.hpp"
 
-// The SIGINT handler SigintToFlag installs (python/_core.cpp): sets g_interrupted.
+// The SIGINT (and SIGTERM) handler SigintToFlag installs (python/_core.cpp): sets g_interrupted.
 extern "C" void gfmd_python_on_sigint(int);
 
 namespace gfmd_python {
@@ -60,9 +61,12 @@ inline nlohmann::json py_to_json(const py::handle& v, const std::string& key, in
 
 // Ctrl-C during a solve: while the solve runs without the GIL, Python's own SIGINT handler
 // cannot run, so a C handler sets a flag that the solver polls; the solve then stops within
-// an iteration and KeyboardInterrupt is raised. Installed only on the main thread (where
-// Python receives signals), and the previous handler is restored afterwards.
+// an iteration and KeyboardInterrupt is raised. SIGTERM is taken the same way where the
+// program has a Python handler for it (a study driver stops cleanly on it); otherwise it keeps
+// its default (the process ends). Installed only on the main thread (where Python receives
+// signals), and the previous handlers are restored afterwards.
 inline std::atomic<bool> g_interrupted{false};
+inline std::atomic<int> g_stop_signal{0};  // the signal that set g_interrupted (0: none)
 
 class SigintToFlag {
  public:
@@ -70,23 +74,38 @@ class SigintToFlag {
     const py::module_ threading = py::module_::import("threading");
     if (!threading.attr("current_thread")().is(threading.attr("main_thread")())) return;
     g_interrupted.store(false);
+    g_stop_signal.store(0);
+    const py::module_ signal = py::module_::import("signal");
+    const bool python_term = PyCallable_Check(signal.attr("getsignal")(SIGTERM).ptr()) != 0;
     struct sigaction sa {};
     sa.sa_handler = gfmd_python_on_sigint;
     sigemptyset(&sa.sa_mask);
-    active_ = sigaction(SIGINT, &sa, &old_) == 0;
+    int_ = sigaction(SIGINT, &sa, &old_int_) == 0;
+    term_ = python_term && sigaction(SIGTERM, &sa, &old_term_) == 0;
   }
   ~SigintToFlag() {
-    if (active_) sigaction(SIGINT, &old_, nullptr);
+    if (int_) sigaction(SIGINT, &old_int_, nullptr);
+    if (term_) sigaction(SIGTERM, &old_term_, nullptr);
   }
   SigintToFlag(const SigintToFlag&) = delete;
   SigintToFlag& operator=(const SigintToFlag&) = delete;
 
  private:
-  struct sigaction old_ {};
-  bool active_ = false;
+  struct sigaction old_int_ {};
+  struct sigaction old_term_ {};
+  bool int_ = false, term_ = false;
 };
 
+// After a call stopped by a stop request (its SigintToFlag gone): the signal that asked for it
+// goes to Python's handler for it (PyErr_SetInterruptEx; a study driver's handler records it,
+// the default SIGINT handler raises KeyboardInterrupt); KeyboardInterrupt unless that handler
+// raised something itself.
 [[noreturn]] inline void raise_keyboard_interrupt() {
+  g_interrupted.store(false);
+  if (const int sig = g_stop_signal.exchange(0); sig != 0) {
+    PyErr_SetInterruptEx(sig);
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  }
   PyErr_SetNone(PyExc_KeyboardInterrupt);
   throw py::error_already_set();
 }
@@ -95,12 +114,12 @@ class SigintToFlag {
 // gfmd::Interrupted becomes KeyboardInterrupt. f must not touch Python objects.
 template <class F>
 auto interruptible(F&& f) {
-  SigintToFlag guard;
+  std::optional<SigintToFlag> guard(std::in_place);
   try {
     py::gil_scoped_release release;
     return f(std::function<bool()>([] { return g_interrupted.load(); }));
   } catch (const gfmd::Interrupted&) {
-    g_interrupted.store(false);
+    guard.reset();
     raise_keyboard_interrupt();
   }
 }
@@ -108,6 +127,10 @@ auto interruptible(F&& f) {
 // Runs the plotting helper `name` (share/gfmd/scripts beside the module) with args in a
 // separate interpreter; "" or what went wrong. Needs the GIL (python/_core.cpp).
 std::string run_plot_script(const std::string& name, const std::vector<std::string>& arguments);
+
+// Draws the maps of run directories as the command line does (plot_maps.py with `options`, e.g.
+// --profiles); a failure warns. Called with the GIL released (python/_core.cpp).
+void draw_maps(const std::vector<std::string>& dirs, const std::vector<std::string>& options);
 
 // Registers sweep_case, percolation_case, curve_case and ensemble_case (python/_core_studies.cpp).
 void bind_studies(py::module_& m);

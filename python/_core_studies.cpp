@@ -9,10 +9,13 @@
 
 #include "_core_detail.hpp"
 #include "gfmd/case/config.hpp"
+#include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
+#include "gfmd/core/files.hpp"
 #include "gfmd/studies/curve.hpp"
 #include "gfmd/studies/ensemble.hpp"
+#include "gfmd/studies/green.hpp"
 #include "gfmd/studies/percolation.hpp"
 #include "gfmd/studies/sweep.hpp"
 
@@ -24,24 +27,41 @@ namespace {
 py::object sweep_case(const std::string& case_path, const std::string& parameter,
                       const std::vector<double>& values, const std::vector<std::string>& set,
                       const std::string& dir, const std::string& plot, bool force) {
-  const gfmd::Config cfg = gfmd::sweep_config(case_path, set, parameter, values);
+  // No parameter: the case's own [sweep] table.
+  const gfmd::Config cfg = parameter.empty() ? gfmd::load_config(case_path, set)
+                                             : gfmd::sweep_config(case_path, set, parameter, values);
+  if (!cfg.sweep.active())
+    throw gfmd::InputError(case_path,
+                           "nothing to sweep: give a parameter and its values, or a [sweep] table");
   return json_to_py(interruptible([&](const std::function<bool()>& stop) {
     gfmd::SweepOptions so;
     so.overrides = set;
     so.stop_request = stop;
     so.directory = {force, false, stop};
-    // The plot is drawn from the staged table and published with it.
-    if (!plot.empty())
-      so.before_publish = [&plot](const std::string& staging) {
-        py::gil_scoped_acquire acquire;
-        const std::string problem = run_plot_script(
-            "plot_sweep.py", {(std::filesystem::path(staging) / "sweep.csv").string(), "--y", plot});
-        if (!problem.empty())
-          PySys_WriteStderr("gfmd: warning: could not draw sweep_%.200s.png: %.1500s\n", plot.c_str(),
-                            problem.c_str());
-      };
+    // The points' maps (output.png) and the plot, drawn from the staged table, are published
+    // with the tables, as the command line does.
+    const auto draw = [&plot](const std::string& where) {
+      draw_maps(gfmd::runs_needing_maps(where), {});
+      if (plot.empty()) return;
+      py::gil_scoped_acquire acquire;
+      const std::string problem = run_plot_script(
+          "plot_sweep.py", {(std::filesystem::path(where) / "sweep.csv").string(), "--y", plot});
+      if (!problem.empty())
+        PySys_WriteStderr("gfmd: warning: could not draw sweep_%.200s.png: %.1500s\n", plot.c_str(),
+                          problem.c_str());
+    };
+    so.before_publish = draw;
     so.plot_column = plot;  // checked on the first point ("" = none)
-    return gfmd::run_sweep(case_path, cfg, dir, so);
+    try {
+      return gfmd::run_sweep(case_path, cfg, dir, so);
+    } catch (const gfmd::SolveError& e) {
+      // A first attempt that stopped publishes its finished points (its message says so): they
+      // are drawn before the failure is reported.
+      if (std::string(e.what()).find("finished points are kept in") != std::string::npos &&
+          std::filesystem::exists(std::filesystem::path(dir) / "sweep.csv"))
+        draw(dir);
+      throw;
+    }
   }));
 }
 
@@ -90,13 +110,28 @@ py::object ensemble_case(const std::string& case_path, int first, int last,
   return json_to_py(interruptible([&](const std::function<bool()>& stop) {
     eo.stop_request = stop;
     eo.directory = {force, false, stop};
+    eo.before_publish = [](const std::string& staging) { draw_maps(gfmd::runs_needing_maps(staging), {}); };
     return gfmd::run_ensemble(case_path, dir, eo);
   }));
+}
+
+// The Green's tensor table as CSV text; written atomically to `output` where one is given.
+std::string green_table(const std::vector<double>& poisson, double from, double to, int points,
+                        const std::string& output) {
+  std::string table = gfmd::green_table_csv(poisson, from, to, points);
+  if (!output.empty()) gfmd::write_text_atomic(output, table);
+  return table;
 }
 
 }  // namespace
 
 void bind_studies(py::module_& m) {
+  m.def("parse_approaches", &gfmd::parse_approaches, py::arg("text"),
+        "An approach list as `gfmd curve --approaches` reads it (D1,D2,... or FROM:TO:N).");
+  m.def("parse_pressures", &gfmd::parse_pressures, py::arg("text"),
+        "A pressure list as `gfmd curve --pressures` reads it (P1,P2,... or FROM:TO:N, log spaced).");
+  m.def("green_table", &green_table, py::arg("poisson"), py::arg("qh_from"), py::arg("qh_to"),
+        py::arg("points"), py::arg("output") = "");
   m.def("sweep_case", &sweep_case, py::arg("case"), py::arg("parameter"), py::arg("values"), py::arg("set"),
         py::arg("output"), py::arg("plot") = "", py::arg("force") = false);
   m.def("percolation_case", &percolation_case, py::arg("case"), py::arg("direction"), py::arg("set"),

@@ -25,7 +25,7 @@ if "OMP_WAIT_POLICY" not in _os.environ and "GOMP_SPINCOUNT" not in _os.environ:
     _os.environ["GOMP_SPINCOUNT"] = "10000"  # = gfmd::kSpinCount, _core.spin_count (tested)
 
 from ._core import InputError, SolveError, __version__  # noqa: E402
-from ._api import (Adhesive, ContactSolver, ElasticBody, Result, Topography, body_types, curve, ensemble, friction_laws,  # noqa: E402
+from ._api import (Adhesive, ContactSolver, ElasticBody, Result, Topography, body_types, curve, ensemble, friction_laws, green,  # noqa: E402
                    indenter_types, interaction_models, load_path, percolation, run, run_toml, solve, study, sweep, ViscoelasticBody,
                    ViscoelasticPart)
 
@@ -44,6 +44,7 @@ __all__ = [
     "ensemble",
     "body_types",
     "friction_laws",
+    "green",
     "indenter_types",
     "interaction_models",
     "load_path",

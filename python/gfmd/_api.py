@@ -12,7 +12,7 @@ from ._checks import _count, _flag, _heights, _positive, _warn_implausible
 from ._result import Result
 from ._solve import (_FRICTION_KEYS, _SOLVER_KEYS, Adhesive, ContactSolver, ElasticBody, ViscoelasticBody, ViscoelasticPart, _progress_bar, load_path,
                      run, run_toml, solve)
-from ._studies import _package_file, curve, ensemble, percolation, study, sweep
+from ._studies import _package_file, curve, ensemble, green, percolation, study, sweep
 from ._topography import Topography
 
 
@@ -43,5 +43,5 @@ def indenter_types() -> list:
 __all__ = [
     "Adhesive", "ContactSolver", "ElasticBody", "ViscoelasticBody", "ViscoelasticPart", "InputError", "Result", "SolveError", "Topography", "_FRICTION_KEYS", "_SOLVER_KEYS",
     "_core", "_count", "_flag", "_heights", "_package_file", "_positive", "_progress_bar",
-    "_warn_implausible", "body_types", "curve", "ensemble", "friction_laws", "indenter_types", "interaction_models", "load_path", "percolation", "run", "run_toml", "solve", "study", "sweep",
+    "_warn_implausible", "body_types", "curve", "ensemble", "friction_laws", "green", "indenter_types", "interaction_models", "load_path", "percolation", "run", "run_toml", "solve", "study", "sweep",
 ]

@@ -469,10 +469,19 @@ def _progress_bar():
     return update, bar
 
 
-def run(case: str, set: Iterable[str] = (), output: str = "", force: bool = False) -> dict:
+def run(case: str, set: Iterable[str] = (), output: str = "", force: bool = False, resume: bool = False) -> dict:
     """Solves a case file as `gfmd run` does: {'summary': dict, 'fields': {name: ndarray}}; with
     output, also writes the run directory there (a new or empty directory, or one gfmd made;
-    force=True writes into any other, as --force; checked before the solve)."""
+    force=True writes into any other, as --force; checked before the solve).
+    resume=True (needs output) is `gfmd run --resume`: a finished result of the same case in
+    output is reused and nothing is solved, an interrupted one continues from its checkpoint
+    (written every minute); returns {'summary': dict, 'status': 'solved' or 'reused'}, the
+    fields staying in output/fields.nc. SolveError where the solve does not converge (nothing is
+    published; status.json says why), KeyboardInterrupt on Ctrl-C (the checkpoint is kept)."""
+    if _flag("resume", resume):
+        if not output:
+            raise InputError("resume: needs output (the run directory to reuse or continue)")
+        return _core.run_directory(str(case), list(set), str(output), True, _flag("force", force))
     return _core.run(str(case), list(set), str(output), _flag("force", force))
 
 

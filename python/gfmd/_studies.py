@@ -8,24 +8,56 @@ from typing import Iterable, Optional
 
 from . import _core
 from ._core import InputError, SolveError
-from ._checks import _flag, _positive
+from ._checks import _count, _flag, _positive
 
 
-def sweep(case: str, parameter: str, values: Iterable[float], output: str, set: Iterable[str] = (),
-          plot: Optional[str] = None, force: bool = False) -> dict:
+def sweep(case: str, parameter: Optional[str] = None, values: Optional[Iterable[float]] = None,
+          output: str = "", set: Iterable[str] = (), plot: Optional[str] = None, force: bool = False) -> dict:
     """A load sweep as `gfmd sweep CASE --set parameter=v1,v2,...`: points solved in order, each
     warm-started from the previous one, into output/point_NNN/; returns sweep.json (one row of
     scalar summary keys per point). Points already solved with the same input are reused.
+    parameter and values both None: the case's own [sweep] table (as `gfmd sweep CASE`).
     plot: a column (summary key) to draw against the parameter into output/sweep_<plot>.png, as
-    `gfmd sweep --plot` does (InputError if the summaries have no such column)."""
-    vals = [float(v) for v in values]
-    if not isinstance(parameter, str) or "." not in parameter:
-        raise InputError(f"parameter: a config key section.key (got {parameter!r})")
+    `gfmd sweep --plot` does (InputError if the summaries have no such column). The points'
+    maps are drawn where the case asks for them (output.png), as by the command line."""
+    if not output:
+        raise InputError("output: give the sweep's directory")
+    if (parameter is None) != (values is None):
+        raise InputError("values: give a parameter with its values, or neither (the case's [sweep])")
+    if parameter is None:
+        parameter, vals = "", []
+    else:
+        try:
+            vals = [float(v) for v in values]
+        except (TypeError, ValueError):
+            raise InputError(f"values: a list of numbers (got {values!r})") from None
+        if not isinstance(parameter, str) or "." not in parameter:
+            raise InputError(f"parameter: a config key section.key (got {parameter!r})")
     if plot is not None and (not isinstance(plot, str) or not plot):
         raise InputError(f"plot: a summary key such as 'friction_coefficient' (got {plot!r})")
     _core.sweep_case(str(case), parameter, vals, list(set), str(output), plot or "", _flag("force", force))
     with open(os.path.join(str(output), "sweep.json")) as f:
         return json.load(f)
+
+
+def green(poisson: Iterable[float] = (0.0, 0.25, 0.49), qh_from: float = 1e-2, qh_to: float = 1e2,
+          points: int = 121, output: str = "") -> list:
+    """The dimensionless Green's tensor of a layer on a rigid base (SPEC §2, q along axis 1) as
+    `gfmd green`: `points` values of qh, log spaced from qh_from to qh_to, per Poisson ratio.
+    Returns the rows as dicts of floats (poisson, qh, phi11, phi22, phi33, im_phi13); output: also
+    the CSV file there (written whole or not at all)."""
+    try:
+        nus = [float(v) for v in poisson]
+    except (TypeError, ValueError):
+        raise InputError(f"poisson: a list of Poisson ratios (got {poisson!r})") from None
+    lo = _positive("qh_from", qh_from)
+    hi = _positive("qh_to", qh_to)
+    if not hi > lo:
+        raise InputError(f"qh_to: must exceed qh_from (got {qh_to!r} <= {qh_from!r})")
+    text = _core.green_table(nus, lo, hi, _count("points", points), str(output))
+    lines = text.strip().splitlines()
+    names = lines[0].split(",")
+    return [dict(zip(names, (float(x) for x in ln.split(",")))) for ln in lines[1:]]
 
 
 def percolation(case: str, direction: str = "x", set: Iterable[str] = (), area_tolerance: float = 0.002,
@@ -43,15 +75,19 @@ def curve(case: str, pressures=None, output: str = "", set: Iterable[str] = (), 
     figure curve.png is drawn by `gfmd curve`) and returns curve.json (rows under "points",
     the percolation threshold under "percolation"). approaches=[...] instead of pressures: an
     approach path in the order given (gfmd curve --approaches), unload=True going back through
-    it (--unload); curve.json then has "pull_off_force" (adhesion: the most tensile force)."""
+    it (--unload); curve.json then has "pull_off_force" (adhesion: the most tensile force).
+    Either list may also be the command line's text ("V1,V2,..." or "FROM:TO:N")."""
     if (pressures is None) == (approaches is None):
         raise InputError("pressures: give one of pressures and approaches")
     name = "pressures" if approaches is None else "approaches"
     values = pressures if approaches is None else approaches
-    try:
-        vs = [float(p) for p in values]
-    except (TypeError, ValueError):
-        raise InputError(f"{name}: a list of numbers (got {values!r})") from None
+    if isinstance(values, str):  # as the command line's option: "V1,V2,..." or "FROM:TO:N"
+        vs = (_core.parse_pressures if approaches is None else _core.parse_approaches)(values)
+    else:
+        try:
+            vs = [float(p) for p in values]
+        except (TypeError, ValueError):
+            raise InputError(f"{name}: a list of numbers (got {values!r})") from None
     if not output:
         raise InputError("output: give the curve's directory")
     if unload and approaches is None:

@@ -356,6 +356,37 @@ std::vector<std::string> plot_maps_arguments(const std::vector<std::string>& dir
   return args;
 }
 
+namespace {
+bool is_file_in(const fs::path& dir, const std::string& name) {
+  std::error_code ec;
+  return fs::is_regular_file(dir / name, ec);
+}
+}  // namespace
+
+// The run directories below dir (point_NNN of a sweep, seed_N of an ensemble) whose maps
+// are still to be drawn: a staging file of the maps, or output.png on, fields.nc there and
+// no pressure.png (points finished earlier whose maps were not drawn are caught up too).
+std::vector<std::string> runs_needing_maps(const std::string& dir) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    if (!e.is_directory(ec) || !is_file_in(e.path(), "summary.json")) continue;
+    bool need = is_file_in(e.path(), kMapsStagingFile);
+    if (!need && is_file_in(e.path(), "fields.nc") && !is_file_in(e.path(), "pressure.png")) {
+      try {
+        const auto j = nlohmann::json::parse(
+            read_regular_file((e.path() / "summary.json").string(), 64u << 20, "summary file"));
+        need = j.at("input").at("output").at("png").get<bool>();
+      } catch (const std::exception&) {
+        need = false;
+      }
+    }
+    if (need) out.push_back(e.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 void write_outputs(const CaseResult& r, const std::string& dir) {
   fs::create_directories(dir);
   const Grid& g = r.config.grid;

@@ -33,6 +33,11 @@ inline constexpr const char* kMapsStagingFile = ".maps.tmp.nc";
 std::vector<std::string> plot_maps_arguments(const std::vector<std::string>& dirs,
                                              const std::vector<std::string>& options);
 
+// The run directories below dir (point_NNN of a sweep, seed_N of an ensemble) whose maps
+// are still to be drawn: a staging file of the maps, or output.png on, fields.nc there and
+// no pressure.png (points finished earlier whose maps were not drawn are caught up too).
+std::vector<std::string> runs_needing_maps(const std::string& dir);
+
 // The fields of fields.nc (with maps_only: those the maps are drawn from), named and
 // described as there: views into r, except the masks (contact, stick), which are made here
 // and held by the set. Valid while r and the set live; a set is moved, never copied.

@@ -1,0 +1,177 @@
+"""The command line's runs from the library (issue 43: a figure study runs in one process
+through it): gfmd.run(resume=True) as `gfmd run --resume`, gfmd.sweep over the case's own
+[sweep] as `gfmd sweep CASE`, gfmd.green as `gfmd green`, approach lists as `gfmd curve`
+reads them, and SIGTERM stopping a solve where the program handles it in Python."""
+import csv
+import io
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+import gfmd
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BUILD = os.environ.get("GFMD_BUILD_DIR", os.path.join(ROOT, "build"))
+GFMD = os.path.join(BUILD, "gfmd")
+
+HERTZ = """
+[grid]
+nx = 64
+lx = 4.0
+[indenter]
+type = "hertz"
+radius = 1.0
+[load]
+force = 0.01
+[friction]
+coefficient = 0.5
+[output]
+png = false
+analysis = false
+"""
+
+# A solve of about 20 s (thin nu = 0.49 layer, p = 0.3 E*, 512^2, stick; as in test_python_api).
+SLOW = [os.path.join(ROOT, "examples", "fig2e_rough_layer_sweep.toml"), "grid.nx=512", "indenter.lambda_short=0.03125",
+        "elastic.thickness=0.05", "load.pressure=0.3", "output.png=false"]
+
+
+def cli(*args):
+    p = subprocess.run([GFMD, *args], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    return p
+
+
+def test_run_resume_solves_once_then_reuses_as_the_command_line(tmp_path):
+    case = tmp_path / "case.toml"
+    case.write_text(HERTZ)
+    out = tmp_path / "run"
+    first = gfmd.run(str(case), output=str(out), resume=True)
+    assert first["status"] == "solved" and first["summary"]["converged"]
+    stamp = (out / "summary.json").stat().st_mtime_ns
+    again = gfmd.run(str(case), output=str(out), resume=True)
+    assert again["status"] == "reused"
+    assert (out / "summary.json").stat().st_mtime_ns == stamp  # nothing was written
+    assert again["summary"]["friction_coefficient"] == first["summary"]["friction_coefficient"]
+    # The command line reuses the library's result, and solves the same numbers.
+    p = cli("run", str(case), "-o", str(out), "--resume")
+    assert "already solved" in p.stdout
+    cli("run", str(case), "-o", str(tmp_path / "cli"))
+    theirs = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    assert theirs["friction_coefficient"] == first["summary"]["friction_coefficient"]
+    # Another setting is another case: solved again, into the same directory.
+    other = gfmd.run(str(case), output=str(out), resume=True, set=["load.force=0.02"])
+    assert other["status"] == "solved"
+    assert other["summary"]["normal_force"] == pytest.approx(0.02, rel=1e-9)
+    with pytest.raises(gfmd.InputError, match="resume: needs output"):
+        gfmd.run(str(case), resume=True)
+
+
+def test_run_resume_that_does_not_converge_publishes_nothing(tmp_path):
+    case = tmp_path / "case.toml"
+    case.write_text(HERTZ)
+    out = tmp_path / "run"
+    with pytest.raises(gfmd.SolveError, match=r"after \d+ iterations.*\[with set solver.max_iterations=2\]; "
+                                               r"no results written"):
+        gfmd.run(str(case), output=str(out), resume=True, set=["solver.max_iterations=2"])
+    assert not (out / "summary.json").exists()
+    assert json.loads((out / "status.json").read_text())["status"] == "failed"
+
+
+def test_an_interrupted_resumable_run_keeps_nothing_half_done_and_solves_on_the_next_call(tmp_path):
+    import signal
+    import threading
+
+    out = tmp_path / "run"
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        gfmd.run(SLOW[0], set=SLOW[1:], output=str(out), resume=True)
+    timer.cancel()
+    assert json.loads((out / "status.json").read_text())["status"] == "interrupted"
+    assert not (out / "summary.json").exists()
+    assert not [f for f in os.listdir(out) if ".tmp" in f]
+
+
+SIGTERM_DRIVER = """
+import os, signal, sys, threading, time
+sys.path.insert(0, {pydir!r})
+import gfmd
+seen = []
+if {handled}:
+    def on_term(signum, frame):
+        seen.append(signum)
+        raise KeyboardInterrupt
+    signal.signal(signal.SIGTERM, on_term)
+threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGTERM)).start()
+t0 = time.monotonic()
+try:
+    gfmd.run({case!r}, set={sets!r})
+    print("finished")
+except KeyboardInterrupt:
+    print("interrupted", seen == [signal.SIGTERM], round(time.monotonic() - t0, 1))
+"""
+
+
+@pytest.mark.parametrize("handled", [True, False])
+def test_sigterm_stops_a_solve_where_python_handles_it(handled):
+    # With a Python handler for SIGTERM (a study driver's), the solve stops within a second, the
+    # handler sees the signal and its exception ends the call; without one SIGTERM keeps its
+    # default: the process ends at once.
+    code = SIGTERM_DRIVER.format(pydir=os.path.join(BUILD, "python"), handled=handled, case=SLOW[0], sets=SLOW[1:])
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    if handled:
+        assert p.returncode == 0, p.stderr
+        word, saw, took = p.stdout.split()
+        assert (word, saw) == ("interrupted", "True"), p.stdout
+        assert float(took) < 3.0, p.stdout
+    else:
+        assert p.returncode == -15, (p.returncode, p.stdout, p.stderr)
+        assert p.stdout == ""
+
+
+def test_sweep_over_the_cases_own_sweep_table_as_the_command_line(tmp_path):
+    case = tmp_path / "case.toml"
+    case.write_text(HERTZ.replace("png = false", "png = true")
+                    + '[sweep]\nparameter = "load.force"\nvalues = [0.005, 0.01]\n')
+    table = gfmd.sweep(str(case), output=str(tmp_path / "lib"))
+    assert (table["parameter"], table["values"], table["completed"]) == ("load.force", [0.005, 0.01], 2)
+    cli("sweep", str(case), "-o", str(tmp_path / "cli"), "-q")
+    ours = (tmp_path / "lib" / "sweep.csv").read_text().splitlines()
+    theirs = (tmp_path / "cli" / "sweep.csv").read_text().splitlines()
+    assert len(ours) == 3
+    head = ours[0].split(",")
+    keep = [i for i, k in enumerate(head) if "time" not in k]  # wall times differ
+    assert [[r.split(",")[i] for i in keep] for r in ours] == [[r.split(",")[i] for i in keep] for r in theirs]
+    # The points' maps are drawn as the command line draws them (output.png).
+    for point in ("point_000", "point_001"):
+        assert (tmp_path / "lib" / point / "pressure.png").stat().st_size > 1000
+    plain = tmp_path / "plain.toml"
+    plain.write_text(HERTZ)
+    with pytest.raises(gfmd.InputError, match="nothing to sweep"):
+        gfmd.sweep(str(plain), output=str(tmp_path / "none"))
+    with pytest.raises(gfmd.InputError, match="values: give a parameter with its values"):
+        gfmd.sweep(str(case), "load.force", output=str(tmp_path / "x"))
+
+
+def test_green_is_the_command_lines_table():
+    rows = gfmd.green(poisson=[0.0, 0.3], qh_from=0.1, qh_to=10.0, points=5)
+    text = cli("green", "--poisson", "0,0.3", "--from", "0.1", "--to", "10", "--points", "5").stdout
+    theirs = list(csv.DictReader(io.StringIO(text)))
+    assert len(rows) == len(theirs) == 10
+    for a, b in zip(rows, theirs):
+        assert a == {k: float(v) for k, v in b.items()}
+    with pytest.raises(gfmd.InputError, match="poisson"):
+        gfmd.green(poisson=[0.6])
+    with pytest.raises(gfmd.InputError, match="qh_to: must exceed qh_from"):
+        gfmd.green(qh_from=1.0, qh_to=0.5)
+
+
+def test_approach_lists_read_as_the_command_line_reads_them():
+    assert gfmd._core.parse_approaches("0.01:-0.01:3") == [0.01, 0.0, -0.01]
+    assert gfmd._core.parse_approaches("0.02,0.01") == [0.02, 0.01]
+    assert gfmd._core.parse_pressures("0.001:0.1:3") == pytest.approx([0.001, 0.01, 0.1], rel=1e-12)
+    with pytest.raises(gfmd.InputError, match="approaches"):
+        gfmd._core.parse_approaches("0.01,,0.02")
