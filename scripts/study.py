@@ -6,6 +6,12 @@ CSV next to it; the last lines on standard error name the figure and the table.
     /usr/bin/python3 scripts/study.py studies/fig2d.toml [--quick] [-o out/studies]
     (or: ./build/gfmd study studies/fig2d.toml --quick)
 
+The runs are solved in this process through the gfmd Python package that belongs to the gfmd
+program calling it (GFMD: <build>/python/gfmd beside <build>/gfmd, or the installed package
+that holds gfmd/bin/gfmd); where there is none (a program installed by CMake alone), or with
+GFMD_STUDY_RUNS=process, each run starts that program (gfmd run, sweep, curve, percolation,
+green) instead. Both make the same files.
+
 Exit status: 0 done, 2 bad input (the study file, a --set, or a setting a run refused: one
 line `gfmd study: FILE: reason` naming the key; series are counted from 1), 4 interrupted
 (SIGINT/SIGTERM: the running gfmd is stopped and waited for, the temporary files of this
@@ -131,11 +137,11 @@ def check_case_unchanged(path, what="case file"):
              "finished ones of the old content are not reused for it)", 1)
 
 
-def input_files(case, cmd):
+def input_files(case, settings):
     """The files a gfmd run of `case` reads besides it, as (path, what): the height file of a file
     indenter (indenter.path) and the master curves of a viscoelastic body (elastic.master_curve,
     and that of each elastic.viscoelastic_parts table), relative to the case file's folder as gfmd
-    reads them; a --set of the run (in cmd) replaces the case's value."""
+    reads them; a setting of the run (KEY=VALUE in settings) replaces the case's value."""
     import tomllib
 
     try:
@@ -144,9 +150,9 @@ def input_files(case, cmd):
     except (OSError, ValueError):
         return []  # gfmd names the problem
     sets = {}
-    for a, b in zip(cmd, cmd[1:]):
-        if a == "--set" and "=" in b:
-            k, v = b.split("=", 1)
+    for kv in settings:
+        if "=" in kv:
+            k, v = kv.split("=", 1)
             sets[k.strip()] = v.strip()
 
     def value(section, key):
@@ -168,22 +174,29 @@ def input_files(case, cmd):
             if isinstance(p, str) and p and os.path.isfile(os.path.join(base, p))]
 
 
-# The gfmd commands that solve a case file (their second argument): its inputs are checked, and
-# --force applies to them.
-CASE_COMMANDS = ("run", "sweep", "percolation", "curve")
+def check_inputs(case, settings):
+    """Before each run of a case: a case file, height file or master curve that changed since
+    its first run in this study ends it (check_case_unchanged)."""
+    check_stop()
+    if os.path.isfile(case):
+        check_case_unchanged(case)
+        for path, kind in input_files(case, settings):
+            check_case_unchanged(path, kind)
+
+
+def set_args(settings):
+    args = []
+    for kv in settings:
+        args += ["--set", kv]
+    return args
 
 
 def run(cmd, tolerate_not_converged=False, what=""):
-    """Runs a gfmd command (argument vector) and waits for it; on SIGINT/SIGTERM it is
-    stopped and waited for, then Interrupted is raised. Exit status 2 of the run is bad
-    input (a setting of the study or of --set): BadInput naming `what` and the run's reason."""
+    """Runs a gfmd command (argument vector; GFMD_STUDY_RUNS=process or no package) and waits
+    for it; on SIGINT/SIGTERM it is stopped and waited for, then Interrupted is raised. Exit
+    status 2 of the run is bad input (a setting of the study or of --set): BadInput naming
+    `what` and the run's reason."""
     check_stop()
-    if len(cmd) > 2 and cmd[1] in CASE_COMMANDS and os.path.isfile(cmd[2]):
-        check_case_unchanged(cmd[2])
-        for path, kind in input_files(cmd[2], cmd):
-            check_case_unchanged(path, kind)
-    if FORCE and len(cmd) > 1 and cmd[1] in CASE_COMMANDS:
-        cmd = cmd + ["--force"]
     _child["waiting"] = True
     try:
         try:
@@ -208,6 +221,127 @@ def run(cmd, tolerate_not_converged=False, what=""):
         fail(f"study: command failed ({p.returncode}): {' '.join(cmd)}\n{p.stdout}{p.stderr}",
              NOT_CONVERGED if p.returncode == NOT_CONVERGED else 1)
     return p
+
+
+def stopped_reason(p):
+    """Why a gfmd command that exited 3 stopped: the last line it printed."""
+    return (p.stderr.strip().splitlines() or ["not converged"])[-1]
+
+
+# ---------------------------------------------------------------------------------------
+# The runs in this process: the gfmd package of the calling program (find_package), loaded by
+# main(); None where the runs start the program instead.
+LIB = None
+
+
+def find_package(program):
+    """The folder of the gfmd package that belongs to `program` (<build>/python/gfmd beside
+    <build>/gfmd; <site>/gfmd for <site>/gfmd/bin/gfmd), or None."""
+    where = os.path.dirname(os.path.realpath(program))
+    for pkg in (os.path.join(where, "python", "gfmd"), os.path.dirname(where)):
+        try:
+            names = os.listdir(pkg)
+        except OSError:
+            continue
+        if "__init__.py" in names and any(n.startswith("_core") and n.endswith(".so") for n in names):
+            return pkg
+    return None
+
+
+def load_library():
+    """Imports the package of the calling program for the runs (or leaves LIB None: the
+    program is started per run); GFMD_STUDY_RUNS=process asks for the latter."""
+    global LIB
+    mode = os.environ.get("GFMD_STUDY_RUNS", "library")
+    if mode not in ("library", "process"):
+        raise BadInput(f"GFMD_STUDY_RUNS: must be library or process (got {mode!r})")
+    pkg = find_package(GFMD) if mode == "library" else None
+    if pkg is None:
+        return
+    sys.path.insert(0, os.path.dirname(pkg))
+    import gfmd  # noqa: E402
+
+    if os.path.realpath(os.path.dirname(gfmd.__file__)) != os.path.realpath(pkg):
+        log(f"study: warning: another gfmd package ({gfmd.__file__}) is loaded; the runs start {GFMD}")
+        return
+    LIB = gfmd
+
+
+def call(what, f, *args, tolerate_not_converged=False, **kwargs):
+    """A study of the gfmd package in this process: (its result, None), or where a solve did not
+    converge and tolerate_not_converged (None, the reason). Bad input is BadInput naming `what`;
+    Ctrl-C or SIGTERM (KeyboardInterrupt: the package stops the solve within an iteration and
+    keeps what is finished, as gfmd does) is Interrupted."""
+    check_stop()
+    try:
+        return f(*args, **kwargs), None
+    except KeyboardInterrupt:
+        raise Interrupted() from None
+    except LIB.InputError as e:
+        raise BadInput(f"{what}: {e}") from None
+    except LIB.SolveError as e:
+        if tolerate_not_converged:
+            return None, str(e)
+        fail(f"study: {what}: {e}", NOT_CONVERGED)
+    except OSError as e:
+        fail(f"study: {what}: {e}", 1)
+
+
+# The runs a study makes, each into its directory d, with the settings of the study and its
+# series (KEY=VALUE); in this process (LIB) or by starting gfmd.
+
+def run_case(case, d, settings, what):
+    """One case (gfmd run --resume: a finished result is reused); returns its summary."""
+    check_inputs(case, settings)
+    if LIB is not None:
+        call(what, LIB.run, case, set=settings, output=d, force=FORCE, resume=True)
+    else:
+        run([GFMD, "run", case, "-o", d, "-q", "--resume"] + set_args(settings) + (["--force"] if FORCE else []),
+            what=what)
+    with open(os.path.join(d, "summary.json")) as f:
+        return json.load(f)
+
+
+def sweep_case(case, d, settings, y, what):
+    """The case's own [sweep] drawn against y (gfmd sweep --plot y): None, or where a point did
+    not converge the reason (the finished points are kept in d)."""
+    check_inputs(case, settings)
+    if LIB is not None:
+        return call(what, LIB.sweep, case, output=d, set=settings, plot=y, force=FORCE,
+                    tolerate_not_converged=True)[1]
+    p = run([GFMD, "sweep", case, "-o", d, "-q", "--plot", y] + set_args(settings) + (["--force"] if FORCE else []),
+            tolerate_not_converged=True, what=what)
+    return stopped_reason(p) if p.returncode != 0 else None
+
+
+def curve_case(case, d, settings, approaches, what):
+    """An approach path (gfmd curve --approaches; finished points of the same path are reused):
+    None, or the reason it stopped."""
+    check_inputs(case, settings)
+    if LIB is not None:
+        return call(what, LIB.curve, case, approaches=approaches, output=d, set=settings, force=FORCE,
+                    tolerate_not_converged=True)[1]
+    p = run([GFMD, "curve", case, "--approaches", approaches, "-o", d, "-q"] + set_args(settings)
+            + (["--force"] if FORCE else []), tolerate_not_converged=True, what=what)
+    return stopped_reason(p) if p.returncode != 0 else None
+
+
+def percolation_case(case, d, settings, direction, what):
+    """The percolation threshold along direction (gfmd percolation) into d."""
+    check_inputs(case, settings)
+    if LIB is not None:
+        call(what, LIB.percolation, case, direction, set=settings, output=d, force=FORCE)
+    else:
+        run([GFMD, "percolation", case, "--direction", direction, "-o", d, "-q"] + set_args(settings)
+            + (["--force"] if FORCE else []), what=what)
+
+
+def green_table(poisson, csv_path, what):
+    """The Green's tensor table for these Poisson ratios (gfmd green) into csv_path."""
+    if LIB is not None:
+        call(what, LIB.green, poisson=[float(v) for v in poisson], output=csv_path)
+    else:
+        run([GFMD, "green", "--poisson", ",".join(str(v) for v in poisson), "-o", csv_path], what=what)
 
 
 # ---------------------------------------------------------------------------------------
@@ -255,9 +389,6 @@ def run_series(study, mode_sets, out, quick, incomplete):
         d = series_dir(out, i)
         case = os.path.join(CASE_ROOT, s.get("case", ""))
         sets = list(s.get("set", [])) + list(mode_sets) + list(s.get("quick_set" if quick else "full_set", []))
-        args = []
-        for kv in sets:
-            args += ["--set", kv]
         t = time.time()
         if DRAW_ONLY and study.get("kind", "sweep") != "sweep":
             raise BadInput(f"--draw-only: draws sweep studies only (this one is kind = \"{study.get('kind')}\")")
@@ -266,10 +397,10 @@ def run_series(study, mode_sets, out, quick, incomplete):
         elif study.get("kind") == "green":
             csvp = os.path.join(d, "green.csv")
             os.makedirs(d, exist_ok=True)
-            run([GFMD, "green", "--poisson", ",".join(str(v) for v in s["poisson"]), "-o", csvp], what=what)
+            green_table(s["poisson"], csvp, what)
             res = read_table(csvp)
         elif study.get("kind") == "pull_off":
-            res, why = run_pull_off_series(study, case, d, args, what)
+            res, why = run_pull_off_series(study, case, d, sets, what)
             if why:
                 incomplete.append({"series": s["label"], "reason": why})
                 s = dict(s, label=s["label"] + " (some paths stopped: not converged)")
@@ -279,7 +410,7 @@ def run_series(study, mode_sets, out, quick, incomplete):
             res = {"seeds": {}}
             stopped = []
             for k, seed in enumerate(s["seeds"]):
-                rows, why = run_sweep(case, seed_dir(out, i, seed), study, args + ["--set", f"indenter.seed={seed}"],
+                rows, why = run_sweep(case, seed_dir(out, i, seed), study, sets + [f"indenter.seed={seed}"],
                                       f"{what} seed {seed}", s["label"])
                 if rows is None:  # --draw-only: this seed was not run
                     log(f"study: {what}: seed {seed} has no runs in {seed_dir(out, i, seed)}: not drawn")
@@ -295,7 +426,7 @@ def run_series(study, mode_sets, out, quick, incomplete):
                 log(f"study: {what}: no runs in {d}: not drawn")
                 continue
         elif study.get("kind", "sweep") == "sweep":
-            res, why = run_sweep(case, d, study, args, what, s["label"])
+            res, why = run_sweep(case, d, study, sets, what, s["label"])
             if res is None:  # --draw-only: this series was not run
                 log(f"study: {what}: no runs in {d}: not drawn")
                 continue
@@ -303,9 +434,7 @@ def run_series(study, mode_sets, out, quick, incomplete):
                 incomplete.append({"series": s["label"], "reason": why})
                 s = dict(s, label=s["label"] + " (stopped: not converged)")
         else:
-            summary = os.path.join(d, "summary.json")
-            run([GFMD, "run", case, "-o", d, "-q", "--resume"] + args, what=what)
-            res = json.load(open(summary))
+            res = run_case(case, d, sets, what)
         dt = time.time() - t
         el = time.time() - t0
         left = el / (i + 1) * (total - i - 1)
@@ -331,24 +460,22 @@ def finished_sweep(d):
     return (rows, why) if rows else (None, None)
 
 
-def run_sweep(case, d, study, args, what, label):
+def run_sweep(case, d, study, settings, what, label):
     """One gfmd sweep into d: (its rows, None) or, where it stopped at a point that did not
     converge, (its finished rows, the reason); no finished point at all ends the study.
     --draw-only: the sweep on disk, run nothing ((None, None) where there is none)."""
     if DRAW_ONLY:
         return finished_sweep(d)
-    p = run([GFMD, "sweep", case, "-o", d, "-q", "--plot", study["y"]] + args, tolerate_not_converged=True, what=what)
+    why = sweep_case(case, d, settings, study["y"], what)
     table = os.path.join(d, "sweep.csv")
-    why = None
-    if p.returncode != 0:
-        why = (p.stderr.strip().splitlines() or ["not converged"])[-1]
+    if why is not None:
         if not os.path.exists(table):
             fail(f"study: series '{label}' failed with no finished point: {why}", NOT_CONVERGED)
         log(f"study: series '{label}' stopped early: {why}")
     return read_table(table), why
 
 
-def run_pull_off_series(study, case, d, args, what):
+def run_pull_off_series(study, case, d, settings, what):
     """One unloading path per value of study["x"] (gfmd curve --approaches, warm-started point to
     point): a row per value with the path's pull-off (its most tensile force), the approach there,
     the jump-off, and at that point the equivalent contact radius sqrt(A/pi), the contact's extents
@@ -365,10 +492,9 @@ def run_pull_off_series(study, case, d, args, what):
         rows.append(row)
         # gfmd curve reuses the finished points of the same path itself (and solves them again where
         # the case or a setting changed).
-        p = run([GFMD, "curve", case, "--approaches", study["approaches"], "-o", pd, "-q"] + args
-                + ["--set", f"{study['x']}={v!r}"], tolerate_not_converged=True, what=f"{what} {study['x']} = {v!r}")
-        if p.returncode != 0:
-            why = (p.stderr.strip().splitlines() or ["not converged"])[-1]
+        why = curve_case(case, pd, settings + [f"{study['x']}={v!r}"], study["approaches"],
+                         f"{what} {study['x']} = {v!r}")
+        if why is not None:
             stopped.append(f"{study['x']} = {v!r}: {why}")
             log(f"study: {what}: {study['x']} = {v!r} stopped: {why}")
             continue
@@ -395,22 +521,16 @@ def run_percolation_series(s, sets, d, what):
     contact with and without friction at that pressure, and the thresholds with friction
     along and across sliding."""
     case = os.path.join(CASE_ROOT, s["case"])
-    args = []
-    for kv in sets:
-        args += ["--set", kv]
     out = {}
-    for tag, extra, direction in (("frictionless", ["--set", "friction.coefficient=0"], "x"),
+    for tag, extra, direction in (("frictionless", ["friction.coefficient=0"], "x"),
                                   ("friction_along", [], "x"), ("friction_across", [], "y")):
         pj = os.path.join(d, tag, "percolation.json")
         if not os.path.exists(pj):
-            run([GFMD, "percolation", case, "--direction", direction, "-o", os.path.join(d, tag), "-q"] + args + extra,
-                what=what)
+            percolation_case(case, os.path.join(d, tag), list(sets) + extra, direction, what)
         out[tag] = json.load(open(pj))
     pstar = out["frictionless"]["critical_pressure"]
-    for tag, extra in (("static_at_pstar", ["--set", "friction.coefficient=0"]), ("sliding_at_pstar", [])):
-        run([GFMD, "run", case, "-o", os.path.join(d, tag), "-q", "--resume", "--set", f"load.pressure={pstar!r}"]
-            + args + extra, what=what)
-        out[tag] = json.load(open(os.path.join(d, tag, "summary.json")))
+    for tag, extra in (("static_at_pstar", ["friction.coefficient=0"]), ("sliding_at_pstar", [])):
+        out[tag] = run_case(case, os.path.join(d, tag), [f"load.pressure={pstar!r}"] + list(sets) + extra, what)
     return out
 
 
@@ -453,6 +573,8 @@ def main():
             except OSError as e:
                 raise BadInput(f"-o {args.output}: cannot create {out}: {e.strerror}") from None
             before = temporary_files(out)
+            if not args.draw_only:
+                load_library()
             check_stop()
             return run_study(study, args, name, mode, out)
         except KeyboardInterrupt:

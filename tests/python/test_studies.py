@@ -213,6 +213,55 @@ def wait_for(path, proc, what):
     raise AssertionError(f"no {what} after 60 s")
 
 
+# Runs study.py in a Python that records every program it starts (the audit event
+# subprocess.Popen) and prints them as its last line on standard output.
+RECORDING_DRIVER = """
+import json, runpy, sys
+started = []
+sys.addaudithook(lambda e, a: started.append(str(a[0])) if e == "subprocess.Popen" else None)
+sys.argv = sys.argv[1:]
+try:
+    runpy.run_path(sys.argv[0], run_name="__main__")
+except SystemExit as e:
+    code = e.code
+else:
+    code = 0
+print(json.dumps(started))
+sys.exit(code)
+"""
+
+
+def test_a_study_solves_its_runs_in_its_own_process(tmp_path):
+    # Issue 43: the figure study runs in one process through the library; it starts no gfmd
+    # program. GFMD_STUDY_RUNS=process (the way for a program without its package) starts one
+    # per series, and both make the same table to the last digit.
+    import json
+
+    study = small_sweep_study(tmp_path)
+    tables, started = {}, {}
+    for mode in ("library", "process"):
+        out = tmp_path / mode
+        p = subprocess.run(["/usr/bin/python3", "-c", RECORDING_DRIVER, STUDY[1], str(study), "--quick", "-o", str(out)],
+                           capture_output=True, text=True, env=dict(ENV, GFMD_STUDY_RUNS=mode))
+        assert p.returncode == 0, p.stderr
+        started[mode] = [os.path.basename(x) for x in json.loads(p.stdout.strip().splitlines()[-1])]
+        tables[mode] = (out / "small" / "quick" / "small.csv").read_text()
+        for series in ("series_00", "series_01"):
+            assert (out / "small" / "quick" / series / "sweep_relative_contact_area.png").stat().st_size > 1000
+    assert "gfmd" not in started["library"], started
+    assert started["process"].count("gfmd") == 2, started  # one gfmd sweep per series
+    assert tables["library"] == tables["process"]
+    assert len(tables["library"].splitlines()) == 5  # the header and 2 x 2 points
+
+
+def test_a_study_refuses_an_unknown_way_of_running(tmp_path):
+    study = small_sweep_study(tmp_path)
+    p = subprocess.run(STUDY + [str(study), "--quick", "-o", str(tmp_path / "out")], capture_output=True, text=True,
+                       env=dict(ENV, GFMD_STUDY_RUNS="threads"))
+    assert p.returncode == 2, p.stderr
+    assert "GFMD_STUDY_RUNS: must be library or process" in p.stderr, p.stderr
+
+
 @pytest.mark.parametrize("how", ["ctrl-c", "sigterm"])
 def test_interrupted_study_exits_4_cleanly_and_continues(tmp_path, how):
     # Ctrl-C reaches the whole foreground process group (study.py and the gfmd sweep it
@@ -390,10 +439,10 @@ def test_a_study_stops_when_a_height_file_changes_between_its_runs(tmp_path):
     case = tmp_path / "c.toml"
     case.write_text('[indenter]\ntype = "file"\npath = "h.csv"\n[elastic]\nviscoelastic = "sls"\n'
                     '[[elastic.viscoelastic_parts]]\nmaster_curve = "e.txt"\n')
-    cmd = ["gfmd", "run", str(case)]
+    cmd = []  # the run's settings
     assert [(os.path.basename(p), w) for p, w in study.input_files(str(case), cmd)] == [
         ("h.csv", "height file"), ("e.txt", "master curve file")]
-    other = cmd + ["--set", 'indenter.path="other.csv"']
+    other = cmd + ['indenter.path="other.csv"']
     assert [os.path.basename(p) for p, _ in study.input_files(str(case), other)] == ["other.csv", "e.txt"]
     for p, w in study.input_files(str(case), cmd):
         study.check_case_unchanged(p, w)
