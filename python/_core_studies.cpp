@@ -89,6 +89,17 @@ py::object curve_case(const std::string& case_path, const std::vector<double>& v
   const gfmd::Config cfg =
       by_approach ? gfmd::curve_config_approaches(case_path, set, gfmd::approach_path(values, unload))
                   : gfmd::curve_config(case_path, set, gfmd::curve_pressures(values));
+  // curve.png where the case asks for figures (output.png), as `gfmd curve` draws it; also of
+  // the finished points of a curve that stopped.
+  const bool png = gfmd::load_config(case_path, set).output.png;
+  const auto draw = [&] {
+    const std::string csv = (std::filesystem::path(dir) / "curve.csv").string();
+    if (!png || !std::filesystem::exists(csv)) return;
+    py::gil_scoped_acquire acquire;
+    const std::string problem = run_plot_script("plot_curve.py", {csv});
+    if (!problem.empty())
+      PySys_WriteStderr("gfmd: warning: could not draw curve.png: %.1500s\n", problem.c_str());
+  };
   return json_to_py(interruptible([&](const std::function<bool()>& stop) {
     gfmd::check_output_directory(dir, force);
     const gfmd::DirectoryLock lock(dir);
@@ -96,7 +107,15 @@ py::object curve_case(const std::string& case_path, const std::vector<double>& v
     co.sweep.overrides = set;
     co.sweep.stop_request = stop;
     co.sweep.directory = {false, false, stop};  // DIR/points: the curve's own sweep
-    return gfmd::run_curve(case_path, cfg, dir, co);
+    nlohmann::json j;
+    try {
+      j = gfmd::run_curve(case_path, cfg, dir, co);
+    } catch (const gfmd::SolveError&) {
+      draw();
+      throw;
+    }
+    draw();
+    return j;
   }));
 }
 

@@ -71,8 +71,8 @@ def percolation(case: str, direction: str = "x", set: Iterable[str] = (), area_t
 def curve(case: str, pressures=None, output: str = "", set: Iterable[str] = (), force: bool = False, *,
           approaches=None, unload: bool = False) -> dict:
     """Load curves as `gfmd curve`: the case solved at each mean pressure (/E*, sorted, warm
-    started, leakage on) into output/points/; writes output/curve.csv and curve.json (the
-    figure curve.png is drawn by `gfmd curve`) and returns curve.json (rows under "points",
+    started, leakage on) into output/points/; writes output/curve.csv and curve.json (and the
+    figure curve.png where the case asks for figures, output.png) and returns curve.json (rows under "points",
     the percolation threshold under "percolation"). approaches=[...] instead of pressures: an
     approach path in the order given (gfmd curve --approaches), unload=True going back through
     it (--unload); curve.json then has "pull_off_force" (adhesion: the most tensile force).

@@ -175,3 +175,13 @@ def test_approach_lists_read_as_the_command_line_reads_them():
     assert gfmd._core.parse_pressures("0.001:0.1:3") == pytest.approx([0.001, 0.01, 0.1], rel=1e-12)
     with pytest.raises(gfmd.InputError, match="approaches"):
         gfmd._core.parse_approaches("0.01,,0.02")
+
+
+def test_curve_draws_its_figure_where_the_case_asks_for_figures(tmp_path):
+    case = tmp_path / "case.toml"
+    case.write_text(HERTZ.replace("png = false", "png = true"))
+    j = gfmd.curve(str(case), pressures="0.001:0.004:2", output=str(tmp_path / "c"))
+    assert [p["pressure"] for p in j["points"]] == pytest.approx([0.001, 0.004], rel=1e-12)
+    assert (tmp_path / "c" / "curve.png").stat().st_size > 1000
+    gfmd.curve(str(case), pressures=[0.001], output=str(tmp_path / "d"), set=["output.png=false"])
+    assert not (tmp_path / "d" / "curve.png").exists()
