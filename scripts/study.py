@@ -252,7 +252,7 @@ def load_library():
     """Imports the package of the calling program for the runs (or leaves LIB None: the
     program is started per run); GFMD_STUDY_RUNS=process asks for the latter."""
     global LIB
-    mode = os.environ.get("GFMD_STUDY_RUNS", "library")
+    mode = os.environ.get("GFMD_STUDY_RUNS") or "library"  # unset or empty: the default
     if mode not in ("library", "process"):
         raise BadInput(f"GFMD_STUDY_RUNS: must be library or process (got {mode!r})")
     pkg = find_package(GFMD) if mode == "library" else None
