@@ -5,7 +5,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -117,25 +119,90 @@ nlohmann::json Config::to_json() const {
   return j;
 }
 
-std::string Config::to_toml() const {
-  const nlohmann::json j = to_json();
+namespace {
+
+// A TOML basic string: quotes, backslashes and control characters escaped.
+std::string toml_string(const std::string& text) {
+  std::string out = "\"";
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (ch == '"' || ch == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (ch == '\n') {
+      out += "\\n";
+    } else if (ch == '\t') {
+      out += "\\t";
+    } else if (c < 0x20 || c == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      out += buf;
+    } else {
+      out += ch;
+    }
+  }
+  return out + "\"";
+}
+
+// A key: bare where TOML allows it, quoted otherwise.
+std::string toml_key(const std::string& key) {
+  const bool bare = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-';
+  });
+  return bare ? key : toml_string(key);
+}
+
+// A value of the JSON form as TOML: numbers to 17 digits (read back exactly), arrays, and
+// tables inline ({k = v, ...}: a layer, a viscoelastic part).
+std::string toml_value(const nlohmann::json& v) {
   std::ostringstream os;
   os.precision(17);
+  if (v.is_string()) {
+    os << toml_string(v.get<std::string>());
+  } else if (v.is_boolean()) {
+    os << (v.get<bool>() ? "true" : "false");
+  } else if (v.is_number_integer() || v.is_number_unsigned()) {
+    os << v.dump();
+  } else if (v.is_number()) {
+    os << v.get<double>();
+  } else if (v.is_array()) {
+    os << "[";
+    for (std::size_t i = 0; i < v.size(); ++i) os << (i ? ", " : "") << toml_value(v[i]);
+    os << "]";
+  } else if (v.is_object()) {
+    os << "{";
+    bool first = true;
+    for (const auto& [k, x] : v.items()) {
+      os << (first ? "" : ", ") << toml_key(k) << " = " << toml_value(x);
+      first = false;
+    }
+    os << "}";
+  } else {
+    os << "\"\"";  // null: not written by to_json
+  }
+  return os.str();
+}
+
+}  // namespace
+
+std::string Config::to_toml() const {
+  nlohmann::json j = to_json();
+  // The JSON form's keys a case file reads otherwise: the flow's directions (flow.direction:
+  // "both", or one angle).
+  if (j.contains("flow")) {
+    nlohmann::json& f = j["flow"];
+    const std::vector<double> a = flow.angles;
+    if (a == std::vector<double>{0.0, 90.0})
+      f["direction"] = "both";
+    else if (a.size() == 1)
+      f["direction"] = a.front();
+    f.erase("angles");
+  }
+  std::ostringstream os;
   for (const auto& sec : kSections) {
     if (!j.contains(sec)) continue;
     os << "[" << sec << "]\n";
-    for (const auto& [k, v] : j[sec].items()) {
-      os << k << " = ";
-      if (v.is_string())
-        os << '"' << v.get<std::string>() << '"';
-      else if (v.is_boolean())
-        os << (v.get<bool>() ? "true" : "false");
-      else if (v.is_number_integer() || v.is_number_unsigned() || v.is_array())
-        os << v.dump();
-      else
-        os << v.get<double>();
-      os << "\n";
-    }
+    for (const auto& [k, v] : j[sec].items()) os << toml_key(k) << " = " << toml_value(v) << "\n";
     os << "\n";
   }
   return os.str();
