@@ -42,11 +42,14 @@ void bind_registries(py::module_& m) {
           py::dict d;
           d["name"] = t->name;
           d["purpose"] = t->purpose;
+          std::vector<std::string> keys;
+          for (const auto& k : t->keys) keys.push_back(k.name);
+          d["keys"] = keys;
           out.append(d);
         }
         return out;
       },
-      "The kinds of body the [elastic] keys select (elastic/body.hpp): [{'name', 'purpose'}]");
+      "The kinds of body the [elastic] keys select (elastic/body.hpp): [{'name', 'purpose', 'keys'}]");
   m.def(
       "interaction_models",
       [] {

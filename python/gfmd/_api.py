@@ -23,7 +23,8 @@ def friction_laws() -> list:
 
 
 def body_types() -> list:
-    """The kinds of body under the surface ([{'name', 'purpose'}]): which one a gfmd.ElasticBody is
+    """The kinds of body under the surface ([{'name', 'purpose', 'keys'}]; keys: the [elastic] keys of
+    that kind beside contact_modulus, poisson, thickness and coupling): which one a gfmd.ElasticBody is
     follows from its keys ("layered" with layers or a substrate, "homogeneous" otherwise)."""
     return _core.body_types()
 

@@ -14,6 +14,7 @@
 #include "gfmd/contact/interaction.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
+#include "gfmd/elastic/body.hpp"
 #include "gfmd/elastic/layered.hpp"
 
 namespace gfmd::config_detail {
@@ -200,23 +201,23 @@ void read_further_parts(Section& el, ViscoelasticParams& v, const std::string& b
 }  // namespace
 
 namespace {
-// <section>.layers: an array of tables {contact_modulus, poisson, thickness}, top to bottom,
-// bonded beneath the top layer.
-void read_layers(Section& el, ElasticParams& e) {
-  const toml::value* v = el.raw("layers");
+// <section>.<key> (layers): an array of tables {contact_modulus, poisson, thickness}, top to
+// bottom, bonded beneath the top layer.
+void read_layers(Section& el, const std::string& key, ElasticParams& e) {
+  const toml::value* v = el.raw(key);
   if (!v) return;
   if (!v->is_array()) {
-    el.error("layers", "must be an array of tables {contact_modulus, poisson, thickness}, top to bottom");
+    el.error(key, "must be an array of tables {contact_modulus, poisson, thickness}, top to bottom");
     return;
   }
   if (v->as_array().size() > kMaxLayers) {
-    el.error("layers", "at most " + std::to_string(kMaxLayers) + " layers, got " +
-                           std::to_string(v->as_array().size()));
+    el.error(key, "at most " + std::to_string(kMaxLayers) + " layers, got " +
+                      std::to_string(v->as_array().size()));
     return;
   }
   std::size_t i = 0;
   for (const auto& t : v->as_array()) {
-    const std::string name = "layers[" + std::to_string(i++) + "]";
+    const std::string name = key + "[" + std::to_string(i++) + "]";
     if (!t.is_table()) {
       el.error(name, "must be a table {contact_modulus, poisson, thickness}" + where(t));
       return;
@@ -247,23 +248,40 @@ void read_layers(Section& el, ElasticParams& e) {
 }
 }  // namespace
 
+// The keys of the kinds of body (elastic/body.hpp's BodyKey), read and written by their kind.
 void read_body_stack(Section& s, ElasticParams& e) {
-  e.substrate_contact_modulus =
-      s.number_or_inf("substrate_contact_modulus", std::numeric_limits<double>::infinity());
-  e.substrate_poisson = s.number("substrate_poisson", 0.25);
-  if (s.has("substrate_poisson") && !s.has("substrate_contact_modulus"))
-    s.error("substrate_poisson", "belongs to an elastic substrate: set substrate_contact_modulus too");
-  read_layers(s, e);
+  for (const BodyKey* k : body_keys()) {
+    switch (k->kind) {
+      case BodyKey::Kind::Number:
+        e.*(k->member) = s.number(k->name, k->default_value);
+        break;
+      case BodyKey::Kind::NumberOrInf:
+        e.*(k->member) = s.number_or_inf(k->name, k->default_value);
+        break;
+      case BodyKey::Kind::Layers:
+        read_layers(s, k->name, e);
+        break;
+    }
+    if (!k->needs.empty() && s.has(k->name) && !s.has(k->needs))
+      s.error(k->name, "is used only with " + k->needs + ": set " + k->needs + " too");
+  }
 }
 
 void write_body_stack(const ElasticParams& e, nlohmann::json& out) {
-  if (e.on_substrate()) {  // absent: a rigid base (as before the keys)
-    out["substrate_contact_modulus"] = e.substrate_contact_modulus;
-    out["substrate_poisson"] = e.substrate_poisson;
+  for (const BodyKey* k : body_keys()) {
+    if (k->written && !k->written(e)) continue;
+    switch (k->kind) {
+      case BodyKey::Kind::Number:
+      case BodyKey::Kind::NumberOrInf:
+        out[k->name] = e.*(k->member);
+        break;
+      case BodyKey::Kind::Layers:
+        for (const ElasticLayer& l : e.layers)
+          out[k->name].push_back(
+              {{"contact_modulus", l.contact_modulus}, {"poisson", l.poisson}, {"thickness", l.thickness}});
+        break;
+    }
   }
-  for (const ElasticLayer& l : e.layers)
-    out["layers"].push_back(
-        {{"contact_modulus", l.contact_modulus}, {"poisson", l.poisson}, {"thickness", l.thickness}});
 }
 
 void read_elastic(Section& el, Config& c, const std::string& base_dir) {

@@ -8,6 +8,7 @@
 #include <toml.hpp>
 
 #include "gfmd/core/error.hpp"
+#include "gfmd/elastic/body.hpp"
 
 namespace gfmd {
 
@@ -89,7 +90,9 @@ void read_indenter_body(Section& ind, Config& c) {
   const double nu = ind.number("poisson", 0.25);
   const double h = ind.number_or_inf("thickness", std::numeric_limits<double>::infinity());
   if (es == std::numeric_limits<double>::infinity()) {
-    for (const char* k : {"poisson", "thickness", "substrate_contact_modulus", "substrate_poisson", "layers"})
+    std::vector<std::string> keys = {"poisson", "thickness"};
+    for (const BodyKey* k : body_keys()) keys.push_back(k->name);  // a coated indenter's
+    for (const std::string& k : keys)
       if (ind.has(k))
         ind.error(k, "belongs to an elastic indenter: set indenter.contact_modulus (its E*; absent: rigid)");
     return;

@@ -13,6 +13,17 @@ const std::vector<const BodyType*>& body_types() {
   return table;
 }
 
+std::vector<const BodyKey*> body_keys() {
+  std::vector<const BodyKey*> out;
+  for (const BodyType* t : body_types())
+    for (const BodyKey& k : t->keys) {
+      bool seen = false;
+      for (const BodyKey* o : out) seen = seen || o->name == k.name;
+      if (!seen) out.push_back(&k);
+    }
+  return out;
+}
+
 const BodyType& body_type_of(const ElasticParams& el) {
   for (const BodyType* t : body_types())
     if (t->describes(el)) return *t;

@@ -110,6 +110,7 @@ const BodyType& homogeneous_body_type() {
       .purpose =
           "one isotropic material: a half-space (thickness = inf) or a layer bonded to a rigid base; "
           "closed forms",
+      .keys = {},  // only the keys every body has
       .describes = [](const ElasticParams& el) { return !el.layered(); },
       .make = [](const ElasticParams& el) -> std::unique_ptr<Body> {
         return std::make_unique<HomogeneousBody>(el);

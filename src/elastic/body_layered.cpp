@@ -1,6 +1,7 @@
 // The layered body: a top layer over further bonded layers, on a rigid base or on an elastic
 // half-space (a coating on a substrate), by transfer matrices (layered.cpp, docs/solver.md
 // "Layered bodies").
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -51,6 +52,32 @@ const BodyType& layered_body_type() {
       .purpose =
           "bonded layers (elastic.layers) on a rigid base, or a coating on an elastic substrate "
           "(substrate_contact_modulus): transfer matrices per mode",
+      .keys =
+          {
+              {.name = "substrate_contact_modulus",
+               .kind = BodyKey::Kind::NumberOrInf,
+               .member = &ElasticParams::substrate_contact_modulus,
+               .default_value = std::numeric_limits<double>::infinity(),
+               .doc = "E* of an elastic half-space beneath the layers (a coating on a substrate); inf: a "
+                      "rigid base",
+               .needs = "",
+               .written = [](const ElasticParams& el) { return el.on_substrate(); }},
+              {.name = "substrate_poisson",
+               .kind = BodyKey::Kind::Number,
+               .member = &ElasticParams::substrate_poisson,
+               .default_value = 0.25,
+               .doc = "the substrate's Poisson ratio",
+               .needs = "substrate_contact_modulus",
+               .written = [](const ElasticParams& el) { return el.on_substrate(); }},
+              {.name = "layers",
+               .kind = BodyKey::Kind::Layers,
+               .member = nullptr,
+               .default_value = 0.0,
+               .doc =
+                   "bonded layers beneath the top one, top to bottom: {contact_modulus, poisson, thickness}",
+               .needs = "",
+               .written = nullptr},
+          },
       .describes = [](const ElasticParams& el) { return el.layered(); },
       .make = [](const ElasticParams& el) -> std::unique_ptr<Body> {
         return std::make_unique<LayeredBody>(el);

@@ -195,6 +195,16 @@ def test_body_kinds_from_python():
     assert {"homogeneous", "layered"} <= set(kinds)
     assert all(b["purpose"] for b in kinds.values())
     assert len(kinds) == len(gfmd.body_types())
+    # Each kind's own keys, which gfmd.ElasticBody takes by the same names.
+    assert kinds["homogeneous"]["keys"] == []
+    assert kinds["layered"]["keys"] == ["substrate_contact_modulus", "substrate_poisson", "layers"]
+    body = gfmd.ElasticBody(thickness=0.1, substrate_contact_modulus=5.0, substrate_poisson=0.3,
+                            layers=[(2.0, 0.3, 0.05)])
+    r = gfmd.solve(gfmd.Topography.hertz(64, 4.0, radius=1.0), body, force=0.01)
+    assert r.summary["input"]["elastic"]["substrate_poisson"] == 0.3
+    import tomllib
+    # Result.toml is TOML (a layer as an inline table) and reads back to the same body.
+    assert tomllib.loads(r.toml)["elastic"]["layers"] == [{"contact_modulus": 2.0, "poisson": 0.3, "thickness": 0.05}]
 
 
 def test_indenter_keys_reach_the_reader_as_values():

@@ -9,9 +9,10 @@
 // frame tables the solvers use (the pair's, under an elastic indenter, and a viscoelastic body's
 // complex ones); subsurface.cpp and stress.cpp read the depth response.
 //
-// Adding a kind: one file body_<name>.cpp with its Body subclass and its BodyType (describes:
-// which ElasticParams it is; make), one line in body.cpp's table, tests against a limit it shares
-// with a registered kind (docs/architecture.md, "Adding a body").
+// Adding a kind: one file body_<name>.cpp with its Body subclass and its BodyType (its keys, read
+// and written by the case files through `keys`; describes: which ElasticParams it is; make), one
+// line in body.cpp's table, tests against a limit it shares with a registered kind
+// (docs/architecture.md, "Adding a body").
 #pragma once
 
 #include <memory>
@@ -54,9 +55,31 @@ class Body {
                                                    const std::vector<cplx>& moduli) const = 0;
 };
 
+// A key of [elastic] (and of [indenter_body]) that belongs to a kind of body, beside the keys
+// every body has (contact_modulus, poisson, thickness, coupling): the case file's reader and
+// writer (case/config) take them from here, and gfmd.body_types() lists them.
+struct BodyKey {
+  enum class Kind {
+    Number,       // a number; `member` holds it
+    NumberOrInf,  // a number or "inf"
+    Layers,       // an array of tables {contact_modulus, poisson, thickness} into `layers`
+  };
+  std::string name;  // elastic.<name>
+  Kind kind = Kind::Number;
+  double ElasticParams::*member = nullptr;  // Number, NumberOrInf
+  double default_value = 0.0;
+  std::string doc;
+  // Given alone it is refused: it belongs with this other key of the kind ("" = none).
+  std::string needs;
+  // Whether a body's value is written back (summary.json's input, config_out): e.g. the
+  // substrate's keys only on a substrate. Always where null.
+  bool (*written)(const ElasticParams& el) = nullptr;
+};
+
 struct BodyType {
-  std::string name;     // "homogeneous", "layered"
-  std::string purpose;  // one line (docs, gfmd.body_types())
+  std::string name;           // "homogeneous", "layered"
+  std::string purpose;        // one line (docs, gfmd.body_types())
+  std::vector<BodyKey> keys;  // its own keys (read and written by case/config)
   // Whether these [elastic] parameters describe a body of this kind (exactly one kind does).
   bool (*describes)(const ElasticParams& el) = nullptr;
   std::unique_ptr<Body> (*make)(const ElasticParams& el) = nullptr;
@@ -67,6 +90,8 @@ const BodyType& layered_body_type();
 
 // Every registered kind, in the order the docs list them.
 const std::vector<const BodyType*>& body_types();
+// The keys of every kind, each once, in the table's order.
+std::vector<const BodyKey*> body_keys();
 // The kind that describes `el` (throws ParameterError if none does).
 const BodyType& body_type_of(const ElasticParams& el);
 // The body `el` describes (validated first: ParameterError naming the key).
