@@ -1,5 +1,6 @@
-// gfmd._core's studies: sweeps, percolation, curves and seed ensembles over a case file, each
-// into its directory as the CLI writes it (gfmd sweep/percolation/curve/ensemble), interruptible.
+// gfmd._core's runs into directories as the CLI writes them, interruptible: one case (gfmd run
+// --resume), sweeps, percolation, curves and seed ensembles over a case file (gfmd
+// sweep/percolation/curve/ensemble), the Green's table (gfmd green).
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -11,6 +12,7 @@
 #include "gfmd/case/config.hpp"
 #include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run_dir.hpp"
+#include "gfmd/case/run_in_directory.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/studies/curve.hpp"
@@ -134,6 +136,62 @@ py::object ensemble_case(const std::string& case_path, int first, int last,
   }));
 }
 
+// One case into its run directory as `gfmd run CASE -o DIR [--resume]` (run_in_directory):
+// {'status': 'solved' | 'reused', 'summary'}; SolveError where it does not converge (nothing
+// published), KeyboardInterrupt when stopped (the checkpoint kept).
+py::dict run_directory(const std::string& path, const std::vector<std::string>& set,
+                       const std::string& output, bool resume, bool force, double checkpoint_interval) {
+  const gfmd::Config cfg = gfmd::load_config(path, set);
+  gfmd::DirectoryRun run;
+  {
+    std::optional<SigintToFlag> guard(std::in_place);
+    {
+      py::gil_scoped_release release;
+      gfmd::DirectoryRunOptions o;
+      o.resume = resume;
+      o.directory = {force, false, [] { return g_interrupted.load(); }};
+      o.checkpoint_interval_s = checkpoint_interval;
+      o.draw = [&cfg](const std::string& staging) {
+        if (!cfg.output.png) return;
+        try {
+          draw_maps({staging}, {"--profiles"});
+        } catch (py::error_already_set& e) {
+          py::gil_scoped_acquire acquire;
+          if (!e.matches(PyExc_KeyboardInterrupt)) throw;
+          throw gfmd::Interrupted("interrupted while drawing the maps");
+        }
+      };
+      o.failure_note = [](const std::string& note) {
+        py::gil_scoped_acquire acquire;
+        PySys_WriteStderr("gfmd: %.1500s\n", note.c_str());
+      };
+      run = gfmd::run_in_directory(cfg, output, std::move(o));
+    }
+    using Outcome = gfmd::DirectoryRun::Outcome;
+    const std::string kept = run.note.empty() ? "" : "; " + run.note;
+    if (run.outcome == Outcome::NotConverged) {
+      std::string with;
+      for (const auto& kv : set) with += (with.empty() ? " [with set " : " ") + kv;
+      throw gfmd::SolveError(path + ": " + run.why + (with.empty() ? "" : with + "]") +
+                             "; no results written" + kept);
+    }
+    if (run.outcome == Outcome::Interrupted) {
+      PySys_WriteStderr("gfmd: %.200s: %.300s; %.300s%.500s\n", path.c_str(), run.why.c_str(),
+                        run.saved_state
+                            ? ("state saved in " + run.checkpoint + ", continue with resume=True").c_str()
+                            : "no results written",
+                        kept.c_str());
+      guard.reset();
+      raise_keyboard_interrupt();
+    }
+  }
+  py::dict d;
+  const bool reused = run.outcome == gfmd::DirectoryRun::Outcome::AlreadySolved;
+  d["status"] = reused ? "reused" : "solved";
+  d["summary"] = json_to_py(reused ? run.finished : gfmd::summary_json(run.result));
+  return d;
+}
+
 // The Green's tensor table as CSV text; written atomically to `output` where one is given.
 std::string green_table(const std::vector<double>& poisson, double from, double to, int points,
                         const std::string& output) {
@@ -145,6 +203,12 @@ std::string green_table(const std::vector<double>& poisson, double from, double 
 }  // namespace
 
 void bind_studies(py::module_& m) {
+  m.def("run_directory", &run_directory, py::arg("case"), py::arg("set"), py::arg("output"),
+        py::arg("resume") = true, py::arg("force") = false, py::arg("checkpoint_interval") = 60.0,
+        "Solve a case file into its run directory as `gfmd run CASE -o OUTPUT [--resume]`: with resume a "
+        "finished result of the same case is reused and an interrupted one continued from its checkpoint. "
+        "Returns {'status': 'solved' | 'reused', 'summary': dict}; SolveError if it does not converge "
+        "(nothing published), KeyboardInterrupt on Ctrl-C (or SIGTERM where Python handles it).");
   m.def("parse_approaches", &gfmd::parse_approaches, py::arg("text"),
         "An approach list as `gfmd curve --approaches` reads it (D1,D2,... or FROM:TO:N).");
   m.def("parse_pressures", &gfmd::parse_pressures, py::arg("text"),

@@ -412,11 +412,11 @@ def test_visco_film_quick(out):
 
 
 def test_a_study_stops_when_a_case_file_changes_between_its_runs(tmp_path):
-    # study.py runs gfmd once per series; each run reads its case once. A case file edited
+    # study.py makes one run (a sweep, a curve) per series; each run reads its case once. A case file edited
     # between two runs of one study ends it (exit status 1) instead of mixing two cases.
     import sys
     sys.path.insert(0, os.path.join(ROOT, "scripts"))
-    import study
+    import study_runs as study
     case = tmp_path / "c.toml"
     case.write_text("[grid]\nnx = 32\n")
     study.check_case_unchanged(str(case))
@@ -432,7 +432,7 @@ def test_a_study_stops_when_a_height_file_changes_between_its_runs(tmp_path):
     # indenter.path in their place) are held to their first content too.
     import sys
     sys.path.insert(0, os.path.join(ROOT, "scripts"))
-    import study
+    import study_runs as study
     (tmp_path / "h.csv").write_text("0 1\n1 0\n")
     (tmp_path / "other.csv").write_text("0 0\n0 0\n")
     (tmp_path / "e.txt").write_text("1 1 0.1\n10 5 1\n")
