@@ -125,7 +125,11 @@ std::string run_plot_script(const std::string& name, const std::vector<std::stri
     const py::object p =
         subprocess.attr("run")(args, py::arg("stdout") = subprocess.attr("DEVNULL"),
                                py::arg("stderr") = subprocess.attr("PIPE"), py::arg("text") = true);
-    if (const int rc = p.attr("returncode").cast<int>(); rc != 0)
+    const int rc = p.attr("returncode").cast<int>();
+    // Stopped by the Ctrl-C (or SIGTERM) that stops the caller too (a terminal's reaches the whole
+    // process group): not a drawing problem to report; the caller sees its stop request.
+    if (rc != 0 && g_interrupted.load()) return "";
+    if (rc != 0)
       return python + " " + script + " failed (exit status " + std::to_string(rc) +
              "): " + p.attr("stderr").cast<std::string>();
     return "";

@@ -110,14 +110,27 @@ class SigintToFlag {
   throw py::error_already_set();
 }
 
+// After a call that finished although a stop signal came (after its last look at the stop
+// request; its SigintToFlag gone): the signal goes to Python's handler, which runs at the next
+// check, as if it had come just after the call (a study driver must not lose it).
+inline void pass_on_late_signal() {
+  g_interrupted.store(false);
+  if (const int sig = g_stop_signal.exchange(0); sig != 0) PyErr_SetInterruptEx(sig);
+}
+
 // Runs f(stop) with the GIL released and Ctrl-C as its stop request (solves, flows, studies);
 // gfmd::Interrupted becomes KeyboardInterrupt. f must not touch Python objects.
 template <class F>
 auto interruptible(F&& f) {
   std::optional<SigintToFlag> guard(std::in_place);
   try {
-    py::gil_scoped_release release;
-    return f(std::function<bool()>([] { return g_interrupted.load(); }));
+    auto result = [&] {
+      py::gil_scoped_release release;
+      return f(std::function<bool()>([] { return g_interrupted.load(); }));
+    }();
+    guard.reset();
+    pass_on_late_signal();
+    return result;
   } catch (const gfmd::Interrupted&) {
     guard.reset();
     raise_keyboard_interrupt();

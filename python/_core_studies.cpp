@@ -185,6 +185,7 @@ py::dict run_directory(const std::string& path, const std::vector<std::string>& 
       raise_keyboard_interrupt();
     }
   }
+  pass_on_late_signal();
   py::dict d;
   const bool reused = run.outcome == gfmd::DirectoryRun::Outcome::AlreadySolved;
   d["status"] = reused ? "reused" : "solved";
