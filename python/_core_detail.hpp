@@ -134,6 +134,10 @@ auto interruptible(F&& f) {
   } catch (const gfmd::Interrupted&) {
     guard.reset();
     raise_keyboard_interrupt();
+  } catch (...) {  // another error (bad input, a solve that failed): raised, the signal kept too
+    guard.reset();
+    pass_on_late_signal();
+    throw;
   }
 }
 

@@ -143,8 +143,8 @@ py::dict run_directory(const std::string& path, const std::vector<std::string>& 
                        const std::string& output, bool resume, bool force, double checkpoint_interval) {
   const gfmd::Config cfg = gfmd::load_config(path, set);
   gfmd::DirectoryRun run;
-  {
-    std::optional<SigintToFlag> guard(std::in_place);
+  std::optional<SigintToFlag> guard(std::in_place);
+  try {
     {
       py::gil_scoped_release release;
       gfmd::DirectoryRunOptions o;
@@ -184,7 +184,12 @@ py::dict run_directory(const std::string& path, const std::vector<std::string>& 
       guard.reset();
       raise_keyboard_interrupt();
     }
+  } catch (...) {  // an error, or the KeyboardInterrupt above: a signal not yet handed on is kept
+    guard.reset();
+    pass_on_late_signal();
+    throw;
   }
+  guard.reset();
   pass_on_late_signal();
   py::dict d;
   const bool reused = run.outcome == gfmd::DirectoryRun::Outcome::AlreadySolved;
