@@ -198,6 +198,10 @@ def test_body_kinds_from_python():
     # Each kind's own keys, which gfmd.ElasticBody takes by the same names.
     assert kinds["homogeneous"]["keys"] == []
     assert kinds["layered"]["keys"] == ["substrate_contact_modulus", "substrate_poisson", "layers"]
+    # gfmd.ElasticBody takes every registered key (a new kind's key must reach Python too).
+    import dataclasses
+    fields = {f.name for f in dataclasses.fields(gfmd.ElasticBody)}
+    assert {k for b in kinds.values() for k in b["keys"]} <= fields, fields
     body = gfmd.ElasticBody(thickness=0.1, substrate_contact_modulus=5.0, substrate_poisson=0.3,
                             layers=[(2.0, 0.3, 0.05)])
     r = gfmd.solve(gfmd.Topography.hertz(64, 4.0, radius=1.0), body, force=0.01)
