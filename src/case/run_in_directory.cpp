@@ -84,11 +84,13 @@ DirectoryRun run_in_directory(const Config& cfg, const std::string& dir, Directo
   }
   if (!out.result.info.converged) {
     const auto& i = out.result.info;
-    char why[512];
-    std::snprintf(why, sizeof why,
-                  "%s after %d iterations (pressure change %.3e, friction change %.3e, tolerance %.1e)",
-                  i.status.c_str(), i.iterations, i.pk_error, i.friction_error, cfg.solver.tolerance);
+    // The status whole (a long one names its cure and the docs' section), then the counts.
+    char counts[160];
+    std::snprintf(counts, sizeof counts,
+                  " after %d iterations (pressure change %.3e, friction change %.3e, tolerance %.1e)",
+                  i.iterations, i.pk_error, i.friction_error, cfg.solver.tolerance);
     out.outcome = DirectoryRun::Outcome::NotConverged;
+    const std::string why = i.status + counts;
     out.why = why;
     out.note = rd.fail(why);
     fs::remove(out.checkpoint, ec);
