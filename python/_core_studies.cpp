@@ -142,55 +142,45 @@ py::object ensemble_case(const std::string& case_path, int first, int last,
 py::dict run_directory(const std::string& path, const std::vector<std::string>& set,
                        const std::string& output, bool resume, bool force, double checkpoint_interval) {
   const gfmd::Config cfg = gfmd::load_config(path, set);
-  gfmd::DirectoryRun run;
-  std::optional<SigintToFlag> guard(std::in_place);
-  try {
-    {
-      py::gil_scoped_release release;
-      gfmd::DirectoryRunOptions o;
-      o.resume = resume;
-      o.directory = {force, false, [] { return g_interrupted.load(); }};
-      o.checkpoint_interval_s = checkpoint_interval;
-      o.draw = [&cfg](const std::string& staging) {
-        if (!cfg.output.png) return;
-        try {
-          draw_maps({staging}, {"--profiles"});
-        } catch (py::error_already_set& e) {
-          py::gil_scoped_acquire acquire;
-          if (!e.matches(PyExc_KeyboardInterrupt)) throw;
-          throw gfmd::Interrupted("interrupted while drawing the maps");
-        }
-      };
-      o.failure_note = [](const std::string& note) {
+  const gfmd::DirectoryRun run = interruptible([&](const std::function<bool()>& stop) {
+    gfmd::DirectoryRunOptions o;
+    o.resume = resume;
+    o.directory = {force, false, stop};
+    o.checkpoint_interval_s = checkpoint_interval;
+    o.draw = [&cfg](const std::string& staging) {
+      if (!cfg.output.png) return;
+      try {
+        draw_maps({staging}, {"--profiles"});
+      } catch (py::error_already_set& e) {
         py::gil_scoped_acquire acquire;
-        PySys_WriteStderr("gfmd: %.1500s\n", note.c_str());
-      };
-      run = gfmd::run_in_directory(cfg, output, std::move(o));
-    }
+        if (!e.matches(PyExc_KeyboardInterrupt)) throw;
+        throw gfmd::Interrupted("interrupted while drawing the maps");
+      }
+    };
+    o.failure_note = [](const std::string& note) {
+      py::gil_scoped_acquire acquire;
+      PySys_WriteStderr("gfmd: %.1500s\n", note.c_str());
+    };
+    gfmd::DirectoryRun r = gfmd::run_in_directory(cfg, output, std::move(o));
     using Outcome = gfmd::DirectoryRun::Outcome;
-    const std::string kept = run.note.empty() ? "" : "; " + run.note;
-    if (run.outcome == Outcome::NotConverged) {
+    const std::string kept = r.note.empty() ? "" : "; " + r.note;
+    if (r.outcome == Outcome::NotConverged) {
       std::string with;
       for (const auto& kv : set) with += (with.empty() ? " [with set " : " ") + kv;
-      throw gfmd::SolveError(path + ": " + run.why + (with.empty() ? "" : with + "]") +
-                             "; no results written" + kept);
+      throw gfmd::SolveError(path + ": " + r.why + (with.empty() ? "" : with + "]") + "; no results written" +
+                             kept);
     }
-    if (run.outcome == Outcome::Interrupted) {
-      PySys_WriteStderr("gfmd: %.200s: %.300s; %.300s%.500s\n", path.c_str(), run.why.c_str(),
-                        run.saved_state
-                            ? ("state saved in " + run.checkpoint + ", continue with resume=True").c_str()
+    if (r.outcome == Outcome::Interrupted) {  // what is kept, then KeyboardInterrupt (interruptible)
+      py::gil_scoped_acquire acquire;
+      PySys_WriteStderr("gfmd: %.200s: %.300s; %.300s%.500s\n", path.c_str(), r.why.c_str(),
+                        r.saved_state
+                            ? ("state saved in " + r.checkpoint + ", continue with resume=True").c_str()
                             : "no results written",
                         kept.c_str());
-      guard.reset();
-      raise_keyboard_interrupt();
+      throw gfmd::Interrupted(r.why);
     }
-  } catch (...) {  // an error, or the KeyboardInterrupt above: a signal not yet handed on is kept
-    guard.reset();
-    pass_on_late_signal();
-    throw;
-  }
-  guard.reset();
-  pass_on_late_signal();
+    return r;
+  });
   py::dict d;
   const bool reused = run.outcome == gfmd::DirectoryRun::Outcome::AlreadySolved;
   d["status"] = reused ? "reused" : "solved";

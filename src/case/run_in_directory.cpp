@@ -90,9 +90,8 @@ DirectoryRun run_in_directory(const Config& cfg, const std::string& dir, Directo
                   " after %d iterations (pressure change %.3e, friction change %.3e, tolerance %.1e)",
                   i.iterations, i.pk_error, i.friction_error, cfg.solver.tolerance);
     out.outcome = DirectoryRun::Outcome::NotConverged;
-    const std::string why = i.status + counts;
-    out.why = why;
-    out.note = rd.fail(why);
+    out.why = i.status + counts;
+    out.note = rd.fail(out.why);
     fs::remove(out.checkpoint, ec);
     return out;
   }
