@@ -136,18 +136,12 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
                      ? ("; the previous result in " + out_dir + "/ is kept unchanged").c_str()
                      : "");
     return 4;
-  } catch (const gfmd::SolveError& e) {
+  } catch (const gfmd::SolveError&) {
     pp.done();
-    if (!root) throw;
-    // A first attempt publishes its finished points (the message says so): draw them before
-    // reporting the failure.
-    if (std::string(e.what()).find("finished points are kept in") != std::string::npos &&
-        std::filesystem::exists(std::filesystem::path(out_dir) / "sweep.csv")) {
-      (void)draw_maps(runs_needing_maps(out_dir), {});
-      if (draw(out_dir))
-        std::fprintf(stderr, "gfmd: the finished points are drawn in %s/sweep_%s.png\n", out_dir.c_str(),
-                     plot.c_str());
-    }
+    // A first attempt publishes its finished points, drawn before (before_publish).
+    if (root && drawn)
+      std::fprintf(stderr, "gfmd: the finished points are drawn in %s/sweep_%s.png\n", out_dir.c_str(),
+                   plot.c_str());
     throw;
   }
   if (!root || quiet) return 0;

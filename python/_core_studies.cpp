@@ -41,8 +41,8 @@ py::object sweep_case(const std::string& case_path, const std::string& parameter
     so.stop_request = stop;
     so.directory = {force, false, stop};
     // The points' maps (output.png) and the plot, drawn from the staged table, are published
-    // with the tables, as the command line does.
-    const auto draw = [&plot](const std::string& where) {
+    // with the tables, as the command line does (also the finished points of a sweep that stops).
+    so.before_publish = [&plot](const std::string& where) {
       draw_maps(gfmd::runs_needing_maps(where), {});
       if (plot.empty()) return;
       py::gil_scoped_acquire acquire;
@@ -52,18 +52,8 @@ py::object sweep_case(const std::string& case_path, const std::string& parameter
         PySys_WriteStderr("gfmd: warning: could not draw sweep_%.200s.png: %.1500s\n", plot.c_str(),
                           problem.c_str());
     };
-    so.before_publish = draw;
     so.plot_column = plot;  // checked on the first point ("" = none)
-    try {
-      return gfmd::run_sweep(case_path, cfg, dir, so);
-    } catch (const gfmd::SolveError& e) {
-      // A first attempt that stopped publishes its finished points (its message says so): they
-      // are drawn before the failure is reported.
-      if (std::string(e.what()).find("finished points are kept in") != std::string::npos &&
-          std::filesystem::exists(std::filesystem::path(dir) / "sweep.csv"))
-        draw(dir);
-      throw;
-    }
+    return gfmd::run_sweep(case_path, cfg, dir, so);
   }));
 }
 

@@ -173,7 +173,8 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   // A sweep that ends before its last point: where the directory had no result yet, what was
   // finished is published (with the status saying why it stopped); otherwise the previous
   // result stays and the finished points wait in the staging area for the same command.
-  const auto stop_early = [&](const std::string& status, const std::string& why) {
+  // draw: the figures of the finished points (before_publish) are published with them.
+  const auto stop_early = [&](const std::string& status, const std::string& why, bool draw = false) {
     if (!root) return std::string();
     if (rd->had_result()) {
       // Points solved by this attempt wait for the same command; with none, nothing is kept.
@@ -188,6 +189,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
       return std::string(staged ? "kept, staged" : "kept");
     }
     write_sweep_tables(stage, sw.parameter, sw.values, summaries);
+    if (draw && opts.before_publish) opts.before_publish(stage);
     rd->publish([&](const std::string& n) { return is_gfmd_output_name(n) && reused.count(n) == 0; }, status,
                 why);
     return std::string("published");
@@ -318,7 +320,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
           name + " (" + sw.parameter + " = " + format_number(sw.values[i]) + "): " + r.info.status;
       on_root([&] {
         fs::remove_all(sdir, ec);  // no bare point directory is left behind
-        const std::string what = stop_early("failed", why);
+        const std::string what = stop_early("failed", why, /*draw=*/true);
         if (what == "published")
           why += "; the " + std::to_string(i) + " finished points are kept in " + dir + "/";
         else

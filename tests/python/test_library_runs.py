@@ -185,3 +185,22 @@ def test_curve_draws_its_figure_where_the_case_asks_for_figures(tmp_path):
     assert (tmp_path / "c" / "curve.png").stat().st_size > 1000
     gfmd.curve(str(case), pressures=[0.001], output=str(tmp_path / "d"), set=["output.png=false"])
     assert not (tmp_path / "d" / "curve.png").exists()
+
+
+def test_a_sweep_that_stops_publishes_its_finished_points_with_their_figures(tmp_path):
+    # The second point cannot converge (two iterations): the first attempt publishes the first
+    # point with its maps and the sweep plot (drawn before publication, by both front ends).
+    case = tmp_path / "case.toml"
+    case.write_text(HERTZ.replace("png = false", "png = true"))
+    with pytest.raises(gfmd.SolveError, match="the 1 finished points are kept in"):
+        gfmd.sweep(str(case), "solver.max_iterations", [1000, 2], output=str(tmp_path / "lib"),
+                   plot="relative_contact_area")
+    p = subprocess.run([GFMD, "sweep", str(case), "-o", str(tmp_path / "cli"), "-q", "--plot", "relative_contact_area",
+                        "--set", "solver.max_iterations=1000,2"], capture_output=True, text=True)
+    assert p.returncode == 3, p.stderr
+    assert "the finished points are drawn in" in p.stderr, p.stderr
+    for d in ("lib", "cli"):
+        assert (tmp_path / d / "sweep_relative_contact_area.png").stat().st_size > 1000
+        assert (tmp_path / d / "point_000" / "pressure.png").stat().st_size > 1000
+        assert not (tmp_path / d / "point_001").exists()
+        assert len((tmp_path / d / "sweep.csv").read_text().splitlines()) == 2

@@ -28,7 +28,8 @@ struct SweepOptions {
   // "--plot"; that point is kept), not after the last.
   std::string plot_column, plot_key = "plot";
   // The output directory's treatment (force, wait; the sweep holds its lock) and what is drawn
-  // from the staged tables before they are published (the staging directory as argument).
+  // from the staged tables before they are published (the staging directory as argument):
+  // also the finished points of a first attempt that stops at a point that does not converge.
   OutputDirOptions directory;
   std::function<void(const std::string& staging)> before_publish;
 };
