@@ -242,14 +242,18 @@ def call(what, f, *args, tolerate_not_converged=False, **kwargs):
 # The runs a study makes, each into its directory d, with the settings of the study and its
 # series (KEY=VALUE); in this process (LIB) or by starting gfmd.
 
+def case_command(command, case, d, settings, *options):
+    """The argument vector of `gfmd COMMAND CASE OPTIONS -o d -q --set ... [--force]`."""
+    return [GFMD, command, case, *options, "-o", d, "-q"] + set_args(settings) + (["--force"] if FORCE else [])
+
+
 def run_case(case, d, settings, what):
     """One case (gfmd run --resume: a finished result is reused); returns its summary."""
     check_inputs(case, settings)
     if LIB is not None:
         call(what, LIB.run, case, set=settings, output=d, force=FORCE, resume=True)
     else:
-        run([GFMD, "run", case, "-o", d, "-q", "--resume"] + set_args(settings) + (["--force"] if FORCE else []),
-            what=what)
+        run(case_command("run", case, d, settings, "--resume"), what=what)
     with open(os.path.join(d, "summary.json")) as f:
         return json.load(f)
 
@@ -261,8 +265,7 @@ def sweep_case(case, d, settings, y, what):
     if LIB is not None:
         return call(what, LIB.sweep, case, output=d, set=settings, plot=y, force=FORCE,
                     tolerate_not_converged=True)[1]
-    p = run([GFMD, "sweep", case, "-o", d, "-q", "--plot", y] + set_args(settings) + (["--force"] if FORCE else []),
-            tolerate_not_converged=True, what=what)
+    p = run(case_command("sweep", case, d, settings, "--plot", y), tolerate_not_converged=True, what=what)
     return stopped_reason(p) if p.returncode != 0 else None
 
 
@@ -273,8 +276,8 @@ def curve_case(case, d, settings, approaches, what):
     if LIB is not None:
         return call(what, LIB.curve, case, approaches=approaches, output=d, set=settings, force=FORCE,
                     tolerate_not_converged=True)[1]
-    p = run([GFMD, "curve", case, "--approaches", approaches, "-o", d, "-q"] + set_args(settings)
-            + (["--force"] if FORCE else []), tolerate_not_converged=True, what=what)
+    p = run(case_command("curve", case, d, settings, "--approaches", approaches), tolerate_not_converged=True,
+            what=what)
     return stopped_reason(p) if p.returncode != 0 else None
 
 
@@ -284,8 +287,7 @@ def percolation_case(case, d, settings, direction, what):
     if LIB is not None:
         call(what, LIB.percolation, case, direction, set=settings, output=d, force=FORCE)
     else:
-        run([GFMD, "percolation", case, "--direction", direction, "-o", d, "-q"] + set_args(settings)
-            + (["--force"] if FORCE else []), what=what)
+        run(case_command("percolation", case, d, settings, "--direction", direction), what=what)
 
 
 def green_table(poisson, csv_path, what):
