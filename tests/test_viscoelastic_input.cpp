@@ -58,30 +58,34 @@ TEST(Viscoelastic, BadInputNamesTheKey) {
 }
 
 // A solve on a viscoelastic body that stops says why its last viscoelastic solve did not settle,
-// in the friction loop and in the adhesive steps alike (the text was dropped before 2026-11-28).
+// in the friction loop and in the adhesive steps alike (the text was dropped before 2026-11-28),
+// and so does the active set (the frictionless default) on its own.
 TEST(Viscoelastic, AFailureSaysWhyTheViscoelasticSolveDidNotSettle) {
   const std::vector<std::string> common = {"grid.nx=64", "elastic.poisson=0.5", "friction.velocity=0.02",
                                            "friction.reference=false", "solver.max_outer=3"};
-  for (const auto& sets : std::vector<std::vector<std::string>>{
-           {"friction.coefficient=0.3", "friction.regularization=0.01"},
-           {"interaction.model=\"adhesive\"", "interaction.work_of_adhesion=1e-3",
-            "interaction.range=0.02"}}) {
+  const std::string last = "; the last viscoelastic solve: not converged: ";
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"friction.coefficient=0.3", "friction.regularization=0.01"},
+       last + "the viscoelastic pressure did not settle in solver.max_outer = 3 steps"},
+      {{"interaction.model=\"adhesive\"", "interaction.work_of_adhesion=1e-3", "interaction.range=0.02",
+        "solver.viscoelastic_method=\"splitting\""},
+       last + "the viscoelastic pressure did not settle in solver.max_outer = 3 steps"},
+      {{"solver.max_outer=1"},
+       "not converged: the viscoelastic contact set did not settle in solver.max_outer = 1 "
+       "steps"}};
+  for (const auto& [sets, what] : cases) {
     std::vector<std::string> all = common;
     all.insert(all.end(), sets.begin(), sets.end());
     const CaseResult r = run_case(parse_config(kSlsSphere, "visco.toml", all));
     EXPECT_FALSE(r.info.converged);
-    EXPECT_NE(
-        r.info.status.find("; the last viscoelastic solve: not converged: the viscoelastic pressure did "
-                           "not settle in solver.max_outer = 3 steps"),
-        std::string::npos)
-        << r.info.status;
+    EXPECT_NE(r.info.status.find(what), std::string::npos) << r.info.status;
   }
 }
 
 // A stiff glassy modulus (E_inf = 1000 E0) near the loss peak with the hard wall: the splitting
 // cycles (the contact edge's cells switch between contact and gap; docs/solver.md). The failure
-// says so and names what settles instead of suggesting more steps, and that does settle: the
-// harmonic interaction, on the same case.
+// says so and names what settles instead of suggesting more steps, and both do settle: the
+// active set (the default without friction) and the harmonic interaction, on the same case.
 TEST(Viscoelastic, AHardWallThatCyclesNamesTheHarmonicInteraction) {
   const std::vector<std::string> sets = {"grid.nx=128",
                                          "grid.lx=4.0",
@@ -92,12 +96,18 @@ TEST(Viscoelastic, AHardWallThatCyclesNamesTheHarmonicInteraction) {
                                          "solver.max_outer=100"};
   std::vector<std::string> hard = sets;
   hard.push_back("interaction.model=\"hardwall\"");
-  const CaseResult r = run_case(parse_config(kSlsSphere, "visco.toml", hard));
+  std::vector<std::string> split = hard;
+  split.push_back("solver.viscoelastic_method=\"splitting\"");
+  const CaseResult r = run_case(parse_config(kSlsSphere, "visco.toml", split));
   EXPECT_FALSE(r.info.converged);
-  EXPECT_NE(r.info.status.find("the harmonic interaction (interaction.model = \"harmonic\") settles there"),
+  EXPECT_NE(r.info.status.find("the active set (solver.viscoelastic_method = \"active_set\") or the harmonic "
+                               "interaction (interaction.model = \"harmonic\") settles there"),
             std::string::npos)
       << r.info.status;
   EXPECT_EQ(r.info.status.find("raise solver.max_outer"), std::string::npos) << r.info.status;
+  const CaseResult a = run_case(parse_config(kSlsSphere, "visco.toml", hard));
+  EXPECT_TRUE(a.info.converged) << a.info.status;
+  EXPECT_GT(a.observables.hysteresis_friction, 0.01);
   std::vector<std::string> soft = sets;
   soft.push_back("interaction.model=\"harmonic\"");
   const CaseResult h = run_case(parse_config(kSlsSphere, "visco.toml", soft));

@@ -247,7 +247,7 @@ def _interaction_table(interaction) -> dict:
 
 
 _SOLVER_KEYS = {"tolerance", "max_iterations", "max_outer", "max_tangential", "anderson", "mixing", "threads",
-                "fft_planner", "backend"}
+                "fft_planner", "backend", "viscoelastic_method"}
 # The [friction] keys besides coefficient and direction; the laws' own keys come from the registry.
 _FRICTION_KEYS = {"regularization", "creepage", "lateral_creepage", "slip_derivative", "stick_step",
                   "stick_acceleration", "reference", "law", "velocity"} | {k for law in _core.friction_laws() for k in law["keys"]}

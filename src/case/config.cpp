@@ -220,7 +220,9 @@ Config build(const toml::value& root, const std::string& name, const std::string
                        std::to_string(mpi::size()) +
                        " processes (mpirun -np): each process needs at least one row; run with at most " +
                        std::to_string(c.grid.ny) + " processes");
-    const double mem = estimated_memory_bytes(c.grid, mpi::size(), !surface_made_on_slabs(c));
+    const bool active_set =
+        c.visco.enabled() && c.visco.velocity != 0.0 && c.solver.visco_method != ViscoMethod::Splitting;
+    const double mem = estimated_memory_bytes(c.grid, mpi::size(), !surface_made_on_slabs(c), active_set);
     MemoryLimit lim = memory_limit();
     // The processes of a distributed run on this machine share its memory (and its cgroup);
     // a per-process limit (ulimit) applies to each alone.

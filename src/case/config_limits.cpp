@@ -90,14 +90,16 @@ std::vector<std::string> plausibility_warnings(const Config& cfg, const Topograp
   return warnings;
 }
 
-double estimated_memory_bytes(const Grid& grid, int processes, bool whole_surface) {
+double estimated_memory_bytes(const Grid& grid, int processes, bool whole_surface, bool active_set) {
   // Peak of a sliding solve (BENCHMARKS.md, memory budget): topography, pressure and two
   // tractions, g0, w, the traction image, three CG fields (11 real fields), three complex
   // half-spectra, the compliance tables (56 B/mode) and the Anderson history on the
   // traction's support (196 B per support point; allowance: half the grid in contact).
   const double n = static_cast<double>(grid.size());
   const double ns = static_cast<double>(grid.spectral_size());
-  const double solve = n * (8.0 * 11.0 + 0.5 * 196.0) + ns * (3.0 * 16.0 + 56.0);
+  // A sliding viscoelastic body's active set adds its Krylov basis (solver.hpp).
+  const double solve = n * (8.0 * 11.0 + 0.5 * 196.0 + (active_set ? kActiveSetBytesPerPoint : 0.0)) +
+                       ns * (3.0 * 16.0 + 56.0);
   if (processes <= 1) return solve;
   // Distributed: each process holds its share of the solve and one gathered field (rank 0's
   // checkpoints and outputs, 8 B per point of the cell) or, while a whole topography is made,

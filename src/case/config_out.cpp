@@ -101,6 +101,9 @@ nlohmann::json Config::to_json() const {
                  {"anderson", solver.anderson},
                  {"mixing", solver.mixing},
                  {"fft_planner", solver.fft_planner == Planner::Measure ? "measure" : "estimate"},
+                 {"viscoelastic_method", solver.visco_method == ViscoMethod::Splitting   ? "splitting"
+                                         : solver.visco_method == ViscoMethod::ActiveSet ? "active_set"
+                                                                                         : "auto"},
                  {"threads", threads},
                  {"backend", backend}};
   j["output"] = {{"fields", output.fields}, {"png", output.png}, {"analysis", output.analysis}};

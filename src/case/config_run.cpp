@@ -39,6 +39,19 @@ void read_solver(Section& so, Config& c) {
       so.error("fft_planner", "must be \"estimate\" or \"measure\" (got \"" + planner + "\")");
     }
   }
+  {
+    const std::string method = so.string("viscoelastic_method", "auto");
+    if (method == "auto") {
+      c.solver.visco_method = ViscoMethod::Auto;
+    } else if (method == "active_set") {
+      c.solver.visco_method = ViscoMethod::ActiveSet;
+    } else if (method == "splitting") {
+      c.solver.visco_method = ViscoMethod::Splitting;
+    } else {
+      so.error("viscoelastic_method",
+               "must be \"auto\", \"active_set\" or \"splitting\" (got \"" + method + "\")");
+    }
+  }
   if (!(c.solver.tolerance > 0 && c.solver.tolerance < 1)) so.error("tolerance", "must be in (0, 1)");
   so.finish();
 }

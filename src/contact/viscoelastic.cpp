@@ -83,6 +83,7 @@ ContactSolver::PKResult ContactSolver::solve_normal_viscoelastic(const LoadParam
     status = pk.converged ? "converged" : "not converged: iteration limit reached";
     return pk;
   }
+  if (uses_active_set()) return solve_normal_active_set(load, w_extra, p, tol, max_it, steps, status);
   if (visco_.w.size() != n) visco_.w.assign(n, 0.0);
   RealField& w = visco_.w;
   if (!visco_.mixer) visco_.mixer = std::make_unique<GuardedAnderson>(sp_.anderson, grid_);
@@ -124,7 +125,8 @@ ContactSolver::PKResult ContactSolver::solve_normal_viscoelastic(const LoadParam
     status =
         outer_status(change, tol, pk.converged, inner_tol, used, step, within, "the viscoelastic pressure",
                      cycling ? "with the hard wall at large loss angles the contact edge's cells switch "
-                               "between contact and gap from step to step: the harmonic interaction "
+                               "between contact and gap from step to step: the active set "
+                               "(solver.viscoelastic_method = \"active_set\") or the harmonic interaction "
                                "(interaction.model = \"harmonic\") settles there (docs/solver.md, "
                                "\"Viscoelastic bodies\")"
                              : nullptr);

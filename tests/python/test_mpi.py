@@ -194,10 +194,13 @@ VISCO = HERTZ.replace("poisson = 0.3", "poisson = 0.3\nviscoelastic = \"sls\"\nh
                                             (3, "coefficient = 0.3\ncreepage = 0.001\n"),
                                             (3, "coefficient = 0.3\ncreepage = 0.001\n# pair\n"),
                                             (3, "coefficient = 0.3\ncreepage = 0.001\n# coated\n"),
-                                            (3, "coefficient = 0.3\ncreepage = 0.001\n# two parts\n")])
+                                            (3, "coefficient = 0.3\ncreepage = 0.001\n# two parts\n"),
+                                            (3, "coefficient = 0.3\nregularization = 0.01\n# active set\n")])
 def test_viscoelastic_sliding_any_rank_count(tmp_path, ranks, friction):
     # The response factors on each slab's rows of the spectrum (the y Nyquist row on one of them),
-    # the splitting's mixing summed by grid row and the spectral dissipation (with friction, of the
+    # the normal solve's sums by grid row (the active set's contact set and GMRES without friction
+    # and with "# active set", the splitting's mixing in the friction loop) and the spectral
+    # dissipation (with friction, of the
     # tangential tractions too): the serial bits. Rolling with stick: the stick-slip splitting's
     # resolvent with the response, too; under an elastic indenter ("# pair") with the pair's complex
     # response; on a viscoelastic coating over a substrate ("# coated") with its transfer matrices';
@@ -207,6 +210,8 @@ def test_viscoelastic_sliding_any_rank_count(tmp_path, ranks, friction):
         case = case.replace("[indenter]\n", "[indenter]\ncontact_modulus = 2.0\npoisson = 0.45\n")
     if "# coated" in friction:  # a viscoelastic coating: its complex transfer matrices per slab
         case = case.replace("[elastic]\n", "[elastic]\nthickness = 0.05\nsubstrate_contact_modulus = 2.0\n")
+    if "# active set" in friction:
+        case = case.replace("[solver]\n", "[solver]\nviscoelastic_method = \"active_set\"\n")
     if "# two parts" in friction:
         case = case.replace("[elastic]\n", "[elastic]\nthickness = 0.05\nsubstrate_contact_modulus = 2.0\n"
                             "viscoelastic_parts = [{viscoelastic = \"sls\", viscoelastic_part = \"substrate\", "

@@ -184,7 +184,9 @@ decltype(auto) in_section(const std::string& section, F&& f) {
 // Estimated peak memory of a solve in bytes.
 // Per process when the run is split over `processes` (mpirun); whole_surface: the whole map is
 // made here (a height map on rank 0; docs/mpi.md).
-double estimated_memory_bytes(const Grid& grid, int processes = 1, bool whole_surface = true);
+// active_set: a sliding viscoelastic body's active set may run (its Krylov basis).
+double estimated_memory_bytes(const Grid& grid, int processes = 1, bool whole_surface = true,
+                              bool active_set = false);
 
 // The memory a solve may use here: the smallest of 80% of the physical memory, MemAvailable,
 // 80% of a cgroup limit and 80% of RLIMIT_AS / RLIMIT_DATA (bytes 0: none known), and which.

@@ -89,6 +89,14 @@ struct LoadParams {
   double value = 0.0;  // force, mean pressure, or approach
 };
 
+enum class ViscoMethod { Auto, ActiveSet, Splitting };
+// The viscoelastic active set's GMRES restart length (its Krylov basis holds one more vector on
+// the contact's points), and its memory per grid point with half the grid in contact, as the
+// case's memory estimate allows for (the basis and the set's indices there, three work fields).
+inline constexpr int kActiveSetKrylov = 50;
+inline constexpr double kActiveSetBytesPerPoint =
+    0.5 * ((kActiveSetKrylov + 1) * 8.0 + 8.0) + 3.0 * 8.0 + 1.0;
+
 struct SolverParams {
   double tolerance = 1e-8;                  // gap residual, relative pressure change, relative tau change
   int max_iterations = 20000;               // total inner (conjugate-gradient) iterations
@@ -97,6 +105,11 @@ struct SolverParams {
   int anderson = 10;                        // Anderson mixing depth of the friction fixed point (0: none)
   double mixing = 0.5;                      // relaxation of the friction fixed point, in (0, 1]
   Planner fft_planner = Planner::Estimate;  // FFTW planner of the solver's transforms
+  // A sliding viscoelastic body's normal problem (solver.viscoelastic_method; docs/solver.md,
+  // "Viscoelastic bodies"): the active set with GMRES on the non-symmetric operator, or the
+  // splitting into a symmetric part and a held rest; Auto: the active set without friction, the
+  // splitting in the friction loop (measured). With a hardness cap the splitting runs always.
+  ViscoMethod visco_method = ViscoMethod::Auto;
 };
 
 // The first physics of this problem the cuda backend does not compute, as {key, why}
@@ -108,7 +121,8 @@ std::pair<std::string, std::string> device_lacks(const InteractionParams& inter,
 struct SolveInfo {
   bool converged = false;
   std::string status;             // "converged", "not converged: ...", ...
-  int iterations = 0;             // inner conjugate-gradient iterations in all
+  int iterations = 0;             // inner conjugate-gradient iterations in all (the viscoelastic
+                                  // active set: its operator products, FFT pairs)
   int outer_iterations = 0;       // friction fixed-point steps
   int tangential_iterations = 0;  // stick-slip (Douglas-Rachford) steps of the exact law, in all
   std::size_t stick_points = 0;   // contact points that stick
@@ -396,6 +410,12 @@ class ContactSolver {
   // `status` ("converged" or why not); the result's iterations are all its CG iterations.
   PKResult solve_normal_viscoelastic(const LoadParams& load, const RealField* w_extra, RealField& p,
                                      double tol, int max_it, int& steps, std::string& status);
+  // The same problem on the non-symmetric operator c C_zz itself: a primal-dual active set whose
+  // linear solves on the contact set are restarted GMRES (viscoelastic_active_set.cpp); `steps`
+  // counts the set's updates, the result's iterations the operator products.
+  [[nodiscard]] bool uses_active_set() const;
+  PKResult solve_normal_active_set(const LoadParams& load, const RealField* w_extra, RealField& p, double tol,
+                                   int max_it, int& steps, std::string& status);
   // The hysteresis force of SolveInfo::hysteresis_dissipation from the tractions of f (the
   // pressure alone unless `friction`).
   double hysteresis_dissipation(const ContactFields& f, bool friction);
@@ -484,8 +504,15 @@ class ContactSolver {
   // A viscoelastic body's state (viscoelastic.cpp): the rest of the response per mode, minus
   // (E0/E(omega) - |E0/E(omega)|) C_zz / N (its displacement enters the normal solve as w), and
   // the pressure's mixer.
+  struct ActiveSetWork {
+    RealField rhs, kp, full;                       // w - g0, the response, a product's input
+    std::vector<unsigned char> in;                 // the contact set
+    std::vector<std::uint32_t> idx, start, order;  // its points held here, by row
+    std::vector<std::vector<double>> basis;        // GMRES's Krylov basis on them
+  };
   struct ViscoWork {
     std::vector<cplx> rest_n;
+    ActiveSetWork active;
     RealField w;
     std::unique_ptr<GuardedAnderson> mixer;
     // Why the last viscoelastic solve under a held displacement (solve_repulsive) did not
