@@ -257,3 +257,20 @@ tolerance = 1e-10
         gfmd.ViscoelasticPart("substrate")
     with pytest.raises(gfmd.InputError, match=r"parts\[0\]"):
         gfmd.ViscoelasticBody(parts=("substrate",), **stack, **layer)
+
+
+def test_the_normal_solver_is_a_keyword_and_both_give_one_solution():
+    # solver.viscoelastic_method from Python: the active set and the splitting solve the same
+    # problem (a glassy modulus 1000 E0 near the loss peak, hard wall) to the tolerance; the active
+    # set in fewer FFT pairs (its `iterations`) than the splitting's CG iterations; a bad name is
+    # refused with the key.
+    t = gfmd.Topography.hertz(nx=64, lx=4.0, radius=1.0)
+    body = gfmd.ViscoelasticBody(poisson=0.5, high_frequency_modulus=1000.0, relaxation_time=1.0)
+    r = {m: gfmd.solve(t, body, force=0.01, velocity=3e-3, interaction="hardwall", viscoelastic_method=m)
+         for m in ("splitting", "active_set", "auto")}
+    assert r["active_set"].summary["hysteresis_friction"] == pytest.approx(
+        r["splitting"].summary["hysteresis_friction"], rel=1e-7)
+    assert r["active_set"].summary["iterations"] < r["splitting"].summary["iterations"]
+    assert r["auto"].summary["hysteresis_friction"] == r["active_set"].summary["hysteresis_friction"]
+    with pytest.raises(gfmd.InputError, match="viscoelastic_method"):
+        gfmd.solve(t, body, force=0.01, velocity=3e-3, viscoelastic_method="gmres")
