@@ -350,6 +350,7 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "gfmd's compiled core (use the package gfmd)";
   m.attr("__version__") = gfmd::kVersion;
   m.attr("spin_count") = gfmd::kSpinCount;  // what the package sets GOMP_SPINCOUNT to (__init__.py)
+  gfmd::omp_wait_setting();  // the wait setting libgomp read as this module loaded, kept for summaries
   m.attr("max_plausible_rms_gradient") = gfmd::kMaxPlausibleRmsGradient;  // warned above (_api.py)
   py::register_exception<gfmd::InputError>(m, "InputError", PyExc_ValueError);
   py::register_exception<gfmd::SolveError>(m, "SolveError", PyExc_RuntimeError);

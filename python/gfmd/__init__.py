@@ -21,10 +21,18 @@ import os as _os
 # OpenMP threads waiting at a barrier spin 300 000 times by default before they sleep: where
 # other programs share the cores that is many times slower (the CLI does the same; README).
 # Only effective if this is the first library of the process to load libgomp.
-if "OMP_WAIT_POLICY" not in _os.environ and "GOMP_SPINCOUNT" not in _os.environ:
+_SET_SPIN = "OMP_WAIT_POLICY" not in _os.environ and "GOMP_SPINCOUNT" not in _os.environ
+if _SET_SPIN:
     _os.environ["GOMP_SPINCOUNT"] = "10000"  # = gfmd::kSpinCount, _core.spin_count (tested)
 
 from ._core import InputError, SolveError, __version__  # noqa: E402
+
+# libgomp has read it as the core loaded (and the core has recorded it for summary.json's
+# omp_wait): taken out again, so that the programs this process starts get the caller's
+# environment (a GOMP_SPINCOUNT overrides their OMP_WAIT_POLICY).
+if _SET_SPIN:
+    _os.environ.pop("GOMP_SPINCOUNT", None)
+
 from ._api import (Adhesive, ContactSolver, ElasticBody, Result, Topography, body_types, curve, ensemble, friction_laws, green,  # noqa: E402
                    indenter_types, interaction_models, load_path, percolation, run, run_toml, solve, study, sweep, ViscoelasticBody,
                    ViscoelasticPart)

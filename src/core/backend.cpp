@@ -13,11 +13,14 @@
 namespace gfmd {
 
 std::string omp_wait_setting() {
-  std::string out;
-  for (const char* v : {"OMP_WAIT_POLICY", "GOMP_SPINCOUNT"})
-    if (const char* x = std::getenv(v); x != nullptr)
-      out += (out.empty() ? "" : " ") + std::string(v) + "=" + std::string(x).substr(0, 64);
-  return out.empty() ? "default" : out;
+  static const std::string first = [] {
+    std::string out;
+    for (const char* v : {"OMP_WAIT_POLICY", "GOMP_SPINCOUNT"})
+      if (const char* x = std::getenv(v); x != nullptr)
+        out += (out.empty() ? "" : " ") + std::string(v) + "=" + std::string(x).substr(0, 64);
+    return out.empty() ? std::string("default") : out;
+  }();
+  return first;
 }
 
 namespace {

@@ -15,9 +15,9 @@ import gfmd
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BUILD = os.environ.get("GFMD_BUILD_DIR", os.path.join(ROOT, "build"))
-# The children wait passively: without the GOMP_SPINCOUNT that importing gfmd puts into this
-# process's environment (libgomp lets it override the policy; with 3 processes on 2 cores
-# their spinning threads made an MPI test take 37 s instead of 3 s).
+# The children wait passively, without a GOMP_SPINCOUNT of the caller's: libgomp lets it override
+# the policy (importing gfmd left one in this process's environment until 2026-12-07; with 3
+# processes on 2 cores their spinning threads made an MPI test take 37 s instead of 3 s).
 ENV = dict({k: v for k, v in os.environ.items() if k != "GOMP_SPINCOUNT"},
            OMP_WAIT_POLICY="PASSIVE", PYTHONPATH=os.path.join(BUILD, "python"))
 
@@ -266,9 +266,14 @@ def test_ctrl_c_raises_keyboard_interrupt_quickly():
 
 def test_openmp_spin_is_bounded_unless_the_user_chose_a_policy(tmp_path):
     # The package sets GOMP_SPINCOUNT to the command line's value before its core loads libgomp,
-    # and a run's summary records it; a policy the user set is left alone.
-    code = ("import os, json, gfmd\n"
-            "assert os.environ.get('GOMP_SPINCOUNT') == gfmd._core.spin_count, os.environ.get('GOMP_SPINCOUNT')\n"
+    # and a run's summary records it; then it takes it out of the environment again, so that the
+    # programs the script starts do not inherit it (it overrode their OMP_WAIT_POLICY: MPI tests
+    # with passive children spun). A policy the user set is left alone.
+    code = ("import os, json, subprocess, sys, gfmd\n"
+            "assert os.environ.get('GOMP_SPINCOUNT') is None, os.environ.get('GOMP_SPINCOUNT')\n"
+            "child = subprocess.run([sys.executable, '-c', 'import os; print(os.environ.get(\"GOMP_SPINCOUNT\"))'],\n"
+            "                       capture_output=True, text=True).stdout.strip()\n"
+            "assert child == 'None', child\n"
             "r = gfmd.solve(gfmd.Topography.hertz(nx=32, lx=1.0, radius=1.0), gfmd.ElasticBody(), pressure=0.01)\n"
             "print(r.summary['omp_wait'])\n")
     env = {k: v for k, v in ENV.items() if k not in ("OMP_WAIT_POLICY", "GOMP_SPINCOUNT")}

@@ -20,9 +20,9 @@ GFMD = os.path.join(BUILD, "gfmd")
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 import plot_maps  # noqa: E402
 
-# The children wait passively: without the GOMP_SPINCOUNT that importing gfmd puts into this
-# process's environment (libgomp lets it override the policy; with 3 processes on 2 cores
-# their spinning threads made an MPI test take 37 s instead of 3 s).
+# The children wait passively, without a GOMP_SPINCOUNT of the caller's: libgomp lets it override
+# the policy (importing gfmd left one in this process's environment until 2026-12-07; with 3
+# processes on 2 cores their spinning threads made an MPI test take 37 s instead of 3 s).
 ENV = dict({k: v for k, v in os.environ.items() if k != "GOMP_SPINCOUNT"},
            OMP_WAIT_POLICY="PASSIVE")
 

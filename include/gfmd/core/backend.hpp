@@ -19,8 +19,10 @@ namespace gfmd {
 // The OpenMP spin count the front ends set where the user chose no wait policy (app/gfmd.cpp,
 // python/gfmd/__init__.py): threads at a barrier spin this many times, then sleep.
 inline constexpr const char* kSpinCount = "10000";
-// How this process's OpenMP threads wait, as its environment says ("GOMP_SPINCOUNT=10000",
-// "OMP_WAIT_POLICY=passive", ...; "default": libgomp's own); summary.json "omp_wait".
+// How this process's OpenMP threads wait, as its environment said at the first call (libgomp
+// reads it once, at start-up; the Python package makes that call as it loads, before it takes
+// its GOMP_SPINCOUNT out of the environment again): "GOMP_SPINCOUNT=10000",
+// "OMP_WAIT_POLICY=passive", ...; "default": libgomp's own. summary.json "omp_wait".
 std::string omp_wait_setting();
 
 struct Grid;
