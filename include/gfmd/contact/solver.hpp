@@ -407,7 +407,8 @@ class ContactSolver {
   PKResult solve_viscoelastic(const LoadParams& load, ContactFields& f, double tol, SolveInfo& info);
   // The splitting itself, with an extra normal displacement w_extra held fixed (the friction's,
   // C_z.tau; null: none), within max_it CG iterations: counts its steps into `steps`, sets
-  // `status` ("converged" or why not); the result's iterations are all its CG iterations.
+  // `status` ("converged" or why not); the result's iterations are all its CG iterations (the
+  // active set's products where uses_active_set() hands the solve to it).
   PKResult solve_normal_viscoelastic(const LoadParams& load, const RealField* w_extra, RealField& p,
                                      double tol, int max_it, int& steps, std::string& status);
   // The same problem on the non-symmetric operator c C_zz itself: a primal-dual active set whose
@@ -501,15 +502,16 @@ class ContactSolver {
     std::vector<double> qx, qy;
   };
   AdhesionWork adh_;
-  // A viscoelastic body's state (viscoelastic.cpp): the rest of the response per mode, minus
-  // (E0/E(omega) - |E0/E(omega)|) C_zz / N (its displacement enters the normal solve as w), and
-  // the pressure's mixer.
+  // The viscoelastic active set's work arrays (viscoelastic_active_set.cpp), kept between solves.
   struct ActiveSetWork {
     RealField rhs, kp, full;                       // w - g0, the response, a product's input
     std::vector<unsigned char> in;                 // the contact set
     std::vector<std::uint32_t> idx, start, order;  // its points held here, by row
     std::vector<std::vector<double>> basis;        // GMRES's Krylov basis on them
   };
+  // A viscoelastic body's state (viscoelastic.cpp): the rest of the response per mode, minus
+  // (E0/E(omega) - |E0/E(omega)|) C_zz / N (its displacement enters the normal solve as w), the
+  // pressure's mixer, and the active set's work arrays.
   struct ViscoWork {
     std::vector<cplx> rest_n;
     ActiveSetWork active;
