@@ -34,7 +34,7 @@ case = "{CASE}"
 set = ["friction.coefficient=0.5"]
 
 [quick]
-set = ["grid.nx=32", "indenter.lambda_short=0.25", "sweep.points=2", "sweep.from=0.01", "sweep.to=0.1"]
+set = ["grid.nx=32", "indenter.lambda_short=0.25", "sweep.points=2", "sweep.from=0.01", "sweep.to=0.1", "output.png=false"]
 
 [published]
 divide_by = "topography.rms_gradient"
