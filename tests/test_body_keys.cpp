@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "gfmd/case/config.hpp"
 #include "gfmd/core/error.hpp"
@@ -27,8 +28,15 @@ std::string setting(const BodyKey& k) {
       if (!k.needs.empty()) line += "\n" + k.needs + " = 5.0";
       return line;
     }
-    case BodyKey::Kind::Layers:
-      return k.name + " = [{contact_modulus = 3.0, poisson = 0.2, thickness = 0.05}]";
+    case BodyKey::Kind::Tables: {
+      // One table, each field given: 0.05 plus its position (a modulus, a ratio or a thickness
+      // that any such key takes).
+      std::string t;
+      for (std::size_t j = 0; j < k.fields.size(); ++j)
+        t +=
+            (j ? ", " : "") + k.fields[j].name + " = " + std::to_string(0.05 + 0.01 * static_cast<double>(j));
+      return k.name + " = [{" + t + "}]";
+    }
   }
   return "";
 }
@@ -37,6 +45,16 @@ std::string setting(const BodyKey& k) {
 std::string case_text(const std::string& elastic_keys, const std::string& indenter_keys = "") {
   return "[grid]\nnx = 32\nlx = 1.5\n[indenter]\ntype = \"hertz\"\nradius = 1.0\n" + indenter_keys +
          "\n[load]\nforce = 0.01\n[elastic]\nthickness = 0.1\n" + elastic_keys + "\n";
+}
+
+// The case file's error for elastic_keys (empty if it reads).
+std::string error_of(const std::string& elastic_keys) {
+  try {
+    (void)parse_config(case_text(elastic_keys), "case.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 const BodyType& owner(const BodyKey& key) {
@@ -102,6 +120,53 @@ TEST(BodyKeys, AKeyThatNeedsAnotherIsRefusedAloneNamingBoth) {
     }
   }
   EXPECT_GT(checked, 0);  // substrate_poisson needs substrate_contact_modulus
+}
+
+// A table-shaped key is read by the case reader from its fields alone (BodyKey::fields): its
+// values land in their fields' places, an omitted optional field takes its default, and the
+// reader refuses, naming the table: a field left out that is required, a key that is no field, a
+// value that is no number, an entry that is no table and a value that is no array.
+TEST(BodyKeys, ATableKeyIsReadFromItsFieldsAlone) {
+  int checked = 0;
+  for (const BodyKey* k : body_keys()) {
+    if (k->kind != BodyKey::Kind::Tables) continue;
+    SCOPED_TRACE(k->name);
+    ++checked;
+    ASSERT_FALSE(k->fields.empty());
+    const Config c = parse_config(case_text(setting(*k)), "case.toml");
+    const std::vector<std::vector<double>> rows = k->rows(c.elastic);
+    ASSERT_EQ(rows.size(), 1u);
+    for (std::size_t j = 0; j < k->fields.size(); ++j)
+      EXPECT_DOUBLE_EQ(rows[0][j], 0.05 + 0.01 * static_cast<double>(j)) << k->fields[j].name;
+    for (std::size_t j = 0; j < k->fields.size(); ++j) {
+      // The table without field j.
+      std::string t;
+      for (std::size_t i = 0; i < k->fields.size(); ++i)
+        if (i != j) t += (t.empty() ? "" : ", ") + k->fields[i].name + " = 0.07";
+      const std::string why = error_of(k->name + " = [{" + t + "}]");
+      if (k->fields[j].required) {
+        EXPECT_NE(why.find("elastic." + k->name + "[0]: needs " + k->fields[j].name), std::string::npos)
+            << why;
+      } else {
+        EXPECT_EQ(why, "");
+        const Config d = parse_config(case_text(k->name + " = [{" + t + "}]"), "case.toml");
+        EXPECT_EQ(k->rows(d.elastic)[0][j], k->fields[j].default_value);
+      }
+    }
+    const std::string first = k->fields[0].name;
+    const std::string unknown = error_of(k->name + " = [{" + first + " = 1.0, thicknes = 0.1}]");
+    EXPECT_NE(unknown.find("elastic." + k->name + "[0].thicknes: unknown key"), std::string::npos) << unknown;
+    const std::string text = error_of(k->name + " = [{" + first + " = \"a\"}]");
+    EXPECT_NE(text.find("elastic." + k->name + "[0]." + first + ": must be a number"), std::string::npos)
+        << text;
+    const std::string number = error_of(k->name + " = [1.0]");
+    EXPECT_NE(number.find("elastic." + k->name + "[0]: must be a table {" + first), std::string::npos)
+        << number;
+    const std::string scalar = error_of(k->name + " = 1.0");
+    EXPECT_NE(scalar.find("elastic." + k->name + ": must be an array of tables {" + first), std::string::npos)
+        << scalar;
+  }
+  EXPECT_GT(checked, 0);  // layers
 }
 
 }  // namespace

@@ -201,50 +201,60 @@ void read_further_parts(Section& el, ViscoelasticParams& v, const std::string& b
 }  // namespace
 
 namespace {
-// <section>.<key> (layers): an array of tables {contact_modulus, poisson, thickness}, top to
-// bottom, bonded beneath the top layer.
-void read_layers(Section& el, const std::string& key, ElasticParams& e) {
-  const toml::value* v = el.raw(key);
+// <section>.<key> of BodyKey::Kind::Tables: an array of tables whose values are the key's fields
+// (numbers; the required ones given, no other keys), at most kMaxLayers of them.
+void read_tables(Section& el, const BodyKey& k, ElasticParams& e) {
+  const toml::value* v = el.raw(k.name);
   if (!v) return;
+  std::vector<std::string> names;
+  std::string shape;
+  for (const BodyTableField& f : k.fields) {
+    names.push_back(f.name);
+    shape += (shape.empty() ? "{" : ", ") + f.name;
+  }
+  shape += "}";
   if (!v->is_array()) {
-    el.error(key, "must be an array of tables {contact_modulus, poisson, thickness}, top to bottom");
+    el.error(k.name, "must be an array of tables " + shape);
     return;
   }
   if (v->as_array().size() > kMaxLayers) {
-    el.error(key, "at most " + std::to_string(kMaxLayers) + " layers, got " +
-                      std::to_string(v->as_array().size()));
+    el.error(k.name, "at most " + std::to_string(kMaxLayers) + " tables, got " +
+                         std::to_string(v->as_array().size()));
     return;
   }
+  std::vector<std::vector<double>> rows;
   std::size_t i = 0;
   for (const auto& t : v->as_array()) {
-    const std::string name = key + "[" + std::to_string(i++) + "]";
+    const std::string name = k.name + "[" + std::to_string(i++) + "]";
     if (!t.is_table()) {
-      el.error(name, "must be a table {contact_modulus, poisson, thickness}" + where(t));
+      el.error(name, "must be a table " + shape + where(t));
       return;
     }
-    ElasticLayer l;
-    bool given[3] = {false, false, false};
+    std::vector<double> row;
+    std::vector<bool> given(k.fields.size(), false);
+    for (const BodyTableField& f : k.fields) row.push_back(f.default_value);
     for (const auto& [key, x] : t.as_table()) {
-      const int k = key == "contact_modulus" ? 0 : key == "poisson" ? 1 : key == "thickness" ? 2 : -1;
-      if (k < 0) {
-        el.error(name + "." + key,
-                 "unknown key" + did_you_mean(key, {"contact_modulus", "poisson", "thickness"}) + where(x));
+      const auto at = std::find(names.begin(), names.end(), key);
+      if (at == names.end()) {
+        el.error(name + "." + key, "unknown key" + did_you_mean(key, names) + where(x));
         return;
       }
       if (!x.is_floating() && !x.is_integer()) {
         el.error(name + "." + key, "must be a number, got " + Section::type_name(x) + where(x));
         return;
       }
-      const double d = x.is_floating() ? x.as_floating() : static_cast<double>(x.as_integer());
-      (k == 0 ? l.contact_modulus : k == 1 ? l.poisson : l.thickness) = d;
-      given[k] = true;
+      const auto j = static_cast<std::size_t>(at - names.begin());
+      row[j] = x.is_floating() ? x.as_floating() : static_cast<double>(x.as_integer());
+      given[j] = true;
     }
-    if (!given[0] || !given[2]) {
-      el.error(name, std::string("needs ") + (given[0] ? "thickness" : "contact_modulus") + where(t));
-      return;
-    }
-    e.layers.push_back(l);
+    for (std::size_t j = 0; j < k.fields.size(); ++j)
+      if (k.fields[j].required && !given[j]) {
+        el.error(name, "needs " + k.fields[j].name + where(t));
+        return;
+      }
+    rows.push_back(std::move(row));
   }
+  k.set_rows(e, rows);
 }
 }  // namespace
 
@@ -258,8 +268,8 @@ void read_body_stack(Section& s, ElasticParams& e) {
       case BodyKey::Kind::NumberOrInf:
         e.*(k->member) = s.number_or_inf(k->name, k->default_value);
         break;
-      case BodyKey::Kind::Layers:
-        read_layers(s, k->name, e);
+      case BodyKey::Kind::Tables:
+        read_tables(s, *k, e);
         break;
     }
     if (!k->needs.empty() && s.has(k->name) && !s.has(k->needs))
@@ -275,10 +285,12 @@ void write_body_stack(const ElasticParams& e, nlohmann::json& out) {
       case BodyKey::Kind::NumberOrInf:
         out[k->name] = e.*(k->member);
         break;
-      case BodyKey::Kind::Layers:
-        for (const ElasticLayer& l : e.layers)
-          out[k->name].push_back(
-              {{"contact_modulus", l.contact_modulus}, {"poisson", l.poisson}, {"thickness", l.thickness}});
+      case BodyKey::Kind::Tables:
+        for (const std::vector<double>& row : k->rows(e)) {
+          nlohmann::json t = nlohmann::json::object();
+          for (std::size_t j = 0; j < k->fields.size(); ++j) t[k->fields[j].name] = row[j];
+          out[k->name].push_back(std::move(t));
+        }
         break;
     }
   }

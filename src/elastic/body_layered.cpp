@@ -4,6 +4,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "gfmd/elastic/body.hpp"
 #include "gfmd/elastic/layered.hpp"
@@ -70,13 +71,30 @@ const BodyType& layered_body_type() {
                .needs = "substrate_contact_modulus",
                .written = [](const ElasticParams& el) { return el.on_substrate(); }},
               {.name = "layers",
-               .kind = BodyKey::Kind::Layers,
+               .kind = BodyKey::Kind::Tables,
                .member = nullptr,
                .default_value = 0.0,
                .doc =
                    "bonded layers beneath the top one, top to bottom: {contact_modulus, poisson, thickness}",
                .needs = "",
-               .written = nullptr},
+               .written = nullptr,
+               .fields = {{.name = "contact_modulus", .required = true, .default_value = 0.0},
+                          {.name = "poisson", .required = false, .default_value = ElasticLayer{}.poisson},
+                          {.name = "thickness", .required = true, .default_value = 0.0}},
+               .set_rows =
+                   [](ElasticParams& el, const std::vector<std::vector<double>>& rows) {
+                     el.layers.clear();
+                     for (const auto& r : rows)
+                       el.layers.push_back(
+                           ElasticLayer{.contact_modulus = r[0], .poisson = r[1], .thickness = r[2]});
+                   },
+               .rows =
+                   [](const ElasticParams& el) {
+                     std::vector<std::vector<double>> out;
+                     for (const ElasticLayer& l : el.layers)
+                       out.push_back({l.contact_modulus, l.poisson, l.thickness});
+                     return out;
+                   }},
           },
       .describes = [](const ElasticParams& el) { return el.layered(); },
       .make = [](const ElasticParams& el) -> std::unique_ptr<Body> {

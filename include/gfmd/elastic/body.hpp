@@ -58,11 +58,18 @@ class Body {
 // A key of [elastic] (and of [indenter_body]) that belongs to a kind of body, beside the keys
 // every body has (contact_modulus, poisson, thickness, coupling): the case file's reader and
 // writer (case/config) take them from here, and gfmd.body_types() lists them.
+// A number in each table of a Tables key (e.g. a layer's thickness): required, or its default.
+struct BodyTableField {
+  std::string name;
+  bool required = true;
+  double default_value = 0.0;
+};
+
 struct BodyKey {
   enum class Kind {
     Number,       // a number; `member` holds it
     NumberOrInf,  // a number or "inf"
-    Layers,       // an array of tables {contact_modulus, poisson, thickness} into `layers`
+    Tables,       // an array of tables of numbers (`fields`); set_rows and rows move them in and out
   };
   std::string name;  // elastic.<name>
   Kind kind = Kind::Number;
@@ -74,6 +81,12 @@ struct BodyKey {
   // Whether a body's value is written back (summary.json's input, config_out): e.g. the
   // substrate's keys only on a substrate. Always where null.
   bool (*written)(const ElasticParams& el) = nullptr;
+  // Tables: the fields of each table, in the order of a row's values; the rows read (each checked
+  // by the case reader: numbers, the required fields given, no other keys) go to set_rows, and
+  // rows gives them back for writing. A new key of this shape needs no reader of its own.
+  std::vector<BodyTableField> fields;
+  void (*set_rows)(ElasticParams& el, const std::vector<std::vector<double>>& rows) = nullptr;
+  std::vector<std::vector<double>> (*rows)(const ElasticParams& el) = nullptr;
 };
 
 struct BodyType {
