@@ -55,9 +55,6 @@ class Body {
                                                    const std::vector<cplx>& moduli) const = 0;
 };
 
-// A key of [elastic] (and of [indenter_body]) that belongs to a kind of body, beside the keys
-// every body has (contact_modulus, poisson, thickness, coupling): the case file's reader and
-// writer (case/config) take them from here, and gfmd.body_types() lists them.
 // A number in each table of a Tables key (e.g. a layer's thickness): required, or its default.
 struct BodyTableField {
   std::string name;
@@ -65,6 +62,9 @@ struct BodyTableField {
   double default_value = 0.0;
 };
 
+// A key of [elastic] (and of [indenter_body]) that belongs to a kind of body, beside the keys
+// every body has (contact_modulus, poisson, thickness, coupling): the case file's reader and
+// writer (case/config) take them from here, and gfmd.body_types() lists them.
 struct BodyKey {
   enum class Kind {
     Number,       // a number; `member` holds it
