@@ -105,16 +105,22 @@ ContactSolver::PKResult ContactSolver::solve_normal_active_set(const LoadParams&
   // load control (the multiplier delta absorbs it, and v keeps its zero sum there).
   double n_in = 0.0;
   RealField& full = ws.full;
-  const auto op = [&](const std::vector<double>& v, std::vector<double>& out) {
-    std::fill(full.begin(), full.end(), 0.0);
+  const auto op = [&](const std::vector<double>& v, std::vector<double>& out, double kp_factor = 0.0) {
+    // kp_factor > 0: kp already holds K v / kp_factor (the last product's response to a pressure
+    // v is a multiple of), no transform.
     const auto m = static_cast<std::ptrdiff_t>(idx.size());
-    parallel_for(m, [&](std::ptrdiff_t e) { full[idx[e]] = v[e]; });
-    apply_normal_response(full, kp);
-    ++used;
-    ++total_it_;
-    poll(current_);  // once per product, as Polonsky-Keer polls once per iteration
+    double f = kp_factor;
+    if (f == 0.0) {
+      std::fill(full.begin(), full.end(), 0.0);
+      parallel_for(m, [&](std::ptrdiff_t e) { full[idx[e]] = v[e]; });
+      apply_normal_response(full, kp);
+      ++used;
+      ++total_it_;
+      poll(current_);  // once per product, as Polonsky-Keer polls once per iteration
+      f = 1.0;
+    }
     out.resize(idx.size());
-    parallel_for(m, [&](std::ptrdiff_t e) { out[e] = kp[idx[e]] + ik * v[e]; });
+    parallel_for(m, [&](std::ptrdiff_t e) { out[e] = f * kp[idx[e]] + ik * v[e]; });
     if (load_ctrl) {
       const double mean = set_sums(1, [&](std::size_t e, double* acc) { acc[0] += out[e]; })[0] / n_in;
       parallel_for(m, [&](std::ptrdiff_t e) { out[e] -= mean; });
@@ -192,18 +198,8 @@ ContactSolver::PKResult ContactSolver::solve_normal_active_set(const LoadParams&
     bool from_kp = kp_is_p && x_factor > 0.0;
     while (used < max_it) {
       // The residual b - A x, b = rhs (its mean removed) or rhs + delta.
-      r.resize(idx.size());
-      if (from_kp) {
-        const double f = x_factor;
-        parallel_for(m, [&](std::ptrdiff_t e) { r[e] = f * kp[idx[e]] + ik * x[e]; });
-        if (load_ctrl) {
-          const double mean = set_sums(1, [&](std::size_t e, double* acc) { acc[0] += r[e]; })[0] / n_in;
-          parallel_for(m, [&](std::ptrdiff_t e) { r[e] -= mean; });
-        }
-        from_kp = false;
-      } else {
-        op(x, r);
-      }
+      op(x, r, from_kp ? x_factor : 0.0);
+      from_kp = false;
       parallel_for(m, [&](std::ptrdiff_t e) {
         r[e] = (load_ctrl ? rhs[idx[e]] - mean_rhs : rhs[idx[e]] + delta) - r[e];
       });
