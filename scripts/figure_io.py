@@ -14,6 +14,7 @@ exits with status 4 (gfmd's "interrupted", which the C++ front end passes on).""
 import contextlib
 import csv
 import json
+import math
 import os
 import re
 import signal
@@ -172,8 +173,6 @@ class Batch:
 
     def save(self, fig, path, **savefig):
         """Draws fig to path's temporary (format from the extension, PNG by default) and closes it."""
-        import matplotlib.pyplot as plt
-
         ext = os.path.splitext(path)[1].lstrip(".").lower()
         savefig.setdefault("format", ext if ext in ("png", "pdf", "svg") else "png")
         tmp = temporary_name(path, self.token)
@@ -181,7 +180,7 @@ class Batch:
         try:
             fig.savefig(tmp, **savefig)
         finally:
-            plt.close(fig)
+            _close(fig)
         return path
 
     def add(self, pairs):
@@ -214,10 +213,27 @@ class Batch:
                 _batches.remove(self)
 
 
+def subplots(nrows=1, ncols=1, figsize=None, dpi=None, **kwargs):
+    """plt.subplots without pyplot: a Figure of its own (drawn by savefig with Agg), so that a
+    study drawn inside a user's Python process (gfmd.study) neither needs nor changes the
+    process's matplotlib backend, and keeps no figure open in it."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize, dpi=dpi)
+    FigureCanvasAgg(fig)  # its renderer measures text (tight_layout, wrapped titles)
+    return fig, fig.subplots(nrows, ncols, **kwargs)
+
+
+def _close(fig):
+    """Closes a pyplot figure (the plotting scripts'); a Figure of subplots() is not pyplot's."""
+    plt = sys.modules.get("matplotlib.pyplot")
+    if plt is not None:
+        plt.close(fig)
+
+
 def save(fig, base, **savefig):
     """Writes base.png and base.pdf (to temporaries, renamed together) and closes fig."""
-    import matplotlib.pyplot as plt
-
     b = Batch()
     try:
         for ext in ("png", "pdf"):
@@ -226,7 +242,7 @@ def save(fig, base, **savefig):
             fig.savefig(tmp, format=ext, **savefig)
         b.publish()
     finally:
-        plt.close(fig)
+        _close(fig)
         b.discard()
 
 
@@ -401,3 +417,21 @@ def wrap_to_width(text_artist, width_px, renderer, min_chars=8):
         if text_artist.get_window_extent(renderer).width <= width_px:
             break
     return text_artist
+
+
+def log_spaced(values):
+    """True for positive values that are closer to a geometric than to an arithmetic
+    progression (two values: a ratio of 10 or more)."""
+    x = sorted(set(v for v in values if math.isfinite(v)))
+    if len(x) < 2 or x[0] <= 0:
+        return False
+    if len(x) == 2:
+        return x[1] / x[0] >= 10
+    lin = [b - a for a, b in zip(x, x[1:])]
+    log = [math.log(b / a) for a, b in zip(x, x[1:])]
+
+    def spread(d):
+        m = sum(d) / len(d)
+        return math.sqrt(sum((v - m) ** 2 for v in d) / len(d)) / m
+
+    return spread(log) < spread(lin)

@@ -10,6 +10,7 @@ import os
 import sys
 
 import figure_io  # noqa: E402 (beside this script)
+from figure_io import log_spaced  # noqa: E402
 
 if __name__ == "__main__":
     figure_io.exit_on_interrupt_while_starting()
@@ -18,24 +19,6 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-
-
-def log_spaced(values):
-    """True for positive values that are closer to a geometric than to an arithmetic
-    progression (two values: a ratio of 10 or more)."""
-    x = sorted(set(v for v in values if math.isfinite(v)))
-    if len(x) < 2 or x[0] <= 0:
-        return False
-    if len(x) == 2:
-        return x[1] / x[0] >= 10
-    lin = [b - a for a, b in zip(x, x[1:])]
-    log = [math.log(b / a) for a, b in zip(x, x[1:])]
-
-    def spread(d):
-        m = sum(d) / len(d)
-        return math.sqrt(sum((v - m) ** 2 for v in d) / len(d)) / m
-
-    return spread(log) < spread(lin)
 
 
 def figure(table, column):

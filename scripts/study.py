@@ -37,10 +37,8 @@ from study_runs import (BAD_INPUT, INTERRUPTED, INTERRUPTED_MESSAGE, NOT_CONVERG
 # The plotting modules (matplotlib, numpy) are loaded when a figure is drawn: `--runs-only`
 # needs none of them (a machine that computes without drawing, e.g. a lent GPU machine).
 def load_plotting():
-    """The sweep, percolation and Green's-function figures (study_plots.py), drawn with Agg."""
-    import matplotlib
-
-    matplotlib.use("Agg")
+    """The sweep, percolation and Green's-function figures (study_plots.py), drawn with Agg on
+    figures of their own (figure_io.subplots: the process's pyplot backend is not touched)."""
     import study_plots  # noqa: E402
 
     return study_plots
@@ -251,7 +249,11 @@ def run_percolation_series(s, sets, d, what):
     return out
 
 
-def main():
+def main(argv=None, library=None, program=None):
+    """The study of argv (sys.argv's by default); returns its exit status. `library`: the gfmd
+    package that calls it in its own process (gfmd.study), which then solves the runs; `program`:
+    the gfmd program for what starts it (GFMD_STUDY_RUNS=process)."""
+    study_runs.reset(library, program)
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("study")
     ap.add_argument("--quick", action="store_true", help="reduced resolution that runs in minutes")
@@ -266,7 +268,7 @@ def main():
     ap.add_argument("--draw-only", action="store_true",
                     help="draw from the runs on disk and run nothing (a point that did not converge is not "
                          "retried; a series or seed without runs is left out): sweep studies")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     global QUIET, DRAW_ONLY
     QUIET, DRAW_ONLY = args.quiet, args.draw_only
     study_runs.FORCE = args.force

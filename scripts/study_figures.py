@@ -7,10 +7,9 @@ import json
 import os
 import textwrap
 
-import matplotlib.pyplot as plt
 import netCDF4
 import numpy as np
-from figure_io import label, save, wrap_to_width, write_csv
+from figure_io import label, save, subplots, wrap_to_width, write_csv
 
 
 def load_fields(d):
@@ -61,8 +60,8 @@ def draw_maps(study, series, fig_base):
     post-analysis panels), drawn with the colour limits of <field> and labelled with the
     factor. Post-analysis summaries go to <fig_base>_ratios.csv."""
     rows = study["maps"]
-    fig, axes = plt.subplots(len(rows), len(series), figsize=(2.5 * len(series), 2.2 * len(rows) + 0.4), dpi=150,
-                             squeeze=False)
+    fig, axes = subplots(len(rows), len(series), figsize=(2.5 * len(series), 2.2 * len(rows) + 0.4), dpi=150,
+                         squeeze=False)
     table = []
     unit = "length"
     for c, (s, d) in enumerate(series):
@@ -131,7 +130,7 @@ def draw_maps(study, series, fig_base):
 
 def draw_cross_section(study, series, fig_base):
     """Indenter surface (uz + gap) and deformed elastic surface uz along the middle row."""
-    fig, axes = plt.subplots(len(series), 1, figsize=(6.0, 2.0 * len(series)), dpi=150, squeeze=False)
+    fig, axes = subplots(len(series), 1, figsize=(6.0, 2.0 * len(series)), dpi=150, squeeze=False)
     table = []
     for k, (s, d) in enumerate(series):
         f = load_fields(d)
@@ -159,8 +158,8 @@ def draw_cross_section(study, series, fig_base):
 
 def draw_profiles(study, series, fig_base):
     rows = study["profiles"]
-    fig, axes = plt.subplots(len(rows), len(series), figsize=(2.3 * len(series), 1.8 * len(rows)), dpi=150,
-                             squeeze=False, sharex=True)
+    fig, axes = subplots(len(rows), len(series), figsize=(2.3 * len(series), 1.8 * len(rows)), dpi=150,
+                         squeeze=False, sharex=True)
     table = []
     unit = "length"
     for c, (s, d) in enumerate(series):

@@ -4,9 +4,8 @@ choosing the Agg backend), so that `--runs-only` needs no matplotlib. The field 
 profiles of kind = "runs" are in study_figures.py."""
 import os
 
-import matplotlib.pyplot as plt
 import numpy as np
-from figure_io import save, write_csv
+from figure_io import log_spaced, save, subplots, write_csv
 from study_file import series_dir
 
 
@@ -14,7 +13,7 @@ def plot_percolation(study, results, out, fig_base):
     import netCDF4
 
     n = len(results)
-    fig, axes = plt.subplots(1, n, figsize=(3.2 * n, 3.3), dpi=150, squeeze=False)
+    fig, axes = subplots(1, n, figsize=(3.2 * n, 3.3), dpi=150, squeeze=False)
     rows = []
     for i, (s, res) in enumerate(results):
         d = series_dir(out, i)
@@ -104,12 +103,11 @@ def plot_sweeps(study, results, fig_base):
     panels += [("second", sec, sec["y"])] if sec else [("plain", None, y)]
     if sec and not pub:
         panels = [("plain", None, y)] + panels
-    fig, axes = plt.subplots(1, len(panels), figsize=(4.6 * len(panels), 3.4 + (0.4 if pub else 0)), dpi=150,
-                             squeeze=False)
+    fig, axes = subplots(1, len(panels), figsize=(4.6 * len(panels), 3.4 + (0.4 if pub else 0)), dpi=150,
+                         squeeze=False)
     table = []
     extra_cols = list(study.get("table_columns", []))
     import figure_io
-    from plot_sweep import log_spaced
     for (kind, spec, yname), ax in zip(panels, axes[0]):
         divide = pub["divide_by"] if pub and kind != "plain" else None
         # The series' y_scale (e.g. 1/mu_c) applies to the study's y, not to a [second] quantity.
@@ -186,7 +184,7 @@ def plot_sweeps(study, results, fig_base):
 
 
 def plot_green(study, results, fig_base):
-    fig, ax = plt.subplots(figsize=(4.6, 3.4), dpi=150)
+    fig, ax = subplots(figsize=(4.6, 3.4), dpi=150)
     rows_out = []
     for _, rows in results:
         nus = sorted({r["poisson"] for r in rows}, key=float)

@@ -16,7 +16,11 @@ GFMD = os.environ.get("GFMD", os.path.join(ROOT, "build", "gfmd"))
 FORCE = False  # --force (set by study.py): the runs may write into non-empty directories gfmd did not make
 
 
+LAST_LOG = []  # the last line logged (gfmd.study, which runs a study in its own process, reports it)
+
+
 def log(msg):
+    LAST_LOG[:] = [str(msg)]
     print(msg, file=sys.stderr, flush=True)
 
 
@@ -200,14 +204,35 @@ def find_package(program):
     return None
 
 
+def reset(library=None, program=None):
+    """The state of one study: no stop requested, no run waited for, no case read, nothing
+    logged; the runs in `library` (the calling gfmd package, gfmd.study) or, where None, as
+    load_library finds them. `program`: the gfmd program for what starts it."""
+    global LIB, GFMD, FORCE
+    STOP.clear()
+    _child.update(waiting=False, proc=None, exiting=False)
+    _CASE_DIGESTS.clear()
+    LAST_LOG.clear()
+    FORCE = False
+    LIB = library
+    if program:
+        GFMD = program
+
+
 def load_library():
     """Imports the package of the calling program for the runs (or leaves LIB None: the
-    program is started per run); GFMD_STUDY_RUNS=process asks for the latter."""
+    program is started per run); GFMD_STUDY_RUNS=process asks for the latter. A package given
+    to reset() (the calling one, in its own process) is kept unless process is asked for."""
     global LIB
     mode = os.environ.get("GFMD_STUDY_RUNS") or "library"  # unset or empty: the default
     if mode not in ("library", "process"):
         raise BadInput(f"GFMD_STUDY_RUNS: must be library or process (got {mode!r})")
-    pkg = find_package(GFMD) if mode == "library" else None
+    if mode == "process":
+        LIB = None
+        return
+    if LIB is not None:
+        return
+    pkg = find_package(GFMD)
     if pkg is None:
         return
     sys.path.insert(0, os.path.dirname(pkg))

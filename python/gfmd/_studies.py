@@ -117,6 +117,25 @@ def _package_file(*parts: str) -> str:
     return ""
 
 
+def _study_driver():
+    """scripts/study.py of this package (installed: gfmd/share/gfmd/scripts; in the build tree,
+    the build's), imported once; its folder goes on sys.path for its own modules."""
+    import importlib.util
+    import sys
+
+    name = "gfmd._study_driver"
+    if name in sys.modules:
+        return sys.modules[name]
+    path = _package_file("share", "gfmd", "scripts", "study.py")
+    if not path:
+        raise InputError("study: the study scripts (share/gfmd/scripts/study.py) are not installed with the package")
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)  # inserts its folder in sys.path (study_file, study_runs, ...)
+    sys.modules[name] = module
+    return module
+
+
 def study(study_file: str, quick: bool = False, output: str = os.path.join("out", "studies"),
           set: Iterable[str] = (), draw_only: bool = False, runs_only: bool = False) -> dict:
     """Runs a figure study (studies/*.toml) as `gfmd study` does: its sweeps or runs (reusing
@@ -131,55 +150,40 @@ def study(study_file: str, quick: bool = False, output: str = os.path.join("out"
     converge is not retried, a series or seed without runs is left out). `runs_only`: run (or
     reuse) every series and draw nothing (gfmd study --runs-only; no figure, and study.json is
     not written: returns {"study": name, "runs": the output folder}).
-    KeyboardInterrupt (Ctrl-C, or a notebook's interrupt) stops the study's runs, waits for
-    them and is raised again; the finished runs are reused by the next call."""
-    import signal
-    import subprocess
-    import tempfile
+    It runs in this process: the runs are this package's (gfmd.run, sweep, curve, ...), the
+    figures are drawn on figures of their own (the process's matplotlib backend is not touched);
+    progress and where the results went are printed to standard error. KeyboardInterrupt (Ctrl-C,
+    or a notebook's interrupt) stops the run in progress, removes the study's temporary files
+    and is raised again; the finished runs are reused by the next call."""
+    import sys
 
     path = os.path.abspath(str(study_file))
     if not os.path.isfile(path):
         raise InputError(f"study_file: {study_file}: no such file")
-    program = _package_file("bin", "gfmd") or _package_file("gfmd")
-    if not program:
-        raise InputError("study: the gfmd program is not installed with the package")
-    # `gfmd study` itself (it finds study.py beside it and calls itself back for the runs).
-    args = [program, "study", path, "-o", str(output)] + (["--quick"] if quick else [])
     if draw_only and runs_only:
         raise InputError("runs_only: draw_only and runs_only exclude each other")
+    argv = [path, "-o", str(output)] + (["--quick"] if quick else [])
     if draw_only:
-        args.append("--draw-only")
+        argv.append("--draw-only")
     if runs_only:
-        args.append("--runs-only")
+        argv.append("--runs-only")
     for kv in set:
-        args += ["--set", str(kv)]
-    # In a process group of its own, so that an interrupt of this process (which may come
-    # alone, as a notebook's does) reaches gfmd study, study.py and the run in progress at
-    # once; they stop cleanly (exit status 4) and are waited for.
-    with tempfile.TemporaryFile(mode="w+", encoding="utf-8", errors="replace") as err:
-        p = subprocess.Popen(args, stderr=err, process_group=0)
-        interrupted = False
-        while True:
-            try:
-                p.wait()
-                break
-            except KeyboardInterrupt:
-                interrupted = True
-                try:
-                    os.killpg(p.pid, signal.SIGINT)
-                except OSError:
-                    pass
-        err.seek(0)
-        stderr = err.read()
+        argv += ["--set", str(kv)]
+    driver = _study_driver()
+    program = _package_file("bin", "gfmd") or _package_file("gfmd")
+    try:
+        code = driver.main(argv, library=sys.modules[__package__], program=program or None)
+    except SystemExit as e:  # the driver's fail(): a run that did not converge (3), another error (1)
+        code = e.code if isinstance(e.code, int) else 1
+    last = (driver.study_runs.LAST_LOG or [f"exit status {code}"])[-1]
     name = os.path.splitext(os.path.basename(path))[0]
-    report = os.path.join(str(output), name, "quick" if quick else "full", "study.json")
-    if interrupted or p.returncode == 4:  # 4: interrupted (a signal that reached the study directly)
+    if code == 4:  # interrupted
         raise KeyboardInterrupt(f"study {name} interrupted; the same call continues it")
-    if p.returncode != 0:
-        tail = stderr.strip().splitlines()[-1] if stderr.strip() else f"exit status {p.returncode}"
-        if p.returncode == 2:  # bad input: the study file, a setting
-            raise InputError(tail[len("gfmd study: "):] if tail.startswith("gfmd study: ") else tail)
-        raise SolveError(f"study {name}: {tail}")
+    if code == 2:  # bad input: the study file, a setting
+        raise InputError(last[len("gfmd study: "):] if last.startswith("gfmd study: ") else last)
+    if code != 0:
+        raise SolveError(f"study {name}: {last}")
+    report = os.path.join(str(output), name, "quick" if quick else "full", "study.json")
     if runs_only:
         return {"study": name, "runs": os.path.dirname(report)}
     with open(report) as f:

@@ -377,7 +377,7 @@ def test_sweep_percolation_ensemble_match_the_cli(tmp_path):
         gfmd.ensemble(str(case), output=str(tmp_path / "e2"), seeds=(3,))
 
 
-def test_study_matches_gfmd_study(tmp_path):
+def test_study_matches_gfmd_study(tmp_path, monkeypatch):
     # A small sweep study (Hertz, two loads at 64^2) through gfmd.study and through `gfmd study`:
     # the same plotted data; a missing file is an InputError.
     case = tmp_path / "case.toml"
@@ -387,8 +387,30 @@ def test_study_matches_gfmd_study(tmp_path):
     st = tmp_path / "small.toml"
     st.write_text(f'title = "small"\nkind = "sweep"\nx = "load.force"\ny = "relative_contact_area"\n\n'
                   f'[[series]]\nlabel = "s"\ncase = "{case}"\n\n[quick]\nset = ["grid.nx=64"]\n')
-    rep = gfmd.study(str(st), quick=True, output=str(tmp_path / "py"))
+    # gfmd.study runs the study in this process (issue 43: a figure study is one process through
+    # the library): it does not start gfmd (the runs are gfmd.sweep's, in process; drawing the
+    # sweep's own plot may start a plotting script), and its figure is drawn without pyplot, so
+    # the process's matplotlib backend stays what it was.
+    import matplotlib
+
+    started = []
+    popen = subprocess.Popen
+
+    def record(args, *a, **k):
+        started.append(list(args) if not isinstance(args, str) else [args])
+        return popen(args, *a, **k)
+
+    monkeypatch.setattr(subprocess, "Popen", record)
+    try:
+        matplotlib.use("svg")
+        rep = gfmd.study(str(st), quick=True, output=str(tmp_path / "py"))
+        assert matplotlib.get_backend() == "svg"
+    finally:
+        matplotlib.use("agg")  # these tests run headless
+    assert not [a for a in started if os.path.basename(a[0]) == "gfmd"], started
+    assert started, "the sweep's plot is drawn by plot_sweep.py"
     assert rep["series"] == ["s"] and not rep["incomplete_series"]
+    monkeypatch.undo()
     cli("study", str(st), "--quick", "-o", str(tmp_path / "cli"))
     py_csv = (tmp_path / "py" / "small" / "quick" / "small.csv").read_text()
     cli_csv = (tmp_path / "cli" / "small" / "quick" / "small.csv").read_text()
