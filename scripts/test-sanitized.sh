@@ -17,5 +17,22 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # Left to scripts/test.sh: the tests that took 12-28 s each here (a failing solve run until it
 # stalls, the flow solver at 1024^2 and its thread comparison, a two-body rolling validation);
 # smaller tests of each suite run here.
-./build-clang/gfmd_tests --gtest_brief=1 \
-  --gtest_filter='Amg*:Elastic*:Rng*:Topograph*:AtomicWrite*:NetCdf*:Cli*:StressPrincipal*:StressSurface.Hooke*:StressSubsurface.SurfaceDisplacement*:StressSubsurface.LayerBase*:Flow*:Bruggeman*:Percolat*:Contact.Westergaard*:Contact.Approach*:Robustness.Interrupted*:Abuse*:RunDirectory*:XyzText*:Plausibility*:Resume.ThinLayerSliding*:Contmech.Glibc*:Contmech.CaseKey*:Contmech.Mode*:StallHistory.Deepens*:StallHistory.Damping*:ViscoelasticParts.*:Indenters.Registry*:Interactions.*:Indenters.MakeIndenter*:Indenters.FlatPunchKeys*:Indenters.FlatPunchPressure*:FrictionLaws.*:Plastic.*:Adhesion.Maugis*:Adhesion.Vanishing*:Adhesion.Summary*:Adhesion.LoadControl*:Adhesion.BadInput*:Adhesion.CellLaw*:Adhesion.RigidPlastic*:Adhesion.PlasticAdhesive*:AdhesionFriction.Coulomb*:AdhesionFriction.TwoEqual*:Viscoelastic.*:Layered.*:TwoBodies.*:Shapes.*:ResultFields.*:ViscoelasticStick.*:ViscoelasticPair.*:ViscoelasticActiveSet.ItSettles*:ViscoelasticActiveSet.AnUnknown*:ViscoelasticActiveSet.InTheFrictionLoop*:ViscoelasticCoating.*:Resume.Frictionless*:Body.*:BodyKeys.*:RunInDirectory.*:ConfigOut.*:ConfigTables.*:Robustness.ASweep*:Leakage.APercolation*:-Abuse.Resume*:Abuse.MemoryLimit*:FrictionLaws.VelocityWeakening*:RunInDirectory.AFailureToConverge*:TwoBodies.IdenticalBodiesRoll*:Flow.ResultsDoNotDependOnTheThreadCount:Flow.ConservesFluxOnA1024RandomGap'
+filter='Amg*:Elastic*:Rng*:Topograph*:AtomicWrite*:NetCdf*:Cli*:StressPrincipal*:StressSurface.Hooke*:StressSubsurface.SurfaceDisplacement*:StressSubsurface.LayerBase*:Flow*:Bruggeman*:Percolat*:Contact.Westergaard*:Contact.Approach*:Robustness.Interrupted*:Abuse*:RunDirectory*:XyzText*:Plausibility*:Resume.ThinLayerSliding*:Contmech.Glibc*:Contmech.CaseKey*:Contmech.Mode*:StallHistory.Deepens*:StallHistory.Damping*:ViscoelasticParts.*:Indenters.Registry*:Interactions.*:Indenters.MakeIndenter*:Indenters.FlatPunchKeys*:Indenters.FlatPunchPressure*:FrictionLaws.*:Plastic.*:Adhesion.Maugis*:Adhesion.Vanishing*:Adhesion.Summary*:Adhesion.LoadControl*:Adhesion.BadInput*:Adhesion.CellLaw*:Adhesion.RigidPlastic*:Adhesion.PlasticAdhesive*:AdhesionFriction.Coulomb*:AdhesionFriction.TwoEqual*:Viscoelastic.*:Layered.*:TwoBodies.*:Shapes.*:ResultFields.*:ViscoelasticStick.*:ViscoelasticPair.*:ViscoelasticActiveSet.ItSettles*:ViscoelasticActiveSet.AnUnknown*:ViscoelasticActiveSet.InTheFrictionLoop*:ViscoelasticCoating.*:Resume.Frictionless*:Body.*:BodyKeys.*:RunInDirectory.*:ConfigOut.*:ConfigTables.*:Robustness.ASweep*:Leakage.APercolation*:-Abuse.Resume*:Abuse.MemoryLimit*:FrictionLaws.VelocityWeakening*:RunInDirectory.AFailureToConverge*:TwoBodies.IdenticalBodiesRoll*:Flow.ResultsDoNotDependOnTheThreadCount:Flow.ConservesFluxOnA1024RandomGap'
+# The suites in $(nproc) GoogleTest shards at once (each shard's report printed after it ends):
+# 220 s instead of 303 s one after another on 2 cores (much of each test runs on one core).
+shards=$(nproc)
+logs=$(mktemp -d)
+trap 'rm -rf "$logs"' EXIT
+pids=()
+for ((i = 0; i < shards; i++)); do
+  GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$i ./build-clang/gfmd_tests --gtest_brief=1 --gtest_filter="$filter" \
+    > "$logs/$i.log" 2>&1 &
+  pids+=($!)
+done
+status=0
+for ((i = 0; i < shards; i++)); do
+  wait "${pids[$i]}" || status=1
+  echo "== shard $((i + 1)) of $shards"
+  cat "$logs/$i.log"
+done
+exit $status
