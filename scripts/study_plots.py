@@ -144,9 +144,10 @@ def plot_sweeps(study, results, fig_base):
         for r in study.get("reference", []):
             if r.get("panel", "published") == kind and yname == y:
                 rx, ry = reference_points(r)
-                # A reference's colour, where it has one, replaces the default style's black.
-                style = r.get("style", ":" if r.get("color") else "k:")
-                ax.plot(rx, ry, style, color=r.get("color"), label=r["label"], lw=1.2)
+                # A reference's colour, where it has one, replaces the default style's black
+                # (matplotlib warns about a colour in both, even color=None).
+                colour = {"color": r["color"]} if r.get("color") else {}
+                ax.plot(rx, ry, r.get("style", ":" if colour else "k:"), label=r["label"], lw=1.2, **colour)
         # Without a label in the study file: the quantity's name and unit (figure_io), and a log
         # axis where the swept values are log-spaced (as gfmd sweep draws them).
         own = spec if kind != "plain" else None
