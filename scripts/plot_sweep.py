@@ -10,7 +10,6 @@ import os
 import sys
 
 import figure_io  # noqa: E402 (beside this script)
-from figure_io import log_spaced  # noqa: E402
 
 if __name__ == "__main__":
     figure_io.exit_on_interrupt_while_starting()
@@ -37,7 +36,7 @@ def figure(table, column):
     unit = figure_io.grid_unit_beside(table, "sweep.json")
     fig, ax = plt.subplots(figsize=(5, 3.6), dpi=150)
     ax.plot(x, y, "o-", color="C0")
-    if log_spaced(x):
+    if figure_io.log_spaced(x):
         ax.set_xscale("log")
         if len(set(x)) <= 8 and max(x) / min(x) < 100:  # within two decades: ticks at the swept values
             ax.set_xticks(sorted(set(x)), [f"{v:g}" for v in sorted(set(x))])

@@ -350,10 +350,10 @@ def test_sweep_plot_uses_names_units_and_a_log_axis(runs):
         assert ax.get_xscale() == scale and ax.get_xlabel() == "layer thickness h (L)"
         plt.close(fig)
     # The rule: closer to geometric than to arithmetic progression.
-    assert plot_sweep.log_spaced([0.01, 0.02, 0.04, 0.08])
-    assert plot_sweep.log_spaced([0.001, 0.01])
-    assert not plot_sweep.log_spaced([0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0])
-    assert not plot_sweep.log_spaced([-1.0, 0.0, 1.0])
+    assert figure_io.log_spaced([0.01, 0.02, 0.04, 0.08])
+    assert figure_io.log_spaced([0.001, 0.01])
+    assert not figure_io.log_spaced([0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0])
+    assert not figure_io.log_spaced([-1.0, 0.0, 1.0])
 
 
 def test_curve_panels(runs):

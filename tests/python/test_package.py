@@ -408,7 +408,7 @@ def test_study_matches_gfmd_study(tmp_path, monkeypatch):
     finally:
         matplotlib.use("agg")  # these tests run headless
     assert not [a for a in started if os.path.basename(a[0]) == "gfmd"], started
-    assert started, "the sweep's plot is drawn by plot_sweep.py"
+    assert started, "the sweep's plot is drawn by a plotting script (plot_maps.py)"
     assert rep["series"] == ["s"] and not rep["incomplete_series"]
     monkeypatch.undo()
     cli("study", str(st), "--quick", "-o", str(tmp_path / "cli"))
