@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang (ASan + UBSan; in build-clang/, shared with
 # scripts/test-sanitized.sh) and runs each for N seconds
-# (default 60) on its seed corpus in fuzz/corpus/<target>. Exits non-zero on any finding.
+# (default 60) on its seed corpus in fuzz/corpus/<target>, nproc targets at once. Exits non-zero
+# on any finding (saved in fuzz-findings/<target>/).
 #   bash scripts/fuzz.sh [seconds]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,17 +23,39 @@ for t in config topography_text height_file master_curve; do
     ./build-clang/fuzz_$t "$f" > /dev/null 2>&1 || { echo "regression $f fails"; exit 1; }
   done
 done
-for t in config topography_text height_file master_curve run; do
-  work=$(mktemp -d)
-  cp -r "fuzz/corpus/$t/." "$work/"
-  echo "fuzz_$t: ${secs} s"
-  ./build-clang/fuzz_$t "$work" -max_total_time="$secs" -max_len=4096 -timeout=10 -rss_limit_mb=4096 \
-    -print_final_stats=1 2>&1 | grep -E "stat::number_of_executed_units|stat::new_units_added|ERROR|SUMMARY|Done" || true
-  found=$(compgen -G "crash-*" ; compgen -G "leak-*" ; compgen -G "timeout-*" ; compgen -G "oom-*") || true
-  if [ -n "$found" ]; then
-    echo "fuzz_$t: findings saved in $(pwd): $found"
-    exit 1
-  fi
-  rm -rf "$work"
+# The targets run nproc at a time (libFuzzer is single-threaded): each in its own copy of the
+# corpus, writing any finding (crash-*, leak-*, timeout-*, oom-*) into its own folder, its
+# report printed when all have ended.
+jobs=$(nproc)
+root=$(mktemp -d)
+trap 'rm -rf "$root"' EXIT
+targets=(config topography_text height_file master_curve run)
+for t in "${targets[@]}"; do
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
+  mkdir -p "$root/$t/corpus" "$root/$t/findings"
+  cp -r "fuzz/corpus/$t/." "$root/$t/corpus/"
+  (
+    rc=0
+    ./build-clang/fuzz_$t "$root/$t/corpus" -max_total_time="$secs" -max_len=4096 -timeout=10 \
+      -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$root/$t/findings/" > "$root/$t/log" 2>&1 || rc=$?
+    echo "$rc" > "$root/$t/rc"
+  ) &
 done
+wait || true
+failed=0
+for t in "${targets[@]}"; do
+  echo "fuzz_$t: ${secs} s"
+  grep -E "stat::number_of_executed_units|stat::new_units_added|ERROR|SUMMARY|Done" "$root/$t/log" || true
+  if [ -n "$(ls -A "$root/$t/findings")" ]; then
+    mkdir -p fuzz-findings/$t
+    cp "$root/$t/findings/"* fuzz-findings/$t/
+    echo "fuzz_$t: findings saved in $(pwd)/fuzz-findings/$t: $(ls "$root/$t/findings" | tr '\n' ' ')"
+    failed=1
+  elif [ "$(cat "$root/$t/rc" 2>/dev/null || echo missing)" != 0 ]; then
+    echo "fuzz_$t: exited with status $(cat "$root/$t/rc" 2>/dev/null || echo unknown) without a finding:"
+    tail -n 20 "$root/$t/log"
+    failed=1
+  fi
+done
+[ "$failed" = 0 ] || exit 1
 echo "fuzzing: no findings"
