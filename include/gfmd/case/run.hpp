@@ -9,6 +9,7 @@
 
 #include "gfmd/case/result.hpp"
 #include "gfmd/core/mpi.hpp"
+#include "gfmd/core/placement.hpp"
 
 namespace gfmd {
 
@@ -67,10 +68,7 @@ struct MadeSurface {
   void lend(RunOptions& ro) const;
 };
 
-// Under mpirun: rank 0's error, if it had one (a collective): rethrown on rank 0, and on the
-// others StoppedWithRoot with the exit code that error gives (rank 0 reports it). Nothing
-// happens in a run of one process or when rank 0 had none.
-void rethrow_from_root(const std::exception_ptr& failure);
+// rethrow_from_root (rank 0's error agreed by every process) is core/placement.hpp's.
 
 // Runs f on rank 0 only (reading and writing a directory, where one writer is allowed) and
 // agrees on its outcome with the others (rethrow_from_root). f itself in one process.
