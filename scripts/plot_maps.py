@@ -314,12 +314,15 @@ def draw(path, view, values, title, label, cmap, kind, unit, contact, stick=None
     outline = "black" if kind in ("diverging", "slip") else ("white" if cmap == "viridis" else "cyan")
     handles = []
     c = view.data(contact)
-    if np.nanmin(c) < 0.5 < np.nanmax(c) and not outline_hides_data(c):
+    # An outline needs two rows and two columns of blocks (a cell a few points across, e.g. a
+    # cylinder's line contact, averages to one row: no outline there).
+    outlined = min(c.shape) >= 2
+    if outlined and np.nanmin(c) < 0.5 < np.nanmax(c) and not outline_hides_data(c):
         ax.contour(view.xc, view.yc, c, levels=[0.5], colors=outline, linewidths=0.8)
         handles.append(Line2D([], [], color=outline, lw=0.8, label="contact"))
     if stick is not None:
         s = view.data(stick)
-        if np.nanmax(s) > 0.5 and np.nanmin(s) < 0.5:
+        if outlined and np.nanmax(s) > 0.5 and np.nanmin(s) < 0.5:
             ax.contour(view.xc, view.yc, s, levels=[0.5], colors="limegreen", linewidths=1.0,
                        linestyles="--")
             handles.append(Line2D([], [], color="limegreen", lw=1.0, ls="--", label="stick zone"))

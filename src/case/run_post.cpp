@@ -64,9 +64,11 @@ LineProfiles line_profiles(const Grid& g, const CaseResult& r) {
                                                                              {"sigma_yz", &st.yz}})
     cols.push_back(c);
   static const char* const kPrincipal[] = {"sigma_1", "von_mises", "e1_x", "e1_y", "e1_z"};
-  // The line points: for each distance, the point along and the point across.
-  const int half = std::min(g.nx, g.ny) / 2;
+  // The line points: for each distance, the point along and the point across, at the finer
+  // spacing, over the cell's longer side (each line wraps around the periodic cell: a line
+  // contact's thin cell gives the whole profile along the long side, the short one repeating).
   const double ds = std::min(g.dx(), g.dy());
+  const int half = static_cast<int>(std::lround(std::max(g.lx, g.ly) / ds)) / 2;
   const auto at = [&](double sx, double sy) {
     const int ix = ((cx + static_cast<int>(std::lround(sx / g.dx()))) % g.nx + g.nx) % g.nx;
     const int iy = ((cy + static_cast<int>(std::lround(sy / g.dy()))) % g.ny + g.ny) % g.ny;

@@ -191,3 +191,41 @@ def test_python_run_with_output_draws_the_maps(tmp_path):
     assert p.returncode == 0, p.stderr
     assert "warning" not in p.stderr, p.stderr
     assert_pngs(str(tmp_path / "out"), MAPS + ["profiles"])
+
+
+def test_a_line_contact_on_a_thin_cell_draws_its_maps_and_whole_profiles(tmp_path):
+    """A cylinder on a cell a few points across its axis (a line contact) at a fine spacing
+    (2048 x 4 points) averages to one row of blocks, where no outline can be drawn: the maps are
+    drawn without it (plot_maps once failed there, 'Input z must be at least a (2, 2) shaped
+    array'), and the
+    profiles run along the long side, the whole cell (they once stopped at the short side's
+    +-2 points)."""
+    case = tmp_path / "line.toml"
+    case.write_text("""
+[grid]
+nx = 2048
+ny = 4
+lx = 4.0
+ly = 0.0078125
+[indenter]
+type = "cylinder"
+radius = 1.0
+[load]
+pressure = 0.002
+[output]
+png = true
+""")
+    out = tmp_path / "out"
+    p = gfmd("run", str(case), "-o", str(out), "-q")
+    assert "not (all) drawn" not in p.stderr, p.stderr
+    for name in MAPS + ["profiles"]:
+        assert (out / f"{name}.png").is_file(), name
+    lines = [ln for ln in (out / "profiles.csv").read_text().splitlines() if not ln.startswith("#")]
+    cols = lines[0].split(",")
+    table = np.array([[float(v) for v in ln.split(",")] for ln in lines[1:]])
+    s, p_long = table[:, cols.index("s")], table[:, cols.index("pressure_longitudinal")]
+    assert s.max() - s.min() > 0.99 * 4.0
+    # The whole contact (2a = 0.1 of the 4-long cell, about 50 points) and free surface on
+    # either side of it.
+    assert np.count_nonzero(p_long > 0) > 40
+    assert p_long[0] == 0 and p_long[-1] == 0
