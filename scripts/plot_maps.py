@@ -18,7 +18,9 @@ DIR/flow.nc when there is one. One PNG per field present, written atomically int
     current_<dir>.png         |current density| for a pressure gradient along <dir>
 
 Axes are in the length unit of the case ("x (µm)" with grid.unit = "um", "x (L)" without),
-with the true aspect ratio; Hertz cases are zoomed onto the contact. Every colour bar is
+with the true aspect ratio (a view more than 20 times longer than wide, such as a line
+contact on a few rows, is stretched and its title says so); Hertz cases are zoomed onto the
+contact. Every colour bar is
 labelled "symbol (unit)". The contact is outlined where that does not hide the field (a
 contact of a few patches: Hertz, not a measured or rough surface); the legend sits below the
 map, outside the data. --only draws a subset (names as above without .png; "current" for all
@@ -58,6 +60,7 @@ except ImportError:  # Python < 3.11: the indenter type comes from summary.json 
 
 STAGING = ".maps.tmp.nc"  # include/gfmd/case/outputs.hpp: kMapsStagingFile
 MAX_PIXELS = 1024  # long side of the drawn data after block averaging
+STRETCH_BEYOND = 20.0  # views longer than this to one are drawn stretched (not to scale)
 # The contact outline is left out where it would hide the map: its edge cells more than
 # OUTLINE_MAX_EDGE_FRACTION of the drawn cells and more than OUTLINE_MAX_RATIO times the edge of
 # one disc of the same area (many small patches: a rough or measured surface). A Hertz disc
@@ -305,7 +308,14 @@ def draw(path, view, values, title, label, cmap, kind, unit, contact, stick=None
     if hi <= lo:
         hi = lo + (abs(lo) or 1.0)
     x0, x1, y0, y1 = view.limits
-    fig, ax, cax = figure((y1 - y0) / (x1 - x0))
+    aspect = (y1 - y0) / (x1 - x0)
+    # A cell far longer than wide (a line contact on a few rows) would be a line a pixel high
+    # at true aspect: drawn stretched, and said so.
+    stretched = not (1 / STRETCH_BEYOND <= aspect <= STRETCH_BEYOND)
+    if stretched:
+        note = (note + "  " if note else "") + f"(not to scale: the view is {max(aspect, 1 / aspect):.0f}:1)"
+        aspect = min(max(aspect, 0.25), 4.0)
+    fig, ax, cax = figure(aspect)
     cm = plt.get_cmap(cmap).copy()
     cm.set_bad("0.85")
     im = ax.imshow(v, origin="lower", extent=view.extent, cmap=cm, vmin=lo, vmax=hi,
@@ -328,7 +338,7 @@ def draw(path, view, values, title, label, cmap, kind, unit, contact, stick=None
             handles.append(Line2D([], [], color="limegreen", lw=1.0, ls="--", label="stick zone"))
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
-    ax.set_aspect("equal")
+    ax.set_aspect("auto" if stretched else "equal")
     ax.set_xlabel(figure_io.label("x", unit or "length"))
     ax.set_ylabel(figure_io.label("y", unit or "length"))
     ax.set_title(title + (f"\n{note}" if note else ""), fontsize=9)

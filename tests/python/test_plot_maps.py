@@ -220,6 +220,9 @@ png = true
     assert "not (all) drawn" not in p.stderr, p.stderr
     for name in MAPS + ["profiles"]:
         assert (out / f"{name}.png").is_file(), name
+    # Drawn stretched (the view is 512:1): axes an inch high, not a line (at true aspect the
+    # figure was 232 pixels high in all, its map a pixel).
+    assert matplotlib.image.imread(str(out / "pressure.png")).shape[0] > 300
     lines = [ln for ln in (out / "profiles.csv").read_text().splitlines() if not ln.startswith("#")]
     cols = lines[0].split(",")
     table = np.array([[float(v) for v in ln.split(",")] for ln in lines[1:]])
