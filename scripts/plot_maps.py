@@ -19,8 +19,8 @@ DIR/flow.nc when there is one. One PNG per field present, written atomically int
 
 Axes are in the length unit of the case ("x (µm)" with grid.unit = "um", "x (L)" without),
 with the true aspect ratio (a view more than 20 times longer than wide, such as a line
-contact on a few rows, is stretched and its title says so); Hertz cases are zoomed onto the
-contact. Every colour bar is
+contact on a few rows, is stretched and its title says so); the maps of one contact (Hertz,
+sphere, power-law tip, flat punch, cylinder) are zoomed onto it. Every colour bar is
 labelled "symbol (unit)". The contact is outlined where that does not hide the field (a
 contact of a few patches: Hertz, not a measured or rough surface); the legend sits below the
 map, outside the data. --only draws a subset (names as above without .png; "current" for all
@@ -68,6 +68,8 @@ STRETCH_BEYOND = 20.0  # views longer than this to one are drawn stretched (not 
 OUTLINE_MAX_EDGE_FRACTION = 0.02
 OUTLINE_MAX_RATIO = 3.0
 ZOOM_MARGIN = 0.3  # Hertz zoom: margin around the contact, relative to its size
+# Indenter types that make one contact, whose maps are zoomed onto it (as Hertz's).
+ONE_CONTACT = ("hertz", "sphere", "powerlaw", "flatpunch", "cylinder")
 ZOOM_MIN_CELLS = 4  # ... and at least this many cells
 
 # name -> (field, title, symbol, colormap, kind); kind: "positive" (0 at the bottom),
@@ -222,7 +224,7 @@ def indenter_type(input_toml, summary):
 
 
 def map_limits(data, pressure, hertz):
-    """Axis limits of every map of a run: zoomed onto the contact for Hertz cases."""
+    """Axis limits of every map of a run: zoomed onto the contact for one-contact indenters."""
     ny, nx = pressure.shape
     if hertz:
         return zoom_limits(pressure, data["lx"], data["ly"])
@@ -343,7 +345,9 @@ def draw(path, view, values, title, label, cmap, kind, unit, contact, stick=None
     ax.set_ylabel(figure_io.label("y", unit or "length"))
     ax.set_title(title + (f"\n{note}" if note else ""), fontsize=9)
     if handles:  # below the map (outside the data), under the x label
-        leg = ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=len(handles),
+        # 0.16 axes heights below, and clear of the x label on short (stretched) axes.
+        ah = ax.get_position().height * fig.get_figheight()
+        leg = ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -max(0.16, 0.45 / ah)), ncol=len(handles),
                         fontsize=7, frameon=False)
         if outline in ("white", "cyan"):  # light lines: a grey key so that they show
             leg.set_frame_on(True)
@@ -404,7 +408,7 @@ def plot_dir(d, fields=None, only=None, profiles=False, batch=None):
     stick = f["stick"][0] if "stick" in f else None
     if stick is not None and not np.any(stick > 0.5):
         stick = None
-    hertz = indenter_type(data["input_toml"], summary) == "hertz"
+    hertz = indenter_type(data["input_toml"], summary) in ONE_CONTACT
     # The zoom frames what is loaded: the contact, and with adhesion the attracted cells too.
     footprint = np.maximum(pressure, f["adhesive_traction"][0]) if "adhesive_traction" in f else pressure
     view = View(nx, ny, data["lx"], data["ly"], map_limits(data, footprint, hertz))
