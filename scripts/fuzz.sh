@@ -28,16 +28,27 @@ done
 # report printed when all have ended.
 jobs=$(nproc)
 root=$(mktemp -d)
-trap 'rm -rf "$root"' EXIT
+# Stopped early (an error, a signal): the fuzzers already started stop too, before their folders go.
+stop_fuzzers() {
+  for f in "$root"/*/pid; do
+    [ -e "$f" ] && kill "$(cat "$f")" 2> /dev/null
+  done
+  wait 2> /dev/null
+  rm -rf "$root"
+}
+trap 'stop_fuzzers || true' EXIT
+trap 'exit 143' TERM HUP INT
 targets=(config topography_text height_file master_curve run)
 for t in "${targets[@]}"; do
   while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
   mkdir -p "$root/$t/corpus" "$root/$t/findings"
   cp -r "fuzz/corpus/$t/." "$root/$t/corpus/"
   (
-    rc=0
     ./build-clang/fuzz_$t "$root/$t/corpus" -max_total_time="$secs" -max_len=4096 -timeout=10 \
-      -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$root/$t/findings/" > "$root/$t/log" 2>&1 || rc=$?
+      -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$root/$t/findings/" > "$root/$t/log" 2>&1 &
+    echo $! > "$root/$t/pid"
+    rc=0
+    wait $! || rc=$?
     echo "$rc" > "$root/$t/rc"
   ) &
 done
@@ -46,10 +57,13 @@ failed=0
 for t in "${targets[@]}"; do
   echo "fuzz_$t: ${secs} s"
   grep -E "stat::number_of_executed_units|stat::new_units_added|ERROR|SUMMARY|Done" "$root/$t/log" || true
-  if [ -n "$(ls -A "$root/$t/findings")" ]; then
+  # Findings are crash-, leak-, timeout- and oom- files (libFuzzer also writes slow-unit- files
+  # there: a unit above 10 s that its timeout did not catch; not a finding).
+  found=$(cd "$root/$t/findings" && compgen -G "crash-*"; compgen -G "leak-*"; compgen -G "timeout-*"; compgen -G "oom-*") || true
+  if [ -n "$found" ]; then
     mkdir -p fuzz-findings/$t
     cp "$root/$t/findings/"* fuzz-findings/$t/
-    echo "fuzz_$t: findings saved in $(pwd)/fuzz-findings/$t: $(ls "$root/$t/findings" | tr '\n' ' ')"
+    echo "fuzz_$t: findings saved in $(pwd)/fuzz-findings/$t: $(echo $found)"
     failed=1
   elif [ "$(cat "$root/$t/rc" 2>/dev/null || echo missing)" != 0 ]; then
     echo "fuzz_$t: exited with status $(cat "$root/$t/rc" 2>/dev/null || echo unknown) without a finding:"
