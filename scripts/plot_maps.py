@@ -68,6 +68,7 @@ STRETCH_BEYOND = 20.0  # views longer than this to one are drawn stretched (not 
 OUTLINE_MAX_EDGE_FRACTION = 0.02
 OUTLINE_MAX_RATIO = 3.0
 ZOOM_MARGIN = 0.3  # Hertz zoom: margin around the contact, relative to its size
+ZOOM_MAX_ASPECT = 2.0  # a zoomed view's sides: at most this to one where the cell allows
 # Indenter types that make one contact, whose maps are zoomed onto it (as Hertz's).
 ONE_CONTACT = ("hertz", "sphere", "powerlaw", "flatpunch", "cylinder")
 ZOOM_MIN_CELLS = 4  # ... and at least this many cells
@@ -162,8 +163,26 @@ def zoom_limits(pressure, lx, ly, margin=ZOOM_MARGIN, min_cells=ZOOM_MIN_CELLS):
     dx, dy = lx / nx, ly / ny
     wx, wy = box[1] - box[0] + dx, box[3] - box[2] + dy
     mx, my = max(margin * wx, min_cells * dx), max(margin * wy, min_cells * dy)
-    return (max(full[0], box[0] - 0.5 * dx - mx), min(full[1], box[1] + 0.5 * dx + mx),
-            max(full[2], box[2] - 0.5 * dy - my), min(full[3], box[3] + 0.5 * dy + my))
+    x0, x1 = max(full[0], box[0] - 0.5 * dx - mx), min(full[1], box[1] + 0.5 * dx + mx)
+    y0, y1 = max(full[2], box[2] - 0.5 * dy - my), min(full[3], box[3] + 0.5 * dy + my)
+    # A contact that spans the cell one way (a cylinder's line) would leave a strip: the other
+    # side is widened to half the long one, where the cell allows.
+    if y1 - y0 > ZOOM_MAX_ASPECT * (x1 - x0):
+        x0, x1 = widened(x0, x1, (y1 - y0) / ZOOM_MAX_ASPECT, full[0], full[1])
+    elif x1 - x0 > ZOOM_MAX_ASPECT * (y1 - y0):
+        y0, y1 = widened(y0, y1, (x1 - x0) / ZOOM_MAX_ASPECT, full[2], full[3])
+    return x0, x1, y0, y1
+
+
+def widened(lo, hi, width, full_lo, full_hi):
+    """The interval [lo, hi] widened about its centre to `width`, kept inside [full_lo, full_hi]."""
+    c = 0.5 * (lo + hi)
+    lo, hi = c - 0.5 * width, c + 0.5 * width
+    if lo < full_lo:
+        lo, hi = full_lo, hi + (full_lo - lo)
+    if hi > full_hi:
+        lo, hi = lo - (hi - full_hi), full_hi
+    return max(lo, full_lo), min(hi, full_hi)
 
 
 def block_average(a, k):

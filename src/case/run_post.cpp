@@ -66,9 +66,11 @@ LineProfiles line_profiles(const Grid& g, const CaseResult& r) {
   static const char* const kPrincipal[] = {"sigma_1", "von_mises", "e1_x", "e1_y", "e1_z"};
   // The line points: for each distance, the point along and the point across, at the finer
   // spacing, over the cell's longer side (each line wraps around the periodic cell: a line
-  // contact's thin cell gives the whole profile along the long side, the short one repeating).
+  // contact's thin cell gives the whole profile along the long side, the short one repeating),
+  // at most max(nx, ny) of them (cells far from square: the finer spacing's stretch).
   const double ds = std::min(g.dx(), g.dy());
-  const int half = static_cast<int>(std::lround(std::max(g.lx, g.ly) / ds)) / 2;
+  const double along = std::min(std::max(g.lx, g.ly) / ds, static_cast<double>(std::max(g.nx, g.ny)));
+  const int half = static_cast<int>(std::lround(along)) / 2;
   const auto at = [&](double sx, double sy) {
     const int ix = ((cx + static_cast<int>(std::lround(sx / g.dx()))) % g.nx + g.nx) % g.nx;
     const int iy = ((cy + static_cast<int>(std::lround(sy / g.dy()))) % g.ny + g.ny) % g.ny;
