@@ -140,8 +140,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     }
     if (cfg.indenter.type == "file" && place.lead()) r.map_report = std::move(rep);
   }
-  const Topography& topo = here;
-  r.topography_stats = statistics(topo);
+  r.topography_stats = statistics(here);
   // The body and the solvers live only as long as the solves: the stage after them
   // (stresses, flow) gets the memory back.
   auto body = std::make_unique<ElasticBody>(place.here(), cfg.elastic, cfg.visco,
@@ -256,7 +255,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     // Frictionless reference at the same load; it also warm-starts the sliding solve.
     FrictionParams none = cfg.friction;
     none.coefficient = 0.0;
-    ContactSolver ref(*body, topo, cfg.interaction, none, cfg.solver);
+    ContactSolver ref(*body, here, cfg.interaction, none, cfg.solver);
     hook(ref);
     ContactFields rf;
     SolveInfo ref_info;
@@ -295,7 +294,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     // The reference's observables on the fields as they are (a slab in a distributed run);
     // its pressure and in-plane displacements are kept, where they are, for the post-analysis
     // stresses only.
-    rr.observables = compute_observables(ref.fft(), topo, none, rf, ref_info);
+    rr.observables = compute_observables(ref.fft(), here, none, rf, ref_info);
     if (!cfg.stress.post_analysis.empty()) {
       rr.pressure = rf.pressure;
       rr.ux = std::move(rf.ux);
@@ -311,7 +310,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     }
   }
   {
-    ContactSolver solver(*body, topo, cfg.interaction, cfg.friction, cfg.solver);
+    ContactSolver solver(*body, here, cfg.interaction, cfg.friction, cfg.solver);
     hook(solver);
     // A restart point goes on where the interrupted solve was (the device solve starts warm
     // from the fields); its iterations up to there were counted before.
@@ -353,7 +352,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
   // meet the same ones: the same inputs, the same reductions).
   std::exception_ptr failure;
   try {
-    after_solve_here(cfg, opts, place.here(), topo, r);
+    after_solve_here(cfg, opts, place.here(), here, r);
   } catch (...) {
     failure = std::current_exception();
   }

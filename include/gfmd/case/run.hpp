@@ -68,23 +68,7 @@ struct MadeSurface {
   void lend(RunOptions& ro) const;
 };
 
-// rethrow_from_root (rank 0's error agreed by every process) is core/placement.hpp's.
-
-// Runs f on rank 0 only (reading and writing a directory, where one writer is allowed) and
-// agrees on its outcome with the others (rethrow_from_root). f itself in one process.
-template <class F>
-void on_root(F&& f) {
-  if (!mpi::distributed()) {
-    f();
-    return;
-  }
-  std::exception_ptr failure;
-  if (mpi::root()) try {
-      f();
-    } catch (...) {
-      failure = std::current_exception();
-    }
-  rethrow_from_root(failure);
-}
+// rethrow_from_root and on_root (rank 0's outcome agreed by every process) are
+// core/placement.hpp's.
 
 }  // namespace gfmd

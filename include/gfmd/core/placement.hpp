@@ -19,6 +19,7 @@
 
 #include "gfmd/core/fields.hpp"
 #include "gfmd/core/grid.hpp"
+#include "gfmd/core/mpi.hpp"
 
 namespace gfmd {
 
@@ -26,6 +27,23 @@ namespace gfmd {
 // others StoppedWithRoot with the exit code that error gives (rank 0 reports it). Nothing
 // happens in a run of one process or when rank 0 had none.
 void rethrow_from_root(const std::exception_ptr& failure);
+
+// Runs f on rank 0 only (reading and writing a directory, where one writer is allowed) and
+// agrees on its outcome with the others (rethrow_from_root). f itself in one process.
+template <class F>
+void on_root(F&& f) {
+  if (!mpi::distributed()) {
+    f();
+    return;
+  }
+  std::exception_ptr failure;
+  if (mpi::root()) try {
+      f();
+    } catch (...) {
+      failure = std::current_exception();
+    }
+  rethrow_from_root(failure);
+}
 
 class Placement {
  public:
@@ -75,17 +93,11 @@ class Placement {
   // had one; else a failed process rethrows its own and the others stop (StoppedWithRoot 1).
   void settle_any(const std::exception_ptr& failure) const;
 
-  // Runs f on the lead only and agrees on its outcome with the others (settle).
+  // Runs f on the lead only and agrees on its outcome with the others (on_root: the lead is
+  // rank 0, and the fields are split exactly when there are several processes).
   template <class F>
   void on_lead(F&& f) const {
-    std::exception_ptr failure;
-    if (lead_) try {
-        std::forward<F>(f)();
-      } catch (...) {
-        if (!split_) throw;
-        failure = std::current_exception();
-      }
-    settle(failure);
+    on_root(std::forward<F>(f));
   }
 
  private:
