@@ -505,8 +505,23 @@ TEST(Sliding, FailureMessageNamesLimitCycleOrDrift) {
   EXPECT_NE(m.find("+-1.7"), std::string::npos) << m;  // 0.01 sin(2 pi t/3) peaks at 0.00866: 1.73e-2 of 0.5
   force.clear();
   for (int t = 0; t < 90; ++t) force.push_back(0.5 + 1e-4 * t);
+  change.insert(change.begin() + 20, 1.4e-8);  // the least change, reached at step 21
+  force.insert(force.begin() + 20, 0.5);
   m = gfmd::friction_history_evidence(change, force);
   EXPECT_NE(m.find("drifts slowly"), std::string::npos) << m;
+  // It gave up for want of progress (damped_mixing), not of steps: no "more steps"; the floor,
+  // the least change (2e-6 in the last steps) rounded up, is the tolerance that accepts it.
+  EXPECT_EQ(m.find("give it more steps"), std::string::npos) << m;
+  EXPECT_NE(m.find("its least over the solve 1.40e-08 (friction step 21)"), std::string::npos) << m;
+  EXPECT_NE(m.find("solver.tolerance = 2e-06 would accept it"), std::string::npos) << m;
+  // A floor above 1e-5 is no state to accept: no tolerance is offered.
+  std::vector<double> high(change.size());
+  std::transform(change.begin(), change.end(), high.begin(), [](double c) { return 100.0 * c; });
+  m = gfmd::friction_history_evidence(high, force);
+  EXPECT_NE(m.find("has a floor"), std::string::npos) << m;
+  EXPECT_EQ(m.find("solver.tolerance"), std::string::npos) << m;
+  change.erase(change.begin() + 20);
+  force.erase(force.begin() + 20);
   force.clear();
   std::uint64_t x = 12345;
   for (int t = 0; t < 90; ++t) {

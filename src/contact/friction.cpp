@@ -31,7 +31,7 @@ std::string friction_history_evidence(const std::vector<double>& change, const s
     cmax = std::max(cmax, change[t]);
   }
   const double range = fmax - fmin;
-  char buf[320];
+  char buf[512];
   // The period whose shifted copy matches the force history best (mean mismatch relative to
   // the range), tried up to a third of the window so that at least three periods are seen.
   std::size_t best_p = 0;
@@ -53,10 +53,22 @@ std::string friction_history_evidence(const std::vector<double>& change, const s
                   "oscillating by +-%.2e (relative), traction change per step %.2e to %.2e",
                   w, best_p, rel, cmin, cmax);
   } else if (best_p == 1 && best_d < 0.1) {
+    // The loop gave up because the change stopped falling (damped_mixing), not for want of
+    // steps (an iteration limit gets no evidence): more steps would not lower it. Where that
+    // floor is small, the least change of these steps rounded up to one digit is a tolerance
+    // that accepts the state; a floor above 1e-5 is no state to accept.
+    const auto first_best = std::min_element(change.begin(), change.begin() + static_cast<std::ptrdiff_t>(n));
+    const double scale = cmin > 0 ? std::pow(10.0, std::floor(std::log10(cmin))) : 0.0;
+    const double accept = scale > 0 ? std::ceil(cmin / scale * (1.0 - 1e-12)) * scale : 0.0;
+    char advice[96] = "";
+    if (accept > 0 && accept <= 1e-5)
+      std::snprintf(advice, sizeof advice, "; solver.tolerance = %.0e would accept it", accept);
     std::snprintf(buf, sizeof buf,
                   "no limit cycle: over the last %zu friction steps the tangential force drifts slowly "
-                  "(range %.2e relative), traction change per step %.2e to %.2e: give it more steps",
-                  w, 2 * rel, cmin, cmax);
+                  "(range %.2e relative) while the traction change per step stays at %.2e to %.2e, its "
+                  "least over the solve %.2e (friction step %td): the change has a floor that more "
+                  "steps do not lower%s",
+                  w, 2 * rel, cmin, cmax, *first_best, first_best - change.begin() + 1, advice);
   } else {
     std::snprintf(buf, sizeof buf,
                   "no periodic pattern over the last %zu friction steps: tangential force varies by +-%.2e "

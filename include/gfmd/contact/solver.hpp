@@ -164,9 +164,10 @@ struct SolveInfo {
 };
 
 // What the friction steps of a failed solve show, for its message: a limit cycle (its period
-// in friction steps and the relative amplitude of the tangential force), a slow drift, or no
-// pattern, judged from the last 60 steps of the traction change and of the tangential force
-// along the sliding direction (one value per step).
+// in friction steps and the relative amplitude of the tangential force), a slow drift (whose
+// change has a floor: its least value and, where small, the tolerance that accepts the state),
+// or no pattern, judged from the last 60 steps of the traction change and of the tangential
+// force along the sliding direction (one value per step; the change's least over all of them).
 std::string friction_history_evidence(const std::vector<double>& change, const std::vector<double>& force);
 
 // The mixing history a stalled friction fixed point goes on with, before it damps: twice the
