@@ -182,11 +182,17 @@ int cmd_plot(const std::string& dir_in) {
     check_stop();
   }
   for (const auto& d : sweeps) {
-    // The plots the sweep drew (sweep_<y>.png), else plot_sweep.py's default column.
+    // The plots the sweep drew (sweep_<y>.png), else the column gfmd sweep draws by default
+    // (cmd_sweep), the first of these the table has.
     std::vector<std::string> ys = sweep_plot_columns(d);
     const auto cols = csv_columns(d / "sweep.csv");
-    if (ys.empty() && std::find(cols.begin(), cols.end(), "friction_coefficient") != cols.end())
-      ys.emplace_back("friction_coefficient");
+    const auto has = [&cols](const std::string& c) {
+      return std::find(cols.begin(), cols.end(), c) != cols.end();
+    };
+    for (const char* c :
+         {"total_friction_coefficient", "friction_coefficient", "hysteresis_friction",
+          !cols.empty() && cols.front() == "load.approach" ? "normal_force" : "relative_contact_area"})
+      if (ys.empty() && has(c)) ys.emplace_back(c);
     if (ys.empty())
       std::fprintf(stderr, "gfmd: note: %s: no sweep plot to redraw (draw one with gfmd sweep --plot KEY)\n",
                    d.c_str());

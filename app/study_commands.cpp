@@ -83,9 +83,13 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   const bool plot_option = !plot.empty();
   const bool plot_given = plot_option || cfg.sweep.plot != gfmd::SweepConfig{}.plot;
   if (plot.empty()) plot = cfg.sweep.plot;
-  // The default column follows the physics: without friction (and not sweeping it) there is no
-  // friction coefficient to draw; an approach sweep draws the force it finds, another the area.
-  if (!plot_given && !(cfg.friction.coefficient > 0) && cfg.sweep.parameter.rfind("friction.", 0) != 0)
+  // The default column follows the physics: a viscoelastic body draws its friction (the
+  // hysteresis, plus Coulomb's where there is friction); without friction (and not sweeping it)
+  // there is no friction coefficient to draw: an approach sweep draws the force it finds,
+  // another the area.
+  if (!plot_given && cfg.visco.enabled())
+    plot = cfg.friction.coefficient > 0 ? "total_friction_coefficient" : "hysteresis_friction";
+  else if (!plot_given && !(cfg.friction.coefficient > 0) && cfg.sweep.parameter.rfind("friction.", 0) != 0)
     plot = cfg.sweep.parameter == "load.approach" ? "normal_force" : "relative_contact_area";
   if (out_dir.empty())
     out_dir = (std::filesystem::path("out") / (std::filesystem::path(case_path).stem().string() + "_sweep"))

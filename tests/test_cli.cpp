@@ -462,3 +462,23 @@ TEST(Cli, AFrictionlessSweepDrawsWhatItHas) {
   EXPECT_EQ(c.code, 0) << c.output;
   EXPECT_TRUE(fs::exists(d / "c" / "sweep_friction_coefficient.png")) << c.output;
 }
+
+// A speed sweep of a frictionless viscoelastic body draws its hysteresis friction (it drew
+// nothing: "could not draw friction_coefficient", exit 0), and gfmd plot redraws that column.
+TEST(Cli, AViscoelasticSpeedSweepDrawsItsHysteresisFriction) {
+  const fs::path d = scratch("sweep_visco_plot");
+  write_file(d / "case.toml",
+             "[grid]\nnx = 32\nlx = 1.5\n[elastic]\nviscoelastic = \"sls\"\nhigh_frequency_modulus = 10.0\n"
+             "relaxation_time = 1.0\n[indenter]\ntype = \"hertz\"\nradius = 1.0\n[load]\nforce = 0.01\n"
+             "[friction]\nvelocity = 0.02\n[output]\npng = false\nfields = false\n");
+  const fs::path out = d / "s";
+  const auto a = run_gfmd("sweep " + (d / "case.toml").string() + " -q -o " + out.string() +
+                          " --set friction.velocity=0.01,0.1");
+  EXPECT_EQ(a.code, 0) << a.output;
+  EXPECT_EQ(a.output.find("could not draw"), std::string::npos) << a.output;
+  EXPECT_TRUE(fs::exists(out / "sweep_hysteresis_friction.png")) << a.output;
+  fs::remove(out / "sweep_hysteresis_friction.png");
+  const auto p = run_gfmd("plot " + out.string());
+  EXPECT_EQ(p.code, 0) << p.output;
+  EXPECT_TRUE(fs::exists(out / "sweep_hysteresis_friction.png")) << p.output;
+}

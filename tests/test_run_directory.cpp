@@ -149,6 +149,49 @@ TEST(RunDirectory, APublicationCutShortIsFinishedOnTheNextOpening) {
   EXPECT_FALSE(fs::exists(d / gfmd::kStagingName));
 }
 
+// Every value of a sweep is read before its directory is touched: a bad one later in the list
+// leaves a finished sweep as it was (status "converged", not "running") and makes no new
+// directory; the message names the point and its value.
+TEST(RunDirectory, ABadValueLaterInASweepWritesNothing) {
+  const fs::path d = scratch("sweep_bad_value");
+  write_file(d / "case.toml",
+             gfmd::testing::kSmallHertz + "[output]\nfields = false\npng = false\nanalysis = false\n");
+  const std::string casep = (d / "case.toml").string(), out = (d / "s").string();
+  gfmd::SweepOptions so;
+  gfmd::run_sweep(casep, gfmd::sweep_config(casep, {}, "load.force", {0.006, 0.014}), out, so);
+  const std::string table = read_file(fs::path(out) / "sweep.csv"),
+                    status = read_file(fs::path(out) / "status.json");
+  for (const std::string& dir : {out, (d / "fresh").string()}) {
+    try {
+      gfmd::run_sweep(casep, gfmd::sweep_config(casep, {}, "elastic.poisson", {0.3, 0.4, 0.7}), dir, so);
+      ADD_FAILURE() << "a Poisson ratio of 0.7 was swept";
+    } catch (const gfmd::InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("point_002 (elastic.poisson = 0.7)"), std::string::npos) << m;
+      EXPECT_NE(m.find("poisson"), m.rfind("poisson")) << m;  // the key's own message follows
+    }
+  }
+  EXPECT_EQ(read_file(fs::path(out) / "sweep.csv"), table);
+  EXPECT_EQ(read_file(fs::path(out) / "status.json"), status);
+  EXPECT_EQ(status_of(out), "converged");
+  EXPECT_FALSE(fs::exists(d / "fresh"));
+}
+
+// An attempt that an unsettled error ends (its owner neither published, failed nor interrupted
+// it) does not leave status.json "running".
+TEST(RunDirectory, AnAttemptEndedByAnErrorIsMarkedFailed) {
+  const fs::path d = scratch("unsettled") / "out";
+  try {
+    gfmd::RunDirectory rd(d.string());
+    rd.begin();
+    EXPECT_EQ(status_of(d), "running");
+    throw std::runtime_error("disk full");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_EQ(status_of(d), "failed");
+  EXPECT_FALSE(fs::exists(d / gfmd::kStagingName));
+}
+
 TEST(RunDirectory, SweepStoppedBetweenPointsKeepsThePreviousSweep) {
   const fs::path d = scratch("sweep");
   write_file(d / "case.toml",

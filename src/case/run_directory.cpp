@@ -150,6 +150,13 @@ RunDirectory::~RunDirectory() {
   if (!open_attempt_) return;
   std::error_code ec;
   fs::remove_all(staging_, ec);
+  // An attempt that an error ended before its caller published, failed or interrupted it
+  // (one no branch of a study expects: a point's surface that cannot be made, a full disk):
+  // status.json must not stay "running", which reads as a live or crashed writer.
+  try {
+    write_state("failed", "stopped by an error before it finished (its message went to the caller)");
+  } catch (...) {
+  }
 }
 
 std::string RunDirectory::checkpoint() const { return (fs::path(dir_) / "checkpoint.bin").string(); }

@@ -135,6 +135,22 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   // directory and tells the others what it found there. The new points go to the staging
   // area (finished ones of an interrupted attempt stay there for reuse) and are published
   // together; published points of the same input are reused where they are.
+  const int total = static_cast<int>(sw.values.size());
+  const auto point_config = [&](int i) {
+    std::vector<std::string> sets = opts.overrides;
+    sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
+    return reparse_config(base, sets);  // the text the sweep started from, not the file now
+  };
+  // Every point's case is read before the directory is touched: a bad value anywhere in the
+  // list is refused with nothing written (a directory that held a result keeps its status),
+  // and the message names the value. Each is read again when its point runs (not kept: a case
+  // text may be large and a sweep has up to kMaxSweepPoints points).
+  for (int i = 0; i < total; ++i) try {
+      (void)point_config(i);
+    } catch (const InputError& e) {
+      throw InputError(e.where(), "the sweep's " + sweep_point_name(static_cast<std::size_t>(i)) + " (" +
+                                      sw.parameter + " = " + format_number(sw.values[i]) + "): " + e.why());
+    }
   const bool root = mpi::root();
   std::optional<RunDirectory> rd;
   on_root([&] {
@@ -146,7 +162,6 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   std::vector<nlohmann::json> summaries;
   ContactFields warm;
   bool have_warm = false;
-  const int total = static_cast<int>(sw.values.size());
   // Rows are appended to the staged sweep.csv as points finish (the columns of the first);
   // the tables are written whole once, with every column, when the sweep ends.
   std::vector<std::string> csv_columns;
@@ -209,11 +224,6 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   // With adhesion each point's state depends on the path before it (its branch): finished
   // points are reused only when every point is, else the whole path is solved again (a point
   // after a reused one would start cold and could land on the other branch).
-  const auto point_config = [&](int i) {
-    std::vector<std::string> sets = opts.overrides;
-    sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
-    return reparse_config(base, sets);  // the text the sweep started from, not the file now
-  };
   bool reuse = true;
   if (base.interaction.adhesive() && root)
     for (int i = 0; i < total && reuse; ++i) {

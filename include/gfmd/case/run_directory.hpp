@@ -51,7 +51,9 @@ class RunDirectory {
   // what an earlier attempt left in the staging area (keep_staging: an interrupted study's
   // finished parts stay for reuse). Throws InputError (refused, in use) or Interrupted.
   explicit RunDirectory(const std::string& dir, const OutputDirOptions& opts = {}, bool keep_staging = false);
-  ~RunDirectory();  // an attempt neither published nor kept: its staging area goes
+  // An attempt neither published nor ended (fail, interrupt): its staging area goes and
+  // status.json says "failed" (an error the caller did not settle), not "running".
+  ~RunDirectory();
   RunDirectory(const RunDirectory&) = delete;
   RunDirectory& operator=(const RunDirectory&) = delete;
 
