@@ -175,6 +175,21 @@ TEST(Plausibility, NanometreMapDeclaredAsMicrometresWarnsNamingTheUnit) {
       gfmd::plausibility_warnings(cfg, gfmd::statistics(gfmd::make_topography(cfg)), nullptr).empty());
 }
 
+// A viscoelastic body without a speed is at rest (relaxed, no hysteresis): valid, but usually a
+// forgotten friction.velocity; the case warns, naming the key. With a speed it does not.
+TEST(Plausibility, AViscoelasticBodyWithoutASpeedWarns) {
+  const std::string toml =
+      "[grid]\nnx = 32\nlx = 1.5\n[elastic]\nviscoelastic = \"sls\"\nhigh_frequency_modulus = 10.0\n"
+      "relaxation_time = 1.0\n[indenter]\ntype = \"hertz\"\nradius = 1.0\n[load]\nforce = 0.01\n";
+  gfmd::Config cfg = gfmd::parse_config(toml, "visco.toml");
+  const gfmd::TopographyStats st = gfmd::statistics(gfmd::make_topography(cfg));
+  const auto w = gfmd::plausibility_warnings(cfg, st, nullptr);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("friction.velocity is 0"), std::string::npos) << w[0];
+  cfg = gfmd::parse_config(toml + "[friction]\nvelocity = 0.02\n", "visco.toml");
+  EXPECT_TRUE(gfmd::plausibility_warnings(cfg, st, nullptr).empty());
+}
+
 TEST(Plausibility, SteepHertzWarnsOnStderrAndInTheSummary) {
   const fs::path d = scratch("hertz");
   // R = 0.05 on a cell of 4: rms gradient about L / (R sqrt 6) = 32.7 (33.1 spectrally, with the

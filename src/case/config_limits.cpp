@@ -79,14 +79,22 @@ std::string memory_shortfall(double bytes, const std::string& what) {
 std::vector<std::string> plausibility_warnings(const Config& cfg, const TopographyStats& s,
                                                const MapReport* map) {
   std::vector<std::string> warnings;
-  if (!(s.rms_gradient > kMaxPlausibleRmsGradient)) return warnings;
   using config_detail::g3;
-  const auto [what, check] = config_detail::implausible_surface_text(cfg, map);
-  warnings.push_back(what + " rms gradient is " + g3(s.rms_gradient) + ", above " +
-                     g3(kMaxPlausibleRmsGradient) +
-                     " (slopes steeper than 79 degrees): heights and lateral lengths are likely in different "
-                     "units; check " +
-                     check);
+  if (s.rms_gradient > kMaxPlausibleRmsGradient) {
+    const auto [what, check] = config_detail::implausible_surface_text(cfg, map);
+    warnings.push_back(
+        what + " rms gradient is " + g3(s.rms_gradient) + ", above " + g3(kMaxPlausibleRmsGradient) +
+        " (slopes steeper than 79 degrees): heights and lateral lengths are likely in different "
+        "units; check " +
+        check);
+  }
+  // A viscoelastic body without a speed is at rest: every mode relaxed (E0), no hysteresis.
+  // Valid (the slow limit), but more often a forgotten key.
+  if (cfg.visco.enabled() && cfg.visco.velocity == 0.0)
+    warnings.push_back(
+        "elastic.viscoelastic is set but friction.velocity is 0 (absent): the body is at rest and responds "
+        "with its relaxed modulus alone, without hysteresis; give friction.velocity (length per time unit "
+        "of the body's relaxation times) for steady sliding");
   return warnings;
 }
 

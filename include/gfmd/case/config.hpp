@@ -202,8 +202,9 @@ std::string memory_shortfall(double bytes, const std::string& what);
 // An rms gradient above this is legal but most likely heights and lateral lengths in different
 // units (issue 41): the run warns.
 inline constexpr double kMaxPlausibleRmsGradient = 5.0;
-// Warnings on a case's surface, each naming the keys to check (empty: none): an rms gradient
-// above kMaxPlausibleRmsGradient. map: how a file indenter's map was prepared (its units).
+// Warnings on a case, each naming the keys to check (empty: none): a surface's rms gradient
+// above kMaxPlausibleRmsGradient (map: how a file indenter's map was prepared, its units); a
+// viscoelastic body without friction.velocity (at rest).
 std::vector<std::string> plausibility_warnings(const Config& cfg, const TopographyStats& stats,
                                                const MapReport* map = nullptr);
 
