@@ -89,10 +89,10 @@ std::vector<std::string> plausibility_warnings(const Config& cfg, const Topograp
         check);
   }
   // A viscoelastic body without a speed is at rest: every mode relaxed (E0), no hysteresis.
-  // Valid (the slow limit), but more often a forgotten key.
-  if (cfg.visco.enabled() && cfg.visco.velocity == 0.0)
+  // Valid (the slow limit; friction.velocity = 0 says so), but more often a forgotten key.
+  if (cfg.visco.enabled() && !cfg.velocity_given)
     warnings.push_back(
-        "elastic.viscoelastic is set but friction.velocity is 0 (absent): the body is at rest and responds "
+        "elastic.viscoelastic is set but friction.velocity is not: the body is at rest and responds "
         "with its relaxed modulus alone, without hysteresis; give friction.velocity (length per time unit "
         "of the body's relaxation times) for steady sliding");
   return warnings;

@@ -327,13 +327,15 @@ void read_friction(Section& fr, Config& c) {
   c.friction.direction_deg = fr.number("direction", 0.0);
   c.friction.regularization = fr.number("regularization", 0.0);
   // The sliding speed a viscoelastic body's modes are excited at (omega = -(q.e_s) v0).
+  c.velocity_given = fr.has("velocity");
   c.visco.velocity = fr.number("velocity", 0.0);
   c.visco.direction_deg = c.friction.direction_deg;
   if (!(c.visco.velocity >= 0))
     fr.error("velocity", "must be a non-negative speed (length per time unit of elastic.relaxation_time)");
   else if (c.visco.velocity != 0 && !c.visco.enabled())
     fr.error("velocity",
-             "a sliding speed needs a viscoelastic body (elastic.viscoelastic = \"sls\" or \"prony\"): an "
+             "a sliding speed needs a viscoelastic body (elastic.viscoelastic = \"sls\", \"prony\" or "
+             "\"master_curve\"): an "
              "elastic body's steady state does not depend on it");
   if (!(c.friction.regularization >= 0 && c.friction.regularization < 1))
     fr.error("regularization", "must be in [0, 1) (slip speed / v0 below which the traction is regularised)");

@@ -109,6 +109,7 @@ struct Config {
   std::string backend = "threads";  // solver.backend: where passes and FFTs run (core/backend.hpp)
   OutputConfig output;
   bool friction_reference = true;  // with friction: also solve frictionless at the same load
+  bool velocity_given = false;     // friction.velocity was given (a viscoelastic body without it warns)
   StressConfig stress;
   FlowConfig flow;
   SweepConfig sweep;
