@@ -202,6 +202,18 @@ TEST(Adhesion, VanishingAdhesionIsTheRepulsionBitForBit) {
   EXPECT_LT(w.observables.normal_force, h.observables.normal_force);
 }
 
+// A range so short that the cohesive zones are far below a cell: the solve fails, and its
+// message gives that as the cause instead of advising more steps (which would not help).
+TEST(Adhesion, ZonesBelowACellAreTheCauseNotTheStepLimit) {
+  const Config c = parse_config(kCase, "test.toml", {"interaction.range=1e-5", "solver.max_outer=30"});
+  const CaseResult r = run_case(c);
+  ASSERT_FALSE(r.info.converged);
+  const std::string& m = r.info.status;
+  EXPECT_NE(m.find("did not settle in solver.max_outer = 30"), std::string::npos) << m;
+  EXPECT_NE(m.find("cells wide: below about 2"), std::string::npos) << m;
+  EXPECT_EQ(m.find("raise solver.max_outer"), std::string::npos) << m;
+}
+
 TEST(Adhesion, SummaryHasTheAdhesiveFigures) {
   const CaseResult r = gfmd::testing::solve(kCase);
   const Observables& o = r.observables;

@@ -308,7 +308,7 @@ ContactSolver::PKResult ContactSolver::solve_adhesive(const LoadParams& load, Co
       if (a[i] > 0 && !(p[i] > 0)) acc[0] += 1.0;
       if (a[i] > 0 && a[i] < s0 * (1.0 - 1e-9)) acc[1] += 1.0;
     });
-    if (z[1] > 0) info.status += narrow_cohesive_zones(z[0] / z[1]);
+    if (z[1] > 0) add_cohesive_zones(info.status, z[0] / z[1]);
   }
   parallel_for(nl, [&](std::ptrdiff_t i) { p[i] -= a[i]; });
   adh_.repulsive = false;

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "gfmd/contact/solver.hpp"
 #include "gfmd/core/error.hpp"
@@ -201,6 +202,13 @@ inline std::string narrow_cohesive_zones(double cells) {
      << " cells wide: below about 2 their edges are trapped by the grid and the steps may not settle "
         "(refine the grid, or lengthen interaction.range at the same work of adhesion)";
   return os.str();
+}
+// A failed adhesive solve's status with the zones' width: where they are narrower than 2 cells
+// that is the cause, and the iteration limit's advice (more steps) goes, which would not help.
+inline void add_cohesive_zones(std::string& status, double cells) {
+  constexpr std::string_view more = "; raise solver.max_outer";
+  if (cells < 2.0 && status.ends_with(more)) status.erase(status.size() - more.size());
+  status += narrow_cohesive_zones(cells);
 }
 
 // A viscoelastic splitting that stops with its pressure still changing by more than this per step
