@@ -242,9 +242,12 @@ int cmd_curve(const std::string& case_path, std::string out_dir, const std::vect
     std::printf("curve of %s over %zu %s: %s/curve.csv and curve.json (runs in points/)\n", case_path.c_str(),
                 cfg.sweep.values.size(), by_approach ? "approaches" : "pressures", out_dir.c_str());
     if (j["pull_off_force"].is_number())
-      std::printf("  pull-off force (the most tensile on the path): %s at approach %s\n",
+      std::printf("  pull-off force (the most tensile on the path): %s at approach %s%s\n",
                   gfmd::format_number(j["pull_off_force"].get<double>()).c_str(),
-                  gfmd::format_number(j["pull_off_approach"].get<double>()).c_str());
+                  gfmd::format_number(j["pull_off_approach"].get<double>()).c_str(),
+                  j["pull_off_at_path_end"] == true
+                      ? " (the path's end or turning point: the force may fall further; extend --approaches)"
+                      : "");
     const nlohmann::json& perc = j["percolation"];
     std::printf("  percolation threshold: %s\n", perc["message"].get<std::string>().c_str());
     for (const auto& [tag, d] : perc["directions"].items())

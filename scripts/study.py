@@ -217,6 +217,9 @@ def run_pull_off_series(study, case, d, settings, what):
         for c in ("pull_off_force", "pull_off_approach", "jump_off_approach"):
             if curve.get(c) is not None:
                 row[c] = repr(float(curve[c]))
+        if curve.get("pull_off_at_path_end"):
+            log(f"study: {what}: {study['x']} = {v!r}: the most tensile force is at the path's end or turning "
+                f"point ({row['pull_off_approach']}): the pull-off may lie beyond it; extend approaches")
         points = sorted(p for p in os.listdir(os.path.join(pd, "points")) if p.startswith("point_"))
         summaries = [json.load(open(os.path.join(pd, "points", p, "summary.json"))) for p in points]
         if curve.get("pull_off_force") is not None and summaries:

@@ -388,6 +388,18 @@ TEST(Adhesion, CurveLoadsAndUnloadsAlongAnApproachPath) {
   }
   EXPECT_LT(least, 0.0);
   EXPECT_EQ(j["pull_off_force"].get<double>(), least);
+  // A path that stops while the force still falls (0.004 ... -0.002 R: -0.0045 ... -0.0050) says
+  // its most tensile force is at its end; one that passes the minimum (to -0.012 R: the least,
+  // -0.0051, at -0.006 R) does not.
+  for (const auto& [path, at_end] : {std::pair{"0.004:-0.002:4", true}, std::pair{"0.004:-0.012:5", false}}) {
+    const std::string o = (d / (at_end ? "short" : "long")).string();
+    const auto c = gfmd::testing::run_gfmd("curve " + (d / "adh.toml").string() + " --approaches " + path +
+                                           " --no-png -q -o " + o);
+    ASSERT_EQ(c.code, 0) << c.output;
+    const nlohmann::json cj =
+        nlohmann::json::parse(gfmd::testing::read_file(std::filesystem::path(o) / "curve.json"));
+    EXPECT_EQ(cj["pull_off_at_path_end"], at_end) << path << " " << cj["points"].dump();
+  }
   const std::string csv = gfmd::testing::read_file(d / "out" / "curve.csv");
   EXPECT_NE(csv.find("branch,normal_force,adhesive_force"), std::string::npos);
   // Bad input.

@@ -167,6 +167,7 @@ nlohmann::json write_curve_tables(const std::string& case_path, const Config& cf
   // force minimum before it jumps off), and where the unloading branch lost contact.
   nlohmann::json pull_off = nullptr, pull_off_approach = nullptr, jump_off_approach = nullptr;
   double fmin = 0.0;
+  std::size_t imin = 0;
   bool contact_before = false;
   for (std::size_t i = 0; i < summaries.size(); ++i) {
     const nlohmann::json& si = summaries[i];
@@ -182,6 +183,7 @@ nlohmann::json write_curve_tables(const std::string& case_path, const Config& cf
       fmin = row["normal_force"].get<double>();
       pull_off = fmin;
       pull_off_approach = row["approach"];
+      imin = i;
     }
     if (branches[i] == "unload" && contact_before && !(area > 0) && jump_off_approach.is_null())
       jump_off_approach = ps[i];
@@ -216,10 +218,18 @@ nlohmann::json write_curve_tables(const std::string& case_path, const Config& cf
   j["pull_off_force"] = pull_off;
   j["pull_off_approach"] = pull_off_approach;
   j["jump_off_approach"] = jump_off_approach;
+  // The most tensile force at the path's last point or where it turns back (the last loading
+  // point of a load-unload path) need not be the pull-off: the force may fall further beyond.
+  j["pull_off_at_path_end"] = pull_off.is_null() ? nlohmann::json()
+                                                 : nlohmann::json(imin + 1 == summaries.size() ||
+                                                                  branches[imin + 1] != branches[imin]);
   j["pull_off_note"] =
       "pull_off_force: the most tensile normal force on the path (null if none is tensile); an "
-      "approach-controlled path resolves it to its point spacing. jump_off_approach: the first unloading "
-      "point without contact (null if contact never ended while unloading)";
+      "approach-controlled path resolves it to its point spacing; pull_off_at_path_end: it is the path's "
+      "last "
+      "point or its turning point, where the force may fall further (extend the path). jump_off_approach: "
+      "the "
+      "first unloading point without contact (null if contact never ended while unloading)";
   j["completed"] = summaries.size();
   j["total"] = ps.size();
   j["columns"] = column_meanings(tags);
