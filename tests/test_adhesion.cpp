@@ -271,8 +271,9 @@ TEST(Adhesion, BadInputNamesTheKey) {
             std::string::npos);
   EXPECT_NE(problem({"interaction.repulsion=soft"}).find("interaction.repulsion: unknown repulsion"),
             std::string::npos);
-  // Keys of the adhesive model belong to it.
-  EXPECT_NE(problem({"interaction.model=hardwall"}).find("interaction.work_of_adhesion: unknown key"),
+  // Keys of the adhesive model belong to it, and say so.
+  EXPECT_NE(problem({"interaction.model=hardwall"})
+                .find("interaction.work_of_adhesion: belongs to interaction.model = \"adhesive\""),
             std::string::npos);
   // Negative approaches and tensile loads only with adhesion.
   EXPECT_EQ(problem({"load.approach=-0.01"}), "");

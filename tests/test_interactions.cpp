@@ -82,7 +82,14 @@ TEST(Interactions, NamesAndKeysComeFromTheRegistry) {
   // The old spelling of the hard wall.
   EXPECT_TRUE(parse_config(kCase, "t.toml", {"interaction.model=\"hard_wall\""}).interaction.hard_wall);
   // A model's keys belong to it; a repulsion is a model without keys of its own.
-  EXPECT_NE(problem({"interaction.range=0.01"}).find("interaction.range: unknown key"), std::string::npos);
+  // A key of another model names that model (not "unknown key"): the model is what is missing.
+  EXPECT_NE(
+      problem({"interaction.range=0.01"})
+          .find(
+              "interaction.range: belongs to interaction.model = \"adhesive\" (this case's is \"harmonic\")"),
+      std::string::npos)
+      << problem({"interaction.range=0.01"});
+  EXPECT_NE(problem({"interaction.rnage=0.01"}).find("interaction.rnage: unknown key"), std::string::npos);
   EXPECT_NE(problem({"interaction.model=\"adhesive\"", "interaction.work_of_adhesion=1e-3",
                      "interaction.range=0.01", "interaction.repulsion=\"adhesive\""})
                 .find("interaction.repulsion: unknown repulsion \"adhesive\"; one of harmonic, hardwall"),

@@ -186,6 +186,26 @@ TEST(Layered, BadLayersAreNamed) {
   EXPECT_EQ(why(el), "");
 }
 
+// In a case file, a layer's problem names its line (the element's key in the array of tables),
+// in the body's layers and in an elastic indenter's alike.
+TEST(Layered, ALayersProblemNamesItsLine) {
+  const std::string head = "[grid]\nnx = 32\nlx = 1.5\n[elastic]\ncontact_modulus = 1.0\nthickness = 0.1\n";
+  const std::string layers = "layers = [{thickness = -0.1, contact_modulus = 2.0, poisson = 0.3}]\n";
+  const std::string tail = "[load]\nforce = 0.001\n";
+  std::string e =
+      gfmd::testing::config_problem(head + layers + "[indenter]\ntype = \"hertz\"\nradius = 1.0\n" + tail);
+  EXPECT_NE(e.find("elastic.layers[0].thickness: must be a positive finite number [t.toml:7]"),
+            std::string::npos)
+      << e;
+  e = gfmd::testing::config_problem(
+      "[grid]\nnx = 32\nlx = 1.5\n[indenter]\ntype = \"hertz\"\nradius = 1.0\n"
+      "contact_modulus = 1.0\nthickness = 0.1\n" +
+      layers + tail);
+  EXPECT_NE(e.find("indenter.layers[0].thickness: must be a positive finite number [t.toml:9]"),
+            std::string::npos)
+      << e;
+}
+
 namespace {
 const char* kSliding = R"(
 [grid]

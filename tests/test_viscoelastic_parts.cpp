@@ -219,6 +219,16 @@ TEST(ViscoelasticParts, TheListIsCheckedAndRecorded) {
             "elastic.viscoelastic_parts[0].prony_times"));
   EXPECT_TRUE(names(problem({"elastic.viscoelastic_parts=[" + sls_part("layers[1]", 30.0, 2.0) + "]"}),
                     "elastic.viscoelastic_parts[0].viscoelastic_part"));
+  // A misspelt part is one problem: its default (the top) is not also reported as taken.
+  const std::string misspelt =
+      problem({"elastic.viscoelastic_parts=[" + sls_part("Substrate", 5.0, 2.0) + "]"});
+  EXPECT_TRUE(names(misspelt, "1 problem in the case")) << misspelt;
+  EXPECT_FALSE(names(misspelt, "already names")) << misspelt;
+  // A part's problem found by the body's check names its line in the file ([--set:1] here).
+  const std::string negative =
+      problem({"elastic.viscoelastic_parts=[" + sls_part("substrate", 5.0, -2.0) + "]"});
+  EXPECT_TRUE(names(negative, "elastic.viscoelastic_parts[0].relaxation_time")) << negative;
+  EXPECT_TRUE(names(negative, "[--set:1]")) << negative;
   EXPECT_TRUE(names(problem({"elastic.viscoelastic_parts=3"}), "elastic.viscoelastic_parts"));
   EXPECT_TRUE(names(problem({"elastic.viscoelastic_parts=[3]"}), "elastic.viscoelastic_parts[0]"));
   // A Prony series beside the standard linear solid, recorded and read back as the same case.

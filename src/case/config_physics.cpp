@@ -190,10 +190,14 @@ void read_further_parts(Section& el, ViscoelasticParams& v, const std::string& b
       }
       Section part = el.child(t, name);
       ViscoelasticParams p;
+      const std::size_t problems = part.problems();
       read_viscoelastic(part, p, base_dir, true);
       if (!p.enabled()) part.error("viscoelastic", "is needed: \"sls\", \"prony\" or \"master_curve\"");
       part.finish();
-      v.further.push_back(std::move(p));
+      // A part with problems is left out of the body's checks (validate_viscoelastic_parts),
+      // where its defaults (say the top for a misspelt viscoelastic_part) would be reported as
+      // conflicts the file does not have.
+      if (part.problems() == problems) v.further.push_back(std::move(p));
     }
   }
 }
@@ -429,6 +433,19 @@ void read_interaction(Section& ia, Config& c) {
     }
     if (t->check)
       for (const auto& [key, why] : t->check(c.interaction)) ia.error(key, why);
+    // A key of another model is named as such (a work of adhesion under "hardwall" is not an
+    // unknown key: the model is what is missing).
+    for (const InteractionType* m : interaction_types()) {
+      std::vector<std::string> keys;
+      for (const InteractionType::Key& k : m->keys) keys.push_back(k.name);
+      if (m->repulsion_key) keys.emplace_back("repulsion");
+      for (const std::string& k : keys)
+        if (m != t && ia.find(k) && std::find(own_keys.begin(), own_keys.end(), k) == own_keys.end()) {
+          ia.error(k, "belongs to interaction.model = \"" + std::string(m->name) + "\" (this case's is \"" +
+                          model + "\")");
+          own_keys.push_back(k);
+        }
+    }
   }
   c.interaction.stiffness = ia.number("stiffness", 0.0);
   if (!(c.interaction.stiffness >= 0))

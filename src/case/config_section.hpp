@@ -132,13 +132,45 @@ class Section {
     error(key, "must be a string, got " + type_name(*v));
     return def;
   }
+  // The value of a key of this section, or of a path into its arrays of tables
+  // ("layers[0].thickness", as a part's check names an element's key); null if absent.
+  [[nodiscard]] const toml::value* find(const std::string& key) const {
+    if (!tbl_) return nullptr;
+    if (tbl_->as_table().count(key)) return &tbl_->as_table().at(key);
+    const toml::value* v = tbl_;
+    std::size_t pos = 0;
+    while (true) {
+      const std::size_t dot = key.find('.', pos);
+      std::string part = key.substr(pos, dot == std::string::npos ? std::string::npos : dot - pos);
+      std::size_t index = 0;
+      bool indexed = false;
+      if (const std::size_t lb = part.find('[');
+          lb != std::string::npos && part.size() > lb + 2 && part.back() == ']') {
+        const std::string digits = part.substr(lb + 1, part.size() - lb - 2);
+        if (digits.size() > 6 ||
+            !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+          return nullptr;
+        index = std::stoul(digits);
+        indexed = true;
+        part.resize(lb);
+      }
+      if (!v->is_table() || !v->as_table().count(part)) return nullptr;
+      v = &v->as_table().at(part);
+      if (indexed) {
+        if (!v->is_array() || index >= v->as_array().size()) return nullptr;
+        v = &v->as_array().at(index);
+      }
+      if (dot == std::string::npos) return v;
+      pos = dot + 1;
+    }
+  }
   int line(const std::string& key) const {
-    if (!tbl_ || !tbl_->as_table().count(key)) return 0;
-    return static_cast<int>(tbl_->as_table().at(key).location().line());
+    const toml::value* v = find(key);
+    return v ? static_cast<int>(v->location().line()) : 0;
   }
   std::string at(const std::string& key) const {
-    if (!tbl_ || !tbl_->as_table().count(key)) return "";
-    return where(tbl_->as_table().at(key));
+    const toml::value* v = find(key);
+    return v ? where(*v) : "";
   }
   // A problem with key; the key's place in the file ("[case.toml:12]", "[--set:1]") is added
   // unless the reason already names a place in that file (an array element's, say).
@@ -177,6 +209,8 @@ class Section {
                           where(tbl_->as_table().at(k)));
   }
   [[nodiscard]] const std::string& name() const { return name_; }
+  // The problems found so far in the whole case (this section's and every other's).
+  [[nodiscard]] std::size_t problems() const { return errors_.size(); }
 
  private:
   Section(std::string name, const toml::value& table, std::vector<std::string>& errors)
