@@ -149,6 +149,14 @@ class ViscoelasticBody(ElasticBody):
             if not isinstance(p, ViscoelasticPart):
                 raise InputError(f"ViscoelasticBody.parts[{i}]: must be a gfmd.ViscoelasticPart, got {p!r}")
         object.__setattr__(self, "parts", tuple(self.parts))
+        # Its values checked here, by the case files' rules for [elastic] (as ElasticBody's are),
+        # not only when a solve reads them.
+        case = {"grid": {"nx": 8, "lx": 1.0}, "elastic": _elastic_table(self), "indenter": {"type": "array"},
+                "load": {"approach": 0.0}}
+        try:
+            _core.CaseSolver(case, None, 1.0, 1.0)
+        except InputError as e:
+            raise InputError(f"ViscoelasticBody: {str(e).removeprefix('gfmd.solve: ')}") from None
 
     @property
     def model(self) -> str:
@@ -204,6 +212,7 @@ def _elastic_table(body: ElasticBody) -> dict:
 # The interaction models given by name (those without keys of their own: the repulsions), from the
 # registry (contact/interaction.hpp).
 _REPULSIONS = tuple(m["name"] for m in _core.interaction_models() if not m["keys"])
+_KEYED_MODELS = {m["name"]: m["keys"] for m in _core.interaction_models() if m["keys"]}
 
 
 @dataclass(frozen=True)
@@ -240,9 +249,13 @@ def _interaction_table(interaction) -> dict:
     if isinstance(interaction, Adhesive):
         return {"model": "adhesive", "work_of_adhesion": _plain("work_of_adhesion", interaction.work_of_adhesion),
                 "range": _plain("range", interaction.range), "repulsion": _plain("repulsion", interaction.repulsion)}
+    names = ", ".join(f'"{n}"' for n in _REPULSIONS)
     if not isinstance(interaction, str):
-        names = ", ".join(f'"{n}"' for n in _REPULSIONS)
         raise InputError(f"interaction: {names} or a gfmd.Adhesive (got {interaction!r})")
+    if interaction in _KEYED_MODELS:  # a model with keys of its own is given as its object
+        keys = ", ".join(_KEYED_MODELS[interaction])
+        raise InputError(f'interaction: "{interaction}" needs its keys ({keys}): pass '
+                         "gfmd.Adhesive(work_of_adhesion, range)")
     return {"model": interaction}
 
 
@@ -404,6 +417,11 @@ def load_path(solver: ContactSolver, pressures: Optional[Iterable[float]] = None
     if len(given) != 1:
         raise InputError("pressures: give exactly one of pressures, forces, approaches")
     (kind, values), = given
+    # A list of loads (a string or a lone number is not: a string would be walked character by
+    # character).
+    if isinstance(values, (str, bytes, numbers.Real)) or not isinstance(values, Iterable):
+        name = {"pressure": "pressures", "force": "forces", "approach": "approaches"}[kind]
+        raise InputError(f"{name}: a list of numbers, e.g. {name}=[0.01, 0.02] (got {values!r})")
     for v in values:
         yield solver.solve(**{kind: v}, progress=progress)
 
@@ -422,9 +440,9 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
     elastic indenter (a gfmd.ElasticBody, coated or layered too; two deformable bodies, sliding
     or rolling; its stresses in summary["indenter_stress"]), rigid when None. options: the
     [solver] keys (tolerance, max_iterations, max_outer, max_tangential, anderson, mixing,
-    threads, fft_planner, backend) and the [friction] keys (regularization, creepage,
-    lateral_creepage, slip_derivative, stick_step, stick_acceleration, reference, law and the
-    law's keys: gfmd.friction_laws()). progress(iteration, friction_step, change) is called about every
+    threads, fft_planner, backend, viscoelastic_method) and the [friction] keys (regularization,
+    creepage, lateral_creepage, slip_derivative, stick_step, stick_acceleration, reference, law and
+    the law's keys: gfmd.friction_laws(); velocity: a gfmd.ViscoelasticBody's sliding speed v0). progress(iteration, friction_step, change) is called about every
     0.2 s; progress=True shows a tqdm bar (plain lines without tqdm). Ctrl-C raises KeyboardInterrupt within an iteration. The same case through
     gfmd.run or `gfmd run` gives the same numbers. One solve of a ContactSolver: to solve
     several loads, each from the last, keep a ContactSolver (or use gfmd.load_path).

@@ -77,6 +77,13 @@ def test_contact_solver_checks_its_arguments_once_and_each_load():
         next(gfmd.load_path(solver, pressures=[0.01], forces=[0.01]))
     with pytest.raises(gfmd.InputError, match="ContactSolver"):
         next(gfmd.load_path("solver", pressures=[0.01]))
+    # The loads are a list: a string was walked character by character, a number gave a TypeError.
+    for loads in ("0.01", 0.01):
+        with pytest.raises(gfmd.InputError, match=r"approaches: a list of numbers"):
+            next(gfmd.load_path(solver, approaches=loads))
+    # The adhesive model by name lacks its keys: the message names the object that carries them.
+    with pytest.raises(gfmd.InputError, match=r"work_of_adhesion, range.*gfmd.Adhesive"):
+        gfmd.ContactSolver(top, interaction="adhesive")
 
 
 def test_indenter_types_come_from_the_registry():

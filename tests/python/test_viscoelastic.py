@@ -35,8 +35,12 @@ def test_a_sliding_sphere_has_hysteresis_friction_that_vanishes_at_rest():
 def test_bad_viscoelastic_input_names_the_key():
     with pytest.raises(gfmd.InputError, match="ViscoelasticBody"):
         gfmd.ViscoelasticBody(poisson=0.5)
-    with pytest.raises(gfmd.InputError, match="high_frequency_modulus"):
-        gfmd.solve(sphere(), gfmd.ViscoelasticBody(high_frequency_modulus=0.5, relaxation_time=1.0), force=0.01)
+    # Checked on construction, by the case files' rules, as ElasticBody is (not at the first solve).
+    for kw, key in [(dict(high_frequency_modulus=0.5, relaxation_time=1.0), "elastic.high_frequency_modulus"),
+                    (dict(high_frequency_modulus=5.0, relaxation_time=-1.0), "elastic.relaxation_time"),
+                    (dict(high_frequency_modulus=5.0), "relaxation_time: is needed")]:
+        with pytest.raises(gfmd.InputError, match=key):
+            gfmd.ViscoelasticBody(**kw)
     with pytest.raises(gfmd.InputError, match="velocity"):
         gfmd.solve(sphere(), gfmd.ElasticBody(), force=0.01, velocity=1.0)
 
