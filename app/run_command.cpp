@@ -134,7 +134,12 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
                     out_dir.c_str());
       return 0;
     case Outcome::Interrupted:
-      if (run.saved_state)
+      if (run.published)
+        std::fprintf(stderr,
+                     "gfmd: %s: %s; the results are in %s/ (summary.json and the data files), their figures "
+                     "may be missing: gfmd plot %s draws them\n",
+                     case_path.c_str(), run.why.c_str(), out_dir.c_str(), out_dir.c_str());
+      else if (run.saved_state)
         std::fprintf(stderr, "gfmd: %s: %s; state saved in %s, continue with --resume%s\n", case_path.c_str(),
                      run.why.c_str(), run.checkpoint.c_str(), kept(run.note).c_str());
       else

@@ -176,14 +176,25 @@ namespace {
 // png: draw the maps (as output.png does; fields.nc must be written, output.fields).
 void write_run(const gfmd::CaseResult& r, const std::string& dir, bool png, bool force) {
   std::optional<gfmd::RunDirectory> rd;
+  // Ctrl-C while the maps are drawn (KeyboardInterrupt): the data files are whole and are
+  // published without the maps (status.json says so), then the interrupt goes on.
+  std::optional<py::error_already_set> stopped;
   try {
     py::gil_scoped_release release;
     rd.emplace(dir, gfmd::OutputDirOptions{force, false, {}});
     rd->begin();
     gfmd::publish_outputs(r, rd->staging(), [&] {
-      if (png) draw_maps(rd->staging());
+      if (!png) return;
+      try {
+        draw_maps(rd->staging());
+      } catch (py::error_already_set& e) {
+        stopped.emplace(std::move(e));
+      }
     });
-    rd->publish();
+    if (stopped)
+      rd->publish(gfmd::is_gfmd_output_name, "converged", gfmd::kFiguresNotDrawn);
+    else
+      rd->publish();
   } catch (py::error_already_set&) {
     if (rd) (void)rd->interrupt("interrupted while drawing the maps");
     throw;
@@ -193,6 +204,14 @@ void write_run(const gfmd::CaseResult& r, const std::string& dir, bool png, bool
     if (rd) (void)rd->fail(std::string("writing the outputs: ") + e.what());
     PyErr_SetString(PyExc_OSError, e.what());
     throw py::error_already_set();
+  }
+  if (stopped) {
+    py::gil_scoped_acquire acquire;
+    PySys_WriteStderr(
+        "gfmd: interrupted while drawing the maps; the results are in %.500s/ without (all) their "
+        "maps: gfmd plot draws them\n",
+        dir.c_str());
+    throw std::move(*stopped);
   }
 }
 

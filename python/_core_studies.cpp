@@ -162,11 +162,14 @@ py::dict run_directory(const std::string& path, const std::vector<std::string>& 
     }
     if (r.outcome == Outcome::Interrupted) {  // what is kept, then KeyboardInterrupt (interruptible)
       py::gil_scoped_acquire acquire;
-      PySys_WriteStderr("gfmd: %.200s: %.300s; %.300s%.500s\n", path.c_str(), r.why.c_str(),
-                        r.saved_state
-                            ? ("state saved in " + r.checkpoint + ", continue with resume=True").c_str()
-                            : "no results written",
-                        kept.c_str());
+      PySys_WriteStderr(
+          "gfmd: %.200s: %.300s; %.300s%.500s\n", path.c_str(), r.why.c_str(),
+          r.published
+              ? ("the results are in " + output + "/ without (all) their figures: gfmd plot draws them")
+                    .c_str()
+          : r.saved_state ? ("state saved in " + r.checkpoint + ", continue with resume=True").c_str()
+                          : "no results written",
+          kept.c_str());
       throw gfmd::Interrupted(r.why);
     }
     return r;

@@ -301,10 +301,12 @@ TEST(Cli, UnknownCommandsAndOverlongListsAreNamed) {
   EXPECT_FALSE(fs::exists(d / "s"));
 }
 
-TEST(Cli, AnInterruptionWhileDrawingPublishesNothing) {
-  // A drawing script that was interrupted exits 4: gfmd stops too (exit 4), the staged result
-  // is not published and the previous one stays. The interpreter here stands in for a Python
-  // that was stopped while drawing (GFMD_PYTHON names the drawing scripts' interpreter).
+TEST(Cli, AnInterruptionWhileDrawingKeepsTheFinishedSolve) {
+  // A drawing script that was interrupted exits 4: gfmd stops too (exit 4), but the solve had
+  // finished: its data files are published without the figures (status.json says so; on a long
+  // run the solve is hours, the figures seconds), and a resumed call finds the result. The
+  // interpreter here stands in for a Python that was stopped while drawing (GFMD_PYTHON names
+  // the drawing scripts' interpreter). It threw the solve away.
   const fs::path d = scratch("cli_draw_stop");
   write_file(d / "case.toml", gfmd::testing::kSmallHertz);
   write_file(d / "stopped.sh", "#!/bin/sh\nexit 4\n");
@@ -315,11 +317,18 @@ TEST(Cli, AnInterruptionWhileDrawingPublishesNothing) {
   const std::string stopped = "GFMD_PYTHON=" + (d / "stopped.sh").string() + " ";
   const auto r = gfmd::testing::run_gfmd_env(stopped, run + " --set load.force=0.02");
   EXPECT_EQ(r.code, 4) << r.output;
-  EXPECT_NE(r.output.find("kept unchanged"), std::string::npos) << r.output;
-  EXPECT_EQ(read_file(d / "out" / "summary.json"), summary);
+  EXPECT_NE(r.output.find("their figures may be missing: gfmd plot"), std::string::npos) << r.output;
+  const std::string fresh = read_file(d / "out" / "summary.json");
+  EXPECT_NE(fresh, summary);
+  EXPECT_NE(fresh.find("\"force\": 0.02"), std::string::npos);
+  EXPECT_TRUE(fs::exists(d / "out" / "fields.nc"));
   EXPECT_FALSE(fs::exists(d / "out" / "pressure.png"));
   EXPECT_FALSE(fs::exists(d / "out" / gfmd::kStagingName));
-  EXPECT_EQ(status_of(d / "out"), "interrupted");
+  EXPECT_EQ(status_of(d / "out"), "converged");
+  EXPECT_NE(read_file(d / "out" / "status.json").find("their figures may be missing"), std::string::npos);
+  const auto again = run_gfmd(run + " --set load.force=0.02 --resume");
+  EXPECT_EQ(again.code, 0) << again.output;
+  EXPECT_EQ(read_file(d / "out" / "summary.json"), fresh);  // found, not solved again
   // gfmd plot stops alike.
   const auto p = gfmd::testing::run_gfmd_env(stopped, "plot " + (d / "out").string());
   EXPECT_EQ(p.code, 4) << p.output;

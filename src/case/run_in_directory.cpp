@@ -96,24 +96,35 @@ DirectoryRun run_in_directory(const Config& cfg, const std::string& dir, Directo
     return out;
   }
   // The data files, then the figures drawn from them, all in the staging area; published
-  // together once complete.
+  // together once complete. A stop while the figures are drawn does not throw the finished
+  // solve away (on a long run the figures are seconds, the solve hours): the data files are
+  // whole and are published, with status.json saying the figures may be missing; `gfmd plot
+  // DIR` draws them, and a resumed call finds the result.
+  bool drawing_stopped = false;
   try {
     publish_outputs(out.result, rd.staging(), [&] {
-      if (opts.draw) opts.draw(rd.staging());
+      if (!opts.draw) return;
+      try {
+        opts.draw(rd.staging());
+      } catch (const Interrupted&) {
+        drawing_stopped = true;
+      }
     });
-    if (stop && stop()) throw Interrupted("interrupted while drawing the figures");
-    rd.publish();
-  } catch (const Interrupted& e) {
-    // The solve had finished: nothing is published, the same call solves it again.
-    out.outcome = DirectoryRun::Outcome::Interrupted;
-    out.why = e.what();
-    out.note = rd.interrupt(e.what());
-    return out;
+    drawing_stopped = drawing_stopped || (stop && stop());
+    if (drawing_stopped)
+      rd.publish(is_gfmd_output_name, "converged", std::string(kFiguresNotDrawn));
+    else
+      rd.publish();
   } catch (const std::exception& e) {
     failed(std::string("writing the outputs: ") + e.what());
     throw;
   }
   fs::remove(out.checkpoint, ec);
+  if (drawing_stopped) {
+    out.outcome = DirectoryRun::Outcome::Interrupted;
+    out.why = "interrupted while drawing the figures";
+    out.published = true;
+  }
   return out;
 }
 

@@ -204,3 +204,27 @@ def test_a_sweep_that_stops_publishes_its_finished_points_with_their_figures(tmp
         assert (tmp_path / d / "point_000" / "pressure.png").stat().st_size > 1000
         assert not (tmp_path / d / "point_001").exists()
         assert len((tmp_path / d / "sweep.csv").read_text().splitlines()) == 2
+
+
+@pytest.mark.parametrize("resume", [False, True])
+def test_ctrl_c_while_drawing_keeps_the_finished_solve(tmp_path, monkeypatch, resume):
+    # The drawing interpreter (GFMD_PYTHON) stands in for a Ctrl-C that lands while the maps are
+    # drawn: it sends SIGINT to this process. The solve had finished: its data files are
+    # published without the maps (status.json says so) and KeyboardInterrupt goes on; a resumed
+    # call finds the result. They were thrown away.
+    case = tmp_path / "case.toml"
+    case.write_text(HERTZ.replace("png = false", "png = true"))
+    stopper = tmp_path / "stopper.sh"
+    stopper.write_text("#!/bin/sh\nkill -INT $PPID\nsleep 5\n")
+    stopper.chmod(0o755)
+    monkeypatch.setenv("GFMD_PYTHON", str(stopper))
+    out = tmp_path / "run"
+    with pytest.raises(KeyboardInterrupt):
+        gfmd.run(str(case), output=str(out), resume=resume)
+    status = json.loads((out / "status.json").read_text())
+    assert status["status"] == "converged"
+    assert "their figures may be missing" in status["reason"]
+    assert (out / "summary.json").exists() and (out / "fields.nc").exists()
+    assert not (out / "pressure.png").exists()
+    monkeypatch.delenv("GFMD_PYTHON")
+    assert gfmd.run(str(case), output=str(out), resume=True)["status"] == "reused"

@@ -45,6 +45,12 @@ bool is_sweep_output_name(const std::string& name);
 // written where a sweep was leaves no point of it beside its own files.
 bool is_gfmd_output_name(const std::string& name);
 
+// status.json's reason of a result published without (all) its figures: a stop came while they
+// were drawn (the data files are whole).
+inline constexpr const char* kFiguresNotDrawn =
+    "interrupted while drawing the figures: the results are whole, their figures may be missing (gfmd "
+    "plot DIR draws them)";
+
 class RunDirectory {
  public:
   // Checks dir (check_output_directory), creates it, takes its lock and finishes or removes

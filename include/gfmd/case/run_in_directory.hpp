@@ -25,7 +25,8 @@ struct DirectoryRunOptions {
   std::shared_ptr<Topography> made_surface;
   MapReport made_report;
   // Draws the figures into the staging area before the outputs are published (the PNG maps
-  // of output.png); may be empty. A stop request seen after it leaves nothing published.
+  // of output.png); may be empty. A stop request (Interrupted) while it draws publishes the
+  // data files without the figures (DirectoryRun::published).
   std::function<void(const std::string& staging)> draw;
   // Called once the directory is looked at: nothing_to_do (a finished result reused) or the
   // solve begins (a distributed run tells its other processes).
@@ -43,7 +44,8 @@ struct DirectoryRun {
     Solved,         // solved and published
     AlreadySolved,  // resume: DIR holds this case's result; nothing was done
     NotConverged,   // nothing published; status.json says why
-    Interrupted,    // stopped; the solve's state is in the checkpoint (saved_state) or not
+    Interrupted,    // stopped; the solve's state is in the checkpoint (saved_state) or not, or the
+                    // result is published without its figures (published)
   };
   Outcome outcome = Outcome::Solved;
   CaseResult result;         // Solved, NotConverged (its info)
@@ -52,6 +54,7 @@ struct DirectoryRun {
   std::string note;          // "the previous complete result in DIR/ is kept unchanged", or ""
   std::string checkpoint;    // the checkpoint's path
   bool saved_state = false;  // Interrupted during the solve: continue with resume
+  bool published = false;    // Interrupted while drawing: the results are published (kFiguresNotDrawn)
 };
 
 // Solves cfg into dir (RunDirectory: one writer, staged outputs). Bad input throws InputError
