@@ -53,10 +53,14 @@ bool draw_maps(const std::vector<std::string>& dirs, const std::vector<std::stri
   } catch (const std::exception&) {
     ok = false;
   }
-  for (const auto& d : dirs) {
-    std::error_code ec;
-    fs::remove(fs::path(d) / gfmd::kMapsStagingFile, ec);
-  }
+  // The maps' own staging files go once drawn, or once drawing failed for good; a stop keeps
+  // them, so that the next attempt (a study reusing its finished runs, gfmd plot on a result
+  // published without its figures) draws from them.
+  if (ok || !stop_requested())
+    for (const auto& d : dirs) {
+      std::error_code ec;
+      fs::remove(fs::path(d) / gfmd::kMapsStagingFile, ec);
+    }
   if (!ok && !stop_requested()) {  // stopped: the caller reports the interruption
     // A staging area is named by the directory it is published into.
     std::string where = dirs.size() == 1 ? dirs.front() : std::to_string(dirs.size()) + " directories";
