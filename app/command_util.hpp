@@ -50,10 +50,12 @@ struct ProgressPrinter {
 
 // The lock of an output directory: held by rank 0 alone under mpirun, its outcome (taken, or
 // refused) agreed with the other processes; the lock itself in one process.
-inline std::unique_ptr<gfmd::DirectoryLock> lock_on_root(const std::string& dir, DirFlags flags) {
+// kind: what the command makes there (gfmd::check_output_directory).
+inline std::unique_ptr<gfmd::DirectoryLock> lock_on_root(const std::string& dir, DirFlags flags,
+                                                         const std::string& kind) {
   std::unique_ptr<gfmd::DirectoryLock> lock;
   gfmd::on_root([&] {
-    gfmd::check_output_directory(dir, flags.force);
+    gfmd::check_output_directory(dir, flags.force, kind);
     lock = std::make_unique<gfmd::DirectoryLock>(dir, flags.wait, stop_requested);
   });
   return lock;

@@ -86,7 +86,7 @@ int cmd_flow(const std::string& dir, const std::string& direction, double tol, c
   if (angles.empty())
     throw gfmd::InputError("--direction",
                            "must be x, y, both or an angle in degrees, got '" + direction + "'");
-  gfmd::RunDirectory rd(dir, {dir_flags.force, dir_flags.wait, stop_requested, /*owns_status=*/false});
+  gfmd::RunDirectory rd(dir, {dir_flags.force, dir_flags.wait, stop_requested, /*owns_status=*/false, "run"});
   const auto r = gfmd::compute_leakage(g, gap.data(), angles, tol, which, stop_requested);
   std::string unit;  // the case's grid.unit, if it named one
   if (const auto gi = s["input"]["grid"]; gi.contains("unit") && gi["unit"].is_string())

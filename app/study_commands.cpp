@@ -199,7 +199,7 @@ int cmd_curve(const std::string& case_path, std::string out_dir, const std::vect
     out_dir = (fs::path("out") / (fs::path(case_path).stem().string() + "_curve")).string();
   // Under mpirun rank 0 alone holds the directories, prints and draws; every process solves.
   const bool root = gfmd::mpi::root();
-  const auto lock = lock_on_root(out_dir, dir_flags);
+  const auto lock = lock_on_root(out_dir, dir_flags, "curve");
   ProgressPrinter pp;
   pp.quiet = quiet || !root;
   gfmd::CurveOptions co;
@@ -282,7 +282,7 @@ int cmd_percolation(const std::string& case_path, std::string out_dir, const std
   const bool root = gfmd::mpi::root();
   if (!quiet && root) po.log = [](const std::string& m) { std::fprintf(stderr, "  %s\n", m.c_str()); };
   po.stop_request = stop_requested;
-  const auto lock = lock_on_root(out_dir, dir_flags);
+  const auto lock = lock_on_root(out_dir, dir_flags, "percolation");
   const nlohmann::json j = gfmd::run_percolation(cfg, po, out_dir);
   if (!root || quiet) return 0;
   std::printf(

@@ -181,7 +181,7 @@ void write_run(const gfmd::CaseResult& r, const std::string& dir, bool png, bool
   std::optional<py::error_already_set> stopped;
   try {
     py::gil_scoped_release release;
-    rd.emplace(dir, gfmd::OutputDirOptions{force, false, {}});
+    rd.emplace(dir, gfmd::OutputDirOptions{force, false, {}, true, "run"});
     rd->begin();
     gfmd::publish_outputs(r, rd->staging(), [&] {
       if (!png) return;
@@ -395,7 +395,7 @@ PYBIND11_MODULE(_core, m) {
       [](const std::string& path, const std::vector<std::string>& set, const std::string& output,
          bool force) {
         const gfmd::Config cfg = gfmd::load_config(path, set);
-        if (!output.empty()) gfmd::check_output_directory(output, force);  // before the solve
+        if (!output.empty()) gfmd::check_output_directory(output, force, "run");  // before the solve
         const gfmd::CaseResult r = solve(cfg);
         if (!output.empty()) write_run(r, output, r.config.output.png, force);
         return result(r);

@@ -68,7 +68,7 @@ py::object percolation_case(const std::string& case_path, const std::string& dir
     po.area_tolerance = area_tolerance;
     po.stop_request = stop;
     if (dir.empty()) return gfmd::find_percolation(cfg, po);
-    gfmd::check_output_directory(dir, force);
+    gfmd::check_output_directory(dir, force, "percolation");
     const gfmd::DirectoryLock lock(dir);
     return gfmd::run_percolation(cfg, po, dir);
   }));
@@ -93,7 +93,7 @@ py::object curve_case(const std::string& case_path, const std::vector<double>& v
       PySys_WriteStderr("gfmd: warning: could not draw curve.png: %.1500s\n", problem.c_str());
   };
   return json_to_py(interruptible([&](const std::function<bool()>& stop) {
-    gfmd::check_output_directory(dir, force);
+    gfmd::check_output_directory(dir, force, "curve");
     const gfmd::DirectoryLock lock(dir);
     gfmd::CurveOptions co;
     co.sweep.overrides = set;

@@ -192,6 +192,38 @@ TEST(RunDirectory, AnAttemptEndedByAnErrorIsMarkedFailed) {
   EXPECT_FALSE(fs::exists(d / gfmd::kStagingName));
 }
 
+// A result of one kind is not replaced by another without force: a run into a sweep's directory
+// deleted the sweep's table and points, a sweep into a run's its summary and fields.
+TEST(Cli, AnotherKindOfResultIsNotReplacedWithoutForce) {
+  const fs::path d = scratch("cli_kinds");
+  write_file(d / "case.toml", gfmd::testing::kSmallHertz + "[output]\npng = false\nfields = false\n");
+  const std::string c = (d / "case.toml").string();
+  ASSERT_EQ(run_gfmd("sweep " + c + " -q -o " + (d / "s").string() + " --set load.force=0.006,0.014").code,
+            0);
+  ASSERT_EQ(run_gfmd("run " + c + " -q -o " + (d / "r").string()).code, 0);
+  EXPECT_EQ(gfmd::result_kind((d / "s").string()), "sweep");
+  EXPECT_EQ(gfmd::result_kind((d / "r").string()), "run");
+  const std::string table = read_file(d / "s" / "sweep.csv");
+  const auto run = run_gfmd("run " + c + " -q -o " + (d / "s").string());
+  EXPECT_EQ(run.code, 2) << run.output;
+  EXPECT_NE(run.output.find("holds a gfmd sweep result, which this run would replace"), std::string::npos)
+      << run.output;
+  EXPECT_EQ(read_file(d / "s" / "sweep.csv"), table);
+  EXPECT_TRUE(fs::exists(d / "s" / "point_001" / "summary.json"));
+  const auto sweep =
+      run_gfmd("sweep " + c + " -q -o " + (d / "r").string() + " --set load.force=0.006,0.014");
+  EXPECT_EQ(sweep.code, 2) << sweep.output;
+  EXPECT_TRUE(fs::exists(d / "r" / "summary.json"));
+  const auto curve = run_gfmd("curve " + c + " -q --pressures 0.001,0.002 -o " + (d / "r").string());
+  EXPECT_EQ(curve.code, 2) << curve.output;
+  EXPECT_FALSE(fs::exists(d / "r" / "curve.json"));
+  // The same kind again is a re-run; --force replaces another kind.
+  EXPECT_EQ(run_gfmd("run " + c + " -q -o " + (d / "r").string()).code, 0);
+  EXPECT_EQ(run_gfmd("run " + c + " -q --force -o " + (d / "s").string()).code, 0);
+  EXPECT_EQ(gfmd::result_kind((d / "s").string()), "run");
+  EXPECT_FALSE(fs::exists(d / "s" / "sweep.csv"));
+}
+
 TEST(RunDirectory, SweepStoppedBetweenPointsKeepsThePreviousSweep) {
   const fs::path d = scratch("sweep");
   write_file(d / "case.toml",

@@ -62,7 +62,21 @@ std::set<std::string> move_staged(const fs::path& staging, const fs::path& dir) 
 
 }  // namespace
 
-void check_output_directory(const std::string& dir, bool force) {
+std::string result_kind(const std::string& dir) {
+  // The main table of each kind of result (a sweep's sweep.csv stands in while its
+  // sweep.json is not written: the finished points of a first attempt that stopped).
+  static const std::pair<const char*, const char*> kMarks[] = {
+      {"study.json", "study"}, {"ensemble.json", "ensemble"},
+      {"curve.json", "curve"}, {"percolation.json", "percolation"},
+      {"sweep.json", "sweep"}, {"sweep.csv", "sweep"},
+      {"summary.json", "run"}};
+  std::error_code ec;
+  for (const auto& [file, kind] : kMarks)
+    if (fs::is_regular_file(fs::path(dir) / file, ec)) return kind;
+  return "";
+}
+
+void check_output_directory(const std::string& dir, bool force, const std::string& kind) {
   if (dir.empty()) throw InputError("output directory", "must not be empty");
   const fs::path c = canonical_or_empty(dir);
   if (c.empty()) throw InputError(dir, "not a usable path for an output directory");
@@ -77,7 +91,13 @@ void check_output_directory(const std::string& dir, bool force) {
   const auto st = fs::status(c, ec);
   if (!fs::exists(st)) return;
   if (!fs::is_directory(st)) throw InputError(dir, "exists and is not a directory");
-  if (force || fs::exists(c / kDirectoryMarker, ec)) return;
+  if (force) return;
+  // Another kind of result would be replaced (its outputs are gfmd's): only when asked to.
+  if (const std::string held = result_kind(c.string()); !kind.empty() && !held.empty() && held != kind)
+    throw InputError(dir, "holds a gfmd " + held + " result, which this " + kind +
+                              " would replace; name another directory, or pass --force (Python: force=True) "
+                              "to replace it");
+  if (fs::exists(c / kDirectoryMarker, ec)) return;
   fs::directory_iterator it(c, ec);
   if (ec) throw InputError(dir, "cannot read the directory: " + ec.message());
   if (it != fs::directory_iterator())
@@ -128,7 +148,7 @@ bool is_gfmd_output_name(const std::string& name) {
 RunDirectory::RunDirectory(const std::string& dir, const OutputDirOptions& opts, bool keep_staging)
     : dir_(dir),
       staging_((fs::path(dir) / kStagingName).string()),
-      lock_((check_output_directory(dir, opts.force), dir), opts.wait, opts.stop_request),
+      lock_((check_output_directory(dir, opts.force, opts.kind), dir), opts.wait, opts.stop_request),
       owns_status_(opts.owns_status) {
   // Results are only ever published complete: their main table marks them.
   std::error_code ec;

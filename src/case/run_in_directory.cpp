@@ -22,7 +22,9 @@ DirectoryRun run_in_directory(const Config& cfg, const std::string& dir, Directo
   if (!opts.made_surface)
     opts.made_surface = std::make_shared<Topography>(make_topography_here(cfg, &opts.made_report));
   const std::function<bool()> stop = opts.directory.stop_request;
-  RunDirectory rd(dir, opts.directory);
+  OutputDirOptions as_run = opts.directory;
+  as_run.kind = "run";
+  RunDirectory rd(dir, as_run);
   DirectoryRun out;
   out.checkpoint = rd.checkpoint();
   ContactFields warm;

@@ -45,7 +45,9 @@ nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir
   // an interrupted or failed attempt leaves its finished seeds in the staging area for the next.
   std::optional<RunDirectory> rd;
   on_root([&] {
-    rd.emplace(dir, opts.directory, /*keep_staging=*/true);
+    OutputDirOptions as_ensemble = opts.directory;
+    as_ensemble.kind = "ensemble";
+    rd.emplace(dir, as_ensemble, /*keep_staging=*/true);
     rd->begin();
   });
   const std::string stage = rd ? rd->staging() : std::string();

@@ -154,7 +154,9 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   const bool root = mpi::root();
   std::optional<RunDirectory> rd;
   on_root([&] {
-    rd.emplace(dir, opts.directory, /*keep_staging=*/true);
+    OutputDirOptions as_sweep = opts.directory;
+    as_sweep.kind = "sweep";
+    rd.emplace(dir, as_sweep, /*keep_staging=*/true);
     rd->begin();
   });
   const std::string stage = root ? rd->staging() : std::string();

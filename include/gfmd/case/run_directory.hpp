@@ -18,6 +18,9 @@ struct OutputDirOptions {
   // Whether status.json follows this writer's attempts (not for an addition to a finished run,
   // such as gfmd flow's files, which leaves the run's status alone).
   bool owns_status = true;
+  // What this writer makes ("run", "sweep", "ensemble"): a directory holding another kind of
+  // result (result_kind) is refused unless force; "" checks none.
+  std::string kind = "";
 };
 
 // The marker of a directory gfmd created (every gfmd writer leaves it): its lock file.
@@ -32,8 +35,13 @@ void make_gfmd_directory(const std::string& dir);
 
 // Refuses an output directory that must not be written, with InputError naming it: "" ; the
 // root directory, the home directory and the working directory (always); an existing
-// non-directory; a non-empty directory without gfmd's marker (unless force). Creates nothing.
-void check_output_directory(const std::string& dir, bool force);
+// non-directory; a non-empty directory without gfmd's marker, or one holding another kind of
+// result than `kind` ("run", "sweep", ...: result_kind; "" checks none) (unless force).
+// Creates nothing.
+void check_output_directory(const std::string& dir, bool force, const std::string& kind = "");
+// The kind of gfmd result a directory holds, by its main table: "study", "ensemble", "curve",
+// "percolation", "sweep", "run" (summary.json), or "" (none).
+std::string result_kind(const std::string& dir);
 
 // Whether a file or folder name in a run directory is one of gfmd's outputs (summary.json,
 // fields.nc, the maps, tables, flow files, the checkpoint, the staging area, temporaries).
