@@ -70,8 +70,8 @@ int run_main(int argc, char** argv) {
   bool wait = false, force = false;
   const auto add_force = [&force](CLI::App* sub) {
     sub->add_flag("--force", force,
-                  "write into a non-empty directory that gfmd did not create (gfmd output names there are "
-                  "replaced)");
+                  "write into a non-empty directory that gfmd did not create, or over another kind of gfmd "
+                  "result (gfmd output names there are replaced)");
   };
   add_force(run);
   run->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");
@@ -155,7 +155,18 @@ int run_main(int argc, char** argv) {
   perc->add_option("-o,--output", out_dir, "output directory")->check(non_empty);
   perc->add_option("--set", sets, "override a key (repeatable)");
   perc->add_option("--area-tolerance", area_tol,
-                   "stop when the bracket's contact areas differ by less (default 0.002)");
+                   "stop when the bracket's contact areas differ by less (default 0.002)")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            // nan or a negative tolerance never ends the bracketing: a threshold from an
+            // unfinished bracket came out with exit 0.
+            char* end = nullptr;
+            const double x = std::strtod(v.c_str(), &end);
+            if (end == v.c_str() || *end != '\0' || !(x > 0 && x < 1))
+              return "must be a contact-area fraction in (0, 1), got '" + v + "'";
+            return "";
+          },
+          "FRACTION"));
   perc->add_flag("-q,--quiet", quiet, "no log lines");
   add_force(perc);
   perc->add_flag("--wait", wait, "if another gfmd run writes to the output directory, wait for it");

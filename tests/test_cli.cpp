@@ -482,3 +482,18 @@ TEST(Cli, AViscoelasticSpeedSweepDrawsItsHysteresisFriction) {
   EXPECT_EQ(p.code, 0) << p.output;
   EXPECT_TRUE(fs::exists(out / "sweep_hysteresis_friction.png")) << p.output;
 }
+
+// A percolation search's area tolerance is a fraction in (0, 1): nan or a negative one never
+// ended the bracketing and gave the unfinished bracket's threshold with exit 0.
+TEST(Cli, APercolationToleranceOutsideItsRangeIsRefused) {
+  const fs::path d = scratch("perc_tolerance");
+  write_file(d / "case.toml", kGood);
+  for (const char* tol : {"nan", "-1", "0", "1.5"}) {
+    const auto r = run_gfmd("percolation " + (d / "case.toml").string() +
+                            " --direction x -q --area-tolerance " + tol + " -o " + (d / "out").string());
+    EXPECT_EQ(r.code, 2) << tol << ": " << r.output;
+    EXPECT_NE(r.output.find("--area-tolerance: must be a contact-area fraction in (0, 1)"), std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(d / "out")) << tol;
+  }
+}
