@@ -126,7 +126,12 @@ int cmd_plot(const std::string& dir_in) {
   if (!fs::is_directory(dir, ec)) throw gfmd::InputError(dir_in, "no such directory");
   const bool study = has_file(dir, "study.json"), ensemble = has_file(dir, "ensemble.json");
   const bool curve = has_file(dir, "curve.csv");  // gfmd curve: curve.png, its points in points/
+  // A folder of runs or sweeps without a table of its own (a study's series of seeds, one
+  // seed's sweep each): their figures.
+  bool group = false;
   if (!study && !ensemble && !curve && !is_sweep(dir) && !is_run(dir))
+    for (const auto& p : subdirs(dir)) group = group || is_sweep(p) || is_run(p);
+  if (!study && !ensemble && !curve && !group && !is_sweep(dir) && !is_run(dir))
     throw gfmd::InputError(dir_in,
                            "not a gfmd run, sweep, curve or study directory (no summary.json, fields.nc, "
                            "sweep.csv, curve.csv, study.json or ensemble.json in it)");
@@ -143,7 +148,7 @@ int cmd_plot(const std::string& dir_in) {
       for (const auto& p : subdirs(d)) collect(p, depth - 1);
     }
   };
-  if (study || ensemble) {
+  if (study || ensemble || group) {
     for (const auto& p : subdirs(dir)) collect(p, 1);
   } else if (curve) {
     collect(dir / "points", 0);
@@ -161,6 +166,9 @@ int cmd_plot(const std::string& dir_in) {
     if (stop_requested()) throw gfmd::Interrupted("interrupted while drawing the figures of " + dir_in);
   };
   std::vector<std::string> with_fields;
+  // Runs without fields.nc (output.fields = false): one note for all of them (a study has
+  // dozens).
+  std::vector<std::string> profiles_note, nothing_note;
   for (const auto& d : runs) {
     if (has_file(d, "fields.nc") || has_file(d, gfmd::kMapsStagingFile)) {
       with_fields.push_back(d.string());
@@ -170,14 +178,21 @@ int cmd_plot(const std::string& dir_in) {
       else
         ok = false;
       check_stop();
-      std::fprintf(stderr,
-                   "gfmd: note: %s has no fields.nc (output.fields = false): profiles.png only, no maps\n",
-                   d.c_str());
+      profiles_note.push_back(d.string());
     } else {
-      std::fprintf(stderr, "gfmd: note: %s has no fields.nc (output.fields = false): nothing to draw\n",
-                   d.c_str());
+      nothing_note.push_back(d.string());
     }
   }
+  const auto note = [](const std::vector<std::string>& ds, const char* what) {
+    if (ds.size() == 1)
+      std::fprintf(stderr, "gfmd: note: %s has no fields.nc (output.fields = false): %s\n",
+                   ds.front().c_str(), what);
+    else if (ds.size() > 1)
+      std::fprintf(stderr, "gfmd: note: %zu runs (%s, ...) have no fields.nc (output.fields = false): %s\n",
+                   ds.size(), ds.front().c_str(), what);
+  };
+  note(profiles_note, "profiles.png only, no maps");
+  note(nothing_note, "nothing to draw");
   if (!with_fields.empty()) {
     if (draw_maps(with_fields, {"--profiles"}))
       drawn += static_cast<int>(with_fields.size());

@@ -497,3 +497,24 @@ TEST(Cli, APercolationToleranceOutsideItsRangeIsRefused) {
     EXPECT_FALSE(fs::exists(d / "out")) << tol;
   }
 }
+
+// gfmd plot on a folder of sweeps without a table of its own (a study's series of seeds, a
+// sweep per seed) redraws their figures; it was "not a gfmd run, sweep, curve or study
+// directory". Runs without fields.nc get one note together.
+TEST(Cli, PlotRedrawsAFolderOfSweeps) {
+  const fs::path d = scratch("plot_group");
+  write_file(d / "case.toml", kGood + "[output]\npng = false\nfields = false\n");
+  for (const char* seed : {"seed_0", "seed_1"})
+    ASSERT_EQ(run_gfmd("sweep " + (d / "case.toml").string() + " -q -o " + (d / "series" / seed).string() +
+                       " --set load.force=0.006,0.014")
+                  .code,
+              0);
+  fs::remove(d / "series" / "seed_0" / "sweep_relative_contact_area.png");
+  const auto p = run_gfmd("plot " + (d / "series").string());
+  EXPECT_EQ(p.code, 0) << p.output;
+  EXPECT_TRUE(fs::exists(d / "series" / "seed_0" / "sweep_relative_contact_area.png")) << p.output;
+  EXPECT_NE(p.output.find("4 runs ("), std::string::npos) << p.output;  // one note for the four points
+  // A folder with nothing of gfmd's is still refused.
+  fs::create_directories(d / "other" / "sub");
+  EXPECT_EQ(run_gfmd("plot " + (d / "other").string()).code, 2);
+}
