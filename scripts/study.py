@@ -291,6 +291,9 @@ def main(argv=None, library=None, program=None):
             name = os.path.splitext(os.path.basename(args.study))[0]
             mode = "quick" if args.quick else "full"
             out = os.path.join(args.output, name, mode)
+            if args.draw_only and not os.path.isdir(out):
+                # Nothing to draw from (a mistyped -o, or a study not run yet): not an empty figure.
+                raise BadInput(f"--draw-only: no runs of this study in {out} (run it first, or check -o)")
             try:
                 os.makedirs(out, exist_ok=True)
             except OSError as e:
@@ -318,6 +321,8 @@ def run_study(study, args, name, mode, out):
     incomplete = []
     results = run_series(study, list(study.get(mode, {}).get("set", [])) + args.set, out, args.quick, incomplete)
     check_stop()
+    if DRAW_ONLY and not results:
+        raise BadInput(f"--draw-only: no series of this study has runs in {out} (run it first, or check -o)")
     if args.runs_only:
         info(f"{name} ({mode}): runs in {out}  [{time.time() - t0:.1f} s]")
         if incomplete:

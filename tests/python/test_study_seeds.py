@@ -111,6 +111,11 @@ where = ["a=1"]
     p = subprocess.run(STUDY + [str(tmp_path / "s.toml"), "--quick", "-o", str(tmp_path / "out"), "--draw-only",
                                 "--runs-only"], capture_output=True, text=True, env=ENV)
     assert p.returncode == 2 and "exclude each other" in p.stderr
+    # Nothing on disk to draw from (a mistyped -o): refused, no empty figure, nothing made.
+    p = subprocess.run(STUDY + [str(tmp_path / "s.toml"), "--quick", "-o", str(tmp_path / "typo"), "--draw-only"],
+                       capture_output=True, text=True, env=ENV)
+    assert p.returncode == 2 and "no runs of this study" in p.stderr, p.stderr
+    assert not (tmp_path / "typo").exists()
     # The same from gfmd study and from Python.
     (d / "s.png").unlink()
     p = subprocess.run([ENV["GFMD"], "study", str(tmp_path / "s.toml"), "--quick", "-o", str(tmp_path / "out"),
