@@ -8,7 +8,9 @@
 #include <cstdio>
 #include <limits>
 #include <numbers>
+#include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "gfmd/core/error.hpp"
@@ -223,6 +225,17 @@ Topography load_height_map(const std::string& path, const MapOptions& o, MapRepo
   // pixels (ly = lx ny / nx).
   g.lx = o.lx > 0 ? o.lx : m.lx;
   g.ly = o.ly > 0 ? o.ly : m.ly;
+  // A size given over the one the file states stretches the map: said, since the measured
+  // slopes (and so the contact) change with it.
+  for (const auto& [name, given, stated] : {std::tuple{"lx", o.lx, m.lx}, std::tuple{"ly", o.ly, m.ly}})
+    if (given > 0 && stated > 0 && std::abs(given / stated - 1.0) > 1e-9) {
+      std::ostringstream w;
+      w.precision(6);
+      w << "the case's grid." << name << " (" << given << " for the map) replaces the " << stated
+        << " the file states: the map is stretched " << given / stated << " times along " << name[1]
+        << ", and its slopes with it";
+      rep.warnings.push_back(w.str());
+    }
   if (!(g.ly > 0) && g.lx > 0) g.ly = g.lx * g.ny / g.nx;
   if (!(g.lx > 0) && g.ly > 0) g.lx = g.ly * g.nx / g.ny;
   for (const auto& [name, v] : {std::pair{"lx", g.lx}, std::pair{"ly", g.ly}})

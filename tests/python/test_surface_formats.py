@@ -386,3 +386,19 @@ def test_python_curve_matches_the_command(tmp_path):
     with pytest.raises(gfmd.InputError, match="pressures"):
         gfmd.curve(case, [0.1, -1], str(tmp_path / "bad"))
     assert not (tmp_path / "bad").exists()
+
+
+def test_a_size_over_the_files_own_is_said(tmp_path):
+    # A file that states its size (10 x 8), read with another lx: the map is stretched along x
+    # (the case's size wins, as documented), and a warning (in the case's summary and on stderr,
+    # here in preprocessing) says so with the factor; the stated
+    # size itself or none given warns nothing.
+    h = np.random.default_rng(3).standard_normal((8, 10)) * 0.01
+    p = tmp_path / "m.txt"
+    write_text(p, h, lx=10.0, ly=8.0)
+    t = gfmd.Topography.read(p, lx=20.0)
+    assert (t.lx, t.ly) == (20.0, 8.0)
+    assert any("grid.lx (20 for the map) replaces the 10 the file states: the map is stretched 2 times along x" in w
+               for w in t.preprocessing["warnings"]), t.preprocessing["warnings"]
+    for kw in ({}, {"lx": 10.0, "ly": 8.0}):
+        assert not [w for w in gfmd.Topography.read(p, **kw).preprocessing["warnings"] if "stretched" in w]
