@@ -192,6 +192,23 @@ TEST(Plausibility, AViscoelasticBodyWithoutASpeedWarns) {
   }
 }
 
+// A friction law chosen with friction.coefficient = 0 is frictionless (tresca's min(mu_c p, tau0)
+// is zero): it ran silently, without even friction_law in the summary. It warns, naming the key.
+TEST(Plausibility, AFrictionLawWithoutACoefficientWarns) {
+  const std::string toml =
+      "[grid]\nnx = 32\nlx = 1.5\n[indenter]\ntype = \"hertz\"\nradius = 1.0\n[load]\nforce = 0.01\n"
+      "[friction]\nlaw = \"tresca\"\nshear_strength = 0.05\n";
+  gfmd::Config cfg = gfmd::parse_config(toml, "t.toml");
+  const gfmd::TopographyStats st = gfmd::statistics(gfmd::make_topography(cfg));
+  const auto w = gfmd::plausibility_warnings(cfg, st, nullptr);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("friction.law = \"tresca\" with friction.coefficient = 0 is frictionless"),
+            std::string::npos)
+      << w[0];
+  cfg = gfmd::parse_config(toml + "coefficient = 3.0\n", "t.toml");
+  EXPECT_TRUE(gfmd::plausibility_warnings(cfg, st, nullptr).empty());
+}
+
 TEST(Plausibility, SteepHertzWarnsOnStderrAndInTheSummary) {
   const fs::path d = scratch("hertz");
   // R = 0.05 on a cell of 4: rms gradient about L / (R sqrt 6) = 32.7 (33.1 spectrally, with the

@@ -183,7 +183,9 @@ nlohmann::json summary_json(const CaseResult& r) {
     j["tangential_iterations"] = r.info.tangential_iterations;
     const FrictionLawType& law = friction_law_type(r.config.friction.law.kind);
     if (law.kind == FrictionLawKind::Coulomb) {
-      j["friction_law"] = r.config.friction.regularized() ? "regularized" : "coulomb";
+      const bool reg = r.config.friction.regularized();
+      j["friction_law"] = reg ? "regularized" : "coulomb";
+      j["friction_law_traction"] = reg ? "mu_c p v/max(|v|, eps)" : law.traction;
     } else {
       j["friction_law"] = law.name;
       j["friction_law_traction"] = law.traction;
