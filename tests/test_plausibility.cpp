@@ -175,21 +175,25 @@ TEST(Plausibility, NanometreMapDeclaredAsMicrometresWarnsNamingTheUnit) {
       gfmd::plausibility_warnings(cfg, gfmd::statistics(gfmd::make_topography(cfg)), nullptr).empty());
 }
 
+namespace {
+// The warnings of a case given as TOML text on its own surface.
+std::vector<std::string> case_warnings(const std::string& toml) {
+  const gfmd::Config cfg = gfmd::parse_config(toml, "t.toml");
+  return gfmd::plausibility_warnings(cfg, gfmd::statistics(gfmd::make_topography(cfg)), nullptr);
+}
+}  // namespace
+
 // A viscoelastic body without a speed is at rest (relaxed, no hysteresis): valid, but usually a
 // forgotten friction.velocity; the case warns, naming the key. Given (0 too) it does not.
 TEST(Plausibility, AViscoelasticBodyWithoutASpeedWarns) {
   const std::string toml =
       "[grid]\nnx = 32\nlx = 1.5\n[elastic]\nviscoelastic = \"sls\"\nhigh_frequency_modulus = 10.0\n"
       "relaxation_time = 1.0\n[indenter]\ntype = \"hertz\"\nradius = 1.0\n[load]\nforce = 0.01\n";
-  gfmd::Config cfg = gfmd::parse_config(toml, "visco.toml");
-  const gfmd::TopographyStats st = gfmd::statistics(gfmd::make_topography(cfg));
-  const auto w = gfmd::plausibility_warnings(cfg, st, nullptr);
+  const auto w = case_warnings(toml);
   ASSERT_EQ(w.size(), 1u);
   EXPECT_NE(w[0].find("friction.velocity is not"), std::string::npos) << w[0];
-  for (const char* v : {"0.02", "0.0"}) {  // given, even as 0 (at rest on purpose): no warning
-    cfg = gfmd::parse_config(toml + "[friction]\nvelocity = " + v + "\n", "visco.toml");
-    EXPECT_TRUE(gfmd::plausibility_warnings(cfg, st, nullptr).empty()) << v;
-  }
+  for (const char* v : {"0.02", "0.0"})  // given, even as 0 (at rest on purpose): no warning
+    EXPECT_TRUE(case_warnings(toml + "[friction]\nvelocity = " + v + "\n").empty()) << v;
 }
 
 // A friction law chosen with friction.coefficient = 0 is frictionless (tresca's min(mu_c p, tau0)
@@ -198,15 +202,12 @@ TEST(Plausibility, AFrictionLawWithoutACoefficientWarns) {
   const std::string toml =
       "[grid]\nnx = 32\nlx = 1.5\n[indenter]\ntype = \"hertz\"\nradius = 1.0\n[load]\nforce = 0.01\n"
       "[friction]\nlaw = \"tresca\"\nshear_strength = 0.05\n";
-  gfmd::Config cfg = gfmd::parse_config(toml, "t.toml");
-  const gfmd::TopographyStats st = gfmd::statistics(gfmd::make_topography(cfg));
-  const auto w = gfmd::plausibility_warnings(cfg, st, nullptr);
+  const auto w = case_warnings(toml);
   ASSERT_EQ(w.size(), 1u);
   EXPECT_NE(w[0].find("friction.law = \"tresca\" with friction.coefficient = 0 is frictionless"),
             std::string::npos)
       << w[0];
-  cfg = gfmd::parse_config(toml + "coefficient = 3.0\n", "t.toml");
-  EXPECT_TRUE(gfmd::plausibility_warnings(cfg, st, nullptr).empty());
+  EXPECT_TRUE(case_warnings(toml + "coefficient = 3.0\n").empty());
 }
 
 TEST(Plausibility, SteepHertzWarnsOnStderrAndInTheSummary) {
