@@ -11,6 +11,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <memory>
 #include <new>
 #include <sstream>
 
@@ -135,7 +136,16 @@ int cmd_plot(const std::string& dir_in) {
     throw gfmd::InputError(dir_in,
                            "not a gfmd run, sweep, curve or study directory (no summary.json, fields.nc, "
                            "sweep.csv, curve.csv, study.json or ensemble.json in it)");
-  const gfmd::DirectoryLock lock(dir_in, false, stop_requested);
+  // The lock is gfmd's marker too: a folder of runs that is not gfmd's own (a study's series)
+  // is not marked; its runs and sweeps, which are, are locked each.
+  std::vector<std::unique_ptr<gfmd::DirectoryLock>> locks;
+  if (group) {
+    for (const auto& p : subdirs(dir))
+      if (has_file(p, gfmd::kDirectoryMarker))
+        locks.push_back(std::make_unique<gfmd::DirectoryLock>(p.string(), false, stop_requested));
+  } else {
+    locks.push_back(std::make_unique<gfmd::DirectoryLock>(dir_in, false, stop_requested));
+  }
   std::vector<fs::path> runs, sweeps;
   std::function<void(const fs::path&, int)> collect = [&](const fs::path& d, int depth) {
     if (is_sweep(d)) {
@@ -194,10 +204,20 @@ int cmd_plot(const std::string& dir_in) {
   note(profiles_note, "profiles.png only, no maps");
   note(nothing_note, "nothing to draw");
   if (!with_fields.empty()) {
-    if (draw_maps(with_fields, {"--profiles"}))
+    if (draw_maps(with_fields, {"--profiles"})) {
       drawn += static_cast<int>(with_fields.size());
-    else
+      // A result published without its figures (a stop while they were drawn) has them now.
+      for (const std::string& d : with_fields) try {
+          std::ifstream in(fs::path(d) / "status.json");
+          const nlohmann::json st = nlohmann::json::parse(in);
+          if (st.value("status", "") == "converged" && st.value("reason", "") == gfmd::kFiguresNotDrawn)
+            gfmd::write_status(d, "converged");
+        } catch (const std::exception&) {
+          // No readable status: nothing to clear.
+        }
+    } else {
       ok = false;
+    }
     check_stop();
   }
   for (const auto& d : sweeps) {

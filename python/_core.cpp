@@ -158,6 +158,8 @@ void draw_maps(const std::vector<std::string>& dirs, const std::vector<std::stri
                         where.c_str(), problem.c_str());
     }
   }
+  // Kept on a stop (the caller publishes the data without the maps, to draw from later).
+  if (g_interrupted.load()) return;
   for (const auto& d : dirs) {
     std::error_code ec;
     std::filesystem::remove(std::filesystem::path(d) / gfmd::kMapsStagingFile, ec);

@@ -61,11 +61,14 @@ def info(msg):
 
 # ---------------------------------------------------------------------------------------
 # Temporary files: everything this study writes goes to a temporary name first (gfmd's
-# "<file>.tmp.<pid>", the maps' staging file ".maps.tmp.nc", figure_io's "<base>.tmp.png" and
-# "<table>.tmp"). An interrupted study removes the ones that appeared while it ran.
+# "<file>.tmp.<pid>", figure_io's "<base>.tmp.png" and "<table>.tmp"). An interrupted study
+# removes the ones that appeared while it ran. The maps' staging file ".maps.tmp.nc" is not one:
+# a run stopped while its maps were drawn keeps it, to draw them from later.
+MAPS_STAGING = ".maps.tmp.nc"
+
 
 def is_temporary(name):
-    return ".tmp." in name or name.endswith(".tmp")
+    return name != MAPS_STAGING and (".tmp." in name or name.endswith(".tmp"))
 
 
 def temporary_files(top):

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "gfmd/case/run_directory.hpp"
 #include "test_util.hpp"
 
 namespace fs = std::filesystem;
@@ -514,6 +515,8 @@ TEST(Cli, PlotRedrawsAFolderOfSweeps) {
   EXPECT_EQ(p.code, 0) << p.output;
   EXPECT_TRUE(fs::exists(d / "series" / "seed_0" / "sweep_relative_contact_area.png")) << p.output;
   EXPECT_NE(p.output.find("4 runs ("), std::string::npos) << p.output;  // one note for the four points
+  // The folder is not marked as gfmd's by it (the marker would let a run replace its sweeps).
+  EXPECT_FALSE(fs::exists(d / "series" / gfmd::kDirectoryMarker));
   // A folder with nothing of gfmd's is still refused.
   fs::create_directories(d / "other" / "sub");
   EXPECT_EQ(run_gfmd("plot " + (d / "other").string()).code, 2);

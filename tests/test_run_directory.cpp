@@ -217,6 +217,19 @@ TEST(Cli, AnotherKindOfResultIsNotReplacedWithoutForce) {
   const auto curve = run_gfmd("curve " + c + " -q --pressures 0.001,0.002 -o " + (d / "r").string());
   EXPECT_EQ(curve.code, 2) << curve.output;
   EXPECT_FALSE(fs::exists(d / "r" / "curve.json"));
+  // Results without their table yet count too: a curve's points/, an ensemble's staged seeds,
+  // a study's series of seeds (a sweep each).
+  for (const auto& [dirs, kind] :
+       {std::pair{std::vector<std::string>{"c/points"}, "curve"},
+        std::pair{std::vector<std::string>{"e/" + std::string(gfmd::kStagingName) + "/seed_0"},
+                  "ensemble"}}) {
+    for (const auto& sub : dirs) fs::create_directories(d / sub);
+    EXPECT_EQ(gfmd::result_kind((d / dirs.front().substr(0, 1)).string()), kind);
+  }
+  fs::create_directories(d / "series");
+  fs::rename(d / "s", d / "series" / "seed_0");
+  EXPECT_EQ(gfmd::result_kind((d / "series").string()), "study series");
+  fs::rename(d / "series" / "seed_0", d / "s");
   // The same kind again is a re-run; --force replaces another kind.
   EXPECT_EQ(run_gfmd("run " + c + " -q -o " + (d / "r").string()).code, 0);
   EXPECT_EQ(run_gfmd("run " + c + " -q --force -o " + (d / "s").string()).code, 0);
@@ -361,6 +374,12 @@ TEST(Cli, AnInterruptionWhileDrawingKeepsTheFinishedSolve) {
   const auto again = run_gfmd(run + " --set load.force=0.02 --resume");
   EXPECT_EQ(again.code, 0) << again.output;
   EXPECT_EQ(read_file(d / "out" / "summary.json"), fresh);  // found, not solved again
+  // gfmd plot draws them, and status.json no longer says they may be missing.
+  const auto drawn = run_gfmd("plot " + (d / "out").string());
+  EXPECT_EQ(drawn.code, 0) << drawn.output;
+  EXPECT_TRUE(fs::exists(d / "out" / "pressure.png"));
+  EXPECT_EQ(read_file(d / "out" / "status.json").find("may be missing"), std::string::npos);
+  EXPECT_EQ(status_of(d / "out"), "converged");
   // gfmd plot stops alike.
   const auto p = gfmd::testing::run_gfmd_env(stopped, "plot " + (d / "out").string());
   EXPECT_EQ(p.code, 4) << p.output;

@@ -514,6 +514,11 @@ TEST(Sliding, FailureMessageNamesLimitCycleOrDrift) {
   EXPECT_EQ(m.find("give it more steps"), std::string::npos) << m;
   EXPECT_NE(m.find("its least over the solve 1.40e-08 (friction step 21)"), std::string::npos) << m;
   EXPECT_NE(m.find("solver.tolerance = 2e-06 would accept it"), std::string::npos) << m;
+  // Where the loop ran out of solver.max_outer instead (no damping gave up), the drift wants
+  // more steps, and says so.
+  m = gfmd::friction_history_evidence(change, force, /*damped_out=*/false);
+  EXPECT_NE(m.find("give it more steps (solver.max_outer)"), std::string::npos) << m;
+  EXPECT_EQ(m.find("has a floor"), std::string::npos) << m;
   // A floor above 1e-5 is no state to accept: no tolerance is offered.
   std::vector<double> high(change.size());
   std::transform(change.begin(), change.end(), high.begin(), [](double c) { return 100.0 * c; });

@@ -167,9 +167,11 @@ void read_viscoelastic(Section& el, ViscoelasticParams& v, const std::string& ba
 // elastic.viscoelastic_parts: further viscoelastic parts of a layered body, an array of tables
 // with the viscoelastic keys of [elastic] (viscoelastic, viscoelastic_part, high_frequency_modulus,
 // relaxation_time, prony_*, master_curve and its shift), one part each.
-void read_further_parts(Section& el, ViscoelasticParams& v, const std::string& base_dir) {
+// Returns false where a part was left out for its problems (the list's places no longer hold).
+bool read_further_parts(Section& el, ViscoelasticParams& v, const std::string& base_dir) {
   const toml::value* parts = el.raw("viscoelastic_parts");
-  if (!parts) return;
+  if (!parts) return true;
+  bool whole = true;
   const std::string what =
       "must be an array of tables, each with the viscoelastic keys of [elastic] "
       "(viscoelastic, viscoelastic_part and its model's keys)";
@@ -186,7 +188,7 @@ void read_further_parts(Section& el, ViscoelasticParams& v, const std::string& b
       const std::string name = "viscoelastic_parts[" + std::to_string(i++) + "]";
       if (!t.is_table()) {
         el.error(name, what + where(t));
-        return;
+        return false;
       }
       Section part = el.child(t, name);
       ViscoelasticParams p;
@@ -194,12 +196,17 @@ void read_further_parts(Section& el, ViscoelasticParams& v, const std::string& b
       read_viscoelastic(part, p, base_dir, true);
       if (!p.enabled()) part.error("viscoelastic", "is needed: \"sls\", \"prony\" or \"master_curve\"");
       part.finish();
-      // A part with problems is left out of the body's checks (validate_viscoelastic_parts),
-      // where its defaults (say the top for a misspelt viscoelastic_part) would be reported as
-      // conflicts the file does not have.
-      if (part.problems() == problems) v.further.push_back(std::move(p));
+      // A part with problems is not kept, and the body's checks (validate_viscoelastic_parts)
+      // wait for a list without: they would report its defaults (say the top for a misspelt
+      // viscoelastic_part) as conflicts the file does not have, and name the parts after it
+      // by the wrong places.
+      if (part.problems() != problems)
+        whole = false;
+      else
+        v.further.push_back(std::move(p));
     }
   }
+  return whole;
 }
 
 }  // namespace
@@ -307,7 +314,7 @@ void read_elastic(Section& el, Config& c, const std::string& base_dir) {
   c.elastic.coupling = el.boolean("coupling", true);
   read_body_stack(el, c.elastic);
   read_viscoelastic(el, c.visco, base_dir);
-  read_further_parts(el, c.visco, base_dir);
+  const bool parts_whole = read_further_parts(el, c.visco, base_dir);
   using Part = ViscoelasticParams::Part;
   for (const ViscoelasticParams& p : c.visco.parts())
     if (p.model == ViscoelasticParams::Model::MasterCurve && p.master_relaxed_modulus() > 0 &&
@@ -323,7 +330,9 @@ void read_elastic(Section& el, Config& c, const std::string& base_dir) {
   el.finish();
   // Each part in the body and its model checked against its relaxed modulus (its speed is
   // [friction]'s).
-  el.check([&] { validate_viscoelastic_parts(c.elastic, c.visco); });
+  // The body's checks name parts by their place in the list: with a part left out (its own
+  // problems reported) they would name the wrong one, so they wait for a list without problems.
+  if (parts_whole) el.check([&] { validate_viscoelastic_parts(c.elastic, c.visco); });
 }
 
 void read_friction(Section& fr, Config& c) {

@@ -73,6 +73,16 @@ std::string result_kind(const std::string& dir) {
   std::error_code ec;
   for (const auto& [file, kind] : kMarks)
     if (fs::is_regular_file(fs::path(dir) / file, ec)) return kind;
+  // Results without their table yet: a curve stopped before curve.json (its points/), an
+  // ensemble's first attempt stopped with its seeds staged, a study's series of seeds (a sweep
+  // per seed).
+  if (fs::is_directory(fs::path(dir) / "points", ec)) return "curve";
+  for (const fs::path& where : {fs::path(dir), fs::path(dir) / kStagingName})
+    for (const auto& e : fs::directory_iterator(where, ec)) {
+      const std::string name = e.path().filename().string();
+      if ((name.rfind("seed_", 0) == 0 || name.rfind("frictionless_seed_", 0) == 0) && e.is_directory(ec))
+        return fs::is_regular_file(e.path() / "sweep.csv", ec) ? "study series" : "ensemble";
+    }
   return "";
 }
 

@@ -102,17 +102,17 @@ DirectoryRun run_in_directory(const Config& cfg, const std::string& dir, Directo
   // solve away (on a long run the figures are seconds, the solve hours): the data files are
   // whole and are published, with status.json saying the figures may be missing; `gfmd plot
   // DIR` draws them, and a resumed call finds the result.
-  bool drawing_stopped = false;
+  bool drawing_stopped = false, while_drawing = false;
   try {
     publish_outputs(out.result, rd.staging(), [&] {
       if (!opts.draw) return;
       try {
         opts.draw(rd.staging());
       } catch (const Interrupted&) {
-        drawing_stopped = true;
+        while_drawing = true;
       }
     });
-    drawing_stopped = drawing_stopped || (stop && stop());
+    drawing_stopped = while_drawing || (stop && stop());
     if (drawing_stopped)
       rd.publish(is_gfmd_output_name, "converged", std::string(kFiguresNotDrawn));
     else
@@ -124,7 +124,8 @@ DirectoryRun run_in_directory(const Config& cfg, const std::string& dir, Directo
   fs::remove(out.checkpoint, ec);
   if (drawing_stopped) {
     out.outcome = DirectoryRun::Outcome::Interrupted;
-    out.why = "interrupted while drawing the figures";
+    out.why = while_drawing || opts.draw ? "interrupted while drawing the figures"
+                                         : "interrupted while the outputs were written";
     out.published = true;
   }
   return out;

@@ -268,7 +268,9 @@ SolveInfo CudaSolve::solve(const LoadParams& load, ContactFields& f, const Devic
         });
     }
     if (!info.converged && !pulled_off && info.status.rfind("not converged: iteration limit", 0) != 0)
-      info.status += "; " + friction_history_evidence(hist_change, hist_force);
+      info.status +=
+          "; " + friction_history_evidence(hist_change, hist_force,
+                                           info.status.find("even with damping") != std::string::npos);
     if (!info.converged && !pulled_off && !adhesive_step.converged && !adhesive_step.status.empty())
       info.status += "; the last adhesive solve: " + adhesive_step.status;
     if (!info.converged && !pulled_off && fric_.law.kind == FrictionLawKind::Tresca &&

@@ -17,7 +17,8 @@ namespace gfmd {
 
 using namespace contact_detail;
 
-std::string friction_history_evidence(const std::vector<double>& change, const std::vector<double>& force) {
+std::string friction_history_evidence(const std::vector<double>& change, const std::vector<double>& force,
+                                      bool damped_out) {
   const std::size_t n = std::min(change.size(), force.size());
   const std::size_t w = std::min<std::size_t>(n, 60);
   if (w < 8) return "too few friction steps to tell a limit cycle";
@@ -52,11 +53,17 @@ std::string friction_history_evidence(const std::vector<double>& change, const s
                   "a limit cycle over the last %zu friction steps: period %zu steps, tangential force "
                   "oscillating by +-%.2e (relative), traction change per step %.2e to %.2e",
                   w, best_p, rel, cmin, cmax);
+  } else if (best_p == 1 && best_d < 0.1 && !damped_out) {
+    std::snprintf(buf, sizeof buf,
+                  "no limit cycle: over the last %zu friction steps the tangential force drifts slowly "
+                  "(range %.2e relative), traction change per step %.2e to %.2e: give it more steps "
+                  "(solver.max_outer)",
+                  w, 2 * rel, cmin, cmax);
   } else if (best_p == 1 && best_d < 0.1) {
     // The loop gave up because the change stopped falling (damped_mixing), not for want of
-    // steps (an iteration limit gets no evidence): more steps would not lower it. Where that
-    // floor is small, the least change of these steps rounded up to one digit is a tolerance
-    // that accepts the state; a floor above 1e-5 is no state to accept.
+    // steps: more steps would not lower it. Where that floor is small, the least change of
+    // these steps rounded up to one digit is a tolerance that accepts the state; a floor
+    // above 1e-5 is no state to accept.
     const auto first_best = std::min_element(change.begin(), change.begin() + static_cast<std::ptrdiff_t>(n));
     const double scale = cmin > 0 ? std::pow(10.0, std::floor(std::log10(cmin))) : 0.0;
     const double accept = scale > 0 ? std::ceil(cmin / scale * (1.0 - 1e-12)) * scale : 0.0;

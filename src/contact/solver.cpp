@@ -507,7 +507,9 @@ SolveInfo ContactSolver::solve(const LoadParams& load, ContactFields& f, const F
       follow();
     }
     if (!info.converged && !pulled_off && info.status.rfind("not converged: iteration limit", 0) != 0)
-      info.status += "; " + friction_history_evidence(hist_change, hist_force);
+      info.status +=
+          "; " + friction_history_evidence(hist_change, hist_force,
+                                           info.status.find("even with damping") != std::string::npos);
     // The last adhesive solve's own failure (e.g. cohesive zones too narrow for the grid).
     if (!info.converged && !pulled_off && !adhesive_step.converged && !adhesive_step.status.empty())
       info.status += "; the last adhesive solve: " + adhesive_step.status;

@@ -145,8 +145,19 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   // list is refused with nothing written (a directory that held a result keeps its status),
   // and the message names the value. Each is read again when its point runs (not kept: a case
   // text may be large and a sweep has up to kMaxSweepPoints points).
+  // A height file whose grid keys the case leaves out is read by each parse (for its size):
+  // where the swept key is neither the grid's nor the indenter's, the check gives the grid
+  // the first point found, so that the map is not read once per point before the sweep starts.
+  std::vector<std::string> grid_sets;
+  if (base.indenter.type == "file" && sw.parameter.rfind("grid.", 0) != 0 &&
+      sw.parameter.rfind("indenter.", 0) != 0)
+    grid_sets = {"grid.nx=" + std::to_string(base.grid.nx), "grid.ny=" + std::to_string(base.grid.ny),
+                 "grid.lx=" + format_value(base.grid.lx), "grid.ly=" + format_value(base.grid.ly)};
   for (int i = 0; i < total; ++i) try {
-      (void)point_config(i);
+      std::vector<std::string> sets = opts.overrides;
+      sets.insert(sets.end(), grid_sets.begin(), grid_sets.end());
+      sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
+      (void)reparse_config(base, sets);
     } catch (const InputError& e) {
       throw InputError(e.where(), "the sweep's " + sweep_point_name(static_cast<std::size_t>(i)) + " (" +
                                       sw.parameter + " = " + format_number(sw.values[i]) + "): " + e.why());

@@ -164,11 +164,13 @@ struct SolveInfo {
 };
 
 // What the friction steps of a failed solve show, for its message: a limit cycle (its period
-// in friction steps and the relative amplitude of the tangential force), a slow drift (whose
-// change has a floor: its least value and, where small, the tolerance that accepts the state),
+// in friction steps and the relative amplitude of the tangential force), a slow drift (where the
+// damping gave up, damped_out: a floor, with the change's least value and, where small, the
+// tolerance that accepts the state; else one that wants more steps, solver.max_outer),
 // or no pattern, judged from the last 60 steps of the traction change and of the tangential
 // force along the sliding direction (one value per step; the change's least over all of them).
-std::string friction_history_evidence(const std::vector<double>& change, const std::vector<double>& force);
+std::string friction_history_evidence(const std::vector<double>& change, const std::vector<double>& force,
+                                      bool damped_out = true);
 
 // The mixing history a stalled friction fixed point goes on with, before it damps: twice the
 // one it has (solver.anderson), once, up to kDeepHistory. A stall in the stick-slip phase is
