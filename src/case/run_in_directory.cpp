@@ -124,8 +124,8 @@ DirectoryRun run_in_directory(const Config& cfg, const std::string& dir, Directo
   fs::remove(out.checkpoint, ec);
   if (drawing_stopped) {
     out.outcome = DirectoryRun::Outcome::Interrupted;
-    out.why = while_drawing || opts.draw ? "interrupted while drawing the figures"
-                                         : "interrupted while the outputs were written";
+    out.why = while_drawing ? "interrupted while drawing the figures"
+                            : "interrupted after the solve, as its outputs were written";
     out.published = true;
   }
   return out;

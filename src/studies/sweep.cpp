@@ -136,11 +136,16 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   // area (finished ones of an interrupted attempt stay there for reuse) and are published
   // together; published points of the same input are reused where they are.
   const int total = static_cast<int>(sw.values.size());
-  const auto point_config = [&](int i) {
+  // extra: settings before the swept value (the up-front check's grid, below).
+  const auto point_config = [&](int i, const std::vector<std::string>& extra = {}) {
     std::vector<std::string> sets = opts.overrides;
+    sets.insert(sets.end(), extra.begin(), extra.end());
     sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
     return reparse_config(base, sets);  // the text the sweep started from, not the file now
   };
+  // Whether every point has the first point's grid and heights (the swept key is neither the
+  // grid's nor the indenter's).
+  const bool surface_fixed = sw.parameter.rfind("indenter.", 0) != 0 && sw.parameter.rfind("grid.", 0) != 0;
   // Every point's case is read before the directory is touched: a bad value anywhere in the
   // list is refused with nothing written (a directory that held a result keeps its status),
   // and the message names the value. Each is read again when its point runs (not kept: a case
@@ -149,15 +154,11 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   // where the swept key is neither the grid's nor the indenter's, the check gives the grid
   // the first point found, so that the map is not read once per point before the sweep starts.
   std::vector<std::string> grid_sets;
-  if (base.indenter.type == "file" && sw.parameter.rfind("grid.", 0) != 0 &&
-      sw.parameter.rfind("indenter.", 0) != 0)
+  if (base.indenter.type == "file" && surface_fixed)
     grid_sets = {"grid.nx=" + std::to_string(base.grid.nx), "grid.ny=" + std::to_string(base.grid.ny),
                  "grid.lx=" + format_value(base.grid.lx), "grid.ly=" + format_value(base.grid.ly)};
   for (int i = 0; i < total; ++i) try {
-      std::vector<std::string> sets = opts.overrides;
-      sets.insert(sets.end(), grid_sets.begin(), grid_sets.end());
-      sets.push_back(sw.parameter + "=" + format_value(sw.values[i]));
-      (void)reparse_config(base, sets);
+      (void)point_config(i, grid_sets);
     } catch (const InputError& e) {
       throw InputError(e.where(), "the sweep's " + sweep_point_name(static_cast<std::size_t>(i)) + " (" +
                                       sw.parameter + " = " + format_number(sw.values[i]) + "): " + e.why());
@@ -249,8 +250,7 @@ nlohmann::json run_sweep(const std::string& case_path, const Config& base, const
   // The indenter's heights, made once for every point when the swept key is neither the
   // indenter's nor the grid's: a height file is read once (edited or removed while the sweep
   // runs, it changes no point) and a generated surface is not drawn again for each point.
-  const bool one_surface = sw.parameter.rfind("indenter.", 0) != 0 && sw.parameter.rfind("grid.", 0) != 0 &&
-                           base.indenter.type != "array";
+  const bool one_surface = surface_fixed && base.indenter.type != "array";
   std::optional<MadeSurface> surface;
   for (int i = 0; i < total; ++i) {
     const std::string name = sweep_point_name(static_cast<std::size_t>(i));
