@@ -249,10 +249,15 @@ int cmd_curve(const std::string& case_path, std::string out_dir, const std::vect
                       ? " (the path's end or turning point: the force may fall further; extend --approaches)"
                       : "");
     const nlohmann::json& perc = j["percolation"];
-    std::printf("  percolation threshold: %s\n", perc["message"].get<std::string>().c_str());
-    for (const auto& [tag, d] : perc["directions"].items())
-      if (d["pressure"] != perc["pressure"] || d["status"] != perc["status"])
-        std::printf("    along %s alone: %s\n", tag.c_str(), d["message"].get<std::string>().c_str());
+    // An approach path that never pressed (an adhesive tip pulled off, say) whose case did not ask
+    // for the leakage has no threshold to report: curve.json still says why.
+    const bool unasked = j["leakage_switched_on"] == true && perc["status"] == "no_points";
+    if (!unasked) {
+      std::printf("  percolation threshold: %s\n", perc["message"].get<std::string>().c_str());
+      for (const auto& [tag, d] : perc["directions"].items())
+        if (d["pressure"] != perc["pressure"] || d["status"] != perc["status"])
+          std::printf("    along %s alone: %s\n", tag.c_str(), d["message"].get<std::string>().c_str());
+    }
   }
   if (png) {
     if (draw()) {

@@ -401,6 +401,16 @@ TEST(Adhesion, CurveLoadsAndUnloadsAlongAnApproachPath) {
         nlohmann::json::parse(gfmd::testing::read_file(std::filesystem::path(o) / "curve.json"));
     EXPECT_EQ(cj["pull_off_at_path_end"], at_end) << path << " " << cj["points"].dump();
   }
+  // A path that never presses (every force tensile) has no percolation threshold to report: the
+  // summary printed names the pull-off and not the leakage the case never asked for.
+  const auto loud =
+      gfmd::testing::run_gfmd("curve " + (d / "adh.toml").string() +
+                              " --approaches 0.004:-0.002:4 --no-png -o " + (d / "loud").string());
+  ASSERT_EQ(loud.code, 0) << loud.output;
+  EXPECT_NE(loud.output.find("pull-off force"), std::string::npos) << loud.output;
+  EXPECT_EQ(loud.output.find("percolation threshold"), std::string::npos) << loud.output;
+  const nlohmann::json lj = nlohmann::json::parse(gfmd::testing::read_file(d / "loud" / "curve.json"));
+  EXPECT_EQ(lj["percolation"]["status"], "no_points");
   const std::string csv = gfmd::testing::read_file(d / "out" / "curve.csv");
   EXPECT_NE(csv.find("branch,normal_force,adhesive_force"), std::string::npos);
   // Bad input.

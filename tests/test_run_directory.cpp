@@ -384,3 +384,17 @@ TEST(Cli, AnInterruptionWhileDrawingKeepsTheFinishedSolve) {
   const auto p = gfmd::testing::run_gfmd_env(stopped, "plot " + (d / "out").string());
   EXPECT_EQ(p.code, 4) << p.output;
 }
+
+// README's exit codes: an output directory that cannot be created is bad input (2), found before
+// the solve, and the message names the path and the reason.
+TEST(Cli, AnOutputDirectoryThatCannotBeCreatedIsBadInput) {
+  const fs::path d = scratch("cli_uncreatable");
+  write_file(d / "case.toml", gfmd::testing::kSmallHertz + "[output]\npng = false\nfields = false\n");
+  write_file(d / "a_file", "not a directory\n");
+  const std::string out = (d / "a_file" / "out").string();
+  const auto r = run_gfmd("run " + (d / "case.toml").string() + " -q -o " + out);
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("cannot create the output directory"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(out), std::string::npos) << r.output;
+  EXPECT_EQ(read_file(d / "a_file"), "not a directory\n");
+}
