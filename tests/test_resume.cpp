@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "gfmd/case/config.hpp"
+#include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run.hpp"
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/error.hpp"
@@ -110,6 +111,13 @@ void expect_same_solve(const Resumed& x) {
   ASSERT_TRUE(b.reference.has_value());
   EXPECT_EQ(b.reference->info.iterations, a.reference->info.iterations);
   EXPECT_EQ(b.reference->observables.relative_contact_area, a.reference->observables.relative_contact_area);
+  // The earlier sessions' work splits into the reference's and the sliding solve's, the latter
+  // within the whole run's `iterations` (summary.json's resumed block says both).
+  EXPECT_EQ(b.resumed.iterations, x.before.iterations);
+  EXPECT_EQ(b.resumed.reference_iterations, a.reference->info.iterations);
+  EXPECT_LE(b.resumed.iterations - b.resumed.reference_iterations, b.info.iterations);
+  const nlohmann::json j = gfmd::summary_json(b);
+  EXPECT_EQ(j["resumed"]["frictionless_iterations_before"].get<std::int64_t>(), a.reference->info.iterations);
 }
 }  // namespace
 
@@ -240,4 +248,43 @@ TEST(Resume, FrictionlessAdhesiveSolveGoesOnWhereItStopped) {
     EXPECT_GE(resumed.info.iterations, fresh.info.iterations);
   }
   EXPECT_GE(with_history, 2);
+}
+
+// A checkpoint that is not used says why: missing, another grid, another case (the keys that
+// differ, with both values), another format, truncated. gfmd run --resume prints the reason.
+TEST(Resume, AnUnusableCheckpointSaysWhy) {
+  const Config cfg = parse_config(kThinLayer, "thin.toml");
+  const fs::path dir = fs::temp_directory_path() / ("gfmd_resume_why" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string ck = (dir / "checkpoint.bin").string();
+  ContactFields f;
+  std::string why;
+  EXPECT_FALSE(read_checkpoint(ck, cfg, f, nullptr, &why));
+  EXPECT_EQ(why, "there is no checkpoint");
+  ContactFields w;
+  w.pressure.assign(cfg.grid.size(), 0.0);
+  w.tx = w.pressure;
+  w.ty = w.pressure;
+  write_checkpoint(ck, cfg, w);
+  EXPECT_TRUE(read_checkpoint(ck, cfg, f, nullptr, &why));
+  const Config other = parse_config(kThinLayer, "thin.toml", {"friction.coefficient=0.5"});
+  EXPECT_FALSE(read_checkpoint(ck, other, f, nullptr, &why));
+  EXPECT_NE(why.find("another case: friction.coefficient (1.0 in the checkpoint, now 0.5)"),
+            std::string::npos)
+      << why;
+  const Config finer = parse_config(kThinLayer, "thin.toml", {"grid.nx=32"});
+  EXPECT_FALSE(read_checkpoint(ck, finer, f, nullptr, &why));
+  EXPECT_NE(why.find("written for a "), std::string::npos) << why;
+  {
+    std::ifstream in(ck, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(dir / "short.bin", std::ios::binary) << bytes.substr(0, bytes.size() - 8);
+    bytes[7] = '2';
+    std::ofstream(dir / "old.bin", std::ios::binary) << bytes;
+  }
+  EXPECT_FALSE(read_checkpoint((dir / "short.bin").string(), cfg, f, nullptr, &why));
+  EXPECT_EQ(why, "the checkpoint is damaged or incomplete");
+  EXPECT_FALSE(read_checkpoint((dir / "old.bin").string(), cfg, f, nullptr, &why));
+  EXPECT_NE(why.find("another version of gfmd"), std::string::npos) << why;
+  fs::remove_all(dir);
 }

@@ -198,9 +198,14 @@ nlohmann::json summary_json(const CaseResult& r) {
   j["status"] = r.info.status;
   j["residual"] = r.info.residual;
   j["residual_bound"] = r.info.residual_bound;
-  if (r.resumed.iterations > 0 || r.resumed.wall_time_s > 0)
+  if (r.resumed.iterations > 0 || r.resumed.wall_time_s > 0) {
     j["resumed"] = {{"iterations_before", r.resumed.iterations},
                     {"wall_time_s_before", r.resumed.wall_time_s}};
+    // iterations_before counts every solve of the earlier sessions; the frictionless reference's
+    // share is reported apart (it is not in `iterations`, which may be smaller).
+    if (r.resumed.reference_iterations > 0)
+      j["resumed"]["frictionless_iterations_before"] = r.resumed.reference_iterations;
+  }
   j["pressure_change"] = r.info.pk_error;
   if (r.config.friction.coefficient > 0) j["friction_change"] = r.info.friction_error;
   j["wall_time_s"] = r.info.wall_time_s;

@@ -343,6 +343,7 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     r.info.iterations += static_cast<int>(opts.resumed.iterations - running_from - reference_before);
     r.info.wall_time_s += opts.resumed.wall_time_s;
     r.resumed = opts.resumed;
+    r.resumed.reference_iterations = reference_before;
     r.resumed.state = nullptr;
     refuse_excess_pressure(cfg, place.here(), r.fields.pressure, r.info);
   }

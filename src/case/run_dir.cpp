@@ -376,10 +376,47 @@ void write_checkpoint(const std::string& path, const Config& cfg, const ContactF
   s.commit();
 }
 
+namespace {
+// The keys whose values differ between a checkpoint's input and the case now (at most four
+// named), e.g. "friction.coefficient (0.5 in the checkpoint, now 1)".
+std::string input_difference(const std::string& old_text, const Config& cfg) {
+  nlohmann::json old_json;
+  try {
+    old_json = nlohmann::json::parse(old_text);
+  } catch (const std::exception&) {
+    return "its input record is damaged";
+  }
+  const nlohmann::json a = old_json.flatten(), b = cfg.to_json().flatten();
+  std::vector<std::string> keys;
+  const auto key = [](const std::string& pointer) {
+    std::string k = pointer.substr(1);
+    std::replace(k.begin(), k.end(), '/', '.');
+    return k;
+  };
+  for (const auto& [k, v] : b.items())
+    if (!a.contains(k) || a[k] != v)
+      keys.push_back(key(k) + " (" + (a.contains(k) ? a[k].dump() : std::string("absent")) +
+                     " in the checkpoint, now " + v.dump() + ")");
+  for (const auto& [k, v] : a.items())
+    if (!b.contains(k)) keys.push_back(key(k) + " (" + v.dump() + " in the checkpoint, now absent)");
+  if (keys.empty()) return "it was written for another input";
+  std::string s = "it was written for another case: ";
+  for (std::size_t i = 0; i < keys.size() && i < 4; ++i) s += (i ? "; " : "") + keys[i];
+  if (keys.size() > 4) s += "; and " + std::to_string(keys.size() - 4) + " more";
+  return s;
+}
+}  // namespace
+
 bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& f,
-                     CheckpointProgress* progress) {
+                     CheckpointProgress* progress, std::string* why) {
+  // Past the input's check, a refusal means a damaged or truncated file.
+  const auto refused = [why](const std::string& reason) {
+    if (why) *why = reason;
+    return false;
+  };
+  if (why) *why = "the checkpoint is damaged or incomplete";
   std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
+  if (!in) return refused(fs::exists(path) ? "the checkpoint cannot be read" : "there is no checkpoint");
   std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::size_t pos = 0;
   const auto get = [&](void* p, std::size_t n) {
@@ -388,15 +425,22 @@ bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& 
     pos += n;
     return true;
   };
-  char magic[8];
+  char magic[8] = {};
   std::int32_t nx = 0, ny = 0;
   std::uint64_t len = 0;
-  if (!get(magic, 8) || std::memcmp(magic, kCheckpointMagic, 8) != 0) return false;
+  if (!get(magic, 8) || std::memcmp(magic, kCheckpointMagic, 8) != 0)
+    return refused(std::memcmp(magic, kCheckpointMagic, 6) == 0
+                       ? "it was written by another version of gfmd (another checkpoint format)"
+                       : "the checkpoint is not a gfmd checkpoint");
   if (!get(&nx, 4) || !get(&ny, 4) || !get(&len, 8)) return false;
-  if (nx != cfg.grid.nx || ny != cfg.grid.ny || len > data.size() - pos) return false;
+  if (nx != cfg.grid.nx || ny != cfg.grid.ny)
+    return refused("it was written for a " + std::to_string(nx) + " x " + std::to_string(ny) +
+                   " grid, the case has " + std::to_string(cfg.grid.nx) + " x " +
+                   std::to_string(cfg.grid.ny));
+  if (len > data.size() - pos) return false;
   const std::string input = data.substr(pos, len);
   pos += len;
-  if (input != cfg.to_json().dump()) return false;
+  if (input != cfg.to_json().dump()) return refused(input_difference(input, cfg));
   CheckpointProgress done;
   if (!get(&done.iterations, 8) || !get(&done.wall_time_s, 8)) return false;
   if (done.iterations < 0 || !(done.wall_time_s >= 0) || !std::isfinite(done.wall_time_s)) return false;

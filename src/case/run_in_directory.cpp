@@ -38,11 +38,12 @@ DirectoryRun run_in_directory(const Config& cfg, const std::string& dir, Directo
       return out;
     }
     const std::string before = read_status(dir);
-    have_warm = read_checkpoint(out.checkpoint, cfg, warm, &done);
+    std::string why;
+    have_warm = read_checkpoint(out.checkpoint, cfg, warm, &done, &why);
     // This writer holds the lock, so a "running" status was left by a process that died.
     if (before == "running")
       log("the previous run in " + dir + "/ did not finish (it crashed or was killed)");
-    log(have_warm ? "resuming from the checkpoint" : "no usable checkpoint: starting afresh");
+    log(have_warm ? "resuming from the checkpoint" : "no usable checkpoint (" + why + "): starting afresh");
   }
   std::error_code ec;
   if (!have_warm) fs::remove(out.checkpoint, ec);

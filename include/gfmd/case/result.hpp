@@ -40,6 +40,9 @@ struct SolveResume {
 // Work done before a checkpoint: a resumed run reports cumulative counts.
 struct CheckpointProgress {
   std::int64_t iterations = 0;
+  // Of those, the finished frictionless reference's (set on the result, summary.json's
+  // resumed.frictionless_iterations_before; the sliding solve's own are the rest).
+  std::int64_t reference_iterations = 0;
   double wall_time_s = 0.0;
   // Where the solves stood (null: nothing beyond the fields, e.g. an interruption on the
   // device); shared, so that copies of the progress stay cheap.

@@ -17,11 +17,12 @@ namespace gfmd {
 // stood (SolveResume: the frictionless reference's result, the friction solve's restart
 // point), so that a resumed run goes on where it stopped. read_checkpoint returns false if
 // the file is missing, unreadable, of an older format or belongs to another input or grid;
-// with `progress` it fills the counts and the state (whole-grid fields).
+// with `progress` it fills the counts and the state (whole-grid fields); with `why`, the reason
+// it was not used (e.g. the keys whose values differ from the checkpoint's input).
 void write_checkpoint(const std::string& path, const Config& cfg, const ContactFields& f,
                       const CheckpointProgress& progress = {});
 bool read_checkpoint(const std::string& path, const Config& cfg, ContactFields& f,
-                     CheckpointProgress* progress = nullptr);
+                     CheckpointProgress* progress = nullptr, std::string* why = nullptr);
 // The same file written a field at a time, for a writer that holds one whole field at once
 // (rank 0 of a distributed run): the header on construction, then add() the pressure, tx
 // and ty in this order (each cfg.grid.size() values, or empty: zeros); then, with a state,
