@@ -287,7 +287,7 @@ int cmd_percolation(const std::string& case_path, std::string out_dir, const std
   const bool root = gfmd::mpi::root();
   if (!quiet && root) po.log = [](const std::string& m) { std::fprintf(stderr, "  %s\n", m.c_str()); };
   po.stop_request = stop_requested;
-  const auto lock = lock_on_root(out_dir, dir_flags, "percolation");
+  po.directory = {dir_flags.force, dir_flags.wait, stop_requested};
   const nlohmann::json j = gfmd::run_percolation(cfg, po, out_dir);
   if (!root || quiet) return 0;
   std::printf(

@@ -68,8 +68,8 @@ py::object percolation_case(const std::string& case_path, const std::string& dir
     po.area_tolerance = area_tolerance;
     po.stop_request = stop;
     if (dir.empty()) return gfmd::find_percolation(cfg, po);
-    gfmd::check_output_directory(dir, force, "percolation");
-    const gfmd::DirectoryLock lock(dir);
+    po.directory.force = force;
+    po.directory.stop_request = stop;
     return gfmd::run_percolation(cfg, po, dir);
   }));
 }

@@ -147,3 +147,32 @@ TEST(Leakage, APercolationSearchReadsItsHeightsOnce) {
   EXPECT_EQ(rewritten["solves"], plain["solves"]);
   fs::remove_all(dir);
 }
+
+// gfmd percolation's directory: status.json follows the search ("converged" with
+// percolation.json; stopped part-way, "interrupted" with the reason and the earlier result kept).
+TEST(Leakage, PercolationDirectorySaysWhereTheSearchStands) {
+  const fs::path d = fs::temp_directory_path() / ("gfmd_percolation_dir" + std::to_string(getpid()));
+  fs::remove_all(d);
+  const std::string out = (d / "p").string();
+  const Config c = parse_config(kEggcrate, "egg.toml", {"grid.nx=32"});
+  PercolationOptions po;
+  po.area_tolerance = 0.02;
+  const auto j = run_percolation(c, po, out);
+  const auto status = [&out] {
+    std::ifstream in(fs::path(out) / "status.json");
+    return nlohmann::json::parse(in);
+  };
+  EXPECT_EQ(status()["status"], "converged");
+  std::ifstream in(fs::path(out) / "percolation.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["solves"], j["solves"]);
+  int solves = 0;
+  po.log = [&solves](const std::string&) { ++solves; };
+  po.stop_request = [&solves] { return solves >= 1; };
+  EXPECT_THROW(
+      run_percolation(parse_config(kEggcrate, "egg.toml", {"grid.nx=32", "load.pressure=0.02"}), po, out),
+      Interrupted);
+  const nlohmann::json s = status();
+  EXPECT_EQ(s["status"], "interrupted") << s.dump();
+  EXPECT_TRUE(fs::exists(fs::path(out) / "percolation.json"));  // the earlier result stays
+  fs::remove_all(d);
+}

@@ -101,9 +101,26 @@ nlohmann::json find_percolation(const Config& base, const PercolationOptions& op
 }
 
 nlohmann::json run_percolation(const Config& cfg, const PercolationOptions& opt, const std::string& dir) {
-  nlohmann::json j = find_percolation(cfg, opt);
+  std::optional<RunDirectory> rd;
   on_root([&] {
-    write_text_atomic((std::filesystem::path(dir) / "percolation.json").string(), j.dump(2) + "\n");
+    OutputDirOptions as_percolation = opt.directory;
+    as_percolation.kind = "percolation";
+    rd.emplace(dir, as_percolation);
+    rd->begin();
+  });
+  nlohmann::json j;
+  try {
+    j = find_percolation(cfg, opt);
+  } catch (const Interrupted& e) {
+    on_root([&] { (void)rd->interrupt(e.what()); });
+    throw;
+  } catch (const std::exception& e) {
+    on_root([&] { (void)rd->fail(e.what()); });
+    throw;
+  }
+  on_root([&] {
+    write_text_atomic((std::filesystem::path(rd->staging()) / "percolation.json").string(), j.dump(2) + "\n");
+    rd->publish();
   });
   return j;
 }

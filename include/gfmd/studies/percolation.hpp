@@ -7,6 +7,7 @@
 #include <string>
 
 #include "gfmd/case/config.hpp"
+#include "gfmd/case/run_directory.hpp"
 
 namespace gfmd {
 
@@ -20,10 +21,13 @@ struct PercolationOptions {
   int max_solves = 40;
   std::function<void(const std::string&)> log;
   std::function<bool()> stop_request;  // polled by every solve; true throws gfmd::Interrupted
+  // run_percolation's output directory (its kind is "percolation"): force, wait, stop_request.
+  OutputDirOptions directory;
 };
 nlohmann::json find_percolation(const Config& cfg, const PercolationOptions& opt);
-// find_percolation, its result then written to dir/percolation.json (atomically); the caller
-// holds dir's DirectoryLock.
+// find_percolation into dir (a RunDirectory on the lead process: its lock, status.json
+// "running", then percolation.json published with "converged", or "failed" / "interrupted" with
+// the reason and the previous result kept).
 nlohmann::json run_percolation(const Config& cfg, const PercolationOptions& opt, const std::string& dir);
 
 }  // namespace gfmd
