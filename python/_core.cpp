@@ -53,6 +53,8 @@ py::array_t<double> to_array(const gfmd::Grid& g, const double* data) {
 }
 py::array_t<double> to_array(const gfmd::Grid& g, const gfmd::RealField& f) { return to_array(g, f.data()); }
 
+}  // namespace
+
 // {'summary': dict, 'fields': {name: ndarray}} with every field of fields.nc (copies), as
 // gfmd.run has returned it; traction_x / traction_y are there without friction too (zeros).
 py::dict result(const gfmd::CaseResult& r) {
@@ -69,6 +71,8 @@ py::dict result(const gfmd::CaseResult& r) {
   out["fields"] = f;
   return out;
 }
+
+namespace {
 
 // The generators' memory check, before they allocate: the CLI's limit (memory_limit, through
 // memory_shortfall), MemoryError naming the grid and the bytes needed and allowed.

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "gfmd/case/result.hpp"
 #include "gfmd/core/error.hpp"
 
 // The SIGINT (and SIGTERM) handler SigintToFlag installs (python/_core.cpp): sets g_interrupted.
@@ -148,6 +149,8 @@ std::string run_plot_script(const std::string& name, const std::vector<std::stri
 // Draws the maps of run directories as the command line does (plot_maps.py with `options`, e.g.
 // --profiles); a failure warns. Called with the GIL released (python/_core.cpp).
 void draw_maps(const std::vector<std::string>& dirs, const std::vector<std::string>& options);
+// {'summary': dict, 'fields': {name: ndarray}} of a solved case (copies of every field).
+py::dict result(const gfmd::CaseResult& r);
 
 // Registers sweep_case, percolation_case, curve_case and ensemble_case (python/_core_studies.cpp).
 void bind_studies(py::module_& m);

@@ -130,13 +130,15 @@ py::object ensemble_case(const std::string& case_path, int first, int last,
 // {'status': 'solved' | 'reused', 'summary'}; SolveError where it does not converge (nothing
 // published), KeyboardInterrupt when stopped (the checkpoint kept).
 py::dict run_directory(const std::string& path, const std::vector<std::string>& set,
-                       const std::string& output, bool resume, bool force, double checkpoint_interval) {
+                       const std::string& output, bool resume, bool force, double checkpoint_interval,
+                       bool fields) {
   const gfmd::Config cfg = gfmd::load_config(path, set);
   const gfmd::DirectoryRun run = interruptible([&](const std::function<bool()>& stop) {
     gfmd::DirectoryRunOptions o;
     o.resume = resume;
     o.directory = {force, false, stop};
     o.checkpoint_interval_s = checkpoint_interval;
+    o.keep_all_fields = fields;
     o.draw = [&cfg](const std::string& staging) {
       if (!cfg.output.png) return;
       try {
@@ -177,6 +179,7 @@ py::dict run_directory(const std::string& path, const std::vector<std::string>& 
   py::dict d;
   const bool reused = run.outcome == gfmd::DirectoryRun::Outcome::AlreadySolved;
   d["status"] = reused ? "reused" : "solved";
+  if (fields && !reused) return result(run.result);
   d["summary"] = json_to_py(reused ? run.finished : gfmd::summary_json(run.result));
   return d;
 }
@@ -194,10 +197,12 @@ std::string green_table(const std::vector<double>& poisson, double from, double 
 void bind_studies(py::module_& m) {
   m.def("run_directory", &run_directory, py::arg("case"), py::arg("set"), py::arg("output"),
         py::arg("resume") = true, py::arg("force") = false, py::arg("checkpoint_interval") = 60.0,
+        py::arg("fields") = false,
         "Solve a case file into its run directory as `gfmd run CASE -o OUTPUT [--resume]`: with resume a "
         "finished result of the same case is reused and an interrupted one continued from its checkpoint. "
         "Returns {'status': 'solved' | 'reused', 'summary': dict}; SolveError if it does not converge "
-        "(nothing published), KeyboardInterrupt on Ctrl-C (or SIGTERM where Python handles it).");
+        "(nothing published), KeyboardInterrupt on Ctrl-C (or SIGTERM where Python handles it). fields=True "
+        "(a case solved, not reused): {'summary', 'fields'} as run() returns them.");
   m.def("parse_approaches", &gfmd::parse_approaches, py::arg("text"),
         "An approach list as `gfmd curve --approaches` reads it (D1,D2,... or FROM:TO:N).");
   m.def("parse_pressures", &gfmd::parse_pressures, py::arg("text"),

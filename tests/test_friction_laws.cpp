@@ -150,6 +150,22 @@ TEST(FrictionLaws, KeysAndCapabilitiesAreChecked) {
   std::vector<std::string> exact = velocity(0.8, 0.5);
   exact.push_back("friction.regularization=0");
   EXPECT_EQ(problem(exact), "") << "the exact law with stick is solved";
+  // friction.coefficient = 0 switches the friction off: a law whose traction does not vanish
+  // with it (a static peak, a rate term) is refused rather than dropped; one that vanishes
+  // (mu_s = 0) only warns (test_plausibility).
+  std::vector<std::string> peak = velocity(0.8, 0.5);
+  peak.emplace_back("friction.coefficient=0");
+  EXPECT_NE(problem(peak).find("friction.coefficient: must be positive with friction.law = \"velocity\""),
+            std::string::npos)
+      << problem(peak);
+  const std::vector<std::string> rate = {"friction.law=\"rate\"", "friction.rate_coefficient=0.05",
+                                         "friction.velocity_scale=0.01", "friction.coefficient=0"};
+  EXPECT_NE(problem(rate).find("friction.coefficient: must be positive with friction.law = \"rate\""),
+            std::string::npos)
+      << problem(rate);
+  std::vector<std::string> flat = velocity(0.0, 0.5);
+  flat.emplace_back("friction.coefficient=0");
+  EXPECT_EQ(problem(flat), "");
   // Capabilities come from the registry.
   EXPECT_TRUE(coulomb_friction_law().set_valued_stick);
   EXPECT_TRUE(velocity_friction_law().set_valued_stick);

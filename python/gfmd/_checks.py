@@ -31,6 +31,20 @@ def _flag(name: str, value) -> bool:
     return value
 
 
+def _sets(value) -> list:
+    """The `set` overrides: one 'section.key=value' string or an iterable of them."""
+    if isinstance(value, str):
+        return [value]
+    try:
+        items = list(value)
+    except TypeError:
+        raise InputError(f"set: must be 'section.key=value' or a list of them, got {value!r}") from None
+    for v in items:
+        if not isinstance(v, str):
+            raise InputError(f"set: each override must be a 'section.key=value' string, got {v!r}")
+    return items
+
+
 def _count(name: str, value) -> int:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not 2 <= int(value) <= 65536:
         raise InputError(f"{name}: must be an integer in [2, 65536] (got {value!r})")

@@ -11,7 +11,7 @@ from typing import Callable, Iterable, Iterator, Optional
 
 from . import _core
 from ._core import InputError
-from ._checks import _flag
+from ._checks import _flag, _sets
 from ._result import Result
 from ._topography import Topography
 
@@ -495,14 +495,18 @@ def run(case: str, set: Iterable[str] = (), output: str = "", force: bool = Fals
     output is reused and nothing is solved, an interrupted one continues from its checkpoint
     (written every minute); returns {'summary': dict, 'status': 'solved' or 'reused'}, the
     fields staying in output/fields.nc. SolveError where the solve does not converge (nothing is
-    published; status.json says why), KeyboardInterrupt on Ctrl-C (the checkpoint is kept)."""
+    published; status.json says why), KeyboardInterrupt on Ctrl-C (with output, with or without
+    resume, status.json says "interrupted" and the checkpoint is kept: resume=True continues)."""
     if _flag("resume", resume):
         if not output:
             raise InputError("resume: needs output (the run directory to reuse or continue)")
-        return _core.run_directory(str(case), list(set), str(output), True, _flag("force", force))
-    return _core.run(str(case), list(set), str(output), _flag("force", force))
+        return _core.run_directory(str(case), _sets(set), str(output), True, _flag("force", force))
+    if output:
+        # Into its directory as `gfmd run -o` (checkpoints, status.json), returning the fields too.
+        return _core.run_directory(str(case), _sets(set), str(output), False, _flag("force", force), fields=True)
+    return _core.run(str(case), _sets(set), "", _flag("force", force))
 
 
 def run_toml(toml: str, set: Iterable[str] = ()) -> dict:
     """As run(), for a case given as TOML text."""
-    return _core.run_toml(toml, list(set))
+    return _core.run_toml(toml, _sets(set))

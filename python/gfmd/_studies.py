@@ -8,7 +8,7 @@ from typing import Iterable, Optional
 
 from . import _core
 from ._core import InputError, SolveError
-from ._checks import _count, _flag, _positive
+from ._checks import _count, _flag, _positive, _sets
 
 
 def sweep(case: str, parameter: Optional[str] = None, values: Optional[Iterable[float]] = None,
@@ -35,7 +35,7 @@ def sweep(case: str, parameter: Optional[str] = None, values: Optional[Iterable[
             raise InputError(f"parameter: a config key section.key (got {parameter!r})")
     if plot is not None and (not isinstance(plot, str) or not plot):
         raise InputError(f"plot: a summary key such as 'friction_coefficient' (got {plot!r})")
-    _core.sweep_case(str(case), parameter, vals, list(set), str(output), plot or "", _flag("force", force))
+    _core.sweep_case(str(case), parameter, vals, _sets(set), str(output), plot or "", _flag("force", force))
     with open(os.path.join(str(output), "sweep.json")) as f:
         return json.load(f)
 
@@ -64,7 +64,7 @@ def percolation(case: str, direction: str = "x", set: Iterable[str] = (), area_t
                 output: str = "", force: bool = False) -> dict:
     """The critical relative contact area at which flow along direction ("x" or "y") stops, as
     `gfmd percolation`; returns percolation.json's contents (and writes it into output if given)."""
-    return _core.percolation_case(str(case), str(direction), list(set), _positive("area_tolerance", area_tolerance),
+    return _core.percolation_case(str(case), str(direction), _sets(set), _positive("area_tolerance", area_tolerance),
                                   str(output), _flag("force", force))
 
 
@@ -92,7 +92,7 @@ def curve(case: str, pressures=None, output: str = "", set: Iterable[str] = (), 
         raise InputError("output: give the curve's directory")
     if unload and approaches is None:
         raise InputError("unload: only with approaches (an approach path)")
-    return _core.curve_case(str(case), vs, list(set), str(output), _flag("force", force), approaches is not None,
+    return _core.curve_case(str(case), vs, _sets(set), str(output), _flag("force", force), approaches is not None,
                             _flag("unload", unload))
 
 
@@ -103,7 +103,7 @@ def ensemble(case: str, output: str, seeds=(0, 7), set: Iterable[str] = (), forc
         first, last = (int(seeds[0]), int(seeds[1]))
     except (TypeError, ValueError, IndexError):
         raise InputError(f"seeds: (first, last) integers (got {seeds!r})") from None
-    return _core.ensemble_case(str(case), first, last, list(set), str(output), _flag("force", force))
+    return _core.ensemble_case(str(case), first, last, _sets(set), str(output), _flag("force", force))
 
 
 def _package_file(*parts: str) -> str:

@@ -88,12 +88,15 @@ std::vector<std::string> plausibility_warnings(const Config& cfg, const Topograp
         "units; check " +
         check);
   }
-  // A friction law of its own chosen without a coefficient: frictionless (a law's bound is
-  // mu_c times a function of the pressure and speed; tresca's min(mu_c p, tau0) is zero).
-  if (cfg.friction.law.kind != FrictionLawKind::Coulomb && !(cfg.friction.coefficient > 0))
-    warnings.push_back("friction.law = \"" + friction_law_type(cfg.friction.law.kind).name +
-                       "\" with friction.coefficient = 0 is frictionless: its bound is mu_c times a "
-                       "function of the pressure and speed; give friction.coefficient (e.g. 3 with tresca)");
+  // A friction law of its own chosen without a coefficient, whose traction then vanishes
+  // (tresca's min(mu_c p, tau_0); a law that does not vanish is refused by the config).
+  if (cfg.friction.law.kind != FrictionLawKind::Coulomb && !(cfg.friction.coefficient > 0)) {
+    const FrictionLawType& law = friction_law_type(cfg.friction.law.kind);
+    warnings.push_back("friction.law = \"" + law.name +
+                       "\" with friction.coefficient = 0 is frictionless: its traction, " + law.traction +
+                       ", vanishes with mu_c = 0; give friction.coefficient" +
+                       (cfg.friction.law.kind == FrictionLawKind::Tresca ? " (e.g. 3 with tresca)" : ""));
+  }
   // A viscoelastic body without a speed is at rest: every mode relaxed (E0), no hysteresis.
   // Valid (the slow limit; friction.velocity = 0 says so), but more often a forgotten key.
   if (cfg.visco.enabled() && !cfg.velocity_given)

@@ -396,6 +396,16 @@ void read_friction(Section& fr, Config& c) {
     if (law->check)
       if (const auto [key, why] = law->check(c.friction.law, c.friction.coefficient); !key.empty())
         fr.error(key, why);
+    // friction.coefficient > 0 switches the friction on: a law whose traction is not zero at
+    // mu_c = 0 (a static peak mu_s, a rate term a) would otherwise be dropped without a word.
+    if (!(c.friction.coefficient > 0) &&
+        (c.friction.law.bound(0.0, 1.0, 0.0) > 0 || c.friction.law.bound(0.0, 1.0, 1.0) > 0))
+      fr.error("coefficient", "must be positive with friction.law = \"" + law->name +
+                                  "\": friction.coefficient > 0 switches the friction on, and without it the "
+                                  "law's traction (" +
+                                  law->traction +
+                                  ") would be ignored; for a law that vanishes at rest give a small mu_c, "
+                                  "e.g. 1e-9");
     if (!law->set_valued_stick && c.friction.coefficient > 0 && !c.friction.regularized())
       fr.error("regularization", "must be positive with friction.law = \"" + law->name +
                                      "\" (its stick is solved regularised: e.g. 0.01)");

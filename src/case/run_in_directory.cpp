@@ -56,7 +56,7 @@ DirectoryRun run_in_directory(const Config& cfg, const std::string& dir, Directo
   ro.stop_request = stop;
   ro.checkpoint_path = out.checkpoint;
   ro.checkpoint_interval_s = opts.checkpoint_interval_s;
-  ro.keep_stress_fields = outputs_need_stress_fields(cfg);
+  ro.keep_stress_fields = opts.keep_all_fields || outputs_need_stress_fields(cfg);
   ro.whole_solution = false;  // the outputs ask for the fields they write (keep_stress_fields)
   ro.made_surface = std::move(opts.made_surface);
   ro.made_report = std::move(opts.made_report);

@@ -11,7 +11,9 @@ namespace {
 
 std::pair<std::string, std::string> check(const FrictionLaw& law, double) {
   if (!(law.shear_strength > 0) || !std::isfinite(law.shear_strength))
-    return {"shear_strength", "must be a positive number (tau_0 / E*, the interface's shear strength)"};
+    return {"shear_strength",
+            "must be a positive number (tau_0, the interface's shear strength: a stress in the unit of "
+            "elastic.contact_modulus)"};
   return {};
 }
 
@@ -23,7 +25,7 @@ const FrictionLawType& tresca_friction_law() {
       .purpose = "Coulomb's law capped at the shear strength: |tau| = min(mu_c p, tau_0) (Coulomb-Orowan)",
       .kind = FrictionLawKind::Tresca,
       .keys = {{"shear_strength", &FrictionLaw::shear_strength, 0.0,
-                "tau_0 / E*, the interface's shear strength"}},
+                "tau_0, the interface's shear strength (a stress in the unit of elastic.contact_modulus)"}},
       // The bound does not depend on the slip speed: its stick is a disc, as Coulomb's.
       .set_valued_stick = true,
       .on_device = true,

@@ -9,6 +9,7 @@ import os
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 import gfmd
@@ -80,7 +81,11 @@ def test_run_resume_that_does_not_converge_publishes_nothing(tmp_path):
     assert json.loads((out / "status.json").read_text())["status"] == "failed"
 
 
-def test_an_interrupted_resumable_run_keeps_nothing_half_done_and_solves_on_the_next_call(tmp_path):
+@pytest.mark.parametrize("resume", [True, False])
+def test_an_interrupted_run_keeps_nothing_half_done_and_its_checkpoint(tmp_path, resume):
+    # With or without resume=True, a run into a directory that Ctrl-C stops leaves status.json
+    # "interrupted" and the solve's checkpoint (without resume it once left no directory at all),
+    # and resume=True continues from it.
     import signal
     import threading
 
@@ -88,11 +93,29 @@ def test_an_interrupted_resumable_run_keeps_nothing_half_done_and_solves_on_the_
     timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
     with pytest.raises(KeyboardInterrupt):
-        gfmd.run(SLOW[0], set=SLOW[1:], output=str(out), resume=True)
+        gfmd.run(SLOW[0], set=SLOW[1:], output=str(out), resume=resume)
     timer.cancel()
     assert json.loads((out / "status.json").read_text())["status"] == "interrupted"
     assert not (out / "summary.json").exists()
     assert not [f for f in os.listdir(out) if ".tmp" in f]
+    assert (out / "checkpoint.bin").exists()
+    if not resume:
+        done = gfmd.run(SLOW[0], set=SLOW[1:], output=str(out), resume=True)
+        assert done["status"] == "solved" and done["summary"]["resumed"]["iterations_before"] > 0
+
+
+def test_run_into_a_directory_returns_the_fields_and_takes_one_override_string(tmp_path):
+    case = tmp_path / "case.toml"
+    case.write_text(HERTZ)
+    a = gfmd.run(str(case), set="load.force=0.02", output=str(tmp_path / "out"))
+    b = gfmd.run(str(case), set=["load.force=0.02"])
+    assert a["summary"]["normal_force"] == pytest.approx(0.02, rel=1e-9)
+    assert sorted(a["fields"]) == sorted(b["fields"])
+    for name in b["fields"]:
+        assert np.array_equal(a["fields"][name], b["fields"][name]), name
+    assert json.loads((tmp_path / "out" / "status.json").read_text())["status"] == "converged"
+    with pytest.raises(gfmd.InputError, match="set: each override"):
+        gfmd.run(str(case), set=[3])
 
 
 SIGTERM_DRIVER = """

@@ -37,6 +37,9 @@ struct DirectoryRunOptions {
   // Before an error of the solve or of writing is rethrown: the note on the previous result
   // that is kept ("the previous complete result in DIR/ is kept unchanged"), where there is one.
   std::function<void(const std::string&)> failure_note;
+  // The result keeps every field (the stresses too), whatever the outputs write: for a caller
+  // that hands the fields on (Python's gfmd.run(output=...)).
+  bool keep_all_fields = false;
 };
 
 struct DirectoryRun {

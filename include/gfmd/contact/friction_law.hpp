@@ -25,8 +25,9 @@ struct FrictionLaw {
   FrictionLawKind kind = FrictionLawKind::Coulomb;
   double static_coefficient = 0.0;  // velocity: mu_s, the coefficient at zero slip speed
   double velocity_scale = 0.0;      // velocity: v_c / v0, the slip speed over which mu_s decays to mu_k
-  double shear_strength = 0.0;      // tresca: tau_0 / E*, the most shear stress the interface carries
-  double rate_coefficient = 0.0;    // rate: a, mu(|v|) = mu_c + a ln(1 + |v|/v_c)
+  double shear_strength =
+      0.0;  // tresca: tau_0, the most shear stress the interface carries (a stress, in the unit of E*)
+  double rate_coefficient = 0.0;  // rate: a, mu(|v|) = mu_c + a ln(1 + |v|/v_c)
   // The traction magnitude |tau| where a point with pressure p > 0 slips at the speed
   // |v_slip| / v0 = speed; for a law with a set-valued stick (FrictionLawType::set_valued_stick)
   // bound(mu_k, p, 0) is also the radius of the disc |tau| <= ... where it sticks (mu_s p for
