@@ -121,7 +121,8 @@ int cmd_flow(const std::string& dir, const std::string& direction, double tol, c
 }
 
 // Tabulates the dimensionless Green's tensor of SPEC §2 (frame with q along axis 1).
-int cmd_green(const std::vector<double>& nus, double from, double to, int points, const std::string& out) {
+int cmd_green(const std::vector<double>& nus, double from, double to, int points, const std::string& out,
+              bool force) {
   std::string table;
   try {
     table = gfmd::green_table_csv(nus, from, to, points);
@@ -132,7 +133,7 @@ int cmd_green(const std::vector<double>& nus, double from, double to, int points
   if (out.empty() || out == "-")
     std::fputs(table.c_str(), stdout);
   else
-    gfmd::write_text_atomic(out, table);
+    gfmd::write_green_table(out, table, force);
   return 0;
 }
 

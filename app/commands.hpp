@@ -42,7 +42,8 @@ int cmd_percolation(const std::string& case_path, std::string out_dir, const std
 int cmd_ensemble(const std::string& case_path, std::string out_dir, const std::vector<std::string>& sets,
                  const std::string& seeds, bool quiet, DirFlags dir_flags);
 // Tabulates the dimensionless Green's tensor of SPEC §2 (frame with q along axis 1).
-int cmd_green(const std::vector<double>& nus, double from, double to, int points, const std::string& out);
+int cmd_green(const std::vector<double>& nus, double from, double to, int points, const std::string& out,
+              bool force = false);
 // Runs scripts/study.py (the figure studies) with this program's Python; draw_only: its
 // --draw-only (draw from the runs on disk, run nothing); runs_only: its --runs-only (run every
 // series, draw nothing).

@@ -136,6 +136,7 @@ int run_main(int argc, char** argv) {
   green->add_option("--to", green_to, "largest qh");
   green->add_option("--points", green_points, "points per Poisson ratio (log spaced)");
   green->add_option("-o,--output", out_dir, "CSV file (default: standard output)")->check(non_empty);
+  green->add_flag("--force", force, "replace an existing file that is not a gfmd green table");
 
   std::string flow_dir, direction = "both", seeds = "0..7";
   double flow_tol = 1e-10, area_tol = 0.002;
@@ -265,7 +266,7 @@ int run_main(int argc, char** argv) {
       return cmd_percolation(case_path, out_dir, sets, direction, area_tol, quiet, dir_flags);
     if (ens->parsed()) return cmd_ensemble(case_path, out_dir, sets, seeds, quiet, dir_flags);
     if (plot_cmd->parsed()) return cmd_plot(plot_dir);
-    if (green->parsed()) return cmd_green(green_nu, green_from, green_to, green_points, out_dir);
+    if (green->parsed()) return cmd_green(green_nu, green_from, green_to, green_points, out_dir, force);
     if (study->parsed())
       return cmd_study(study_path, study_quick, out_dir, sets, quiet, force, study_draw_only,
                        study_runs_only);

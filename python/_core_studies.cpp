@@ -186,9 +186,9 @@ py::dict run_directory(const std::string& path, const std::vector<std::string>& 
 
 // The Green's tensor table as CSV text; written atomically to `output` where one is given.
 std::string green_table(const std::vector<double>& poisson, double from, double to, int points,
-                        const std::string& output) {
+                        const std::string& output, bool force) {
   std::string table = gfmd::green_table_csv(poisson, from, to, points);
-  if (!output.empty()) gfmd::write_text_atomic(output, table);
+  if (!output.empty()) gfmd::write_green_table(output, table, force);
   return table;
 }
 
@@ -208,7 +208,7 @@ void bind_studies(py::module_& m) {
   m.def("parse_pressures", &gfmd::parse_pressures, py::arg("text"),
         "A pressure list as `gfmd curve --pressures` reads it (P1,P2,... or FROM:TO:N, log spaced).");
   m.def("green_table", &green_table, py::arg("poisson"), py::arg("qh_from"), py::arg("qh_to"),
-        py::arg("points"), py::arg("output") = "");
+        py::arg("points"), py::arg("output") = "", py::arg("force") = false);
   m.def("sweep_case", &sweep_case, py::arg("case"), py::arg("parameter"), py::arg("values"), py::arg("set"),
         py::arg("output"), py::arg("plot") = "", py::arg("force") = false);
   m.def("percolation_case", &percolation_case, py::arg("case"), py::arg("direction"), py::arg("set"),

@@ -41,11 +41,12 @@ def sweep(case: str, parameter: Optional[str] = None, values: Optional[Iterable[
 
 
 def green(poisson: Iterable[float] = (0.0, 0.25, 0.49), qh_from: float = 1e-2, qh_to: float = 1e2,
-          points: int = 121, output: str = "") -> list:
+          points: int = 121, output: str = "", force: bool = False) -> list:
     """The dimensionless Green's tensor of a layer on a rigid base (SPEC §2, q along axis 1) as
     `gfmd green`: `points` values of qh, log spaced from qh_from to qh_to, per Poisson ratio.
     Returns the rows as dicts of floats (poisson, qh, phi11, phi22, phi33, im_phi13); output: also
-    the CSV file there (written whole or not at all)."""
+    the CSV file there (written whole or not at all; an existing file that is not such a table is
+    kept and InputError raised, unless force=True)."""
     try:
         nus = [float(v) for v in poisson]
     except (TypeError, ValueError):
@@ -54,7 +55,7 @@ def green(poisson: Iterable[float] = (0.0, 0.25, 0.49), qh_from: float = 1e-2, q
     hi = _positive("qh_to", qh_to)
     if not hi > lo:
         raise InputError(f"qh_to: must exceed qh_from (got {qh_to!r} <= {qh_from!r})")
-    text = _core.green_table(nus, lo, hi, _count("points", points), str(output))
+    text = _core.green_table(nus, lo, hi, _count("points", points), str(output), _flag("force", force))
     lines = text.strip().splitlines()
     names = lines[0].split(",")
     return [dict(zip(names, (float(x) for x in ln.split(",")))) for ln in lines[1:]]

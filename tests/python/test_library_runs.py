@@ -192,6 +192,29 @@ def test_green_is_the_command_lines_table():
         gfmd.green(qh_from=1.0, qh_to=0.5)
 
 
+def test_green_output_replaces_only_its_own_tables(tmp_path):
+    # `gfmd green -o` once replaced any file (a run's summary.json): now only a green table, or
+    # another file with --force (force=True); a directory or a missing folder is refused.
+    other = tmp_path / "summary.json"
+    other.write_text('{"normal_force": 1}\n')
+    args = ["green", "--points", "3", "-o"]
+    p = subprocess.run([GFMD, *args, str(other)], capture_output=True, text=True)
+    assert p.returncode == 2 and "is not a table of gfmd green" in p.stderr and str(other) in p.stderr, p.stderr
+    assert other.read_text() == '{"normal_force": 1}\n'
+    with pytest.raises(gfmd.InputError, match="is not a table of gfmd green"):
+        gfmd.green(points=3, output=str(other))
+    table = tmp_path / "phi.csv"
+    cli(*args, str(table))
+    first = table.read_text()
+    cli("green", "--points", "4", "-o", str(table))  # its own table: replaced
+    assert table.read_text() != first and table.read_text().startswith("poisson,qh,")
+    gfmd.green(points=3, output=str(other), force=True)
+    assert other.read_text() == first
+    for bad, why in ((tmp_path, "is a directory"), (tmp_path / "no" / "t.csv", "does not exist")):
+        p = subprocess.run([GFMD, *args, str(bad)], capture_output=True, text=True)
+        assert p.returncode == 2 and why in p.stderr, p.stderr
+
+
 def test_approach_lists_read_as_the_command_line_reads_them():
     assert gfmd._core.parse_approaches("0.01:-0.01:3") == [0.01, 0.0, -0.01]
     assert gfmd._core.parse_approaches("0.02,0.01") == [0.02, 0.01]

@@ -14,5 +14,10 @@ namespace gfmd {
 // before any work.
 inline constexpr int kMaxGreenPoints = 1000000;
 std::string green_table_csv(const std::vector<double>& poisson, double from, double to, int points);
+// Writes a table of green_table_csv to `path` atomically. An existing file is replaced only if it
+// is such a table (its header) or with force; a directory, a file of another kind (a run's
+// summary.json, a case file) and a path inside a directory that does not exist are refused with
+// InputError naming the path, before anything is written.
+void write_green_table(const std::string& path, const std::string& table, bool force);
 
 }  // namespace gfmd
