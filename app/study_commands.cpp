@@ -44,9 +44,16 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
   std::vector<std::string> sets;
   std::string param;
   std::vector<double> values;
+  // key=v1,v2,... sweeps the key; a TOML array, table or string (key=[a, b], key={...},
+  // key="a,b") is one value, set as in gfmd run.
+  const auto one_toml_value = [](const std::string& value) {
+    const auto first = value.find_first_not_of(" \t");
+    return first != std::string::npos && std::string("[{\"'").find(value[first]) != std::string::npos;
+  };
   for (const auto& s : sets_in) {
     const auto eq = s.find('=');
-    if (eq != std::string::npos && s.find(',', eq) != std::string::npos) {
+    if (eq != std::string::npos && s.find(',', eq) != std::string::npos &&
+        !one_toml_value(s.substr(eq + 1))) {
       if (!param.empty())
         throw gfmd::InputError("--set " + s, "only one swept key per sweep (already sweeping " + param + ")");
       param = s.substr(0, eq);
@@ -61,7 +68,10 @@ int cmd_sweep(const std::string& case_path, std::string out_dir, const std::vect
           values.push_back(std::stod(tok, &used));
           if (used != tok.size()) throw std::invalid_argument(tok);
         } catch (const std::exception&) {
-          throw gfmd::InputError("--set " + s, "'" + tok + "' is not a number");
+          throw gfmd::InputError("--set " + s,
+                                 "'" + tok +
+                                     "' is not a number (a sweep's values are numbers; for other "
+                                     "settings run the case once per setting)");
         }
       }
     } else {

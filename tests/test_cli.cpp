@@ -443,6 +443,25 @@ TEST(Cli, SweepPlotColumnIsCheckedAtTheFirstPoint) {
   EXPECT_TRUE(fs::exists(d / "s" / "sweep_max_pressure.png")) << ok.output;
 }
 
+// A TOML array, table or string given with --set beside the swept key is one value (it was
+// split on its commas: "only one swept key per sweep" or "'[0.02' is not a number").
+TEST(Cli, SweepTakesArrayValuedSettings) {
+  const fs::path d = scratch("sweep_arrays");
+  write_file(d / "case.toml", kGood + "[output]\npng = false\nfields = false\n");
+  const auto r = run_gfmd("sweep " + (d / "case.toml").string() + " -q -o " + (d / "s").string() +
+                          " --set load.force=0.005,0.01 --set 'stress.depths=[0.02, 0.04]'");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string summary = gfmd::testing::read_file(d / "s" / "point_001" / "summary.json");
+  EXPECT_NE(summary.find("\"subsurface\""), std::string::npos);
+  const auto j = nlohmann::json::parse(summary);
+  EXPECT_EQ(j["input"]["stress"]["depths"], nlohmann::json({0.02, 0.04}));
+  // A word where a number is swept says what a sweep takes.
+  const auto w = run_gfmd("sweep " + (d / "case.toml").string() + " -q -o " + (d / "w").string() +
+                          " --set elastic.coupling=true,false");
+  EXPECT_EQ(w.code, 2) << w.output;
+  EXPECT_NE(w.output.find("a sweep's values are numbers"), std::string::npos) << w.output;
+}
+
 // Without friction the default plot is not the friction coefficient (there is none): a load
 // sweep draws the contact area, an approach sweep the force it finds, with no complaint about a
 // missing column; sweeping friction itself draws the friction coefficient.
