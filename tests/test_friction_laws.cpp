@@ -143,6 +143,11 @@ TEST(FrictionLaws, KeysAndCapabilitiesAreChecked) {
   EXPECT_NE(problem({"friction.law=\"velocity\"", "friction.static_coefficient=0.5"})
                 .find("friction.velocity_scale: must be a positive number"),
             std::string::npos);
+  // mu_s has no default (it was 0: a law rising from zero, without a word).
+  EXPECT_NE(problem({"friction.law=\"velocity\"", "friction.velocity_scale=1"})
+                .find("friction.static_coefficient: is required with friction.law = \"velocity\""),
+            std::string::npos)
+      << problem({"friction.law=\"velocity\"", "friction.velocity_scale=1"});
   EXPECT_NE(
       problem({"friction.law=\"velocity\"", "friction.static_coefficient=-1", "friction.velocity_scale=1"})
           .find("friction.static_coefficient: must be a non-negative"),
