@@ -174,12 +174,23 @@ int cmd_run(const std::string& case_path, std::string out_dir, const std::vector
   std::printf("  mean / max pressure    %.6g / %.6g\n", o.mean_pressure, o.max_pressure);
   std::printf("  mean gap               %.6g\n", o.mean_gap);
   if (cfg.friction.coefficient > 0) {
-    std::printf("  friction coefficient   %.6g (dissipation)  %.6g (downhill)\n", o.friction_coefficient,
-                o.friction_coefficient_downhill);
+    if (o.viscoelastic)  // its downhill force holds the body's hysteresis too (printed below)
+      std::printf("  friction coefficient   %.6g (the interface's, from its dissipation)\n",
+                  o.friction_coefficient);
+    else
+      std::printf("  friction coefficient   %.6g (dissipation)  %.6g (downhill)\n", o.friction_coefficient,
+                  o.friction_coefficient_downhill);
     if (cfg.friction.rolling())
       std::printf("  tangential force       %.6g, %.6g (x, y)  traction coefficient %.6g\n",
                   o.tangential_force_x, o.tangential_force_y, o.traction_coefficient);
     if (o.stick_fraction > 0) std::printf("  stick fraction         %.6g of the contact\n", o.stick_fraction);
+  }
+  if (o.viscoelastic) {
+    // The body's hysteresis: the force of the asymmetric pressure per normal force, and with
+    // friction the interface's and the body's together (the drive's force per normal force).
+    std::printf("  hysteresis friction    %.6g (the body's)\n", o.hysteresis_friction);
+    if (o.friction)
+      std::printf("  total friction coeff.  %.6g (interface + hysteresis)\n", o.total_friction_coefficient);
   }
   std::printf("  outputs in %s/\n", out_dir.c_str());
   return 0;

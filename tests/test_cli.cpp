@@ -501,6 +501,20 @@ TEST(Cli, AViscoelasticSpeedSweepDrawsItsHysteresisFriction) {
   const auto p = run_gfmd("plot " + out.string());
   EXPECT_EQ(p.code, 0) << p.output;
   EXPECT_TRUE(fs::exists(out / "sweep_hysteresis_friction.png")) << p.output;
+  // gfmd run prints the body's hysteresis friction (it printed none; with friction, the total
+  // stood as the "downhill" coefficient).
+  const auto r = run_gfmd("run " + (d / "case.toml").string() + " -o " + (d / "r").string() +
+                          " --set friction.coefficient=0.3");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto j = nlohmann::json::parse(gfmd::testing::read_file(d / "r" / "summary.json"));
+  char line[160];
+  std::snprintf(line, sizeof line, "hysteresis friction    %.6g (the body's)",
+                j["hysteresis_friction"].get<double>());
+  EXPECT_NE(r.output.find(line), std::string::npos) << r.output;
+  std::snprintf(line, sizeof line, "total friction coeff.  %.6g (interface + hysteresis)",
+                j["total_friction_coefficient"].get<double>());
+  EXPECT_NE(r.output.find(line), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("(downhill)"), std::string::npos) << r.output;
 }
 
 // A percolation search's area tolerance is a fraction in (0, 1): nan or a negative one never
