@@ -261,3 +261,19 @@ TEST(Plausibility, ApproachBeyondThePressureLimitFailsLikeANonConvergedSolve) {
   EXPECT_FALSE(fs::exists(d / "out" / "summary.json"));
   EXPECT_FALSE(fs::exists(d / "out" / "fields.nc"));
 }
+
+// Planes of stress.depths below an elastic indenter's base were dropped from its stresses
+// without a word (the body's own depths are checked against its thickness): the case warns.
+TEST(Plausibility, DepthsBelowAnElasticIndentersBaseWarn) {
+  const std::string toml =
+      "[grid]\nnx = 32\nlx = 1.5\n[indenter]\ntype = \"hertz\"\nradius = 1.0\ncontact_modulus = 1.0\n"
+      "thickness = 0.05\n[load]\nforce = 0.01\n[stress]\ndepths = [0.02, 0.1]\n";
+  const auto w = case_warnings(toml);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("stress.depths 0.1 lie below the elastic indenter's base (indenter.thickness 0.05)"),
+            std::string::npos)
+      << w[0];
+  std::string shallow = toml;
+  shallow.replace(shallow.find("0.02, 0.1"), 9, "0.02, 0.04");
+  EXPECT_TRUE(case_warnings(shallow).empty());
+}

@@ -97,6 +97,21 @@ std::vector<std::string> plausibility_warnings(const Config& cfg, const Topograp
                        ", vanishes with mu_c = 0; give friction.coefficient" +
                        (cfg.friction.law.kind == FrictionLawKind::Tresca ? " (e.g. 3 with tresca)" : ""));
   }
+  // The planes of stress.depths below an elastic indenter's base are left out of its stresses
+  // (the body's own are checked against its thickness).
+  if (cfg.indenter.body) {
+    std::vector<std::string> deep;
+    for (const double d : cfg.stress.depths)
+      if (d > cfg.indenter.body->depth_of_base()) deep.push_back(g3(d));
+    if (!deep.empty()) {
+      std::string list;
+      for (const auto& d : deep) list += (list.empty() ? "" : ", ") + d;
+      warnings.push_back("stress.depths " + list +
+                         " lie below the elastic indenter's base (indenter.thickness " +
+                         g3(cfg.indenter.body->depth_of_base()) +
+                         "): indenter_stress.subsurface leaves them out; the body's planes are all there");
+    }
+  }
   // A viscoelastic body without a speed is at rest: every mode relaxed (E0), no hysteresis.
   // Valid (the slow limit; friction.velocity = 0 says so), but more often a forgotten key.
   if (cfg.visco.enabled() && !cfg.velocity_given)
