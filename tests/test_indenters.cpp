@@ -145,6 +145,47 @@ TEST(Indenters, FlatPunchKeysAreChecked) {
   EXPECT_NE(problem({"indenter.wavelength=1"}).find("indenter.wavelength: unknown key"), std::string::npos);
 }
 
+// Keys that exclude each other: a file's radius beside a different radius_x was read as an
+// ellipse without a word; --set of one of them replaces the other (as load.* do), and --set
+// indenter.type drops the file's type's keys that the new type lacks.
+TEST(Indenters, ExclusiveKeysConflictInAFileAndReplaceEachOtherFromSet) {
+  const std::string hertz =
+      "[grid]\nnx = 64\nlx = 4.0\n[indenter]\ntype = \"hertz\"\nradius = 1.0\n[load]\nforce = 0.01\n";
+  const auto problem = [](const std::string& text, const std::vector<std::string>& sets) {
+    try {
+      (void)parse_config(text, "t.toml", sets);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  std::string both = hertz;
+  both.insert(both.find("[load]"), "radius_x = 2.0\n");
+  EXPECT_NE(problem(both, {}).find("indenter.radius_x: conflicts with indenter.radius = 1"),
+            std::string::npos)
+      << problem(both, {});
+  std::string same = hertz;  // summary.json's input writes all three when they are equal
+  same.insert(same.find("[load]"), "radius_x = 1.0\nradius_y = 1.0\n");
+  EXPECT_EQ(problem(same, {}), "");
+  const Config ellipse = parse_config(hertz, "t.toml", {"indenter.radius_x=2", "indenter.radius_y=0.5"});
+  EXPECT_EQ(ellipse.indenter.radius_x, 2.0);
+  EXPECT_EQ(ellipse.indenter.radius_y, 0.5);
+  const Config round = parse_config(both, "t.toml", {"indenter.radius=3"});
+  EXPECT_EQ(round.indenter.radius_x, 3.0);
+  EXPECT_EQ(round.indenter.radius_y, 3.0);
+  // rms_height <-> rms_gradient; hertz -> step (radius is not a step's key; depth stays a step's).
+  const std::string rough =
+      "[grid]\nnx = 64\nlx = 1.0\n[indenter]\ntype = \"selfaffine\"\nlambda_short = 0.05\nrms_height = 0.01\n"
+      "[load]\npressure = 0.01\n";
+  const Config g = parse_config(rough, "t.toml", {"indenter.rms_gradient=0.1"});
+  EXPECT_EQ(g.indenter.selfaffine.rms_gradient, 0.1);
+  EXPECT_EQ(g.indenter.selfaffine.rms_height, 0.0);
+  const Config step = parse_config(hertz, "t.toml", {"indenter.type=\"step\"", "indenter.width=1.0"});
+  EXPECT_EQ(step.indenter.type, "step");
+  EXPECT_NE(problem(hertz, {"indenter.type=\"step\""}).find("indenter.width"), std::string::npos)
+      << "the new type's own keys are still required";
+}
+
 TEST(Indenters, MakeIndenterReadsKeysAsTheCaseFileDoes) {
   const Grid g{128, 128, 8.0, 8.0};
   const Topography t = make_indenter("flatpunch", g, {{"radius", 0.5}, {"depth", 0.25}});

@@ -17,6 +17,7 @@
 #include "gfmd/core/files.hpp"
 #include "gfmd/core/mpi.hpp"
 #include "gfmd/io/height_map.hpp"
+#include "indenter_types.hpp"
 
 namespace gfmd {
 
@@ -72,11 +73,28 @@ void apply_override(toml::value& root, const std::string& spec) {
   if (!tbl.count(sec)) tbl[sec] = toml::table{};
   if (!tbl[sec].is_table()) throw InputError("--set " + spec, "'" + sec + "' is not a table");
   auto& st = tbl[sec].as_table();
-  // The load keys exclude each other: setting one replaces the others.
-  if (sec == "load" && (key == "force" || key == "pressure" || key == "approach")) {
-    st.erase("force");
-    st.erase("pressure");
-    st.erase("approach");
+  // Keys that exclude each other: setting one replaces the others (the load; a round or an
+  // elliptic indenter; a surface's rms height or gradient).
+  for (const std::vector<std::vector<std::string>>& group :
+       {std::vector<std::vector<std::string>>{{"load"}, {"force"}, {"pressure"}, {"approach"}},
+        {{"indenter"}, {"radius"}, {"radius_x", "radius_y"}},
+        {{"indenter"}, {"rms_height"}, {"rms_gradient"}}}) {
+    if (sec != group[0][0]) continue;
+    for (std::size_t k = 1; k < group.size(); ++k)
+      if (std::find(group[k].begin(), group[k].end(), key) != group[k].end())
+        for (std::size_t other = 1; other < group.size(); ++other)
+          if (other != k)
+            for (const std::string& o : group[other]) st.erase(o);
+  }
+  // Another indenter type: the keys of the file's type that the new one does not have go (its
+  // own and the keys of every type, the elastic indenter's and the waviness, stay).
+  if (sec == "indenter" && key == "type" && val.is_string() && st.count("type") &&
+      st.at("type").is_string() && st.at("type").as_string() != val.as_string()) {
+    const config_detail::IndenterType* before = config_detail::find_indenter_type(st.at("type").as_string());
+    const config_detail::IndenterType* after = config_detail::find_indenter_type(val.as_string());
+    if (before && after)
+      for (const std::string& k : before->keys)
+        if (std::find(after->keys.begin(), after->keys.end(), k) == after->keys.end()) st.erase(k);
   }
   st[key] = val;
 }

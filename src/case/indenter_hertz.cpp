@@ -5,15 +5,7 @@ namespace gfmd::config_detail {
 
 namespace {
 
-void read(Section& ind, IndenterRead& r) {
-  IndenterConfig& in = r.c.indenter;
-  in.radius = ind.number("radius", 0.0);
-  in.radius_x = ind.number("radius_x", in.radius);
-  in.radius_y = ind.number("radius_y", in.radius);
-  if (!(in.radius_x > 0) || !(in.radius_y > 0))
-    ind.error(ind.has("radius") || !ind.has("radius_x") ? "radius" : "radius_x",
-              "a Hertz indenter needs a positive radius (or radius_x and radius_y)");
-}
+void read(Section& ind, IndenterRead& r) { read_radii(ind, r.c, "Hertz indenter"); }
 
 void write(const IndenterConfig& in, nlohmann::json& out) {
   out["radius_x"] = in.radius_x;

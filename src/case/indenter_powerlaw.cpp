@@ -8,14 +8,8 @@ namespace {
 
 void read(Section& ind, IndenterRead& r) {
   IndenterConfig& in = r.c.indenter;
-  in.radius = ind.number("radius", 0.0);
-  in.radius_x = ind.number("radius_x", in.radius);
-  in.radius_y = ind.number("radius_y", in.radius);
+  read_radii(ind, r.c, "power-law indenter");
   in.exponent = ind.number("exponent", 2.0);
-  if (!(in.radius_x > 0) || !(in.radius_y > 0))
-    ind.error(
-        ind.has("radius") || !ind.has("radius_x") ? "radius" : "radius_x",
-        "a power-law indenter needs a positive radius (or radius_x and radius_y): where its slope is 1");
   if (!(in.exponent >= 1.0 && in.exponent <= 20.0))
     ind.error("exponent", "must be in [1, 20] (1: a cone, 2: the paraboloid)");
 }

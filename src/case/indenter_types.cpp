@@ -55,6 +55,21 @@ std::string cell_text(const Config& c) {
   return "grid.lx = " + g3(c.grid.lx) + ", grid.ly = " + g3(c.grid.ly);
 }
 
+void read_radii(Section& ind, Config& c, const std::string& what) {
+  IndenterConfig& in = c.indenter;
+  in.radius = ind.number("radius", 0.0);
+  in.radius_x = ind.number("radius_x", in.radius);
+  in.radius_y = ind.number("radius_y", in.radius);
+  if (ind.has("radius"))
+    for (const auto& [key, value] : {std::pair{"radius_x", in.radius_x}, std::pair{"radius_y", in.radius_y}})
+      if (ind.has(key) && value != in.radius)
+        ind.error(key, "conflicts with indenter.radius = " + g3(in.radius) +
+                           ": give radius (round), or radius_x and radius_y (elliptic), not both");
+  if (!(in.radius_x > 0) || !(in.radius_y > 0))
+    ind.error(ind.has("radius") || !ind.has("radius_x") ? "radius" : "radius_x",
+              "a " + what + " needs a positive radius (or radius_x and radius_y)");
+}
+
 void read_indenter(Section& ind, Config& c, std::vector<std::string>& errors, const GridKeysGiven& given,
                    const std::string& base_dir) {
   IndenterConfig& in = c.indenter;

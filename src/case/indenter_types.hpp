@@ -84,6 +84,10 @@ void read_waviness(Section& ind, Config& c);
 bool rough_indenter(const std::string& type);
 // The plausibility warning's subject and the keys to check, for the case's type.
 std::pair<std::string, std::string> implausible_surface_text(const Config& c, const MapReport* map);
+// radius, or radius_x and radius_y (hertz, powerlaw): into c.indenter's radii; a radius_x or
+// radius_y given beside a radius must equal it (summary.json's input writes all three when
+// equal), a positive radius is needed. `what` names the type in the message.
+void read_radii(Section& ind, Config& c, const std::string& what);
 // "%.3g" of v, for the messages of the parts.
 std::string g3(double v);
 // "grid.lx = ..., grid.ly = ...": the cell, for the plausibility messages.
