@@ -456,7 +456,13 @@ PYBIND11_MODULE(_core, m) {
           },
           py::arg("dir"), py::arg("png") = false, py::arg("force") = false)
       .def("flow", &flow_of, py::arg("angles"), py::arg("tolerance") = 1e-10, py::arg("solver") = "auto")
-      .def_property_readonly("toml", [](const Solution& s) { return s.r.config.to_toml(); });
+      .def_property_readonly("toml", [](const Solution& s) { return s.r.config.to_toml(); })
+      .def(
+          "toml_with_heights",
+          [](const Solution& s, const std::string& heights) { return s.r.config.to_toml(heights); },
+          py::arg("heights"))
+      .def_property_readonly("given_heights",
+                             [](const Solution& s) { return s.r.config.indenter.type == "array"; });
   py::class_<CaseSolver>(m, "CaseSolver")
       .def(py::init<const py::dict&, const py::object&, double, double>(), py::arg("case"),
            py::arg("heights"), py::arg("lx"), py::arg("ly"))

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import os
 import numbers
 from typing import Iterable, Optional
 
@@ -58,8 +59,33 @@ class Result:
 
     @property
     def toml(self) -> str:
-        """The case as TOML (what `gfmd run` would read)."""
+        """The case as TOML (what `gfmd run` would read). Heights given as an array (every
+        gfmd.Topography) are read there from heights.npy beside the case file, which save_case
+        writes (a comment in the text says so)."""
         return self._s.toml
+
+    def save_case(self, path: str) -> None:
+        """Writes the case as a TOML file that `gfmd run PATH` (or gfmd.run) solves again to the same
+        numbers; heights given as an array go beside it as <stem>_heights.npy. Each file is written
+        whole (a temporary file renamed) or not at all."""
+        path = os.fspath(path)
+        if not path.endswith(".toml"):
+            raise InputError(f"path: a case file ends in .toml (got {path!r})")
+        folder = os.path.dirname(os.path.abspath(path))
+        if not os.path.isdir(folder):
+            raise InputError(f"path: its folder {folder} does not exist")
+        stem = os.path.splitext(os.path.basename(path))[0]
+        heights = stem + "_heights.npy"
+        if self._s.given_heights:
+            tmp = os.path.join(folder, f".{heights}.{os.getpid()}.tmp")
+            with open(tmp, "wb") as f:
+                np.save(f, np.asarray(self._s.field("topography")))
+            os.replace(tmp, os.path.join(folder, heights))
+        text = self._s.toml_with_heights(heights)
+        tmp = os.path.join(folder, f".{stem}.toml.{os.getpid()}.tmp")
+        with open(tmp, "w") as f:
+            f.write(text)
+        os.replace(tmp, path)
 
     def save(self, directory: str, png: bool = False, force: bool = False) -> None:
         """Writes the run directory `gfmd run -o DIR` writes (summary.json, fields.nc, profiles.csv, ...);

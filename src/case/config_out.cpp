@@ -188,8 +188,15 @@ std::string toml_value(const nlohmann::json& v) {
 
 }  // namespace
 
-std::string Config::to_toml() const {
+std::string Config::to_toml(const std::string& heights) const {
   nlohmann::json j = to_json();
+  // A program's heights: a height file the caller writes (the JSON form keeps "array", which
+  // a case file cannot give).
+  const bool given = indenter.type == "array" && j.contains("indenter");
+  if (given) {
+    j["indenter"]["type"] = "file";
+    j["indenter"]["path"] = heights;
+  }
   // The JSON form's keys a case file reads otherwise: the flow's directions (flow.direction:
   // "both", or one angle).
   if (j.contains("flow")) {
@@ -205,6 +212,10 @@ std::string Config::to_toml() const {
   for (const auto& sec : kSections) {
     if (!j.contains(sec)) continue;
     os << "[" << sec << "]\n";
+    if (given && sec == "indenter")
+      os << "# the heights were given by the calling program: they are read from " << heights
+         << " beside this file (Python: Result.save_case writes both; or numpy.save(\"" << heights
+         << "\", result.fields[\"topography\"]))\n";
     for (const auto& [k, v] : j[sec].items()) os << toml_key(k) << " = " << toml_value(v) << "\n";
     os << "\n";
   }

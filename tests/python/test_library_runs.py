@@ -274,3 +274,19 @@ def test_ctrl_c_while_drawing_keeps_the_finished_solve(tmp_path, monkeypatch, re
     assert not (out / "pressure.png").exists()
     monkeypatch.delenv("GFMD_PYTHON")
     assert gfmd.run(str(case), output=str(out), resume=True)["status"] == "reused"
+
+
+def test_a_result_saves_the_case_that_solves_it_again(tmp_path):
+    # Result.toml once named indenter.type = "array" with keys a case file refuses; save_case
+    # writes the case and the given heights beside it, and gfmd.run solves it to the same bits.
+    top = gfmd.Topography.hertz(64, 2.0, radius=1.0)
+    r = gfmd.solve(top, gfmd.ElasticBody(poisson=0.3), force=0.005, friction=0.3)
+    assert 'type = "file"' in r.toml and "heights.npy" in r.toml and "calling program" in r.toml
+    r.save_case(str(tmp_path / "again.toml"))
+    assert (tmp_path / "again_heights.npy").exists()
+    again = gfmd.run(str(tmp_path / "again.toml"))
+    for name in ("pressure", "traction_x", "uz"):
+        assert np.array_equal(again["fields"][name], r.fields[name]), name
+    assert again["summary"]["friction_coefficient"] == r.summary["friction_coefficient"]
+    with pytest.raises(gfmd.InputError, match="ends in .toml"):
+        r.save_case(str(tmp_path / "again.txt"))

@@ -121,8 +121,10 @@ struct Config {
 
   // The full input with defaults filled in (recorded in summary.json).
   [[nodiscard]] nlohmann::json to_json() const;
-  // TOML text that reproduces this configuration.
-  [[nodiscard]] std::string to_toml() const;
+  // TOML text that reproduces this configuration. Heights given by the calling program
+  // (indenter.type = "array") are read from the file `heights` (.npy, beside the case file),
+  // which the caller writes (Python's Result.save_case): a comment says so.
+  [[nodiscard]] std::string to_toml(const std::string& heights = "heights.npy") const;
 };
 
 // Parses a case file and applies "section.key=value" overrides (values in TOML syntax;
