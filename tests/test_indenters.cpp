@@ -203,6 +203,14 @@ TEST(Indenters, MakeIndenterReadsKeysAsTheCaseFileDoes) {
     EXPECT_NE(std::string(e.what()).find("did you mean 'depth'"), std::string::npos) << e.what();
   }
   EXPECT_THROW((void)make_indenter("array", g, nlohmann::json::object()), InputError);
+  // An elastic indenter's keys make no heights: refused, not dropped (the indenter stayed rigid).
+  try {
+    (void)make_indenter("hertz", g, {{"radius", 1.0}, {"contact_modulus", 1.0}});
+    FAIL() << "an elastic indenter's key was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where(), "indenter.contact_modulus");
+    EXPECT_NE(std::string(e.what()).find("indenter_body="), std::string::npos) << e.what();
+  }
 }
 
 TEST(Indenters, FlatPunchExampleRunsFromTheCommandLine) {

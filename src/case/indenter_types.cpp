@@ -214,8 +214,15 @@ Topography make_indenter(const std::string& type, const Grid& grid, const nlohma
                          const std::string& base_dir) {
   if (!keys.is_object()) throw InputError("indenter", "the keys must be a mapping of key to value");
   toml::table section{{"type", toml::value(type)}};
+  // An elastic indenter's keys make a body, not heights: here they would be dropped.
+  std::vector<std::string> body = {"contact_modulus", "poisson", "thickness"};
+  for (const BodyKey* k : body_keys()) body.push_back(k->name);
   for (const auto& [k, v] : keys.items()) {
     if (k == "type") throw InputError("indenter.type", "give the type once, as the first argument");
+    if (std::find(body.begin(), body.end(), k) != body.end())
+      throw InputError("indenter." + k,
+                       "describes an elastic indenter's body, not its heights: give the body to the solve "
+                       "(Python: indenter_body=gfmd.ElasticBody(...))");
     section[k] = config_detail::toml_from_json(v, "indenter." + k, 1);
   }
   const toml::value root(toml::table{{"indenter", toml::value(section)}});
