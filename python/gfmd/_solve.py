@@ -200,7 +200,9 @@ def _elastic_table(body: ElasticBody) -> dict:
     table["coupling"] = _plain("coupling", body.coupling)
     if isinstance(body, ViscoelasticBody):
         model = _model_keys(body, "ViscoelasticBody", body.part != "top")
-        if body.model == "master_curve":  # the table sets the relaxed modulus: contact_modulus is left to it
+        if body.model == "master_curve" and body.contact_modulus == 1.0:
+            # The table sets the relaxed modulus: the default is left to it; another value given is
+            # checked against the table's first E' (refused where it differs, as in a case file).
             del table["contact_modulus"]
         table.update(model)
         if body.parts:

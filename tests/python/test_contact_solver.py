@@ -188,6 +188,9 @@ def test_a_case_reaches_the_solver_as_tables_not_text(tmp_path):
     assert s["converged"]
     assert s["input"]["elastic"]["master_curve"] == str(path)
     assert s["input"]["solver"]["tolerance"] == 1e-8
+    # A contact_modulus other than the table's first E' is refused (it was replaced without a word).
+    with pytest.raises(gfmd.InputError, match="contact_modulus: is set by the master curve"):
+        gfmd.ViscoelasticBody(contact_modulus=2.0, poisson=0.5, master_curve=str(path))
     with pytest.raises(gfmd.InputError) as e:
         gfmd.solve(top, approach=0.01, tolerance=-1.0)
     assert "solver.tolerance" in str(e.value) and "gfmd.solve" in str(e.value)
