@@ -90,6 +90,14 @@ TEST(Interactions, NamesAndKeysComeFromTheRegistry) {
       std::string::npos)
       << problem({"interaction.range=0.01"});
   EXPECT_NE(problem({"interaction.rnage=0.01"}).find("interaction.rnage: unknown key"), std::string::npos);
+  // The harmonic repulsion's stiffness under a hard wall was ignored without a word; 0 (the
+  // written default) stays accepted there.
+  EXPECT_NE(problem({"interaction.model=\"hardwall\"", "interaction.stiffness=10"})
+                .find("interaction.stiffness: belongs to the harmonic repulsion"),
+            std::string::npos)
+      << problem({"interaction.model=\"hardwall\"", "interaction.stiffness=10"});
+  EXPECT_EQ(problem({"interaction.model=\"hardwall\"", "interaction.stiffness=0"}), "");
+  EXPECT_EQ(problem({"interaction.stiffness=10"}), "");
   EXPECT_NE(problem({"interaction.model=\"adhesive\"", "interaction.work_of_adhesion=1e-3",
                      "interaction.range=0.01", "interaction.repulsion=\"adhesive\""})
                 .find("interaction.repulsion: unknown repulsion \"adhesive\"; one of harmonic, hardwall"),

@@ -318,7 +318,8 @@ class ContactSolver:
             r = solver.solve(pressure=p)      # a Result; r.summary["iterations"]: this solve's
 
     The arguments are gfmd.solve's, without the load: friction (mu_c), direction (degrees from x),
-    interaction ("harmonic" | "hardwall" | gfmd.Adhesive(work_of_adhesion, range)), stress_depths, and the solver and friction options as
+    interaction ("harmonic" | "hardwall" | gfmd.Adhesive(work_of_adhesion, range)), stiffness (the harmonic
+    repulsion's k_if), hardness, stress_depths, and the solver and friction options as
     keywords. They are checked here, once (InputError). solve(pressure=|force=|approach=,
     progress=, warm=True) returns a Result; warm=False (or reset()) starts from nothing.
     Every solve gives the numbers gfmd.solve gives from the same start.
@@ -326,7 +327,8 @@ class ContactSolver:
 
     def __init__(self, topography: Topography, body: Optional[ElasticBody] = None, *, friction: float = 0.0,
                  direction: float = 0.0, interaction="harmonic", hardness: float = math.inf,
-                 stress_depths: Iterable[float] = (), indenter_body: Optional[ElasticBody] = None, **options):
+                 stress_depths: Iterable[float] = (), indenter_body: Optional[ElasticBody] = None,
+                 stiffness: float = 0.0, **options):
         if not isinstance(topography, Topography):
             raise InputError(f"topography: must be a gfmd.Topography (got {type(topography).__name__})")
         body = ElasticBody() if body is None else body
@@ -351,6 +353,8 @@ class ContactSolver:
         interaction_table = _interaction_table(interaction)
         if not (isinstance(hardness, numbers.Real) and not isinstance(hardness, bool) and hardness == math.inf):
             interaction_table["hardness"] = _plain("hardness", hardness)
+        if not (isinstance(stiffness, numbers.Real) and not isinstance(stiffness, bool) and stiffness == 0):
+            interaction_table["stiffness"] = _plain("stiffness", stiffness)
         case = {
             "grid": {"nx": topography.nx, "ny": topography.ny, "lx": float(topography.lx), "ly": float(topography.ly)},
             "elastic": _elastic_table(body),
@@ -432,13 +436,14 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
           force: Optional[float] = None, approach: Optional[float] = None, friction: float = 0.0,
           direction: float = 0.0, interaction="harmonic", hardness: float = math.inf,
           stress_depths: Iterable[float] = (), progress: Optional[Callable[[int, int, float], None]] = None,
-          indenter_body: Optional[ElasticBody] = None, **options) -> Result:
+          indenter_body: Optional[ElasticBody] = None, stiffness: float = 0.0, **options) -> Result:
     """Presses (and, with friction > 0, slides) the topography on the body; returns a Result.
 
     Exactly one of pressure (mean, E*), force (E* L^2) or approach (L). friction: the local
     Coulomb coefficient mu_c; direction: sliding direction in degrees from x. interaction:
     "harmonic" (default), "hardwall" or gfmd.Adhesive(work_of_adhesion, range). hardness: the
-    plastic cap H of the local pressure (interaction.hardness; inf: none). indenter_body: an
+    plastic cap H of the local pressure (interaction.hardness; inf: none). stiffness: the harmonic
+    repulsion's k_if (interaction.stiffness, E*/L; 0: 2E*/dx). indenter_body: an
     elastic indenter (a gfmd.ElasticBody, coated or layered too; two deformable bodies, sliding
     or rolling; its stresses in summary["indenter_stress"]), rigid when None. options: the
     [solver] keys (tolerance, max_iterations, max_outer, max_tangential, anderson, mixing,
@@ -456,7 +461,8 @@ def solve(topography: Topography, body: Optional[ElasticBody] = None, *, pressur
     _one_load("gfmd.solve", pressure, force, approach)
     _progress_arg(progress if progress is not True else None)
     solver = ContactSolver(topography, body, friction=friction, direction=direction, interaction=interaction,
-                           hardness=hardness, stress_depths=stress_depths, indenter_body=indenter_body, **options)
+                           hardness=hardness, stress_depths=stress_depths, indenter_body=indenter_body,
+                           stiffness=stiffness, **options)
     result = solver._solve_quiet(pressure, force, approach, progress, True)
     solver._warn_once(result, stacklevel=2)
     return result

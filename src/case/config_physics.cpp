@@ -469,6 +469,10 @@ void read_interaction(Section& ia, Config& c) {
   c.interaction.stiffness = ia.number("stiffness", 0.0);
   if (!(c.interaction.stiffness >= 0))
     ia.error("stiffness", "must be zero (the default, 2 E*/dx) or positive");
+  else if (c.interaction.stiffness > 0 && c.interaction.hard_wall)
+    ia.error("stiffness",
+             "belongs to the harmonic repulsion (interaction.model = \"harmonic\", or repulsion = "
+             "\"harmonic\" with adhesion); this case's is a hard wall, which has none");
   c.interaction.hardness = ia.number_or_inf("hardness", std::numeric_limits<double>::infinity());
   if (!(c.interaction.hardness > 0))
     ia.error("hardness", "must be positive (the largest local pressure, in units of E*) or \"inf\" (no cap)");

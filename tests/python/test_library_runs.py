@@ -290,3 +290,14 @@ def test_a_result_saves_the_case_that_solves_it_again(tmp_path):
     assert again["summary"]["friction_coefficient"] == r.summary["friction_coefficient"]
     with pytest.raises(gfmd.InputError, match="ends in .toml"):
         r.save_case(str(tmp_path / "again.txt"))
+
+
+def test_the_harmonic_stiffness_is_a_keyword():
+    # interaction.stiffness could not be set from Python (an unknown keyword).
+    top = gfmd.Topography.hertz(64, 2.0, radius=1.0)
+    soft = gfmd.solve(top, force=0.005, stiffness=4.0)
+    assert soft.summary["interaction_stiffness"] == 4.0
+    assert soft.summary["input"]["interaction"]["stiffness"] == 4.0
+    assert gfmd.solve(top, force=0.005).summary["interaction_stiffness"] == 64.0  # 2 E*/dx
+    with pytest.raises(gfmd.InputError, match="stiffness: belongs to the harmonic repulsion"):
+        gfmd.solve(top, force=0.005, interaction="hardwall", stiffness=4.0)
