@@ -321,6 +321,9 @@ TEST(Curve, CommandLineRefusesBadInputBeforeWritingAnything) {
            {"--pressures 0.1 --set flow.enabled=false",
             "--set flow.enabled=false: the curve needs the leakage"},
            {"--pressures 0.1 --set grid.nx=-4", "grid.nx"},
+           // It left the directory with only its lock file.
+           {"--pressures 0.01,0.5 --set interaction.hardness=0.2",
+            "--pressures: the pressure 0.5: the mean pressure reaches interaction.hardness"},
            {"", "--pressures is required"},
        }) {
     const auto r = run_gfmd("curve " + c + " " + b.args + " -q -o " + out);

@@ -391,10 +391,18 @@ Config curve_config(const std::string& case_path, const std::vector<std::string>
   const std::vector<std::string> sets = curve_sets(overrides, "load.pressure from the pressures");
   // The pressures against this case's E* before any is applied (the case's own load stands
   // in: a pressure above the limit would otherwise be reported as the key load.pressure).
-  const double limit = kMaxPressureOverModulus * load_config(case_path, sets).elastic.contact_modulus;
+  Config probe = load_config(case_path, sets);
+  const double limit = kMaxPressureOverModulus * probe.elastic.contact_modulus;
   if (pressures.back() > limit)
     throw InputError("pressures", "the pressure " + format_number(pressures.back()) + " exceeds 1000 E* (" +
                                       format_number(limit) + "): not a contact problem");
+  // Each pressure against the case (e.g. below interaction.hardness), named as the option,
+  // before the curve's directory is made.
+  for (double p : pressures) {
+    probe.load = {LoadMode::Pressure, p};
+    if (const auto [key, why] = load_problem(probe); !key.empty())
+      throw InputError("pressures", "the pressure " + format_number(p) + ": " + why);
+  }
   return sweep_config(case_path, sets, "load.pressure", pressures);
 }
 
