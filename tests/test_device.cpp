@@ -226,6 +226,8 @@ TEST(Device, WithoutADeviceCudaIsAClearErrorAndAutoRunsOnTheCores) {
   EXPECT_EQ(o.code, 2) << o.output;
   EXPECT_NE(o.output.find("solver.backend"), std::string::npos) << o.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "out" / "summary.json"));
+  // Refused before the directory is made (it was left holding a failed status.json).
+  EXPECT_FALSE(std::filesystem::exists(dir / "out")) << o.output;
 }
 
 // The physics the device lacks (device_lacks): "auto" solves it on the cores, on any machine;

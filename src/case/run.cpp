@@ -83,21 +83,10 @@ void MadeSurface::lend(RunOptions& ro) const {
   ro.made_report = report;
 }
 
-CaseResult run_case(const Config& cfg, const RunOptions& options) {
-  // Where the fields live: whole here, or (mpirun) slabs of rows, one per process, the lead
-  // (rank 0) gathering what needs the whole cell (the analysis, field outputs).
+const Backend& solve_backend(const Config& cfg) {
   const Placement place = Placement::of(cfg.grid);
-  // The lead's options hold for all: the post-processing's collectives depend on which fields
-  // are kept.
-  RunOptions opts = options;
-  const int flags = place.agreed((opts.keep_stress_fields ? 1 : 0) | (opts.whole_solution ? 2 : 0));
-  opts.keep_stress_fields = (flags & 1) != 0;
-  opts.whole_solution = (flags & 2) != 0;
-  set_threads(cfg.threads);
   const Backend* chosen = find_backend(cfg.backend);
   if (chosen == nullptr) throw std::invalid_argument("run_case: unknown backend " + cfg.backend);
-  // The CUDA solve runs on one process: "auto" means the cores under mpirun, and "cuda" is
-  // refused there, or where no device is usable, before any work.
   if (place.split() && cfg.backend == "auto") chosen = &threads_backend();
   // "auto" also means the cores for the physics the device does not have (the solver refuses
   // "cuda" for it by name).
@@ -112,6 +101,23 @@ CaseResult run_case(const Config& cfg, const RunOptions& options) {
     require_device_fits(cfg.grid, cfg.friction.coefficient > 0, cfg.interaction.adhesive(),
                         cfg.solver.anderson);
   }
+  return *chosen;
+}
+
+CaseResult run_case(const Config& cfg, const RunOptions& options) {
+  // Where the fields live: whole here, or (mpirun) slabs of rows, one per process, the lead
+  // (rank 0) gathering what needs the whole cell (the analysis, field outputs).
+  const Placement place = Placement::of(cfg.grid);
+  // The lead's options hold for all: the post-processing's collectives depend on which fields
+  // are kept.
+  RunOptions opts = options;
+  const int flags = place.agreed((opts.keep_stress_fields ? 1 : 0) | (opts.whole_solution ? 2 : 0));
+  opts.keep_stress_fields = (flags & 1) != 0;
+  opts.whole_solution = (flags & 2) != 0;
+  set_threads(cfg.threads);
+  const Backend* chosen = &solve_backend(cfg);
+  // (solve_backend:) The CUDA solve runs on one process: "auto" means the cores under mpirun,
+  // and "cuda" is refused there, or where no device is usable, before any work.
   const BackendScope on_backend(*chosen);
   CaseResult r;
   r.config = cfg;

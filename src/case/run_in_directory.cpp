@@ -24,6 +24,7 @@ DirectoryRun run_in_directory(const Config& cfg, const std::string& dir, Directo
   const std::function<bool()> stop = opts.directory.stop_request;
   OutputDirOptions as_run = opts.directory;
   as_run.kind = "run";
+  (void)solve_backend(cfg);  // a backend that cannot run the case: refused before the directory is made
   RunDirectory rd(dir, as_run);
   DirectoryRun out;
   out.checkpoint = rd.checkpoint();

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "gfmd/case/result.hpp"
+#include "gfmd/core/backend.hpp"
 #include "gfmd/core/mpi.hpp"
 #include "gfmd/core/placement.hpp"
 
@@ -50,6 +51,11 @@ bool outputs_need_stress_fields(const Config& cfg);
 // process gets the solve's info, the observables, the stress summaries and the leakage's
 // figures (RunOptions are read on rank 0: its warm start and checkpoint path hold for all).
 CaseResult run_case(const Config& cfg, const RunOptions& opts = {});
+
+// The backend run_case solves cfg on ("auto" resolved); InputError naming solver.backend where
+// "cuda" cannot run it (no usable device, a grid too large for it, under mpirun), so that a
+// front end refuses the case before it makes an output directory.
+const Backend& solve_backend(const Config& cfg);
 
 // The indenter's heights this process holds: the whole map in one process; under mpirun the
 // rows of its slab (mpi::slab_of), made on the slab (analytic and self-affine surfaces: every
