@@ -132,6 +132,13 @@ int cmd_plot(const std::string& dir_in) {
   bool group = false;
   if (!study && !ensemble && !curve && !is_sweep(dir) && !is_run(dir))
     for (const auto& p : subdirs(dir)) group = group || is_sweep(p) || is_run(p);
+  if (!study && !ensemble && !curve && !group && !is_sweep(dir) && !is_run(dir) &&
+      has_file(dir, "percolation.json")) {
+    // A percolation search has no figure: its result is the table.
+    std::printf("%s holds a gfmd percolation result: it has no figures (its result is %s/percolation.json)\n",
+                dir_in.c_str(), dir_in.c_str());
+    return 0;
+  }
   if (!study && !ensemble && !curve && !group && !is_sweep(dir) && !is_run(dir))
     throw gfmd::InputError(dir_in,
                            "not a gfmd run, sweep, curve or study directory (no summary.json, fields.nc, "

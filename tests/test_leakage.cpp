@@ -9,6 +9,7 @@
 #include "gfmd/case/config.hpp"
 #include "gfmd/case/leakage.hpp"
 #include "gfmd/studies/percolation.hpp"
+#include "test_util.hpp"
 
 using namespace gfmd;
 namespace fs = std::filesystem;
@@ -165,6 +166,11 @@ TEST(Leakage, PercolationDirectorySaysWhereTheSearchStands) {
   EXPECT_EQ(status()["status"], "converged");
   std::ifstream in(fs::path(out) / "percolation.json");
   EXPECT_EQ(nlohmann::json::parse(in)["solves"], j["solves"]);
+  // gfmd plot knows it (it said "not a gfmd run ... directory", exit 2): nothing to draw.
+  const auto plot = gfmd::testing::run_gfmd("plot " + out);
+  EXPECT_EQ(plot.code, 0) << plot.output;
+  EXPECT_NE(plot.output.find("holds a gfmd percolation result: it has no figures"), std::string::npos)
+      << plot.output;
   int solves = 0;
   po.log = [&solves](const std::string&) { ++solves; };
   po.stop_request = [&solves] { return solves >= 1; };
