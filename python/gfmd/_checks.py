@@ -87,6 +87,9 @@ def _warn_implausible(topography: "Topography", check: str) -> "Topography":
     likely heights and lateral lengths in different units; `check` names the arguments to check."""
     g = topography.rms_gradient()
     limit = _core.max_plausible_rms_gradient
+    if g is None or not math.isfinite(g):
+        raise InputError(f"heights: the {topography.kind} topography's rms gradient is not finite (heights too "
+                         f"large to square and sum; check {check})")
     if g > limit:
         warnings.warn(f"{topography.kind} topography: rms gradient {g:.3g}, above {limit:g} (slopes steeper than "
                       f"79 degrees): heights and lateral lengths are likely in different units; check {check}",

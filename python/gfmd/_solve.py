@@ -163,6 +163,13 @@ class ViscoelasticBody(ElasticBody):
         return _model_name(self)
 
 
+def _depths(value) -> list:
+    """stress_depths: an iterable of depths (a single number is refused, naming the argument)."""
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__iter__"):
+        raise InputError(f"stress_depths: a list of depths below the surface, e.g. [0.01] (got {value!r})")
+    return list(value)
+
+
 def _material_keys(body: ElasticBody) -> dict:
     """A body's material keys, [elastic]'s and an elastic indenter's alike: its top layer, then
     the substrate and layers beneath it."""
@@ -364,7 +371,7 @@ class ContactSolver:
                          **{k: _plain(k, v) for k, v in options.items() if k in _FRICTION_KEYS}},
             "interaction": interaction_table,
             "solver": {k: _plain(k, v) for k, v in options.items() if k in _SOLVER_KEYS},
-            "stress": {"depths": _plain("stress_depths", list(stress_depths))},
+            "stress": {"depths": _plain("stress_depths", _depths(stress_depths))},
             "output": {"png": False},
         }
         self._case = _core.CaseSolver(case, topography.heights, topography.lx, topography.ly)

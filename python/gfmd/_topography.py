@@ -60,6 +60,7 @@ class Topography:
         Topography.indenter("flatpunch", 256, 8.0, radius=0.5) is [indenter] type = "flatpunch",
         radius = 0.5 on that grid, read and checked as the case file's section is."""
         nx, ny, lx, ly = cls._grid(nx, lx, ny, ly)
+        keys = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in keys.items()}  # numpy scalars
         for k, v in keys.items():
             if isinstance(v, numbers.Real) and not isinstance(v, bool) and not math.isfinite(v):
                 raise InputError(f"indenter.{k}: must be a finite number, got {v!r}")
@@ -97,10 +98,22 @@ class Topography:
         nx, ny, lx, ly = cls._grid(nx, lx, ny, ly)
         if (rms_height is None) == (rms_gradient is None):
             raise InputError("rms_height: give exactly one of rms_height and rms_gradient")
+        if generator not in ("gfmd", "contmech"):
+            raise InputError(f"generator: unknown generator {generator!r}; one of gfmd (ours), contmech (the paper "
+                             "authors' code)")
         ll = lx / 2 if lambda_long is None else _positive("lambda_long", lambda_long)
         ls = ll / 128 if lambda_short is None else _positive("lambda_short", lambda_short)
-        if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or seed < 0:
-            raise InputError(f"seed: must be an integer >= 0 (got {seed!r})")
+        if lambda_short is None:
+            # The default, lambda_long/128, needs 2 grid spacings: on a coarse grid say so (the
+            # check below would blame a lambda_short the caller never gave).
+            gamma = _positive("peklenik", peklenik)
+            spacing = max(lx / nx / math.sqrt(gamma), ly / ny * math.sqrt(gamma))
+            if ls < 2 * spacing * (1 - 1e-12):
+                raise InputError(f"lambda_short: the default, lambda_long/128 = {ls:.4g}, is shorter than twice the "
+                                 f"grid spacing ({2 * spacing:.4g}) on {nx} x {ny} points: give lambda_short (at "
+                                 f"least {2 * spacing:.4g}) or more points")
+        if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or not 0 <= seed < 2 ** 64:
+            raise InputError(f"seed: must be an integer in [0, 2^64) (got {seed!r})")
         h = _core.make_selfaffine(
             nx, ny, lx, ly, float(hurst), ll, ls, 0.0 if rms_height is None else _positive("rms_height", rms_height),
             0.0 if rms_gradient is None else _positive("rms_gradient", rms_gradient),

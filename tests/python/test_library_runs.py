@@ -301,3 +301,21 @@ def test_the_harmonic_stiffness_is_a_keyword():
     assert gfmd.solve(top, force=0.005).summary["interaction_stiffness"] == 64.0  # 2 E*/dx
     with pytest.raises(gfmd.InputError, match="stiffness: belongs to the harmonic repulsion"):
         gfmd.solve(top, force=0.005, interaction="hardwall", stiffness=4.0)
+
+
+def test_python_arguments_are_refused_by_name_not_by_type_errors():
+    # Each of these raised a TypeError (or blamed another argument) before.
+    with pytest.raises(gfmd.InputError, match="lambda_short: the default, lambda_long/128"):
+        gfmd.Topography.self_affine(128, 1.0, rms_height=0.01)
+    with pytest.raises(gfmd.InputError, match="generator: unknown generator 'foo'"):
+        gfmd.Topography.self_affine(128, 1.0, rms_height=0.01, lambda_short=0.05, generator="foo")
+    with pytest.raises(gfmd.InputError, match="seed: must be an integer in"):
+        gfmd.Topography.self_affine(128, 1.0, rms_height=0.01, lambda_short=0.05, seed=2 ** 70)
+    spike = np.zeros((32, 32))
+    spike[3, 4] = 1e200
+    with pytest.raises(gfmd.InputError, match="rms gradient is not finite"):
+        gfmd.Topography.from_array(spike, 1.0)
+    top = gfmd.Topography.indenter("hertz", 32, 2.0, radius=np.int64(1))
+    assert np.array_equal(top.heights, gfmd.Topography.hertz(32, 2.0, radius=1.0).heights)
+    with pytest.raises(gfmd.InputError, match="stress_depths: a list of depths"):
+        gfmd.solve(top, force=0.005, stress_depths=0.1)
