@@ -106,10 +106,12 @@ TEST(Cli, BadInputIsRefusedCleanly) {
       {"bad_set", kGood, "--set nonsense", "expected section.key=value"},
       {"set_unknown", kGood, "--set solver.tolerence=1e-6", "did you mean 'tolerance'"},
       // a bare word is a string, and its error names the override as a number's does
-      {"set_bare_word", kGood, "--set grid.nx=abc", "grid.nx: must be an integer, got string [--set:1]"},
+      {"set_bare_word", kGood, "--set grid.nx=abc",
+       "grid.nx: must be an integer, got string [--set grid.nx=abc]"},
       // a value of the right type out of its range names its place too
       {"range_has_line", kGood + "[solver]\nmixing = 5\n", "", "solver.mixing: must be in (0, 1] ["},
-      {"set_range_has_tag", kGood, "--set solver.backend=bogus", "(got \"bogus\") [--set:1]"},
+      {"set_range_has_tag", kGood, "--set solver.backend=bogus",
+       "(got \"bogus\") [--set solver.backend=bogus]"},
       {"tolerance", sub(kGood, "force = 0.01", "force = 0.01\n[solver]\ntolerance = 2"), "",
        "solver.tolerance"},
       {"invalid_utf8", kGood + "# \xff\xfe\n", "", "not valid UTF-8"},

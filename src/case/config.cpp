@@ -57,13 +57,13 @@ void apply_override(toml::value& root, const std::string& spec) {
   require_shallow_nesting("v = " + text, "--set " + path);
   try {
     std::istringstream is("v = " + text);
-    val = toml::parse(is, "--set").as_table().at("v");
+    val = toml::parse(is, "--set " + spec).as_table().at("v");
   } catch (const std::exception&) {
     // A bare word is a string; it is parsed as one so that a later error about it names
-    // "[--set:1]" as it does for any other override.
+    // "[--set KEY=VALUE]" as it does for any other override.
     try {
       std::istringstream is("v = " + toml::format(toml::value(text)));
-      val = toml::parse(is, "--set").as_table().at("v");
+      val = toml::parse(is, "--set " + spec).as_table().at("v");
     } catch (const std::exception&) {
       val = toml::value(text);  // not valid UTF-8: kept as it is, without a location
     }

@@ -50,6 +50,8 @@ inline std::string did_you_mean(const std::string& key, const std::vector<std::s
 inline std::string where(const toml::value& v) {
   const auto loc = v.location();
   if (loc.file_name() == "unknown file" || loc.line() == 0) return "";
+  // A command-line override is named by itself (apply_override parses it under that name).
+  if (loc.file_name().rfind("--set ", 0) == 0) return " [" + loc.file_name() + "]";
   return " [" + loc.file_name() + ":" + std::to_string(loc.line()) + "]";
 }
 
@@ -172,14 +174,17 @@ class Section {
     const toml::value* v = find(key);
     return v ? where(*v) : "";
   }
-  // A problem with key; the key's place in the file ("[case.toml:12]", "[--set:1]") is added
+  // A problem with key; the key's place in the file ("[case.toml:12]", "[--set grid.nx=abc]") is added
   // unless the reason already names a place in that file (an array element's, say).
   // One problem per key: a value of the wrong type is not also reported out of range.
   void error(const std::string& key, const std::string& why) {
     if (std::find(reported_.begin(), reported_.end(), key) != reported_.end()) return;
     reported_.push_back(key);
     const std::string loc = at(key);
-    const bool placed = loc.empty() || why.find(loc.substr(0, loc.rfind(':') + 1)) != std::string::npos;
+    // The file's part of the place ("[case.toml:"), or an override's whole name.
+    const std::size_t colon = loc.rfind(':');
+    const std::string file = colon == std::string::npos ? loc : loc.substr(0, colon + 1);
+    const bool placed = loc.empty() || why.find(file) != std::string::npos;
     errors_.push_back(name_ + "." + key + ": " + why + (placed ? "" : loc));
   }
   // Runs a part's own check, which throws ParameterError naming its key, and reports what it
