@@ -133,7 +133,7 @@ py::dict run_directory(const std::string& path, const std::vector<std::string>& 
                        const std::string& output, bool resume, bool force, double checkpoint_interval,
                        bool fields) {
   const gfmd::Config cfg = gfmd::load_config(path, set);
-  const gfmd::DirectoryRun run = interruptible([&](const std::function<bool()>& stop) {
+  const auto solve_into = [&](const std::function<bool()>& stop) {
     gfmd::DirectoryRunOptions o;
     o.resume = resume;
     o.directory = {force, false, stop};
@@ -175,7 +175,25 @@ py::dict run_directory(const std::string& path, const std::vector<std::string>& 
       throw gfmd::Interrupted(r.why);
     }
     return r;
-  });
+  };
+  // A failure to write (a full disk, a file-size limit) is OSError naming the file, as
+  // Result.save's; bad input, a solve that failed and a stop keep their own exceptions.
+  const gfmd::DirectoryRun run = [&] {
+    try {
+      return interruptible(solve_into);
+    } catch (const gfmd::InputError&) {
+      throw;
+    } catch (const gfmd::SolveError&) {
+      throw;
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (py::error_already_set&) {
+      throw;
+    } catch (const std::runtime_error& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
+      throw py::error_already_set();
+    }
+  }();
   py::dict d;
   const bool reused = run.outcome == gfmd::DirectoryRun::Outcome::AlreadySolved;
   d["status"] = reused ? "reused" : "solved";

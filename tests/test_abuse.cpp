@@ -516,3 +516,35 @@ png = false
   }
   EXPECT_EQ(a["friction_coefficient"], b["friction_coefficient"]);
 }
+
+// An ensemble over a case with a friction law of its own: its frictionless half sets Coulomb's
+// law at mu_c = 0 (setting only mu_c = 0 is refused with a law whose traction does not vanish
+// there, which stopped the ensemble after its first seed).
+TEST(Abuse, EnsembleOverAFrictionLawSolvesItsFrictionlessHalf) {
+  const fs::path d = scratch("ensemble_law");
+  write_file(d / "ens.toml", R"([grid]
+nx = 32
+lx = 2.0
+[indenter]
+type = "selfaffine"
+lambda_long = 1.0
+lambda_short = 0.125
+rms_height = 0.01
+[load]
+pressure = 0.01
+[friction]
+coefficient = 0.3
+law = "velocity"
+static_coefficient = 0.5
+velocity_scale = 0.1
+regularization = 0.01
+[output]
+png = false
+)");
+  ASSERT_EQ(
+      run({"ensemble", (d / "ens.toml").string(), "--seeds", "0..0", "-o", (d / "e").string()}, d / "log"), 0)
+      << read_file(d / "log");
+  const auto s = nlohmann::json::parse(read_file(d / "e" / "frictionless_seed_0" / "summary.json"));
+  EXPECT_EQ(s["input"]["friction"]["coefficient"], 0.0);
+  EXPECT_FALSE(s.contains("friction_coefficient"));
+}

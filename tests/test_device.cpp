@@ -228,6 +228,16 @@ TEST(Device, WithoutADeviceCudaIsAClearErrorAndAutoRunsOnTheCores) {
   EXPECT_FALSE(std::filesystem::exists(dir / "out" / "summary.json"));
   // Refused before the directory is made (it was left holding a failed status.json).
   EXPECT_FALSE(std::filesystem::exists(dir / "out")) << o.output;
+  // A finished result of the case is still reused by --resume (nothing to solve, no device).
+  write_file(dir / "threads.toml", kSmallHertz);
+  ASSERT_EQ(run_gfmd("run " + (dir / "threads.toml").string() + " -q -o " + (dir / "done").string()).code, 0);
+  const std::filesystem::path summary = dir / "done" / "summary.json";
+  nlohmann::json j = nlohmann::json::parse(read_file(summary));
+  j["input"]["solver"]["backend"] = "cuda";  // as if solved on a device
+  write_file(summary, j.dump(2));
+  const Outcome again =
+      run_gfmd("run " + (dir / "case.toml").string() + " -o " + (dir / "done").string() + " --resume");
+  EXPECT_EQ(again.code, 0) << again.output;
 }
 
 // The physics the device lacks (device_lacks): "auto" solves it on the cores, on any machine;

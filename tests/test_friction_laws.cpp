@@ -168,6 +168,11 @@ TEST(FrictionLaws, KeysAndCapabilitiesAreChecked) {
   EXPECT_NE(problem(rate).find("friction.coefficient: must be positive with friction.law = \"rate\""),
             std::string::npos)
       << problem(rate);
+  // Another law from the command line drops the file's law's keys (an ensemble's frictionless
+  // half sets coulomb and 0 over a velocity law).
+  std::vector<std::string> off = peak;
+  off.emplace_back("friction.law=\"coulomb\"");
+  EXPECT_EQ(problem(off), "") << problem(off);
   std::vector<std::string> flat = velocity(0.0, 0.5);
   flat.emplace_back("friction.coefficient=0");
   EXPECT_EQ(problem(flat), "");

@@ -180,6 +180,15 @@ TEST(Indenters, ExclusiveKeysConflictInAFileAndReplaceEachOtherFromSet) {
   const Config g = parse_config(rough, "t.toml", {"indenter.rms_gradient=0.1"});
   EXPECT_EQ(g.indenter.selfaffine.rms_gradient, 0.1);
   EXPECT_EQ(g.indenter.selfaffine.rms_height, 0.0);
+  // One axis over a round indenter: the other keeps its radius (it fell to 0 and blamed radius_x).
+  const Config half = parse_config(hertz, "t.toml", {"indenter.radius_x=2"});
+  EXPECT_EQ(half.indenter.radius_x, 2.0);
+  EXPECT_EQ(half.indenter.radius_y, 1.0);
+  // A file that leaves its type to the default (hertz) switches too.
+  std::string implicit = hertz;
+  implicit.erase(implicit.find("type = \"hertz\"\n"), std::string("type = \"hertz\"\n").size());
+  EXPECT_EQ(parse_config(implicit, "t.toml", {"indenter.type=\"step\"", "indenter.width=1.0"}).indenter.type,
+            "step");
   const Config step = parse_config(hertz, "t.toml", {"indenter.type=\"step\"", "indenter.width=1.0"});
   EXPECT_EQ(step.indenter.type, "step");
   EXPECT_NE(problem(hertz, {"indenter.type=\"step\""}).find("indenter.width"), std::string::npos)

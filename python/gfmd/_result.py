@@ -76,16 +76,25 @@ class Result:
             raise InputError(f"path: its folder {folder} does not exist")
         stem = os.path.splitext(os.path.basename(path))[0]
         heights = stem + "_heights.npy"
-        if self._s.given_heights:
-            tmp = os.path.join(folder, f".{heights}.{os.getpid()}.tmp")
-            with open(tmp, "wb") as f:
-                np.save(f, np.asarray(self._s.field("topography")))
-            os.replace(tmp, os.path.join(folder, heights))
-        text = self._s.toml_with_heights(heights)
-        tmp = os.path.join(folder, f".{stem}.toml.{os.getpid()}.tmp")
-        with open(tmp, "w") as f:
-            f.write(text)
-        os.replace(tmp, path)
+        # Both written to temporary files first, then renamed (the heights, then the case): a
+        # failed write leaves the earlier pair as it was, and no temporary file.
+        staged = []
+        try:
+            tmp_case = os.path.join(folder, f".{stem}.toml.{os.getpid()}.tmp")
+            staged.append(tmp_case)
+            with open(tmp_case, "w") as f:
+                f.write(self._s.toml_with_heights(heights))
+            tmp_h = os.path.join(folder, f".{heights}.{os.getpid()}.tmp")
+            if self._s.given_heights:
+                staged.append(tmp_h)
+                with open(tmp_h, "wb") as f:
+                    np.save(f, np.asarray(self._s.field("topography")))
+                os.replace(tmp_h, os.path.join(folder, heights))
+            os.replace(tmp_case, path)
+        finally:
+            for t in staged:
+                if os.path.exists(t):
+                    os.remove(t)
 
     def save(self, directory: str, png: bool = False, force: bool = False) -> None:
         """Writes the run directory `gfmd run -o DIR` writes (summary.json, fields.nc, profiles.csv, ...);

@@ -13,6 +13,7 @@
 
 #include "config_detail.hpp"
 #include "config_section.hpp"
+#include "gfmd/contact/friction_law.hpp"
 #include "gfmd/core/error.hpp"
 #include "gfmd/core/files.hpp"
 #include "gfmd/core/mpi.hpp"
@@ -81,20 +82,37 @@ void apply_override(toml::value& root, const std::string& spec) {
         {{"indenter"}, {"rms_height"}, {"rms_gradient"}}}) {
     if (sec != group[0][0]) continue;
     for (std::size_t k = 1; k < group.size(); ++k)
-      if (std::find(group[k].begin(), group[k].end(), key) != group[k].end())
+      if (std::find(group[k].begin(), group[k].end(), key) != group[k].end()) {
+        // One axis of an ellipse given over a round indenter: the other keeps the radius.
+        if (key == "radius_x" || key == "radius_y") {
+          const std::string other_axis = key == "radius_x" ? "radius_y" : "radius_x";
+          if (st.count("radius") && !st.count(other_axis)) st[other_axis] = st.at("radius");
+        }
         for (std::size_t other = 1; other < group.size(); ++other)
           if (other != k)
             for (const std::string& o : group[other]) st.erase(o);
+      }
   }
-  // Another indenter type: the keys of the file's type that the new one does not have go (its
-  // own and the keys of every type, the elastic indenter's and the waviness, stay).
-  if (sec == "indenter" && key == "type" && val.is_string() && st.count("type") &&
-      st.at("type").is_string() && st.at("type").as_string() != val.as_string()) {
-    const config_detail::IndenterType* before = config_detail::find_indenter_type(st.at("type").as_string());
+  // Another indenter type or friction law: the keys of the file's (its default where it gives
+  // none) that the new one does not have go; the keys every type or law has stay.
+  const auto current = [&st](const std::string& k, const std::string& fallback) {
+    return st.count(k) && st.at(k).is_string() ? std::string(st.at(k).as_string()) : fallback;
+  };
+  if (sec == "indenter" && key == "type" && val.is_string() && current("type", "hertz") != val.as_string()) {
+    const config_detail::IndenterType* before = config_detail::find_indenter_type(current("type", "hertz"));
     const config_detail::IndenterType* after = config_detail::find_indenter_type(val.as_string());
     if (before && after)
       for (const std::string& k : before->keys)
         if (std::find(after->keys.begin(), after->keys.end(), k) == after->keys.end()) st.erase(k);
+  }
+  if (sec == "friction" && key == "law" && val.is_string() && current("law", "coulomb") != val.as_string()) {
+    const FrictionLawType* before = find_friction_law(current("law", "coulomb"));
+    const FrictionLawType* after = find_friction_law(val.as_string());
+    if (before && after)
+      for (const FrictionLawType::Key& k : before->keys)
+        if (std::none_of(after->keys.begin(), after->keys.end(),
+                         [&k](const FrictionLawType::Key& a) { return a.name == k.name; }))
+          st.erase(k.name);
   }
   st[key] = val;
 }

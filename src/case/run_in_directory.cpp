@@ -24,7 +24,13 @@ DirectoryRun run_in_directory(const Config& cfg, const std::string& dir, Directo
   const std::function<bool()> stop = opts.directory.stop_request;
   OutputDirOptions as_run = opts.directory;
   as_run.kind = "run";
-  (void)solve_backend(cfg);  // a backend that cannot run the case: refused before the directory is made
+  // A backend that cannot run the case is refused before the directory is made, unless the
+  // directory holds this case's finished result, which a resume reuses without solving.
+  try {
+    (void)solve_backend(cfg);
+  } catch (const InputError&) {
+    if (!(opts.resume && finished_summary(dir, cfg))) throw;
+  }
   RunDirectory rd(dir, as_run);
   DirectoryRun out;
   out.checkpoint = rd.checkpoint();

@@ -59,7 +59,10 @@ nlohmann::json run_ensemble(const std::string& case_path, const std::string& dir
         std::vector<std::string> ss = opts.overrides;
         ss.push_back("indenter.seed=" + std::to_string(seed));
         ss.push_back("flow.direction=\"both\"");
-        if (variant == 1) ss.push_back("friction.coefficient=0");
+        if (variant == 1) {  // frictionless: no coefficient, and no law (whose keys go with it)
+          ss.push_back("friction.law=\"coulomb\"");
+          ss.push_back("friction.coefficient=0");
+        }
         const Config c = reparse_config(probe, ss);  // the text the ensemble started from
         const std::string name = (variant ? "frictionless_seed_" : "seed_") + std::to_string(seed);
         if (mpi::from_root(mpi::root() && opts.stop_request && opts.stop_request() ? 1 : 0) == 1)

@@ -120,7 +120,15 @@ nlohmann::json run_percolation(const Config& cfg, const PercolationOptions& opt,
   }
   on_root([&] {
     write_text_atomic((std::filesystem::path(rd->staging()) / "percolation.json").string(), j.dump(2) + "\n");
-    rd->publish();
+    // A search that ran out of solves before its bracket met the tolerance says so.
+    if (j["converged"] == true)
+      rd->publish();
+    else
+      rd->publish(is_gfmd_output_name, "converged",
+                  "the bracket's areas did not come within the area tolerance (" +
+                      std::to_string(opt.max_solves) +
+                      " solves at most, or its pressures met): percolation.json says converged false, its "
+                      "bracket holds the threshold");
   });
   return j;
 }

@@ -34,5 +34,4 @@ def test_summary_keys_are_documented():
     written = set().union(*(s.keys() for s in summaries))
     missing = sorted(k for k in written if k not in documented and not k.startswith("post_analysis_"))
     assert not missing, f"summary.json keys docs/summary.md does not name: {missing}"
-    # The check can fail: a key the page lacks is found.
-    assert "relative_contact_area" in written and "no_such_key" not in documented
+    assert "relative_contact_area" in written and "hysteresis_friction" in written  # the runs ran their physics
