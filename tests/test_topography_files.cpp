@@ -188,6 +188,12 @@ TEST_F(TopographyFile, TextErrors) {
   expect_input_error([&] { (void)gfmd::read_topography(p, 0, 0); }, p, "ragged rows: line 4 has 2 values");
   p = write_text("word.txt", "# lx = 1\n# ly = 1\n1 2 3\n4 five 6\n");
   expect_input_error([&] { (void)gfmd::read_topography(p, 0, 0); }, p, "line 4: non-numeric value 'five'");
+  // A size with a unit, heights without: the remedy, and why indenter.unit does not apply.
+  p = write_text("sizeunit.txt", "# lx = 10 um\n1 2\n3 4\n");
+  expect_input_error(
+      [&] { (void)gfmd::read_topography(p, 0, 0); }, p,
+      "line 1: the size has a unit but the heights have none: add a header line '# unit = <unit "
+      "of the heights>' (a case's indenter.unit is for files that state no unit at all");
   p = write_text("comma.txt", "1,,2\n");
   expect_input_error([&] { (void)gfmd::read_topography(p, 1, 1); }, p, "line 1: empty value 2");
   p = write_text("mixed.txt", "1;2\n3,x\n");

@@ -370,7 +370,8 @@ HeightMap read_text_map(const std::string& path) {
   if (any_unit && unit.unit.empty())
     throw InputError(path, "line " + std::to_string(size[0].unit.empty() ? size[1].line : size[0].line) +
                                ": the size has a unit but the heights have none: add a header line "
-                               "'# unit = <unit of the heights>'");
+                               "'# unit = <unit of the heights>' (a case's indenter.unit is for files that "
+                               "state no unit at all, and this one states the size's)");
   const double zf = any_unit ? metres_per_unit(unit.unit) : 1.0;
   t.lx *= zf;  // x, y, z points: the size their spacing makes, in the heights' unit
   t.ly *= zf;
