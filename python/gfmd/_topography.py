@@ -12,6 +12,20 @@ from ._core import InputError
 from ._checks import _count, _heights, _positive, _warn_implausible
 
 
+def _crop(crop) -> list:
+    """crop=(ix0, iy0, nx, ny): four whole numbers (a fraction was truncated without a word)."""
+    try:
+        items = list(crop)
+    except TypeError:
+        raise InputError(f"crop: (ix0, iy0, nx, ny), four whole numbers (got {crop!r})") from None
+    out = []
+    for c in items:
+        if isinstance(c, bool) or not isinstance(c, numbers.Real) or c != int(c):
+            raise InputError(f"crop: (ix0, iy0, nx, ny), four whole numbers (got {crop!r})")
+        out.append(int(c))
+    return out
+
+
 class Topography:
     """A rigid indenter's heights on a periodic lx x ly cell: h[iy, ix] at x = ix lx/nx, y = iy ly/ny.
 
@@ -142,8 +156,11 @@ class Topography:
 
         The options are those of a case's file indenter (README, "Bring your own surface"):
         ``unit`` the unit of a file that states none, ``case_unit`` the unit to convert to
-        (metres when the file states units and none is named), ``lx``/``ly`` the map's size
-        (wins over the file's), ``crop=(ix0, iy0, nx, ny)``, ``missing`` ("error", "mean",
+        (metres when the file states units and none is named), ``lx``/``ly`` the size of the
+        map as it is used: after ``crop`` (the piece kept) and before ``periodize`` doubles the
+        cell, as grid.lx/2 of a case with a periodized map (wins over the file's size, which is
+        the whole file's and shrinks with a crop), ``crop=(ix0, iy0, nx, ny)`` (integers),
+        ``missing`` ("error", "mean",
         "interpolate"), ``detrend`` ("none", "mean", "plane"), ``periodize`` ("none",
         "mirror", "pad"), ``nx``/``ny`` a grid to resample onto. What was done is in
         ``preprocessing`` (the summary.json record).
@@ -151,7 +168,7 @@ class Topography:
         h, lx2, ly2, report = _core.load_height_map(
             str(path), case_unit or "", unit or "",
             0.0 if lx is None else _positive("lx", lx), 0.0 if ly is None else _positive("ly", ly),
-            [] if crop is None else [int(c) for c in crop], missing, detrend, periodize,
+            [] if crop is None else _crop(crop), missing, detrend, periodize,
             0 if nx is None else _count("nx", nx), 0 if ny is None else _count("ny", ny))
         t = cls(h, lx2, ly2, "file")
         t._preprocessing = report

@@ -319,3 +319,12 @@ def test_python_arguments_are_refused_by_name_not_by_type_errors():
     assert np.array_equal(top.heights, gfmd.Topography.hertz(32, 2.0, radius=1.0).heights)
     with pytest.raises(gfmd.InputError, match="stress_depths: a list of depths"):
         gfmd.solve(top, force=0.005, stress_depths=0.1)
+
+
+def test_a_crop_is_whole_numbers(tmp_path):
+    # crop=(0.5, ...) was truncated to 0 without a word.
+    np.save(tmp_path / "m.npy", np.random.default_rng(1).normal(size=(32, 48)) * 0.01)
+    piece = gfmd.Topography.read(str(tmp_path / "m.npy"), lx=1.0, crop=(0, 0, 16, 16))
+    assert piece.lx == 1.0 and piece.heights.shape == (16, 16)  # lx: the piece kept
+    with pytest.raises(gfmd.InputError, match="crop: .* four whole numbers"):
+        gfmd.Topography.read(str(tmp_path / "m.npy"), lx=1.0, crop=(0.5, 0, 16, 16))
