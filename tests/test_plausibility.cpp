@@ -277,3 +277,21 @@ TEST(Plausibility, DepthsBelowAnElasticIndentersBaseWarn) {
   shallow.replace(shallow.find("0.02, 0.1"), 9, "0.02, 0.04");
   EXPECT_TRUE(case_warnings(shallow).empty());
 }
+
+// A power law with an exponent above 2 is steep far from its contact by design: n = 4, R = 1 on a
+// cell of 4 (rms gradient of the heights about 10) is a sound case and does not warn; a radius in
+// another unit than the cell does, as for Hertz (the paraboloid's L/(R sqrt 6) = 32.7).
+TEST(Plausibility, APowerLawIsWeighedByItsRadiusNotItsFarField) {
+  const std::string toml =
+      "[grid]\nnx = 64\nlx = 4.0\n[indenter]\ntype = \"powerlaw\"\nradius = 1.0\nexponent = 4.0\n[load]\n"
+      "force = 0.01\n";
+  const gfmd::Config cfg = gfmd::parse_config(toml, "t.toml");
+  EXPECT_GT(gfmd::statistics(gfmd::make_topography(cfg)).rms_gradient, 5.0) << "the far field is steep";
+  EXPECT_TRUE(case_warnings(toml).empty());
+  std::string small = toml;
+  small.replace(small.find("radius = 1.0"), 12, "radius = 0.05");
+  const auto w = case_warnings(small);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("rms gradient is 32.7"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("indenter.radius = 0.05"), std::string::npos) << w[0];
+}

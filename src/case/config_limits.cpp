@@ -80,10 +80,11 @@ std::vector<std::string> plausibility_warnings(const Config& cfg, const Topograp
                                                const MapReport* map) {
   std::vector<std::string> warnings;
   using config_detail::g3;
-  if (s.rms_gradient > kMaxPlausibleRmsGradient) {
+  if (const double slope = config_detail::plausibility_gradient(cfg, s.rms_gradient);
+      slope > kMaxPlausibleRmsGradient) {
     const auto [what, check] = config_detail::implausible_surface_text(cfg, map);
     warnings.push_back(
-        what + " rms gradient is " + g3(s.rms_gradient) + ", above " + g3(kMaxPlausibleRmsGradient) +
+        what + " rms gradient is " + g3(slope) + ", above " + g3(kMaxPlausibleRmsGradient) +
         " (slopes steeper than 79 degrees): heights and lateral lengths are likely in different "
         "units; check " +
         check);

@@ -1,5 +1,7 @@
 // indenter.type = "powerlaw": h = -r_e^n / (n R^(n-1)) with elliptic contours (radius, or
 // radius_x and radius_y; exponent n, 2 = Hertz's paraboloid), apex at the cell centre.
+#include <cmath>
+
 #include "indenter_types.hpp"
 
 namespace gfmd::config_detail {
@@ -26,9 +28,18 @@ Topography make(const Config& c, MapReport*) {
 }
 
 std::pair<std::string, std::string> implausible(const Config& c, const MapReport*) {
-  return {"the power-law indenter's", "indenter.radius = " + g3(c.indenter.radius_x) +
-                                          " and exponent = " + g3(c.indenter.exponent) + " against " +
-                                          cell_text(c) + " (its slope (r/R)^(n-1) reaches 1 at r = R)"};
+  return {"the power-law indenter's (weighed as the paraboloid of its radius)",
+          "indenter.radius = " + g3(c.indenter.radius_x) + " against " + cell_text(c) +
+              " (its slope (r/R)^(n-1) reaches 1 at r = R)"};
+}
+
+// The paraboloid of the same radii on the cell, sqrt(lx^2/(12 Rx^2) + ly^2/(12 Ry^2)): a
+// radius in another unit than the cell shows as for Hertz's, while the far field of an exponent
+// above 2, steep by design and away from the contact, does not count.
+double paraboloid_gradient(const Config& c, double) {
+  const IndenterConfig& in = c.indenter;
+  return std::sqrt(c.grid.lx * c.grid.lx / (12 * in.radius_x * in.radius_x) +
+                   c.grid.ly * c.grid.ly / (12 * in.radius_y * in.radius_y));
 }
 
 }  // namespace
@@ -41,7 +52,8 @@ const IndenterType& powerlaw_indenter() {
       .read = read,
       .write = write,
       .make = make,
-      .implausible = implausible};
+      .implausible = implausible,
+      .plausibility_gradient = paraboloid_gradient};
   return t;
 }
 

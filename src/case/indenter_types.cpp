@@ -180,6 +180,12 @@ std::pair<std::string, std::string> implausible_surface_text(const Config& c, co
   return t->implausible(c, map);
 }
 
+double plausibility_gradient(const Config& c, double rms_gradient) {
+  const IndenterType* t = find_indenter_type(c.indenter.type);
+  return t != nullptr && t->plausibility_gradient != nullptr ? t->plausibility_gradient(c, rms_gradient)
+                                                             : rms_gradient;
+}
+
 }  // namespace config_detail
 
 using namespace config_detail;

@@ -52,6 +52,9 @@ struct IndenterType {
   // For the warning on an implausibly steep surface: whose rms gradient it is ("the Hertz
   // indenter's") and which keys to check.
   std::pair<std::string, std::string> (*implausible)(const Config& c, const MapReport* map) = nullptr;
+  // The slope that warning weighs, from the surface's rms gradient; empty: that rms gradient.
+  // (A power law's far field is steep by design, away from any contact: its radius is weighed.)
+  double (*plausibility_gradient)(const Config& c, double rms_gradient) = nullptr;
 };
 
 // The parts, one file each.
@@ -88,6 +91,9 @@ std::pair<std::string, std::string> implausible_surface_text(const Config& c, co
 // radius_y given beside a radius must equal it (summary.json's input writes all three when
 // equal), a positive radius is needed. `what` names the type in the message.
 void read_radii(Section& ind, Config& c, const std::string& what);
+// The slope the implausibly-steep warning weighs for the case's type (IndenterType::
+// plausibility_gradient, or the surface's rms gradient).
+double plausibility_gradient(const Config& c, double rms_gradient);
 // "%.3g" of v, for the messages of the parts.
 std::string g3(double v);
 // "grid.lx = ..., grid.ly = ...": the cell, for the plausibility messages.
