@@ -3,6 +3,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "gfmd/case/outputs.hpp"
 #include "gfmd/case/run_dir.hpp"
 #include "gfmd/core/mpi.hpp"
 #include "run_detail.hpp"
