@@ -132,14 +132,14 @@ int cmd_plot(const std::string& dir_in) {
   bool group = false;
   if (!study && !ensemble && !curve && !is_sweep(dir) && !is_run(dir))
     for (const auto& p : subdirs(dir)) group = group || is_sweep(p) || is_run(p);
-  if (!study && !ensemble && !curve && !group && !is_sweep(dir) && !is_run(dir) &&
-      has_file(dir, "percolation.json")) {
+  const bool drawable = study || ensemble || curve || group || is_sweep(dir) || is_run(dir);
+  if (!drawable && has_file(dir, "percolation.json")) {
     // A percolation search has no figure: its result is the table.
     std::printf("%s holds a gfmd percolation result: it has no figures (its result is %s/percolation.json)\n",
                 dir_in.c_str(), dir_in.c_str());
     return 0;
   }
-  if (!study && !ensemble && !curve && !group && !is_sweep(dir) && !is_run(dir))
+  if (!drawable)
     throw gfmd::InputError(dir_in,
                            "not a gfmd run, sweep, curve or study directory (no summary.json, fields.nc, "
                            "sweep.csv, curve.csv, study.json or ensemble.json in it)");

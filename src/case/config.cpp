@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <toml.hpp>
 
@@ -95,25 +96,30 @@ void apply_override(toml::value& root, const std::string& spec) {
   }
   // Another indenter type or friction law: the keys of the file's (its default where it gives
   // none) that the new one does not have go; the keys every type or law has stay.
-  const auto current = [&st](const std::string& k, const std::string& fallback) {
-    return st.count(k) && st.at(k).is_string() ? std::string(st.at(k).as_string()) : fallback;
+  // part_keys(name): the part's own keys, or nullopt for a name that is not registered.
+  const auto switch_part = [&](const char* section, const char* name_key, const std::string& fallback,
+                               const auto& part_keys) {
+    if (sec != section || key != name_key || !val.is_string()) return;
+    const std::string before_name =
+        st.count(key) && st.at(key).is_string() ? std::string(st.at(key).as_string()) : fallback;
+    const auto before = part_keys(before_name), after = part_keys(std::string(val.as_string()));
+    if (before_name == val.as_string() || !before || !after) return;
+    for (const std::string& k : *before)
+      if (std::find(after->begin(), after->end(), k) == after->end()) st.erase(k);
   };
-  if (sec == "indenter" && key == "type" && val.is_string() && current("type", "hertz") != val.as_string()) {
-    const config_detail::IndenterType* before = config_detail::find_indenter_type(current("type", "hertz"));
-    const config_detail::IndenterType* after = config_detail::find_indenter_type(val.as_string());
-    if (before && after)
-      for (const std::string& k : before->keys)
-        if (std::find(after->keys.begin(), after->keys.end(), k) == after->keys.end()) st.erase(k);
-  }
-  if (sec == "friction" && key == "law" && val.is_string() && current("law", "coulomb") != val.as_string()) {
-    const FrictionLawType* before = find_friction_law(current("law", "coulomb"));
-    const FrictionLawType* after = find_friction_law(val.as_string());
-    if (before && after)
-      for (const FrictionLawType::Key& k : before->keys)
-        if (std::none_of(after->keys.begin(), after->keys.end(),
-                         [&k](const FrictionLawType::Key& a) { return a.name == k.name; }))
-          st.erase(k.name);
-  }
+  switch_part("indenter", "type", "hertz",
+              [](const std::string& n) -> std::optional<std::vector<std::string>> {
+                const config_detail::IndenterType* t = config_detail::find_indenter_type(n);
+                return t ? std::optional(t->keys) : std::nullopt;
+              });
+  switch_part("friction", "law", "coulomb",
+              [](const std::string& n) -> std::optional<std::vector<std::string>> {
+                const FrictionLawType* t = find_friction_law(n);
+                if (!t) return std::nullopt;
+                std::vector<std::string> names;
+                for (const FrictionLawType::Key& k : t->keys) names.push_back(k.name);
+                return names;
+              });
   st[key] = val;
 }
 

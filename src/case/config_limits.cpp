@@ -105,9 +105,7 @@ std::vector<std::string> plausibility_warnings(const Config& cfg, const Topograp
     for (const double d : cfg.stress.depths)
       if (d > cfg.indenter.body->depth_of_base()) deep.push_back(g3(d));
     if (!deep.empty()) {
-      std::string list;
-      for (const auto& d : deep) list += (list.empty() ? "" : ", ") + d;
-      warnings.push_back("stress.depths " + list +
+      warnings.push_back("stress.depths " + config_detail::comma_list(deep) +
                          " lie below the elastic indenter's base (indenter.thickness " +
                          g3(cfg.indenter.body->depth_of_base()) +
                          "): indenter_stress.subsurface leaves them out; the body's planes are all there");

@@ -100,14 +100,21 @@ void read_indenter(Section& ind, Config& c, std::vector<std::string>& errors, co
 // An elastic indenter's body (any indenter type): indenter.contact_modulus ("inf" or absent:
 // rigid), poisson, thickness ("inf": a half-space), and beneath it, as in [elastic], the
 // substrate and layers (a coated indenter).
+namespace {
+// The keys of an elastic indenter's body besides its contact_modulus (which makes it elastic).
+std::vector<std::string> indenter_body_keys() {
+  std::vector<std::string> keys = {"poisson", "thickness"};
+  for (const BodyKey* k : body_keys()) keys.push_back(k->name);  // a coated indenter's
+  return keys;
+}
+}  // namespace
+
 void read_indenter_body(Section& ind, Config& c) {
   const double es = ind.number_or_inf("contact_modulus", std::numeric_limits<double>::infinity());
   const double nu = ind.number("poisson", 0.25);
   const double h = ind.number_or_inf("thickness", std::numeric_limits<double>::infinity());
   if (es == std::numeric_limits<double>::infinity()) {
-    std::vector<std::string> keys = {"poisson", "thickness"};
-    for (const BodyKey* k : body_keys()) keys.push_back(k->name);  // a coated indenter's
-    for (const std::string& k : keys)
+    for (const std::string& k : indenter_body_keys())
       if (ind.has(k))
         ind.error(k, "belongs to an elastic indenter: set indenter.contact_modulus (its E*; absent: rigid)");
     return;
@@ -221,8 +228,8 @@ Topography make_indenter(const std::string& type, const Grid& grid, const nlohma
   if (!keys.is_object()) throw InputError("indenter", "the keys must be a mapping of key to value");
   toml::table section{{"type", toml::value(type)}};
   // An elastic indenter's keys make a body, not heights: here they would be dropped.
-  std::vector<std::string> body = {"contact_modulus", "poisson", "thickness"};
-  for (const BodyKey* k : body_keys()) body.push_back(k->name);
+  std::vector<std::string> body = indenter_body_keys();
+  body.emplace_back("contact_modulus");
   for (const auto& [k, v] : keys.items()) {
     if (k == "type") throw InputError("indenter.type", "give the type once, as the first argument");
     if (std::find(body.begin(), body.end(), k) != body.end())
